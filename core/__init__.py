@@ -1,0 +1,38 @@
+"""Stateless solver library for the friction-impact oscillator of Andreaus & Casini (2002).
+
+>>> from core import Oscillator, RigidStop, simulate
+>>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1, u_s=1.0)
+>>> res = simulate(osc, stop=RigidStop(clearance=0.25, restitution=0.7), t_end=100.0)
+>>> res.steady.kind.value
+'periodic'
+
+``core`` imports neither panel, bokeh nor param; ``app`` is built on top of it.
+"""
+
+from core.params import HystereticStop, Oscillator, RigidStop
+from core.result import (
+    Energy,
+    Mode,
+    Result,
+    Status,
+    Steady,
+    SteadyKind,
+    Transition,
+    TransitionKind,
+)
+from core.simulate import simulate
+
+__all__ = [
+    "Energy",
+    "HystereticStop",
+    "Mode",
+    "Oscillator",
+    "Result",
+    "RigidStop",
+    "Status",
+    "Steady",
+    "SteadyKind",
+    "Transition",
+    "TransitionKind",
+    "simulate",
+]

@@ -1,0 +1,222 @@
+"""Result values returned by :func:`core.simulate`: transitions, steady state, samples.
+
+All are frozen; arrays are read-only.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class Mode(enum.IntEnum):
+    """Mode of motion at a sample (paper §2.5)."""
+
+    SLIP = 0
+    STICK = 1
+    CONTACT = 2
+
+
+class TransitionKind(str, enum.Enum):
+    """Kinds of transition between modes (paper §2.5, SPEC §6)."""
+
+    SLIP_STICK = "slip->stick"
+    STICK_SLIP = "stick->slip"
+    SIGN_CHANGE = "sign_change"  # instantaneous adhesion: relative velocity changes sign
+    IMPACT = "impact"  # slip->contact->slip with a rigid stop
+    STICK_IMPACT = "stick->impact"
+    ACCUMULATION = "accumulation"  # Zeno limit point of infinitely many impacts
+    REST = "rest"  # mass pressed on the stop for good
+    CONTACT = "contact"  # start of a deformable contact
+    SEPARATION = "separation"  # end of a deformable contact
+    REVERSAL = "reversal"  # overlap rate changes sign inside a deformable contact
+    FAILURE = "failure"  # contact force exceeded the stop's strength
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass(frozen=True)
+class Transition:
+    """State at one transition: time ``t``, position ``x``, velocity ``v`` (before it).
+
+    ``v_after`` is the velocity just after (differs from ``v`` only at an impact).
+    """
+
+    kind: TransitionKind
+    t: float
+    x: float
+    v: float
+    v_after: float
+
+    def __str__(self) -> str:
+        return f"{self.kind.value} at t={self.t:.6g} (x={self.x:.6g}, x'={self.v:.6g})"
+
+
+class SteadyKind(str, enum.Enum):
+    """What the response settles to (SPEC §6)."""
+
+    PERIODIC = "periodic"  # fixed point of P^j, reached in finite time
+    GRAZING = "grazing"  # impacts with speeds falling as r^h towards a grazing circle
+    REST = "rest"  # mass pressed on the stop for good
+    EQUILIBRIUM = "equilibrium"  # mass at rest away from the stop
+    PURE_SLIP = "pure_slip"  # a slip circle that never sticks nor impacts
+    NONE = "none"  # nothing found within the horizon
+
+    def __str__(self) -> str:
+        return self.value
+
+
+@dataclass(frozen=True)
+class Steady:
+    """The steady state found from the transition sequence.
+
+    Attributes
+    ----------
+    kind : SteadyKind
+    period : float
+        Period (dimensionless time); ``nan`` when not periodic.
+    transitions_per_period : int
+    sequence : tuple of str
+        Kinds of the transitions in one period, in order.
+    x_max : float
+        Maximum displacement on the steady motion.
+    impact_speed : float
+        Approach speed at the steady impact (0 for grazing and rest, nan if none).
+    t_reached : float
+        Time from which the steady state holds (or the accumulation time); ``nan`` if the
+        state is only approached asymptotically.
+    """
+
+    kind: SteadyKind
+    period: float = math.nan
+    transitions_per_period: int = 0
+    sequence: tuple[str, ...] = ()
+    x_max: float = math.nan
+    impact_speed: float = math.nan
+    t_reached: float = math.nan
+
+    def describe(self) -> str:
+        """One line in words, for the readout."""
+        if self.kind is SteadyKind.PERIODIC:
+            seq = " -> ".join(self.sequence)
+            return (
+                f"periodic, period {self.period:.6g}, {self.transitions_per_period} "
+                f"transitions per period: {seq}"
+            )
+        if self.kind is SteadyKind.GRAZING:
+            return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"
+        if self.kind is SteadyKind.REST:
+            return f"rest at the stop (from t = {self.t_reached:.6g})"
+        if self.kind is SteadyKind.EQUILIBRIUM:
+            return "equilibrium: the mass stays at rest"
+        if self.kind is SteadyKind.PURE_SLIP:
+            return f"pure slip on a circle, period {self.period:.6g}"
+        return "no steady state found within the horizon"
+
+
+class Status(str, enum.Enum):
+    """How a solve ended; each member carries its user-facing message."""
+
+    SUCCESS = "success"
+    STOP_FAILED = "stop_failed"
+    LIMIT_OVERLAP = "limit_overlap"
+    INTEGRATION_FAILED = "integration_failed"
+
+    @property
+    def message(self) -> str:
+        return _STATUS_MESSAGES[self]
+
+
+_STATUS_MESSAGES = {
+    Status.SUCCESS: "The horizon was reached.",
+    Status.STOP_FAILED: "The contact force exceeded the stop's strength: the stop failed.",
+    Status.LIMIT_OVERLAP: (
+        "The overlap reached the stop's limit overlap: the stop would have to be "
+        "penetrated beyond its asymptote. Raise limit_overlap or k_c0."
+    ),
+    Status.INTEGRATION_FAILED: "The contact integration failed (step size too small).",
+}
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.asarray(a)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class Energy:
+    """Cumulative energy terms at the samples, per unit ``k`` (a length squared).
+
+    ``mechanical = (x^2 + x'^2)/2``; ``friction_work`` is the work done by friction on the
+    mass; ``belt_input`` the work done by the belt; ``stop_loss`` the energy taken by the
+    stop (impacts or hysteresis). Balance: ``mechanical - mechanical[0] = friction_work -
+    stop_loss`` (minus the elastic energy stored in a deformable stop).
+    """
+
+    mechanical: np.ndarray
+    friction_work: np.ndarray
+    belt_input: np.ndarray
+    stop_loss: np.ndarray
+    stop_stored: np.ndarray
+
+
+@dataclass(frozen=True)
+class Result:
+    """Response of the oscillator over ``[0, t_end]``.
+
+    Attributes
+    ----------
+    t, x, v : ndarray
+        Dense samples on the exact solution (plus the exact transition points).
+    mode : ndarray of int8
+        :class:`Mode` at each sample.
+    transitions : tuple of Transition
+        The first ``transition_cap`` transitions; all are counted in ``transition_counts``.
+    x_max : float
+        Exact maximum of ``x`` over ``[0, t_end]``.
+    steady : Steady
+    status : Status
+    contact_force, overlap : ndarray
+        ``phi/k`` (a length) and ``x - clearance`` at the samples (deformable stop; zeros
+        for others).
+    impulses : ndarray, shape (n, 2)
+        Rigid stop: time and impulse per unit ``m*omega`` of each stored impact.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    mode: np.ndarray
+    transitions: tuple[Transition, ...]
+    transition_counts: dict[str, int]
+    n_transitions: int
+    x_max: float
+    steady: Steady
+    status: Status
+    energy: Energy
+    contact_force: np.ndarray
+    overlap: np.ndarray
+    impulses: np.ndarray
+    method: str = "exact"
+    stats: dict[str, float] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for name in ("t", "x", "v", "mode", "contact_force", "overlap", "impulses"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    @property
+    def truncated(self) -> bool:
+        """True when more transitions happened than are stored."""
+        return self.n_transitions > len(self.transitions)
+
+    def sequence(self, last: int | None = None) -> str:
+        """Transition kinds joined by arrows, e.g. ``'stick->slip -> impact'``."""
+        kinds = [tr.kind.value for tr in self.transitions]
+        if last is not None:
+            kinds = kinds[-last:]
+        return " -> ".join(kinds)
