@@ -1,0 +1,169 @@
+"""A piecewise closed-form trajectory and its evaluation at sample times.
+
+The exact solver describes the motion as a table of segments (circle arcs, straight stick
+lines, rest at the stop), optionally followed by a periodic continuation. Evaluation is
+vectorised: one ``searchsorted`` assigns every sample to its segment.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from core.flight import Segment
+from core.result import Mode
+
+#: Formula codes of a segment.
+CIRCLE = 0  # x = c + (x0 - c) cos(tau) + v0 sin(tau)
+LINE = 1  # x = x0 + v0 tau
+
+
+@dataclass
+class SegmentTable:
+    """Growing table of segments with the energy terms accumulated at each start.
+
+    Energy terms (per unit ``k``): ``friction_work`` (work of friction on the mass),
+    ``belt_input`` (work done by the belt), ``stop_loss`` (kinetic energy removed by impacts).
+    """
+
+    t0: list[float] = field(default_factory=list)
+    t1: list[float] = field(default_factory=list)
+    formula: list[int] = field(default_factory=list)
+    mode: list[int] = field(default_factory=list)
+    x0: list[float] = field(default_factory=list)
+    v0: list[float] = field(default_factory=list)
+    centre: list[float] = field(default_factory=list)
+    friction: list[float] = field(default_factory=list)  # s*a on slip; nan on stick
+    work0: list[tuple[float, float, float]] = field(default_factory=list)
+    work: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    x_max: float = -math.inf
+
+    def __len__(self) -> int:
+        return len(self.t0)
+
+    def add(self, seg: Segment, t1: float, belt_speed: float) -> None:
+        """Append ``seg`` cut at ``t1`` and accumulate its work terms (paper Eqs. 3-6)."""
+        self.t0.append(seg.t0)
+        self.t1.append(t1)
+        if seg.mode is Mode.SLIP:
+            self.formula.append(CIRCLE)
+            self.friction.append(seg.centre)  # the friction force over k is s*a = centre
+        else:
+            self.formula.append(LINE)
+            # Stick: friction balances the spring, f = x. Rest at the stop: f = a (slip).
+            self.friction.append(seg.centre if seg.mode is Mode.CONTACT else math.nan)
+        self.mode.append(int(seg.mode))
+        self.x0.append(seg.x0)
+        self.v0.append(seg.v0)
+        self.centre.append(seg.centre)
+        self.work0.append(self.work)
+        cut = Segment(seg.mode, seg.t0, t1, seg.x0, seg.v0, seg.centre)
+        self.x_max = max(self.x_max, cut.x_max())
+        x1, _ = cut.state_at(t1)
+        self.work = _add(self.work, _segment_work(cut, x1, belt_speed))
+
+    def add_loss(self, loss: float) -> None:
+        """Kinetic energy removed at an impact: ``(1 - r^2) w^2 / 2`` (paper Eq. 8)."""
+        wf, wb, lost = self.work
+        self.work = (wf, wb, lost + loss)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        w = np.array(self.work0, dtype=float).reshape(-1, 3)
+        return {
+            "t0": np.array(self.t0, dtype=float),
+            "formula": np.array(self.formula, dtype=np.int8),
+            "mode": np.array(self.mode, dtype=np.int8),
+            "x0": np.array(self.x0, dtype=float),
+            "v0": np.array(self.v0, dtype=float),
+            "centre": np.array(self.centre, dtype=float),
+            "friction": np.array(self.friction, dtype=float),
+            "wf0": w[:, 0],
+            "wb0": w[:, 1],
+            "loss0": w[:, 2],
+        }
+
+
+def _add(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, float, float]:
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def _segment_work(seg: Segment, x1: float, v: float) -> tuple[float, float, float]:
+    """Friction work and belt input over one closed-form segment."""
+    tau = seg.t1 - seg.t0
+    if seg.mode is Mode.SLIP:
+        # Friction force s*a is constant: work s*a*(x1 - x0); the belt supplies s*a*v*tau.
+        return seg.centre * (x1 - seg.x0), seg.centre * v * tau, 0.0
+    if seg.mode is Mode.CONTACT:  # pressed on the stop: x' = 0, friction a, belt a*v
+        return 0.0, seg.centre * v * tau, 0.0
+    # Stick: friction equals the spring force x; x' = v.
+    return (x1 * x1 - seg.x0 * seg.x0) / 2.0, v * (seg.x0 * tau + v * tau * tau / 2.0), 0.0
+
+
+@dataclass(frozen=True)
+class PeriodicTail:
+    """The motion after ``t_from`` repeats the piece ``[cycle_t0, cycle_t0 + period)``."""
+
+    t_from: float
+    cycle_t0: float
+    period: float
+    work_per_period: tuple[float, float, float]
+
+
+def evaluate(
+    table: dict[str, np.ndarray],
+    times: np.ndarray,
+    before: np.ndarray,
+    belt_speed: float,
+    tail: PeriodicTail | None = None,
+) -> dict[str, np.ndarray]:
+    """State, mode and cumulative energy terms at ``times``.
+
+    ``before[i]`` asks for the state just before ``times[i]`` (on the segment that ends
+    there), used to draw both sides of an impact.
+    """
+    t = np.asarray(times, dtype=float)
+    wf_off = np.zeros_like(t)
+    wb_off = np.zeros_like(t)
+    loss_off = np.zeros_like(t)
+    if tail is not None:
+        late = t > tail.t_from
+        k = np.floor((t[late] - tail.t_from) / tail.period)
+        shift = t[late] - tail.t_from - k * tail.period
+        t = t.copy()
+        t[late] = tail.cycle_t0 + shift
+        n = k + 1.0
+        dwf, dwb, dloss = tail.work_per_period
+        wf_off[late], wb_off[late], loss_off[late] = n * dwf, n * dwb, n * dloss
+    t0 = table["t0"]
+    idx = np.where(
+        before,
+        np.searchsorted(t0, t, side="left") - 1,
+        np.searchsorted(t0, t, side="right") - 1,
+    )
+    idx = np.clip(idx, 0, len(t0) - 1)
+    tau = t - t0[idx]
+    x0 = table["x0"][idx]
+    v0 = table["v0"][idx]
+    c = table["centre"][idx]
+    circle = table["formula"][idx] == CIRCLE
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    x = np.where(circle, c + (x0 - c) * cos_t + v0 * sin_t, x0 + v0 * tau)
+    v = np.where(circle, -(x0 - c) * sin_t + v0 * cos_t, v0)
+    mode = table["mode"][idx]
+    friction = table["friction"][idx]
+    stick = mode == Mode.STICK
+    rest = mode == Mode.CONTACT
+    wf_seg = np.where(stick, (x * x - x0 * x0) / 2.0, np.where(rest, 0.0, friction * (x - x0)))
+    wb_seg = np.where(
+        stick, belt_speed * (x0 * tau + belt_speed * tau * tau / 2.0), friction * belt_speed * tau
+    )
+    return {
+        "x": x,
+        "v": v,
+        "mode": mode,
+        "friction_work": table["wf0"][idx] + wf_seg + wf_off,
+        "belt_input": table["wb0"][idx] + wb_seg + wb_off,
+        "stop_loss": table["loss0"][idx] + loss_off,
+    }
