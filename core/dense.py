@@ -1,0 +1,595 @@
+"""Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
+
+The numerical methods (the switch model of :mod:`core.switch`, the event-driven
+``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
+their own step points, which are irregular and may be many. This module turns those points
+into the result every method returns:
+
+* uniform samples over ``[0, t_end]`` (``n_samples`` of them) merged with the stored
+  transitions' points, interpolated by cubic Hermite polynomials on each step (position with
+  the velocity as derivative, velocity with the acceleration as derivative, SPEC §2);
+* the mode at each sample, the energy terms (:class:`~core.result.Energy`), the contact
+  force and overlap;
+* the transition list capped at ``transition_cap`` with all transitions counted;
+* the steady state (SPEC §6): a fixed point of the friction-impact map ``P^j`` found on the
+  transition sequence, to a tolerance the caller derives from its own accuracy.
+
+Conventions of the dense arrays
+-------------------------------
+``t`` is non-decreasing; a repeated time marks a jump (a rigid impact, paper Eq. 8): the
+first point holds the state just before it, the last the state just after. ``mode[i]`` and
+``acc[i]`` belong to the interval that *starts* at point ``i`` (right limits).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter, deque
+from collections.abc import Sequence
+
+import numpy as np
+
+from core.result import (
+    Energy,
+    Mode,
+    Result,
+    Status,
+    Steady,
+    SteadyKind,
+    Transition,
+    TransitionKind,
+)
+
+#: How many of the most recent transitions are kept for the steady-state search.
+STEADY_WINDOW = 96
+#: Largest number of transitions per period searched for a fixed point of ``P^j``.
+STEADY_MAX_J = 32
+#: A steady state needs the fixed point to repeat over this many consecutive periods.
+STEADY_PERIODS = 2
+#: At least this many transitions of falling speed (impacts, contacts) make an asymptotic
+#: approach (grazing, or rest at a deformable stop) recognisable.
+ASYMPTOTIC_MIN = 6
+#: Default steady-state tolerance relative to the state scale, per unit of ``rtol``: the
+#: transition states of a method with relative tolerance ``rtol`` scatter by a few hundred
+#: ``rtol`` after a long horizon (global error grows with the number of steps).
+STEADY_TOL_PER_RTOL = 1e3
+#: Floor of the relative steady-state tolerance (a few thousand ulps).
+STEADY_TOL_FLOOR = 1e-12
+#: Kinds that end a rigid impact (the velocity jumps at them).
+IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+
+
+class TransitionLog:
+    """Transitions as an integrator finds them, stored up to a cap but all counted.
+
+    Keeps the first ``cap`` transitions (for the result), the last :data:`STEADY_WINDOW`
+    (for the steady-state search) and a count per kind, so that memory stays bounded on
+    long horizons.
+
+    Examples
+    --------
+    >>> log = TransitionLog(cap=1)
+    >>> log.add(TransitionKind.SLIP_STICK, 1.0, 0.02, 0.1)
+    >>> log.add(TransitionKind.STICK_SLIP, 2.0, 0.3, 0.1)
+    >>> len(log.stored), log.n, log.counts["stick->slip"]
+    (1, 2, 1)
+    """
+
+    __slots__ = ("cap", "stored", "tail", "counts", "n")
+
+    def __init__(self, cap: int) -> None:
+        self.cap = int(cap)
+        self.stored: list[Transition] = []
+        self.tail: deque[Transition] = deque(maxlen=STEADY_WINDOW)
+        self.counts: Counter[str] = Counter()
+        self.n = 0
+
+    def add(
+        self,
+        kind: TransitionKind,
+        t: float,
+        x: float,
+        v: float,
+        v_after: float | None = None,
+    ) -> None:
+        """Record one transition with the state ``(x, v)`` before it (``v_after`` after)."""
+        after = v if v_after is None else v_after
+        tr = Transition(kind, float(t), float(x), float(v), float(after))
+        if self.n < self.cap:
+            self.stored.append(tr)
+        self.tail.append(tr)
+        self.counts[kind.value] += 1
+        self.n += 1
+
+    @classmethod
+    def from_sequence(cls, transitions: Sequence[Transition], cap: int) -> TransitionLog:
+        log = cls(cap)
+        for tr in transitions:
+            log.add(tr.kind, tr.t, tr.x, tr.v, tr.v_after)
+        return log
+
+
+def _locate(t: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
+    """Index of the interval ``[t[i], t[i+1]]`` holding each query.
+
+    ``side="right"`` picks the interval that starts at the last of repeated times (after a
+    jump), ``"left"`` the one that ends at the first (before it).
+    """
+    idx = np.searchsorted(t, tq, side=side) - 1
+    return np.clip(idx, 0, len(t) - 2)
+
+
+def hermite_eval(
+    t: np.ndarray,
+    y: np.ndarray,
+    dy: np.ndarray,
+    tq: np.ndarray,
+    side: str = "right",
+) -> np.ndarray:
+    """Piecewise cubic Hermite interpolation of ``y`` (derivative ``dy``) at ``tq``.
+
+    ``side="right"`` takes the state after a jump at a repeated time, ``"left"`` the state
+    before it. Zero-width intervals (jumps) are never interpolated across.
+
+    Examples
+    --------
+    >>> t = np.array([0.0, 1.0]); y = t**3; dy = 3 * t**2
+    >>> float(hermite_eval(t, y, dy, np.array([0.5]))[0])   # exact for a cubic
+    0.125
+    """
+    if len(t) == 1:
+        return np.full(np.shape(tq), y[0], dtype=float)
+    i = _locate(t, tq, side)
+    t0, t1 = t[i], t[i + 1]
+    h = t1 - t0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(h > 0.0, (tq - t0) / h, 0.0)
+    s = np.clip(s, 0.0, 1.0)
+    s2, s3 = s * s, s * s * s
+    h00 = 2 * s3 - 3 * s2 + 1
+    h10 = s3 - 2 * s2 + s
+    h01 = -2 * s3 + 3 * s2
+    h11 = s3 - s2
+    return h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
+
+
+def hermite_max(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
+    """Largest value of the cubic Hermite interpolant of ``x`` (derivative ``v``).
+
+    Interior maxima are looked for only on intervals where ``v`` falls from positive to
+    non-positive; integrators that insert their maxima as points make this a plain ``max``.
+    """
+    best = float(np.max(x))
+    if len(t) < 2:
+        return best
+    h = np.diff(t)
+    sel = np.flatnonzero((h > 0.0) & (v[:-1] > 0.0) & (v[1:] <= 0.0))
+    if sel.size == 0:
+        return best
+    x0, x1, hh = x[sel], x[sel + 1], h[sel]
+    m0, m1 = hh * v[sel], hh * v[sel + 1]
+    # d/ds of the Hermite cubic: A s^2 + B s + C
+    qa = 6 * x0 + 3 * m0 - 6 * x1 + 3 * m1
+    qb = -6 * x0 - 4 * m0 + 6 * x1 - 2 * m1
+    qc = m0
+    disc = np.maximum(qb * qb - 4 * qa * qc, 0.0)
+    sq = np.sqrt(disc)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = np.where(qa != 0.0, (-qb - sq) / (2 * qa), -qc / qb)
+        r2 = np.where(qa != 0.0, (-qb + sq) / (2 * qa), -qc / qb)
+    for r in (r1, r2):
+        s = np.clip(np.nan_to_num(r, nan=0.0), 0.0, 1.0)
+        s2, s3 = s * s, s * s * s
+        val = (
+            (2 * s3 - 3 * s2 + 1) * x0
+            + (s3 - 2 * s2 + s) * m0
+            + (-2 * s3 + 3 * s2) * x1
+            + (s3 - s2) * m1
+        )
+        best = max(best, float(np.max(val)))
+    return best
+
+
+def _energy_dense(
+    t: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    mode: np.ndarray,
+    acc: np.ndarray | None,
+    phi: np.ndarray,
+    stored: np.ndarray,
+    belt_speed: float,
+) -> tuple[np.ndarray, ...]:
+    """Cumulative energy terms at the dense points (per unit ``k``, SPEC §2 and §4).
+
+    Friction force over ``k`` on the interval after point ``i``: ``f = x'' + x + phi`` (the
+    equation of motion solved for it). On slip it is the constant ``s*a`` (or ``+-b`` in the
+    switch model's transition band), so its work ``f * dx`` is exact; on stick it is the
+    spring-plus-contact force and its work is summed by the trapezoid rule in ``x``. Jumps
+    (rigid impacts) hand their loss of kinetic energy to the stop; the deformable stop's
+    work is summed by the trapezoid rule in ``x``.
+    """
+    mech = 0.5 * (x * x + v * v)
+    n = len(t)
+    if n < 2:
+        z = np.zeros(n)
+        return mech, z, z.copy(), z.copy(), stored
+    dx = np.diff(x)
+    dt = np.diff(t)
+    jump = dt == 0.0
+    stick = mode[:-1] == Mode.STICK
+    phi_mid = 0.5 * (phi[:-1] + phi[1:])
+    stop_work = np.where(jump, -np.diff(mech), phi_mid * dx)
+    if acc is None:
+        # no acceleration given: friction work closes the balance
+        fric = np.diff(mech) + np.where(jump, 0.0, stop_work)
+        fric = np.where(jump, 0.0, fric)
+        belt = np.full(n - 1, math.nan)
+    else:
+        f_left = acc[:-1] + x[:-1] + phi[:-1]
+        spring_mid = 0.5 * (x[:-1] + x[1:]) + phi_mid
+        f_int = np.where(stick, spring_mid, f_left)
+        fric = np.where(jump, 0.0, f_int * dx)
+        belt = np.where(jump, 0.0, f_int * belt_speed * dt)
+    cum = np.zeros((3, n))
+    cum[0, 1:] = np.cumsum(fric)
+    cum[1, 1:] = np.cumsum(belt)
+    cum[2, 1:] = np.cumsum(stop_work)
+    return mech, cum[0], cum[1], cum[2] - stored, stored
+
+
+def steady_from_transitions(
+    tail: Sequence[Transition],
+    *,
+    tol: float,
+    t_end: float,
+    final_mode: int,
+    final_v: float,
+    x_max_between=None,
+) -> Steady:
+    """The steady state read off the most recent transitions (SPEC §6).
+
+    Parameters
+    ----------
+    tail : sequence of Transition
+        The most recent transitions, oldest first.
+    tol : float
+        Absolute tolerance on the transition states ``(x, x')`` for a fixed point of the
+        friction-impact map ``P^j`` (and, divided by the speed scale, on the times).
+    t_end : float
+        The horizon.
+    final_mode, final_v : int, float
+        Mode and velocity at ``t_end`` (for motions without transitions).
+    x_max_between : callable, optional
+        ``x_max_between(t0, t1)``: maximum displacement over a time interval.
+
+    Returns
+    -------
+    Steady
+    """
+    tail = list(tail)
+
+    def xmax(t0: float, t1: float) -> float:
+        return x_max_between(t0, t1) if x_max_between is not None else math.nan
+
+    for tr in reversed(tail):
+        if tr.kind is TransitionKind.REST:
+            return Steady(SteadyKind.REST, x_max=tr.x, impact_speed=0.0, t_reached=tr.t)
+        if tr.kind is TransitionKind.FAILURE:
+            return Steady(SteadyKind.NONE)
+    t_last = tail[-1].t if tail else 0.0
+    if not tail or t_end - t_last > 2.0 * math.pi:
+        # no transition for more than a full slip circle: nothing will happen any more
+        if final_mode == Mode.STICK and final_v == 0.0:
+            return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
+        if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
+            # impacts died out on a slip circle that touches the stop: grazing (SPEC §3)
+            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+        if final_mode == Mode.SLIP:
+            return Steady(
+                SteadyKind.PURE_SLIP,
+                period=2.0 * math.pi,
+                x_max=xmax(max(t_last, t_end - 2.0 * math.pi), t_end),
+                t_reached=t_last,
+            )
+        if final_mode == Mode.CONTACT:
+            return Steady(SteadyKind.REST, t_reached=math.nan, x_max=xmax(t_last, t_end))
+
+    n = len(tail)
+    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
+        pairs = ((tail[n - 1 - i], tail[n - 1 - i - j]) for i in range(STEADY_PERIODS * j))
+        if not all(_same(p, q, tol) for p, q in pairs):
+            continue
+        period = tail[-1].t - tail[-1 - j].t
+        if period <= 0.0:
+            continue
+        k = n - 1 - STEADY_PERIODS * j
+        while k - j >= 0 and _same(tail[k], tail[k - j], tol):
+            k -= 1
+        last = tail[n - j :]
+        speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
+        if speeds and max(speeds) <= tol:
+            # impacts of vanishing speed: the grazing limit, reached to the tolerance
+            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+        return Steady(
+            SteadyKind.PERIODIC,
+            period=period,
+            transitions_per_period=j,
+            sequence=tuple(tr.kind.value for tr in last),
+            x_max=xmax(tail[-1].t - period, tail[-1].t),
+            impact_speed=max(speeds) if speeds else math.nan,
+            t_reached=tail[k].t,
+        )
+
+    falling = _falling_contacts(tail)
+    if falling is not None:
+        kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
+        return Steady(kind, impact_speed=0.0, t_reached=math.nan)
+    return Steady(SteadyKind.NONE)
+
+
+def _same(p: Transition, q: Transition, tol: float) -> bool:
+    return (
+        p.kind is q.kind
+        and abs(p.x - q.x) <= tol
+        and abs(p.v - q.v) <= tol
+        and abs(p.v_after - q.v_after) <= tol
+    )
+
+
+def _falling_contacts(tail: list[Transition]) -> str | None:
+    """``"grazing"`` when the last transitions are impacts (or contacts) with falling speed,
+    ``"rest"`` when they are only overlap reversals of falling amplitude (a mass pressed on a
+    deformable stop), else ``None``."""
+    impacts = [tr for tr in tail if tr.kind in IMPACT_KINDS or tr.kind is TransitionKind.CONTACT]
+    recent = tail[-ASYMPTOTIC_MIN:]
+    if len(recent) < ASYMPTOTIC_MIN:
+        return None
+    if all(tr.kind is TransitionKind.REVERSAL for tr in recent):
+        xs = [tr.x for tr in recent]
+        upper, lower = xs[0::2], xs[1::2]
+        if _monotone(upper) and _monotone(lower) and _shrinking(upper, lower):
+            return "rest"
+        return None
+    kinds = {tr.kind for tr in recent}
+    allowed = {
+        TransitionKind.IMPACT,
+        TransitionKind.CONTACT,
+        TransitionKind.SEPARATION,
+        TransitionKind.REVERSAL,
+    }
+    if kinds <= allowed and len(impacts) >= ASYMPTOTIC_MIN // 2:
+        speeds = [tr.v for tr in impacts[-ASYMPTOTIC_MIN // 2 :]]
+        if all(s1 < s0 for s0, s1 in zip(speeds, speeds[1:], strict=False)):
+            return "grazing"
+    return None
+
+
+def _monotone(seq: list[float]) -> bool:
+    d = np.diff(seq)
+    return bool(np.all(d >= 0.0) or np.all(d <= 0.0))
+
+
+def _shrinking(upper: list[float], lower: list[float]) -> bool:
+    m = min(len(upper), len(lower))
+    gaps = [abs(u - w) for u, w in zip(upper[:m], lower[:m], strict=False)]
+    return all(g1 <= g0 for g0, g1 in zip(gaps, gaps[1:], strict=False))
+
+
+def result_from_dense(
+    t,
+    x,
+    v,
+    mode,
+    transitions: Sequence[Transition] | TransitionLog,
+    *,
+    t_end: float,
+    n_samples: int,
+    transition_cap: int,
+    acc=None,
+    contact_force=None,
+    overlap=None,
+    stop_stored=None,
+    impulses=None,
+    energy: Energy | None = None,
+    steady: Steady | None = None,
+    steady_tol: float | None = None,
+    rtol: float = 1e-6,
+    belt_speed: float = math.nan,
+    x_max: float | None = None,
+    status: Status = Status.SUCCESS,
+    method: str,
+    stats: dict | None = None,
+) -> Result:
+    """Assemble a :class:`~core.result.Result` from an integrator's dense points.
+
+    Parameters
+    ----------
+    t, x, v : array_like
+        Times (non-decreasing; a repeated time is a velocity jump), positions and
+        velocities at the step points. The solve may end before ``t_end`` (stop failure):
+        samples then cover ``[0, t[-1]]``.
+    mode : array_like of int
+        :class:`~core.result.Mode` on the interval starting at each point.
+    transitions : sequence of Transition or TransitionLog
+        All transitions in time order (capped here), or a log that already capped them.
+    t_end : float
+        The horizon asked for.
+    n_samples : int
+        Number of uniform samples over ``[0, t_end]``; the stored transitions' points are
+        merged in (an impact contributes the state before and after it).
+    transition_cap : int
+        Transitions stored in the result (all are counted).
+    acc : array_like, optional
+        Acceleration ``x''`` on the interval starting at each point: makes the velocity
+        samples cubic and the friction work exact on slip. Without it the velocity is
+        interpolated linearly and the friction work closes the energy balance.
+    contact_force, overlap : array_like, optional
+        ``phi/k`` and ``x - clearance`` at the points (deformable stop); zeros otherwise.
+    stop_stored : array_like or callable, optional
+        Energy stored in the deformable stop: values at the points, or a function
+        ``f(overlap, force)`` evaluated at the samples in contact only (cheaper: the stored
+        energy needs a closed-form integral per call). ``stop_loss`` is the work done on the
+        stop less this.
+    impulses : array_like, shape (n, 2), optional
+        Impact times and impulses; by default from the stored impacts (``v - v_after``).
+    energy : Energy, optional
+        Energy terms already at the samples (overrides the computed ones).
+    steady : Steady, optional
+        The steady state if the caller knows it; else searched on the transitions with
+        :func:`steady_from_transitions`.
+    steady_tol : float, optional
+        Absolute tolerance of that search; by default
+        ``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale.
+    rtol : float
+        The integrator's relative tolerance (for the default ``steady_tol``).
+    belt_speed : float
+        ``v`` (for the belt's work).
+    x_max : float, optional
+        The maximum displacement if known; else the maximum of the Hermite interpolant.
+    status : Status
+    method : str
+    stats : dict, optional
+
+    Returns
+    -------
+    Result
+    """
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(x, dtype=float)
+    v = np.asarray(v, dtype=float)
+    mode = np.asarray(mode, dtype=np.int8)
+    acc_arr = None if acc is None else np.asarray(acc, dtype=float)
+    n = len(t)
+    phi = np.zeros(n) if contact_force is None else np.asarray(contact_force, dtype=float)
+    ovl = np.zeros(n) if overlap is None else np.asarray(overlap, dtype=float)
+    stored_fn = stop_stored if callable(stop_stored) else None
+    stored = (
+        np.zeros(n)
+        if stop_stored is None or stored_fn is not None
+        else np.asarray(stop_stored, dtype=float)
+    )
+    log = (
+        transitions
+        if isinstance(transitions, TransitionLog)
+        else TransitionLog.from_sequence(transitions, transition_cap)
+    )
+
+    t_stop = min(float(t_end), float(t[-1]))
+    uniform = np.linspace(0.0, t_stop, max(int(n_samples), 2))
+    tr_pts = [tr for tr in log.stored if tr.t <= t_stop]
+    jump_t = np.array([tr.t for tr in tr_pts if tr.kind in IMPACT_KINDS], dtype=float)
+    other_t = np.array([tr.t for tr in tr_pts if tr.kind not in IMPACT_KINDS], dtype=float)
+    right_t = np.concatenate([uniform, other_t, jump_t])
+    # at a repeated time the state before a jump sorts first
+    order_key = np.concatenate([np.ones(len(right_t)), np.zeros(len(jump_t))])
+    all_t = np.concatenate([right_t, jump_t])
+    sides = ["right"] * len(right_t) + ["left"] * len(jump_t)
+    perm = np.lexsort((order_key, all_t))
+    ts = all_t[perm]
+    is_left = np.array(sides)[perm] == "left"
+
+    def sample(y: np.ndarray, dy: np.ndarray | None) -> np.ndarray:
+        out = np.empty(len(ts))
+        for side, sel in (("right", ~is_left), ("left", is_left)):
+            if not np.any(sel):
+                continue
+            if dy is None:
+                out[sel] = _linear(t, y, ts[sel], side)
+            else:
+                out[sel] = hermite_eval(t, y, dy, ts[sel], side)
+        return out
+
+    xs = sample(x, v)
+    vs = sample(v, acc_arr)
+    idx = np.where(
+        is_left,
+        np.clip(np.searchsorted(t, ts, side="left") - 1, 0, max(n - 1, 0)),
+        np.clip(np.searchsorted(t, ts, side="right") - 1, 0, max(n - 1, 0)),
+    )
+    modes = mode[idx].astype(np.int8)
+    phis = sample(phi, None)
+    ovls = sample(ovl, None)
+
+    if energy is None:
+        mech_d, fric_d, belt_d, loss_d, stored_d = _energy_dense(
+            t, x, v, mode, acc_arr, phi, stored, belt_speed
+        )
+        loss_s, stored_s = sample(loss_d, None), sample(stored_d, None)
+        if stored_fn is not None:
+            pairs = zip(ovls, phis, strict=True)
+            stored_s = np.array([stored_fn(d, p) if d > 0.0 else 0.0 for d, p in pairs])
+            loss_s = loss_s - stored_s
+        energy = Energy(
+            mechanical=0.5 * (xs * xs + vs * vs),
+            friction_work=sample(fric_d, None),
+            belt_input=sample(belt_d, None),
+            stop_loss=loss_s,
+            stop_stored=stored_s,
+        )
+
+    if impulses is None:
+        imp = [(tr.t, tr.v - tr.v_after) for tr in log.stored if tr.kind in IMPACT_KINDS]
+        impulses = np.array(imp, dtype=float).reshape(-1, 2)
+    else:
+        impulses = np.asarray(impulses, dtype=float).reshape(-1, 2)
+
+    if x_max is None:
+        x_max = hermite_max(t, x, v) if n else math.nan
+
+    if steady is None:
+        scale = max(
+            float(np.max(np.abs(x))) if n else 0.0,
+            float(np.max(np.abs(v))) if n else 0.0,
+            abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
+        )
+        tol = steady_tol
+        if tol is None:
+            tol = max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
+
+        def x_max_between(t0: float, t1: float) -> float:
+            i0 = int(np.searchsorted(t, t0, side="left"))
+            i1 = int(np.searchsorted(t, t1, side="right"))
+            i0 = max(min(i0, n - 1) - 1, 0)
+            i1 = max(i1, i0 + 1)
+            return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
+
+        steady = steady_from_transitions(
+            log.tail,
+            tol=tol,
+            t_end=t_stop,
+            final_mode=int(mode[-1]) if n else int(Mode.SLIP),
+            final_v=float(v[-1]) if n else math.nan,
+            x_max_between=x_max_between,
+        )
+
+    return Result(
+        t=ts,
+        x=xs,
+        v=vs,
+        mode=modes,
+        transitions=tuple(log.stored),
+        transition_counts=dict(log.counts),
+        n_transitions=log.n,
+        x_max=float(x_max),
+        steady=steady,
+        status=status,
+        energy=energy,
+        contact_force=phis,
+        overlap=ovls,
+        impulses=impulses,
+        method=method,
+        stats=dict(stats or {}),
+    )
+
+
+def _linear(t: np.ndarray, y: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
+    """Piecewise linear interpolation that respects jumps (see :func:`hermite_eval`)."""
+    if len(t) == 1:
+        return np.full(np.shape(tq), y[0], dtype=float)
+    i = _locate(t, tq, side)
+    t0, t1 = t[i], t[i + 1]
+    h = t1 - t0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.clip(np.where(h > 0.0, (tq - t0) / h, 0.0), 0.0, 1.0)
+    return y[i] + s * (y[i + 1] - y[i])
