@@ -18,7 +18,9 @@ Conventions of the dense arrays
 -------------------------------
 ``t`` is non-decreasing; a repeated time marks a jump (a rigid impact, paper Eq. 8): the
 first point holds the state just before it, the last the state just after. ``mode[i]`` and
-``acc[i]`` belong to the interval that *starts* at point ``i`` (right limits).
+``acc[i]`` belong to the interval that *starts* at point ``i`` (right limits); where the
+acceleration jumps (a friction transition) an integrator that knows both limits repeats the
+point with the left limit first, so that the velocity interpolant on each side is right.
 """
 
 from __future__ import annotations
@@ -146,11 +148,11 @@ def hermite_eval(
         s = np.where(h > 0.0, (tq - t0) / h, 0.0)
     s = np.clip(s, 0.0, 1.0)
     s2, s3 = s * s, s * s * s
-    h00 = 2 * s3 - 3 * s2 + 1
+    # written as y0 + (y1 - y0) * h01 + ...: a constant stays exactly constant
     h10 = s3 - 2 * s2 + s
     h01 = -2 * s3 + 3 * s2
     h11 = s3 - s2
-    return h00 * y[i] + h10 * h * dy[i] + h01 * y[i + 1] + h11 * h * dy[i + 1]
+    return y[i] + h01 * (y[i + 1] - y[i]) + h * (h10 * dy[i] + h11 * dy[i + 1])
 
 
 def hermite_max(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
@@ -190,52 +192,58 @@ def hermite_max(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
     return best
 
 
-def _energy_dense(
+def _energy_at_samples(
     t: np.ndarray,
     x: np.ndarray,
     v: np.ndarray,
     mode: np.ndarray,
     acc: np.ndarray | None,
     phi: np.ndarray,
-    stored: np.ndarray,
     belt_speed: float,
-) -> tuple[np.ndarray, ...]:
-    """Cumulative energy terms at the dense points (per unit ``k``, SPEC §2 and §4).
+    idx: np.ndarray,
+    ts: np.ndarray,
+    xs: np.ndarray,
+    phis: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Friction work, belt work and work done on the stop at the samples (per unit ``k``).
 
     Friction force over ``k`` on the interval after point ``i``: ``f = x'' + x + phi`` (the
-    equation of motion solved for it). On slip it is the constant ``s*a`` (or ``+-b`` in the
-    switch model's transition band), so its work ``f * dx`` is exact; on stick it is the
-    spring-plus-contact force and its work is summed by the trapezoid rule in ``x``. Jumps
-    (rigid impacts) hand their loss of kinetic energy to the stop; the deformable stop's
-    work is summed by the trapezoid rule in ``x``.
+    equation of motion solved for it, SPEC §2 and §4). On slip it is the constant ``s*a``
+    (``+-b`` in the switch model's transition band), so its work ``f * dx`` is exact; on
+    stick it is the spring-plus-contact force, summed by the trapezoid rule in ``x`` (exact
+    off the stop, where it is linear in ``x``). A jump (rigid impact) hands its loss of
+    kinetic energy to the stop; the deformable stop's work is the trapezoid rule in ``x``.
+    Inside an interval the same rules run from its start point to the sample, so the sums
+    at the samples are as accurate as at the points.
     """
-    mech = 0.5 * (x * x + v * v)
     n = len(t)
     if n < 2:
-        z = np.zeros(n)
-        return mech, z, z.copy(), z.copy(), stored
-    dx = np.diff(x)
-    dt = np.diff(t)
+        z = np.zeros(len(ts))
+        return z, z.copy(), z.copy()
+    mech = 0.5 * (x * x + v * v)
+    dx, dt = np.diff(x), np.diff(t)
     jump = dt == 0.0
     stick = mode[:-1] == Mode.STICK
     phi_mid = 0.5 * (phi[:-1] + phi[1:])
     stop_work = np.where(jump, -np.diff(mech), phi_mid * dx)
+    cum_stop = np.concatenate([[0.0], np.cumsum(stop_work)])
+    k = np.clip(idx, 0, n - 2)
+    d_x = xs - x[k]
+    stop_s = cum_stop[k] + np.where(jump[k], 0.0, 0.5 * (phi[k] + phis) * d_x)
     if acc is None:
-        # no acceleration given: friction work closes the balance
-        fric = np.diff(mech) + np.where(jump, 0.0, stop_work)
-        fric = np.where(jump, 0.0, fric)
-        belt = np.full(n - 1, math.nan)
-    else:
-        f_left = acc[:-1] + x[:-1] + phi[:-1]
-        spring_mid = 0.5 * (x[:-1] + x[1:]) + phi_mid
-        f_int = np.where(stick, spring_mid, f_left)
-        fric = np.where(jump, 0.0, f_int * dx)
-        belt = np.where(jump, 0.0, f_int * belt_speed * dt)
-    cum = np.zeros((3, n))
-    cum[0, 1:] = np.cumsum(fric)
-    cum[1, 1:] = np.cumsum(belt)
-    cum[2, 1:] = np.cumsum(stop_work)
-    return mech, cum[0], cum[1], cum[2] - stored, stored
+        # no acceleration given: the caller closes the balance with the friction work
+        return np.full(len(ts), math.nan), np.full(len(ts), math.nan), stop_s
+    f_left = acc[:-1] + x[:-1] + phi[:-1]
+    f_int = np.where(stick, 0.5 * (x[:-1] + x[1:]) + phi_mid, f_left)
+    fric = np.where(jump, 0.0, f_int * dx)
+    belt = np.where(jump, 0.0, f_int * belt_speed * dt)
+    cum_f = np.concatenate([[0.0], np.cumsum(fric)])
+    cum_b = np.concatenate([[0.0], np.cumsum(belt)])
+    f_s = np.where(stick[k], 0.5 * (x[k] + phi[k] + xs + phis), f_left[k])
+    f_s = np.where(jump[k], 0.0, f_s)
+    fric_s = cum_f[k] + f_s * d_x
+    belt_s = cum_b[k] + f_s * belt_speed * (ts - t[k])
+    return fric_s, belt_s, stop_s
 
 
 def steady_from_transitions(
@@ -397,6 +405,7 @@ def result_from_dense(
     rtol: float = 1e-6,
     belt_speed: float = math.nan,
     x_max: float | None = None,
+    x_upper: float | None = None,
     status: Status = Status.SUCCESS,
     method: str,
     stats: dict | None = None,
@@ -447,6 +456,9 @@ def result_from_dense(
         ``v`` (for the belt's work).
     x_max : float, optional
         The maximum displacement if known; else the maximum of the Hermite interpolant.
+    x_upper : float, optional
+        A bound the samples must respect (the rigid stop's face): interpolants that round
+        beyond it are clipped.
     status : Status
     method : str
     stats : dict, optional
@@ -501,6 +513,9 @@ def result_from_dense(
         return out
 
     xs = sample(x, v)
+    if x_upper is not None:
+        # a rigid stop's face: the interpolant may round a few ulps beyond it
+        xs = np.minimum(xs, x_upper)
     vs = sample(v, acc_arr)
     idx = np.where(
         is_left,
@@ -512,19 +527,22 @@ def result_from_dense(
     ovls = sample(ovl, None)
 
     if energy is None:
-        mech_d, fric_d, belt_d, loss_d, stored_d = _energy_dense(
-            t, x, v, mode, acc_arr, phi, stored, belt_speed
+        fric_s, belt_s, stop_s = _energy_at_samples(
+            t, x, v, mode, acc_arr, phi, belt_speed, idx, ts, xs, phis
         )
-        loss_s, stored_s = sample(loss_d, None), sample(stored_d, None)
-        if stored_fn is not None:
-            pairs = zip(ovls, phis, strict=True)
-            stored_s = np.array([stored_fn(d, p) if d > 0.0 else 0.0 for d, p in pairs])
-            loss_s = loss_s - stored_s
+        mech_s = 0.5 * (xs * xs + vs * vs)
+        if acc_arr is None:
+            fric_s = mech_s - mech_s[0] + stop_s
+        stored_s = (
+            np.array([stored_fn(d, p) if d > 0.0 else 0.0 for d, p in zip(ovls, phis, strict=True)])
+            if stored_fn is not None
+            else sample(stored, None)
+        )
         energy = Energy(
-            mechanical=0.5 * (xs * xs + vs * vs),
-            friction_work=sample(fric_d, None),
-            belt_input=sample(belt_d, None),
-            stop_loss=loss_s,
+            mechanical=mech_s,
+            friction_work=fric_s,
+            belt_input=belt_s,
+            stop_loss=stop_s - stored_s,
             stop_stored=stored_s,
         )
 

@@ -53,6 +53,9 @@ STICK_CONTACT_POINTS = 16
 LIMIT_OVERLAP_FRACTION = 1.0 - 1e-9
 #: Relative tolerance of the stick-in-contact end point (monotone bracketed root).
 STICK_ROOT_RTOL = 4.0 * np.finfo(float).eps
+#: Largest step of a rebound arc from a rigid stop, as a fraction of its estimated duration
+#: ``2|x'|/|x''|`` (only the segment that starts at the stop).
+REBOUND_STEP_FRACTION = 0.25
 #: Absolute time tolerance of a crossing found on the dense output (dimensionless time).
 ROOT_XTOL = 1e-15
 #: Largest number of restarts (events) before giving up with INTEGRATION_FAILED: a guard
@@ -255,8 +258,7 @@ def simulate_event(
                     break
                 log.add(TransitionKind.STICK_SLIP, t, x, v)
                 fr = 1
-                modes[-1] = Mode.CONTACT
-                accs[-1] = slip_acc(x, fr)
+                point(t, x, v, slip_acc(x, fr), fr)  # right limit: the acceleration jumps
                 continue
             target = min(b, c)
             t_e = t + max(target - x, 0.0) / vb
@@ -276,6 +278,7 @@ def simulate_event(
                 point(t, x, v, 0.0, 0)
             else:
                 log.add(TransitionKind.STICK_SLIP, t, x, v)
+                point(t, x, v, 0.0, 0)  # left limit of the acceleration (stick)
                 fr = 1
                 point(t, x, v, slip_acc(x, fr), fr)
             continue
@@ -297,6 +300,12 @@ def simulate_event(
                 return [y[1], -y[0] + s * a]
 
         watch = stop is not None and not contact  # a crossing inside one step can be missed
+        opts = {}
+        if watch and x == c and v < 0.0:
+            # a rebound arc from the stop lasts about 2|x'|/|x''|: steps must not jump over
+            # it (the event function would see no sign change, or a spurious root at t)
+            arc = 2.0 * abs(v) / max(abs(slip_acc(x, s)), np.finfo(float).tiny)
+            opts["max_step"] = REBOUND_STEP_FRACTION * arc
         sol = solve_ivp(
             fun,
             (t, t_end),
@@ -306,6 +315,7 @@ def simulate_event(
             atol=atol,
             events=events,
             dense_output=watch,
+            **opts,
         )
         n_eval += sol.nfev
         n_steps += len(sol.t) - 1
@@ -349,16 +359,14 @@ def simulate_event(
         if end_kind == "ur":
             v = vb
             f = x + phi_now(x)
-            point(t, x, v, slip_acc(x, s), s)
+            point(t, x, v, slip_acc(x, s), s)  # left limit of the acceleration
             if abs(f) <= b:
                 log.add(TransitionKind.SLIP_STICK, t, x, v)
                 fr = 0
-                accs[-1] = 0.0
             else:
                 log.add(TransitionKind.SIGN_CHANGE, t, x, v)
                 fr = 1 if f > 0.0 else -1
-                accs[-1] = slip_acc(x, fr)
-            modes[-1] = Mode.CONTACT if contact else (Mode.STICK if fr == 0 else Mode.SLIP)
+            point(t, x, v, 0.0 if fr == 0 else slip_acc(x, fr), fr)  # right limit
         elif end_kind == "stop" and rigid:
             x = c
             point(t, x, v, slip_acc(x, s), s)
@@ -405,6 +413,7 @@ def simulate_event(
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,
         belt_speed=vb,
+        x_upper=c if rigid else None,
         status=status,
         method="event",
         stats={"segments": n_seg, "steps": n_steps, "rhs_evals": n_eval, "solver": solver},
@@ -504,9 +513,7 @@ def _stick_contact_end(stop: HystereticStop, branch, x: float, b: float):
     if g(x) >= 0.0:
         return TransitionKind.STICK_SLIP, x
     if g(x_hi) > 0.0:
-        candidates.append(
-            (brentq(g, x, x_hi, rtol=STICK_ROOT_RTOL), TransitionKind.STICK_SLIP)
-        )
+        candidates.append((brentq(g, x, x_hi, rtol=STICK_ROOT_RTOL), TransitionKind.STICK_SLIP))
     if math.isfinite(stop.strength):
 
         def gf(xx: float) -> float:

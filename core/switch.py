@@ -216,12 +216,8 @@ def _hermite(
     (the end value ``y1`` is then given already shifted)."""
     s2 = s * s
     s3 = s2 * s
-    return (
-        (2 * s3 - 3 * s2 + 1) * (y0 - shift)
-        + (s3 - 2 * s2 + s) * h * d0
-        + (-2 * s3 + 3 * s2) * y1
-        + (s3 - s2) * h * d1
-    )
+    y0 = y0 - shift
+    return y0 + (3 * s2 - 2 * s3) * (y1 - y0) + h * ((s3 - 2 * s2 + s) * d0 + (s3 - s2) * d1)
 
 
 def _root(g, lo: float, hi: float, g_lo: float, g_hi: float) -> float:
@@ -264,6 +260,14 @@ def _x_crossing(h, x0, v0, x1, v1, level) -> float | None:
     def g(s: float) -> float:
         return _hermite(s, h, x0, v0, x1, v1) - level
 
+    if g0 == 0.0:
+        # leaving the stop (after an impact): a short rebound arc can come back inside the
+        # same step; look for the crossing after the interpolant's minimum
+        if v0 >= 0.0 or x1 <= level or v1 <= 0.0:
+            return None
+        s_low = _root(lambda s: _hermite_dx(s, h, x0, v0, x1, v1), 0.0, 1.0, v0, v1)
+        g_low = g(s_low)
+        return _root(g, s_low, 1.0, g_low, x1 - level) if g_low < 0.0 else None
     if x1 > level:
         return _root(g, 0.0, 1.0, g0, x1 - level)
     if v0 > 0.0 and v1 < 0.0:
@@ -611,6 +615,7 @@ def simulate_switch(
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=max(rtol, eta / max(vb, eta)),
         belt_speed=vb,
+        x_upper=c if rigid else None,
         status=status,
         method="switch",
         stats={"steps": steps, "rejected": rejected, "rhs_evals": n_eval, "eta": eta},

@@ -1,0 +1,154 @@
+"""solve_ivp with event location on the non-smooth model (core.event_method).
+
+No regularisation: the only error is the integration error, so the closed forms of SPEC §7
+hold to a small multiple of the tolerance. Tolerances below are justified per test.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from core import HystereticStop, Oscillator, RigidStop, SteadyKind, TransitionKind, simulate
+from core.event_method import SOLVERS, simulate_event
+
+A, B = 0.2, 0.3
+FAST = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)
+SLOW = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+TIGHT = {"rtol": 1e-11, "atol": 1e-13, "solver": "DOP853"}
+#: At rtol 1e-11 over a few tens of time units DOP853's global error stays below ~1e-9.
+CLOSE = 1e-9
+
+
+def test_fast_belt_pure_slip():
+    res = simulate_event(FAST, t_end=20.0, **TIGHT)
+    assert res.x_max == pytest.approx(2 * A, abs=CLOSE)
+    assert res.x[-1] == pytest.approx(A - A * math.cos(20.0), abs=CLOSE)
+    assert res.steady.kind is SteadyKind.PURE_SLIP
+    assert res.method == "event"
+
+
+def test_first_stick_point_and_limit_cycle():
+    res = simulate_event(SLOW, t_end=40.0, **TIGHT)
+    first = res.transitions[0]
+    assert first.kind is TransitionKind.SLIP_STICK
+    assert first.x == pytest.approx(A - math.sqrt(A * A - SLOW.v**2), abs=CLOSE)  # Eq. 30
+    assert first.v == SLOW.v  # the event state is projected onto x' = v
+    assert res.x_max == pytest.approx(A + math.hypot(B - A, SLOW.v), abs=CLOSE)
+    assert res.steady.kind is SteadyKind.PERIODIC
+    assert res.steady.sequence == ("slip->stick", "stick->slip")
+
+
+def test_elastic_fast_belt_impact():
+    c = 0.3
+    res = simulate_event(FAST, RigidStop(c, 1.0), t_end=30.0, **TIGHT)
+    impacts = [tr for tr in res.transitions if tr.kind is TransitionKind.IMPACT]
+    speed = math.sqrt(c * (2 * A - c))
+    period = 2 * math.acos(1 - c / A)
+    assert len(impacts) >= 3
+    for tr in impacts:
+        assert tr.v == pytest.approx(speed, abs=CLOSE)
+    np.testing.assert_allclose(np.diff([tr.t for tr in impacts]), period, atol=CLOSE)
+    assert res.steady.period == pytest.approx(period, abs=CLOSE)
+
+
+SCENES = [
+    (FAST, None),
+    (SLOW, None),
+    (FAST, RigidStop(0.3, 1.0)),
+    (SLOW, RigidStop(0.3, 1.0)),
+    (SLOW, RigidStop(0.25, 0.7)),
+    (FAST, RigidStop(0.25, 0.7)),
+    (SLOW, RigidStop(0.35, 0.5)),
+    (SLOW, RigidStop(0.1, 0.0)),
+    (SLOW, RigidStop(0.15, 0.7)),
+]
+
+
+@pytest.mark.parametrize("osc,stop", SCENES)
+def test_agrees_with_exact_solver(osc, stop):
+    exact = simulate(osc, stop, t_end=40.0)
+    res = simulate_event(osc, stop, t_end=40.0, **TIGHT)
+    # Zeno scenes: the event method stops bouncing below rest_speed (fewer impacts), the
+    # accumulation time and the final rest agree.
+    assert res.x[-1] == pytest.approx(exact.x[-1], abs=1e-7)
+    assert res.v[-1] == pytest.approx(exact.v[-1], abs=1e-7)
+    assert res.x_max == pytest.approx(exact.x_max, abs=1e-8)
+    assert res.steady.kind is exact.steady.kind
+    firsts = [tr for tr in exact.transitions if tr.kind is not TransitionKind.ACCUMULATION]
+    for p, q in zip(firsts[:10], res.transitions[:10], strict=False):
+        assert p.kind is q.kind
+        assert q.t == pytest.approx(p.t, abs=1e-8)
+
+
+@pytest.mark.parametrize("c,r", [(0.3, 1.0), (0.25, 0.7), (0.15, 0.7), (0.05, 0.9)])
+def test_rigid_stop_never_penetrated(c, r):
+    for osc in (FAST, SLOW):
+        res = simulate_event(osc, RigidStop(c, r), t_end=60.0, rtol=1e-6, atol=1e-9)
+        assert np.all(res.x <= c)
+
+
+def test_grazing_crossing_inside_one_step_is_found():
+    # c > a, r < 1: impacts with speeds falling as r^h; late ones rise above the stop and
+    # fall back inside one step of a loose tolerance. Each maximum is an event, so none is
+    # missed and no sample passes the stop.
+    res = simulate_event(FAST, RigidStop(0.25, 0.7), t_end=100.0, rtol=1e-3, atol=1e-6)
+    assert np.all(res.x <= 0.25)
+    assert res.steady.kind is SteadyKind.GRAZING
+
+
+def test_zeno_accumulation_time():
+    stop = RigidStop(0.15, 0.7)
+    exact = simulate(SLOW, stop, t_end=50.0)
+    res = simulate_event(SLOW, stop, t_end=50.0, **TIGHT)
+    t_ex = next(tr.t for tr in exact.transitions if tr.kind is TransitionKind.ACCUMULATION)
+    t_ev = next(tr.t for tr in res.transitions if tr.kind is TransitionKind.ACCUMULATION)
+    assert t_ev == pytest.approx(t_ex, abs=1e-8)
+    assert res.transitions[-1].kind is TransitionKind.REST
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_every_solver_runs(solver):
+    res = simulate_event(SLOW, RigidStop(0.3, 0.8), t_end=15.0, solver=solver, rtol=1e-8)
+    exact = simulate(SLOW, RigidStop(0.3, 0.8), t_end=15.0)
+    # rtol 1e-8 for every method; implicit ones are less accurate per step: 1e-5 is loose
+    assert res.x_max == pytest.approx(exact.x_max, abs=1e-5)
+    assert res.stats["solver"] == solver
+
+
+def test_hysteretic_stop_contact_sequence():
+    stop = HystereticStop(0.25)
+    res = simulate_event(SLOW, stop, t_end=20.0, **TIGHT)
+    kinds = [tr.kind for tr in res.transitions]
+    i = kinds.index(TransitionKind.CONTACT)
+    # clearance < b: the stick reaches the stop, slips inside the contact, turns, separates
+    assert kinds[i : i + 4] == [
+        TransitionKind.CONTACT,
+        TransitionKind.STICK_SLIP,
+        TransitionKind.REVERSAL,
+        TransitionKind.SEPARATION,
+    ]
+    assert np.all(res.contact_force >= 0.0) and res.contact_force.max() > 0.0
+    assert np.all(res.overlap < stop.limit_overlap)
+    e = res.energy
+    resid = e.mechanical - e.mechanical[0] - e.friction_work + e.stop_loss + e.stop_stored
+    # the energy terms are trapezoid sums over the step points: second order, not exact
+    assert np.max(np.abs(resid)) < 1e-3 * np.max(e.mechanical)
+
+
+def test_hysteretic_strength_failure_is_reported():
+    from core import Status
+
+    stop = HystereticStop(0.25, strength=0.5)
+    res = simulate_event(FAST, stop, t_end=20.0)
+    assert res.status is Status.STOP_FAILED
+    assert res.transitions[-1].kind is TransitionKind.FAILURE
+
+
+def test_bad_input_is_rejected():
+    with pytest.raises(ValueError, match="solver"):
+        simulate_event(SLOW, solver="Euler")
+    with pytest.raises(ValueError, match="x0"):
+        simulate_event(SLOW, RigidStop(0.1), x0=0.2)
