@@ -1,0 +1,204 @@
+"""The mechanism drawn and animated in the browser: belt, spring, mass, stop.
+
+The animation runs entirely client-side: a ``requestAnimationFrame`` loop in BokehJS reads
+the trajectory source (``t_raw``, ``x``, ``v``, ``mode``) that the phase portrait already
+received, interpolates the state at the animation time and moves the mass, the spring, the
+belt's marks, a marker in the phase portrait and a cursor in the time histories. The sources
+and annotations it writes are ``syncable=False``, so a playing animation sends nothing to the
+server; only Play/Pause and the speed slider are widgets.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import panel as pn
+from bokeh.models import ColumnDataSource, Label, Range1d, Span
+from bokeh.plotting import figure
+
+from app.plots import MODE_COLORS
+from app.solver import Solution
+from app.state import DIMENSIONLESS, Scales
+
+#: Size of the mechanism figure [px].
+ANIM_SIZE = (560, 230)
+#: Coils of the drawn spring.
+SPRING_COILS = 9
+#: Marks on the belt (they move at the belt speed).
+BELT_MARKS = 24
+#: Mass block width as a fraction of the motion's extent.
+MASS_WIDTH = 0.3
+#: Dimensionless time played per second of real time at speed 1 (half a slip circle).
+TIME_PER_SECOND = np.pi
+#: Vertical layout of the drawing (arbitrary units): belt, mass and spring heights.
+BELT_BOTTOM, BELT_TOP = -0.3, 0.0
+MASS_BOTTOM, MASS_TOP = 0.02, 0.62
+SPRING_Y, SPRING_AMPLITUDE = 0.32, 0.12
+STOP_TOP = 0.85
+
+#: The frame loop (one per mass source; Play toggles it). ``state`` lives on ``window`` so
+#: that the Play and speed callbacks and the loop share it.
+_JS_PLAY = """
+const key = mass.id;
+const all = (window.__fie_anim = window.__fie_anim || {});
+const st = (all[key] = all[key] || {t: 0.0, running: false, last: null});
+function interp(T, Y, t, lo, hi) {
+  const dt = T[hi] - T[lo];
+  return dt > 0 ? Y[lo] + (Y[hi] - Y[lo]) * (t - T[lo]) / dt : Y[lo];
+}
+function frame(now) {
+  if (!st.running) { return; }
+  const d = traj.data, T = d.t_raw, X = d.x, V = d.v, M = d.mode;
+  const n = T.length;
+  if (n > 1) {
+    if (st.last !== null) { st.t += (now - st.last) / 1000 * rate * speed.value; }
+    if (st.t > T[n - 1] || st.t < T[0]) { st.t = T[0]; }
+    let lo = 0, hi = n - 1;
+    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (T[mid] <= st.t) lo = mid; else hi = mid; }
+    const x = interp(T, X, st.t, lo, hi), v = interp(T, V, st.t, lo, hi);
+    const g = geom.data, w = g.w[0], wall = g.wall[0];
+    const m = mass.data;
+    m.left[0] = x - w / 2; m.right[0] = x + w / 2; m.color[0] = colors[M[lo]] || colors[0];
+    mass.change.emit();
+    const sp = spring.data, k = sp.x.length;
+    for (let i = 0; i < k; i++) { sp.x[i] = wall + (x - w / 2 - wall) * i / (k - 1); }
+    spring.change.emit();
+    const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t) % gap + gap) % gap;
+    for (let i = 0; i < b.x0.length; i++) { b.x0[i] = b.x1[i] = g.belt0[0] + i * gap + shift; }
+    belt.change.emit();
+    marker.data.x[0] = x; marker.data.v[0] = v; marker.change.emit();
+    cursor.location = st.t * g.tscale[0];
+    clock.text = "t = " + (st.t * g.tscale[0]).toFixed(2) + g.tunit[0];
+  }
+  st.last = now;
+  window.requestAnimationFrame(frame);
+}
+st.running = play.active;
+st.last = null;
+if (st.running) { window.requestAnimationFrame(frame); }
+"""
+
+
+class Animation:
+    """The mechanism figure, its Play/Pause toggle and speed slider.
+
+    Parameters
+    ----------
+    traj : ColumnDataSource
+        The trajectory source of :class:`app.plots.PlotSet` (columns ``t_raw``, ``x``,
+        ``v``, ``mode``).
+    """
+
+    def __init__(self, traj: ColumnDataSource) -> None:
+        self.figure = fig = figure(
+            width=ANIM_SIZE[0], height=ANIM_SIZE[1], tools="save", toolbar_location="right",
+            x_range=Range1d(-1, 1), y_range=Range1d(BELT_BOTTOM - 0.05, 1.0),
+            title="Mechanism: belt, spring, mass, stop",
+        )
+        fig.toolbar.logo = None
+        fig.title.text_font_size = "13px"
+        fig.yaxis.visible = False
+        fig.xaxis.axis_label = "x"
+        fig.grid.visible = False
+        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS))
+        self.static = ColumnDataSource({"left": [], "right": [], "bottom": [], "top": [],
+                                        "color": []})
+        self.mass = ColumnDataSource({"left": [-0.1], "right": [0.1], "bottom": [MASS_BOTTOM],
+                                      "top": [MASS_TOP], "color": [MODE_COLORS[0]]},
+                                     syncable=False)
+        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False)
+        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False)
+        #: Current state marker for the phase portrait (added by :meth:`attach`).
+        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False)
+        fig.quad(left="left", right="right", bottom="bottom", top="top", color="color",
+                 source=self.static)
+        fig.segment(x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
+                    source=self.belt, line_color="#ffffff", line_width=2)
+        fig.line("x", "y", source=self.spring, line_color="#333333", line_width=2)
+        fig.quad(left="left", right="right", bottom="bottom", top="top",
+                 fill_color="color", line_color="#000000", source=self.mass)
+        self.clock = Label(x=10, y=ANIM_SIZE[1] - 60, x_units="screen", y_units="screen",
+                           text="t = 0",
+                           text_font_size="11px", syncable=False)
+        fig.add_layout(self.clock)
+        self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
+                           line_dash="dashed", syncable=False)
+        self.play = pn.widgets.Toggle(label="Play / pause", button_type="primary", width=120)
+        self.speed = pn.widgets.FloatSlider(label="speed", start=0.1, end=5.0, step=0.1,
+                                            value=1.0, width=220)
+        colors = [MODE_COLORS[m] for m in sorted(MODE_COLORS)]
+        self.play.jscallback(
+            value=_JS_PLAY,
+            args={"traj": traj, "geom": self.geom, "mass": self.mass, "spring": self.spring,
+                  "belt": self.belt, "marker": self.marker, "cursor": self.cursor,
+                  "clock": self.clock, "speed": self.speed, "play": self.play,
+                  "colors": colors, "rate": float(TIME_PER_SECOND)},
+        )
+
+    def attach(self, phase_fig: Any, time_figs: tuple[Any, ...]) -> None:
+        """Show the animated state in the phase portrait and a cursor in the time plots."""
+        phase_fig.scatter("x", "v", source=self.marker, size=11, marker="circle",
+                          fill_color="#ffd400", line_color="#000000", line_width=1.5)
+        for fig in time_figs:
+            fig.add_layout(self.cursor)
+
+    def panel(self) -> pn.Column:
+        """The figure with its controls."""
+        return pn.Column(self.figure, pn.Row(self.play, self.speed), margin=0)
+
+    def update(self, sol: Solution, scales: Scales) -> None:
+        """Redraw the mechanism at the start of the new motion (call under ``pn.io.hold``)."""
+        res = sol.result
+        x = np.asarray(res.x) if res is not None and len(res.x) else np.array([sol.x0])
+        clearance = sol.stop.clearance if sol.stop is not None else None
+        lo = float(min(x.min(), sol.x0))
+        hi = float(max(x.max(), clearance if clearance is not None else x.max()))
+        extent = max(hi - lo, 1e-6)
+        g = _geometry(lo, extent, clearance if clearance is not None else hi,
+                      clearance is not None, sol.osc.v, scales)
+        self.geom.data = g
+        w, wall = g["w"][0], g["wall"][0]
+        self.figure.x_range.update(start=wall - 0.05 * extent,
+                                   end=hi + w / 2 + 0.3 * extent)
+        self.figure.xaxis.axis_label = scales.length_label
+        quads = {"left": [wall - 0.06 * extent, g["belt0"][0] - g["gap"][0]],
+                 "right": [wall, g["belt0"][0] + (BELT_MARKS + 1) * g["gap"][0]],
+                 "bottom": [0.0, BELT_BOTTOM], "top": [0.9, BELT_TOP],
+                 "color": ["#555555", "#8c8c8c"]}
+        if clearance is not None:
+            for key, val in (("left", clearance + w / 2), ("right", clearance + w / 2 +
+                             0.08 * extent), ("bottom", 0.0), ("top", STOP_TOP),
+                             ("color", "#222222")):
+                quads[key].append(val)
+        self.static.data = quads
+        x_start = float(x[0])
+        self.mass.data = {"left": [x_start - w / 2], "right": [x_start + w / 2],
+                          "bottom": [MASS_BOTTOM], "top": [MASS_TOP],
+                          "color": [MODE_COLORS[int(res.mode[0]) if res is not None and
+                                                len(res.mode) else 0]]}
+        self.spring.data = _spring(wall, x_start - w / 2)
+        marks = g["belt0"][0] + g["gap"][0] * np.arange(BELT_MARKS)
+        self.belt.data = {"x0": marks.tolist(), "x1": marks.tolist()}
+        v_start = float(res.v[0]) * scales.velocity if res is not None and len(res.v) else 0.0
+        self.marker.data = {"x": [x_start], "v": [v_start]}
+
+
+def _geometry(lo: float, extent: float, stop_at: float, has_stop: bool, belt_speed: float,
+              scales: Scales) -> dict[str, list]:
+    """Fixed dimensions of the drawing for a motion over ``[lo, lo + extent]``."""
+    w = MASS_WIDTH * extent
+    wall = lo - w / 2 - 0.9 * extent
+    gap = (stop_at + w / 2 + 0.4 * extent - wall) / BELT_MARKS
+    return {"w": [w], "wall": [wall], "gap": [gap], "belt0": [wall - gap],
+            "v": [belt_speed], "has_stop": [has_stop], "tscale": [scales.time],
+            "tunit": [" s" if scales.si else ""]}
+
+
+def _spring(wall: float, end: float) -> dict[str, list]:
+    """Zigzag from the wall to the mass: ``2 * SPRING_COILS + 2`` vertices."""
+    n = 2 * SPRING_COILS + 2
+    xs = np.linspace(wall, end, n)
+    ys = np.full(n, SPRING_Y)
+    ys[1:-1] += SPRING_AMPLITUDE * np.where(np.arange(1, n - 1) % 2 == 0, 1.0, -1.0)
+    return {"x": xs.tolist(), "y": ys.tolist()}

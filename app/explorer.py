@@ -1,0 +1,488 @@
+"""The explorer view: widgets, plots, readout and their wiring, one instance per session.
+
+Data flow: a slider's ``value`` (while dragging) runs a cheap preview solve that redraws
+the trajectory only; its ``value_throttled`` (on release, or a typed entry) commits the value
+to :class:`~app.state.ExplorerState`, whose watcher runs the full solve and updates every
+visible plot, the animation and the readout under one ``pn.io.hold`` (one message). Any
+failure of a solve shows its message in an alert and keeps the last good picture.
+"""
+
+from __future__ import annotations
+
+import html
+import logging
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import panel as pn
+import param
+from bokeh.events import Tap
+
+from app.animation import Animation
+from app.export import trajectory_csv
+from app.plots import MAP_PALETTE, PlotSet
+from app.readout import readout_html
+from app.scenes import (
+    CUSTOM,
+    HYSTERETIC_PLOTS,
+    IMPACTLESS_PLOTS,
+    PLOT_TITLES,
+    PLOTS,
+    RIGID_PLOTS,
+    SCENES,
+)
+from app.solver import Solution, regime_map, solve
+from app.state import (
+    ACCURACIES,
+    METHODS,
+    SOLVE_PARAMS,
+    STOP_TYPES,
+    UNITS,
+    URL_KEYS,
+    VIEW_PARAMS,
+    ExplorerState,
+)
+from app.widgets import TypedSlider
+from core import Oscillator
+
+log = logging.getLogger(__name__)
+
+#: Slider label and step of each numeric state parameter.
+SLIDERS: Mapping[str, tuple[str, float]] = {
+    "belt_speed": ("belt speed v", 0.001),
+    "clearance": ("clearance x_bar", 0.001),
+    "restitution": ("restitution r", 0.01),
+    "mu_s": ("static friction mu_s", 0.005),
+    "mu_k": ("kinetic friction mu_k", 0.005),
+    "u_s": ("static deflection u_s = F_N/k", 0.01),
+    "k_c0": ("compression stiffness k_c0/k", 1.0),
+    "k_e0": ("expansion stiffness k_e0/k", 1.0),
+    "limit_overlap": ("limit overlap D", 0.0005),
+    "beta_c": ("beta_c (towards compression)", 0.5),
+    "beta_e": ("beta_e (towards expansion)", 0.5),
+    "x0": ("initial displacement x0", 0.005),
+    "v0": ("initial velocity x'0", 0.005),
+    "t_end": ("horizon t_end", 1.0),
+    "mass": ("mass m (kg)", 0.01),
+    "stiffness": ("stiffness k (N/m)", 1.0),
+}
+#: SI widgets derived from the state through Oscillator.to_physical / from_physical:
+#: name -> (label, step, key of to_physical()).
+SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
+    "normal_force": ("normal force F_N (N)", 0.1, "normal_force"),
+    "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
+}
+#: Constraints kept by the widgets: the first may not exceed the second.
+CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
+#: Smallest mu_s the slider allows (a zero-width mu_k slider cannot be drawn).
+MU_S_MIN = 0.005
+#: Width of the sidebar widgets [px].
+WIDGET_WIDTH = 290
+#: The house stylesheet (served by ``--static-dirs assets=static``); panes render in shadow
+#: DOMs, so each pane that uses the house classes links it itself.
+STYLESHEET = "assets/explorer.css"
+#: Soft range of the SI sliders, as multiples of their current value.
+SI_SOFT_SPAN = 3.0
+
+
+class Explorer(pn.viewable.Viewer):
+    """The whole page for one session.
+
+    Parameters
+    ----------
+    state : ExplorerState, optional
+        Start from this state instead of the default scene.
+    """
+
+    def __init__(self, state: ExplorerState | None = None, **params: Any) -> None:
+        super().__init__(**params)
+        self.state = state or ExplorerState()
+        self.solution: Solution | None = None
+        self.error: str | None = None
+        self._syncing = False
+        self.plots = PlotSet()
+        self.anim = Animation(self.plots.sources["traj"])
+        self.anim.attach(self.plots.figures["phase"],
+                         (self.plots.figures["time_x"], self.plots.figures["time_v"]))
+        self.plots.figures["phase"].on_event(Tap, self._on_phase_tap)
+        self.plots.figures["map"].on_event(Tap, self._on_map_tap)
+        self._build_widgets()
+        self.alert = pn.pane.Alert("", alert_type="danger", visible=False,
+                                   sizing_mode="stretch_width", css_classes=["fie-alert"])
+        self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
+                                    css_classes=["fie-caption"], stylesheets=[STYLESHEET])
+        self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
+                                    css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+        self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
+                                       stylesheets=[STYLESHEET])
+        self.download = pn.widgets.FileDownload(
+            callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
+            button_type="default", width=WIDGET_WIDTH,
+        )
+        self.plot_panes = self._build_plot_panes()
+        self.state.param.watch(self._on_state, [*SOLVE_PARAMS, *VIEW_PARAMS])
+        self.state.param.watch(self._on_scene_label, ["scene"])
+        self._sync_widgets()
+        self._update()
+
+    # --- building ------------------------------------------------------------------------
+
+    def _build_widgets(self) -> None:
+        st = self.state
+        self.sliders: dict[str, TypedSlider] = {}
+        for name, (label, step) in SLIDERS.items():
+            p = st.param[name]
+            bounds = p.bounds
+            soft = p.softbounds or bounds
+            if name == "mu_s":
+                bounds, soft = (MU_S_MIN, bounds[1]), (MU_S_MIN, soft[1])
+            on_commit = (
+                (lambda v, k={"mass": "m", "stiffness": "k"}[name]: self._commit_si({k: v}))
+                if name in ("mass", "stiffness") else (lambda v, n=name: self._commit({n: v}))
+            )
+            self.sliders[name] = TypedSlider(
+                label, getattr(st, name), step, soft, bounds,
+                on_drag=lambda v, n=name: self._preview(n, v), on_commit=on_commit,
+                width=WIDGET_WIDTH, css_class=f"fie-w-{name}",
+            )
+        phys = st.physical()
+        for name, (label, step, key) in SI_SLIDERS.items():
+            value = phys[key]
+            self.sliders[name] = TypedSlider(
+                label, value, step, (0.0, max(SI_SOFT_SPAN * value, step)), (0.0, 1e9),
+                on_drag=lambda v, k=key: self._preview_si(k, v),
+                on_commit=lambda v, k=key: self._commit_si({k: v}),
+                width=WIDGET_WIDTH, css_class=f"fie-w-{name}",
+            )
+        self.scene_select = pn.widgets.Select(
+            label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
+            options={**{SCENES[k].title: k for k in SCENES}, "custom": CUSTOM},
+            css_classes=["fie-scene"],
+        )
+        self.scene_select.param.watch(self._on_scene_select, "value")
+        self.stop_type = pn.widgets.RadioButtonGroup(
+            label="Stop", options=list(STOP_TYPES), value=st.stop_type, width=WIDGET_WIDTH,
+            button_type="default", css_classes=["fie-stop-type"])
+        self.units = pn.widgets.RadioButtonGroup(
+            label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
+        self.accuracy = pn.widgets.RadioButtonGroup(
+            label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH)
+        self.method = pn.widgets.Select(label="Method", options=list(METHODS),
+                                        value=st.method, width=WIDGET_WIDTH)
+        self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
+        for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
+                              (self.accuracy, "accuracy"), (self.method, "method"),
+                              (self.show_all, "show_all")):
+            widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
+        self.hysteretic_box = pn.Column(
+            *(self.sliders[n].layout
+              for n in ("k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e")), margin=0)
+        self.si_box = pn.Column(
+            *(self.sliders[n].layout
+              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
+
+    def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
+        panes: dict[str, pn.viewable.Viewable] = {}
+        for name in PLOTS:
+            if name == "anim":
+                body = self.anim.panel()
+            elif name == "map":
+                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"]), self.map_legend,
+                                 margin=0)
+            else:
+                body = pn.pane.Bokeh(self.plots.panes[name])
+            panes[name] = pn.Column(body, css_classes=["fie-plot", f"fie-plot-{name}"],
+                                    name=PLOT_TITLES[name], margin=(4, 8))
+        return panes
+
+    # --- views ---------------------------------------------------------------------------
+
+    def sidebar(self) -> list[Any]:
+        """The controls, top to bottom."""
+        w = {name: slider.layout for name, slider in self.sliders.items()}
+        return [
+            self.scene_select,
+            pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type,
+            w["clearance"], w["restitution"], self.hysteretic_box,
+            pn.pane.HTML("<b>Belt and friction</b>", margin=(8, 10, 0, 10)),
+            w["belt_speed"], w["mu_s"], w["mu_k"], w["u_s"],
+            pn.pane.HTML("<b>Units</b>", margin=(8, 10, 0, 10)), self.units, self.si_box,
+            pn.pane.HTML("<b>Start and horizon</b> (or click the phase portrait)",
+                         margin=(8, 10, 0, 10)),
+            w["x0"], w["v0"], w["t_end"],
+            pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
+            self.show_all, self.download,
+        ]
+
+    def main(self) -> list[Any]:
+        """The alert, the caption, the readout and the plots."""
+        return [self.alert, self.caption, self.readout,
+                pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
+                           css_classes=["fie-plots"])]
+
+    def __panel__(self) -> pn.viewable.Viewable:
+        return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30),
+                      pn.Column(*self.main(), sizing_mode="stretch_width"))
+
+    # --- URL -----------------------------------------------------------------------------
+
+    def sync_url(self) -> None:
+        """Keep the state in the page's query string (permalinks).
+
+        A URL naming only a scene loads that scene; parameters given beside it override the
+        scene's values.
+        """
+        loc = pn.state.location
+        if loc is None:
+            return
+        scene = loc.query_params.get("scene")
+        if scene in SCENES and scene != self.state.scene:
+            self.state.load_scene(scene)
+        loc.sync(self.state, dict(URL_KEYS), on_error=self._url_error)
+
+    def _url_error(self, values: Mapping[str, Any]) -> None:
+        self._show_error("Some URL parameters could not be applied: " +
+                         ", ".join(f"{k}={v!r}" for k, v in values.items()))
+
+    # --- events --------------------------------------------------------------------------
+
+    def _constrained(self, values: dict[str, Any]) -> dict[str, Any]:
+        """Apply the widgets' constraints (mu_k <= mu_s, k_e0 <= k_c0, beta_c <= beta_e)."""
+        for low, high in CONSTRAINTS:
+            if low in values and high in values and values[low] > values[high]:
+                values[low] = values[high]
+        return values
+
+    def _commit(self, changes: Mapping[str, Any]) -> None:
+        """A user's final value(s): into the state in one batch (one solve).
+
+        Solve parameters go through the constraints; a real change of one makes the scene
+        'custom'. Releasing a slider where the drag started redraws the last full solution
+        over the previews.
+        """
+        if self._syncing:
+            return
+        new = {k: v for k, v in changes.items() if k not in SOLVE_PARAMS}
+        solve_changes = {k: v for k, v in changes.items() if k in SOLVE_PARAMS}
+        if solve_changes:
+            merged = self._constrained({**self.state.values(), **solve_changes})
+            diff = {k: v for k, v in merged.items() if v != getattr(self.state, k)}
+            new.update(diff)
+            if diff and "scene" not in changes:
+                new["scene"] = CUSTOM
+        changed = {k: v for k, v in new.items() if getattr(self.state, k) != v}
+        if changed:
+            self.state.param.update(**changed)
+        elif self.solution is not None:
+            self._draw(self.solution)
+
+    def _commit_si(self, si: Mapping[str, float]) -> None:
+        if self._syncing:
+            return
+        try:
+            with param.parameterized.batch_call_watchers(self.state):
+                self.state.set_physical(**si)
+                self.state.scene = CUSTOM
+        except ValueError as exc:
+            self._show_error(str(exc))
+
+    def _preview(self, name: str, value: float) -> None:
+        """While dragging: a draft solve of the trajectory only."""
+        if self._syncing or name not in SOLVE_PARAMS:
+            return
+        self._preview_values({name: value})
+
+    def _preview_si(self, key: str, value: float) -> None:
+        if self._syncing:
+            return
+        phys = self.state.physical()
+        phys[key] = value
+        try:
+            osc = Oscillator.from_physical(
+                m=phys["m"], k=phys["k"], normal_force=phys["normal_force"],
+                mu_s=self.state.mu_s, mu_k=min(self.state.mu_k, self.state.mu_s),
+                belt_speed=phys["belt_speed"])
+        except ValueError:
+            return
+        self._preview_values({"u_s": osc.u_s, "belt_speed": osc.belt_speed})
+
+    def _preview_values(self, changes: Mapping[str, Any]) -> None:
+        values = self._constrained({**self.state.values(), **changes})
+        if values.get("program"):
+            return
+        try:
+            sol = solve(values, preview=True)
+        except Exception:  # noqa: BLE001 - a preview that fails just does not draw
+            return
+        if sol.result is None:
+            return
+        with pn.io.hold():
+            self.plots.update_preview(sol, self.state.scales())
+
+    def _on_phase_tap(self, event: Tap) -> None:
+        if event.x is None or event.y is None:
+            return
+        self._commit({"x0": round(float(event.x), 4),
+                      "v0": round(float(event.y) / self.state.scales().velocity, 4)})
+
+    def _on_map_tap(self, event: Tap) -> None:
+        if event.x is None or event.y is None:
+            return
+        self._commit({"belt_speed": max(0.0, round(float(event.x) /
+                                                   self.state.scales().velocity, 4)),
+                      "clearance": round(float(event.y), 4)})
+
+    def _on_scene_select(self, event: param.parameterized.Event) -> None:
+        if self._syncing or event.new == CUSTOM or event.new not in SCENES:
+            return
+        self.state.load_scene(event.new)
+
+    def _on_scene_label(self, event: param.parameterized.Event) -> None:
+        self._set_syncing(lambda: setattr(self.scene_select, "value", event.new))
+
+    def _on_state(self, events: list[param.parameterized.Event]) -> None:
+        self._sync_widgets()
+        names = {e.name for e in events}
+        if names & set(SOLVE_PARAMS):
+            self._update()
+        elif self.solution is not None:
+            self._draw(self.solution)
+
+    # --- state -> widgets ----------------------------------------------------------------
+
+    def _set_syncing(self, fn) -> None:
+        self._syncing = True
+        try:
+            fn()
+        finally:
+            self._syncing = False
+
+    def _sync_widgets(self) -> None:
+        """Show the state in the widgets (after a scene, a URL, a tap or a clamp)."""
+        self._set_syncing(self._sync_widgets_now)
+
+    def _sync_widgets_now(self) -> None:
+        st = self.state
+        bounded = {low: getattr(st, high) for low, high in CONSTRAINTS}
+        for name, w in self.sliders.items():
+            if name in SI_SLIDERS:
+                continue
+            if name in bounded:  # the lower slider of a constraint ends at the higher value
+                top = bounded[name]
+                w.set(getattr(st, name), hard_end=top,
+                      soft_end=min(st.param[name].softbounds[1], top))
+            elif w.value != getattr(st, name):
+                w.set(getattr(st, name))
+        try:
+            phys = st.physical()
+        except ValueError:
+            phys = None
+        if phys is not None:
+            for name, (_, step, key) in SI_SLIDERS.items():
+                w, value = self.sliders[name], phys[key]
+                if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                    w.set(value, soft_end=max(w.slider.end, SI_SOFT_SPAN * value, step))
+        self.stop_type.value = st.stop_type
+        self.units.value = st.units
+        self.accuracy.value = st.accuracy
+        self.method.value = st.method
+        self.show_all.value = st.show_all
+        self.scene_select.value = st.scene
+        si = st.units == "SI"
+        self.si_box.visible = si
+        self.sliders["u_s"].visible = not si
+        self.sliders["belt_speed"].visible = not si
+        has_stop = st.stop_type != "none"
+        self.sliders["clearance"].visible = has_stop
+        self.sliders["restitution"].visible = st.stop_type == "rigid"
+        self.hysteretic_box.visible = st.stop_type == "hysteretic"
+        t_label = SLIDERS["t_end"][0]
+        if si:
+            t_label += f" (= {st.t_end / st.omega:.3g} s)"
+        self.sliders["t_end"].set_label(t_label)
+
+    # --- solving and drawing -------------------------------------------------------------
+
+    def visible_plots(self) -> tuple[str, ...]:
+        """The plots the current scene needs (or all that apply, with 'show all plots')."""
+        st = self.state
+        if st.program and st.stop_type == "hysteretic":
+            return ("loop", "force")
+        by_stop = {"none": IMPACTLESS_PLOTS, "rigid": RIGID_PLOTS,
+                   "hysteretic": HYSTERETIC_PLOTS}[st.stop_type]
+        scene = SCENES.get(st.scene)
+        wanted = PLOTS if st.show_all else (scene.plots if scene is not None else by_stop)
+        applicable = set(PLOTS)
+        if st.stop_type == "none":
+            applicable -= {"force", "loop"}
+        elif st.stop_type == "rigid":
+            applicable -= {"loop"}
+        return tuple(p for p in PLOTS if p in wanted and p in applicable)
+
+    def _update(self) -> None:
+        """Full solve of the state and redraw; on failure show why and keep the picture."""
+        try:
+            sol = solve(self.state.values())
+        except ValueError as exc:
+            self._show_error(str(exc))
+            return
+        except Exception as exc:  # noqa: BLE001 - the server must survive any solve
+            log.exception("solve failed")
+            self._show_error(f"The solver failed: {type(exc).__name__}: {exc}")
+            return
+        self.solution = sol
+        self.error = None
+        self._draw(sol)
+
+    def _draw(self, sol: Solution) -> None:
+        st = self.state
+        scales = st.scales()
+        visible = self.visible_plots()
+        map_data = None
+        if "map" in visible:
+            try:
+                map_data = regime_map(sol.values)
+            except Exception:  # noqa: BLE001 - a map that fails leaves the old one
+                log.exception("regime map failed")
+        with pn.io.hold():
+            self.plots.update(sol, scales, visible, map_data)
+            if "anim" in visible:
+                self.anim.update(sol, scales)
+            self.readout.object = readout_html(sol, scales)
+            self.caption.object = self._caption_html()
+            if map_data is not None:
+                self.map_legend.object = _map_legend(map_data["labels"])
+            for name, pane in self.plot_panes.items():
+                pane.visible = name in visible
+            self.alert.visible = False
+
+    def _caption_html(self) -> str:
+        scene = SCENES.get(self.state.scene)
+        if scene is None:
+            return ("<div class='fie-title'>Custom parameters</div><div>Pick a scene to "
+                    "return to one of the paper's figures.</div>")
+        return (f"<div class='fie-title'>{html.escape(scene.title)}</div>"
+                f"<div class='fie-look'>{html.escape(scene.caption)}</div>")
+
+    def _show_error(self, message: str) -> None:
+        self.error = message
+        with pn.io.hold():
+            self.alert.object = (f"**Input not applied:** {message}  \n"
+                                 "The plots still show the last valid parameters.")
+            self.alert.visible = True
+
+    def _csv(self):
+        if self.solution is None:
+            return None
+        return trajectory_csv(self.solution, self.state.scales())
+
+
+def _map_legend(labels: list[str]) -> str:
+    """Colour swatches naming the regimes of the map."""
+    items = "".join(
+        f"<span class='fie-swatch'><i style='background:{MAP_PALETTE[i % len(MAP_PALETTE)]}'>"
+        f"</i>{html.escape(label)}</span>"
+        for i, label in enumerate(labels)
+    )
+    return f"<div class='fie-legend'>{items}</div>"

@@ -1,0 +1,46 @@
+"""Entry point: ``panel serve app/main.py --static-dirs assets=static``.
+
+Running this module builds one session's page (an :class:`~app.explorer.Explorer` in a
+template) and marks it servable; it does nothing else on import.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import panel as pn
+
+#: The project root, so that ``app`` and ``core`` import when served from any directory.
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the path
+    sys.path.insert(0, str(ROOT))
+
+from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
+
+#: Static files are served under this URL prefix (``--static-dirs assets=static``).
+ASSETS = "assets"
+#: Page title.
+TITLE = "Friction–Impact Explorer"
+
+
+def create_app() -> pn.template.BaseTemplate:
+    """One session's page: the explorer's controls in the sidebar, plots in the main area."""
+    pn.extension(notifications=False, design="bootstrap")
+    explorer = Explorer()
+    explorer.sync_url()
+    template = pn.template.BootstrapTemplate(
+        title=TITLE,
+        # One root each: every extra root makes Bokeh re-walk the whole document.
+        sidebar=[pn.Column(*explorer.sidebar(), sizing_mode="stretch_width", margin=0)],
+        main=[pn.Column(*explorer.main(), sizing_mode="stretch_width", margin=0)],
+        sidebar_width=WIDGET_WIDTH + 40,
+        favicon=f"{ASSETS}/favicon.svg",
+        css_files=[f"{ASSETS}/explorer.css"],
+        header_background="#1f3b5f",
+    )
+    template.explorer = explorer  # reachable from tests and the benchmark
+    return template
+
+
+create_app().servable(title=TITLE)

@@ -1,0 +1,572 @@
+"""The Bokeh figures of the explorer, created per session and updated in place.
+
+:class:`PlotSet` builds every figure once with empty ``ColumnDataSource`` objects; an update
+replaces each source's ``.data`` in one assignment (the caller batches them with
+``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
+Arrays are float32 and decimated to about what the screen can show
+(:func:`decimation_indices`). The ``*_columns`` functions are pure: they turn a
+:class:`~app.solver.Solution` into the columns of one source and are tested without a
+browser.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from bokeh.layouts import column
+from bokeh.models import (
+    ColumnDataSource,
+    DataRange1d,
+    Label,
+    LabelSet,
+    Legend,
+    LegendItem,
+    LinearColorMapper,
+    Range1d,
+    Span,
+)
+from bokeh.plotting import figure
+
+from app.scenes import PLOTS
+from app.solver import Solution, mode_intervals
+from app.state import DIMENSIONLESS, Scales
+from core import Mode, TransitionKind
+from core.hysteresis import phi_compression, phi_expansion
+
+#: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
+MODE_COLORS: Mapping[int, str] = {
+    int(Mode.SLIP): "#1f5fbf",
+    int(Mode.STICK): "#e07b00",
+    int(Mode.CONTACT): "#c8102e",
+}
+#: Names of the modes, for legends and the CSV.
+MODE_NAMES: Mapping[int, str] = {int(Mode.SLIP): "slip", int(Mode.STICK): "stick",
+                                 int(Mode.CONTACT): "contact"}
+#: Light tints of the mode colours for the bands behind the time histories.
+BAND_COLORS: Mapping[int, str] = {
+    int(Mode.SLIP): "#dbe6f6",
+    int(Mode.STICK): "#fbe7cc",
+    int(Mode.CONTACT): "#f6d2d8",
+}
+#: Marker and colour of each transition kind in the phase portrait.
+TRANSITION_STYLE: Mapping[str, tuple[str, str]] = {
+    TransitionKind.SLIP_STICK.value: ("triangle", "#e07b00"),
+    TransitionKind.STICK_SLIP.value: ("inverted_triangle", "#7a4a00"),
+    TransitionKind.SIGN_CHANGE.value: ("diamond", "#6a3d9a"),
+    TransitionKind.IMPACT.value: ("circle", "#c8102e"),
+    TransitionKind.STICK_IMPACT.value: ("square", "#c8102e"),
+    TransitionKind.ACCUMULATION.value: ("star", "#000000"),
+    TransitionKind.REST.value: ("square_pin", "#000000"),
+    TransitionKind.CONTACT.value: ("circle", "#c8102e"),
+    TransitionKind.SEPARATION.value: ("circle_x", "#c8102e"),
+    TransitionKind.REVERSAL.value: ("cross", "#c8102e"),
+    TransitionKind.FAILURE.value: ("x", "#000000"),
+}
+#: Colours of the regime map's categories (cycled).
+MAP_PALETTE = (
+    "#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#d9d9d9", "#9ecae1", "#fdae6b",
+    "#a1d99b", "#bcbddc", "#fc9272", "#bdbdbd",
+)
+#: Colours of the energy terms.
+ENERGY_COLORS: Mapping[str, str] = {
+    "mechanical": "#000000", "belt_input": "#2ca02c", "friction_work": "#1f5fbf",
+    "stop_loss": "#c8102e", "stop_stored": "#9467bd",
+}
+#: Points of the full trajectory sent to the browser (a few per pixel of a plot's width).
+MAX_POINTS = 1600
+#: Transition markers drawn at most (the latest ones).
+MAX_MARKERS = 400
+#: Mode bands drawn at most (shorter bands are merged into their neighbours' gaps).
+MAX_BANDS = 600
+#: Operating points drawn on the friction law.
+MAX_OPERATING_POINTS = 500
+#: Vertices of the reference circles (Gamma_0, limit cycle).
+CIRCLE_VERTICES = 181
+#: Samples of the hysteresis envelopes.
+ENVELOPE_SAMPLES = 120
+#: Half height of the mode bands: far outside any data, kept out of the auto range.
+BAND_EXTENT = 1e6
+#: Sizes of the figures [px].
+PHASE_SIZE = (540, 500)
+TIME_SIZE = (540, 215)
+SMALL_SIZE = (540, 300)
+MAP_SIZE = (540, 380)
+#: Tools of every figure (SaveTool exports the PNG).
+TOOLS = "pan,wheel_zoom,box_zoom,reset,save"
+
+
+def _f32(a) -> np.ndarray:
+    return np.asarray(a, dtype=np.float32)
+
+
+def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.ndarray:
+    """Indices of the samples to draw: a uniform stride plus every mode change and both
+    sides of every jump (samples at equal time, i.e. impacts).
+
+    >>> t = np.linspace(0, 1, 11); mode = np.zeros(11, dtype=int); mode[5:] = 1
+    >>> decimation_indices(t, mode, 4).tolist()
+    [0, 3, 4, 5, 6, 9, 10]
+    """
+    n = len(t)
+    if n <= max_points:
+        return np.arange(n)
+    step = int(math.ceil(n / max_points))
+    keep = [np.arange(0, n, step), [n - 1]]
+    change = np.flatnonzero(np.diff(mode) != 0)
+    keep += [change, change + 1]
+    jump = np.flatnonzero(np.diff(t) <= 0.0)
+    keep += [jump, jump + 1]
+    return np.unique(np.concatenate(keep).astype(np.int64))
+
+
+def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
+                       max_points: int = MAX_POINTS) -> dict[str, np.ndarray]:
+    """Columns of the trajectory source: ``t``, ``x``, ``v`` and ``v_slip``/``v_stick``/
+    ``v_contact`` (``v`` where the segment from the previous sample is in that mode, NaN
+    elsewhere, so each mode draws as its own broken line), plus ``t_raw`` (dimensionless
+    time, for the animation) and ``mode``."""
+    res = sol.result
+    if res is None:
+        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick",
+                                         "v_contact")}, "mode": np.zeros(0, np.int8)}
+    idx = decimation_indices(res.t, res.mode, max_points)
+    t, x, v, mode = res.t[idx], res.x[idx], res.v[idx] * scales.velocity, res.mode[idx]
+    prev = np.concatenate(([mode[0]], mode[:-1])) if len(mode) else mode
+    cols = {"t": _f32(t * scales.time), "t_raw": _f32(t), "x": _f32(x), "v": _f32(v),
+            "mode": np.asarray(mode, dtype=np.int8)}
+    for m, name in MODE_NAMES.items():
+        # A sample closes the segment from its predecessor: draw it in both modes.
+        cols[f"v_{name}"] = _f32(np.where((mode == m) | (prev == m), v, np.nan))
+    return cols
+
+
+def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, list]:
+    """Markers of the latest transitions (at most :data:`MAX_MARKERS`) by kind."""
+    res = sol.result
+    trs = res.transitions[-MAX_MARKERS:] if res is not None else ()
+    styles = [TRANSITION_STYLE.get(tr.kind.value, ("circle", "#000000")) for tr in trs]
+    return {
+        "x": _f32([tr.x for tr in trs]),
+        "v": _f32([tr.v * scales.velocity for tr in trs]),
+        "t": _f32([tr.t * scales.time for tr in trs]),
+        "kind": [tr.kind.value for tr in trs],
+        "marker": [s[0] for s in styles],
+        "color": [s[1] for s in styles],
+    }
+
+
+def band_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, Any]:
+    """Mode bands behind the time histories: ``left``, ``right``, ``color``."""
+    res = sol.result
+    if res is None:
+        return {"left": _f32([]), "right": _f32([]), "color": []}
+    left, right, mode = mode_intervals(res)
+    if len(left) > MAX_BANDS:  # keep the longest bands; the rest show as slip background
+        keep = np.sort(np.argsort(right - left)[-MAX_BANDS:])
+        left, right, mode = left[keep], right[keep], mode[keep]
+    return {
+        "left": _f32(left * scales.time),
+        "right": _f32(right * scales.time),
+        "color": [BAND_COLORS[int(m)] for m in mode],
+    }
+
+
+def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
+    """The thin references of the phase portrait: Gamma_0, the impactless limit cycle (or
+    the pure slip circle of a fast belt), and the theory's steady-state points."""
+    empty = {"x": _f32([]), "v": _f32([])}
+    th = sol.theory
+    if th is None:
+        return {"gamma0": empty, "cycle": empty, "points": {"x": [], "v": [], "name": []}}
+    a, v = sol.osc.a, sol.osc.v
+    phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
+    gamma0 = {"x": _f32(a + th.gamma0_radius * np.cos(phi)),
+              "v": _f32(th.gamma0_radius * np.sin(phi) * scales.velocity)}
+    if th.fast or th.limit_cycle is None:
+        radius = th.critical_speed
+        cycle = {"x": _f32(a + radius * np.cos(phi)),
+                 "v": _f32(radius * np.sin(phi) * scales.velocity)}
+    else:
+        lc = th.limit_cycle
+        cx = lc.centre[0] + lc.radius * np.cos(phi)
+        cv = lc.radius * np.sin(phi)
+        # The slip arc is the part of the circle below the stick line x' = v.
+        arc = cv <= v * (1 + 1e-12)
+        cv = np.where(arc, cv, np.nan)
+        start = int(np.argmax(~arc)) if (~arc).any() else len(phi)
+        order = np.r_[start:len(phi), 0:start]  # begin the arc inside the cut
+        cx, cv = cx[order], cv[order]
+        cx = np.r_[cx, np.nan, lc.stick_start[0], lc.stick_end[0]]
+        cv = np.r_[cv, np.nan, v, v]
+        cycle = {"x": _f32(cx), "v": _f32(cv * scales.velocity)}
+    names = list(th.points)
+    points = {"x": [th.points[n][0] for n in names],
+              "v": [th.points[n][1] * scales.velocity for n in names],
+              "name": [n.removeprefix("P_").replace("_", " ") for n in names]}
+    return {"gamma0": gamma0, "cycle": cycle, "points": points}
+
+
+def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
+    """Contact force: rigid impulses as stems (``t``, ``j``), deformable ``phi(t)``."""
+    res, prog = sol.result, sol.program
+    stems = {"t": _f32([]), "j": _f32([])}
+    line = {"t": _f32([]), "phi": _f32([])}
+    if prog is not None:
+        line = {"t": _f32(prog.s), "phi": _f32(prog.force * scales.force)}
+    elif res is not None and sol.values["stop_type"] == "rigid" and len(res.impulses):
+        imp = np.asarray(res.impulses)[-MAX_MARKERS:]
+        stems = {"t": _f32(imp[:, 0] * scales.time), "j": _f32(imp[:, 1] * scales.impulse)}
+    elif res is not None and sol.values["stop_type"] == "hysteretic":
+        idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+        line = {"t": _f32(res.t[idx] * scales.time),
+                "phi": _f32(np.asarray(res.contact_force)[idx] * scales.force)}
+    return {"stems": stems, "line": line}
+
+
+def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
+    """Hysteresis loop ``phi`` vs overlap in contact, and both envelopes of the stop."""
+    stop = sol.stop
+    empty = {"d": _f32([]), "phi": _f32([])}
+    if sol.values["stop_type"] != "hysteretic" or stop is None:
+        return {"loop": empty, "comp": empty, "exp": empty}
+    if sol.program is not None:
+        d, phi = sol.program.overlap, sol.program.force
+    elif sol.result is not None:
+        ov, f = np.asarray(sol.result.overlap), np.asarray(sol.result.contact_force)
+        inside = ov > 0
+        # Break the line between contacts so separate loops are not joined.
+        gap = np.concatenate(([False], np.diff(inside.astype(int)) == 1))
+        d = np.where(inside, ov, np.nan)
+        phi = np.where(inside, f, np.nan)
+        keep = inside | np.roll(inside, -1) | gap
+        d, phi = d[keep], phi[keep]
+    else:
+        d = phi = np.zeros(0)
+    d_max = float(np.nanmax(d)) if np.isfinite(d).any() else stop.limit_overlap / 2
+    grid = np.linspace(0.0, min(1.15 * d_max, 0.95 * stop.limit_overlap), ENVELOPE_SAMPLES)
+    return {
+        "loop": {"d": _f32(d), "phi": _f32(phi * scales.force)},
+        "comp": {"d": _f32(grid), "phi": _f32(phi_compression(grid, stop) * scales.force)},
+        "exp": {"d": _f32(grid), "phi": _f32(phi_expansion(grid, stop) * scales.force)},
+    }
+
+
+def friction_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
+    """Coulomb's law (paper Fig. 1b) over the relative velocity ``u_r = v - x'``, and the
+    operating points of the trajectory: ``(u_r, a sign(u_r))`` in slip and ``(0, x +
+    phi/k)`` in stick (the friction that holds the mass)."""
+    a, b = sol.osc.a, sol.osc.b
+    res = sol.result
+    u_max = 1.2 * max(float(np.max(np.abs(sol.osc.v - res.v))) if res is not None and
+                      len(res.v) else 0.0, sol.osc.v, 1e-3)
+    fs, us = scales.force, scales.velocity
+    law = {"u": _f32(np.array([-u_max, 0.0, 0.0, 0.0, 0.0, u_max]) * us),
+           "f": _f32(np.array([-a, -a, -b, b, a, a]) * fs)}
+    if res is None:
+        return {"law": law, "ops": {"u": _f32([]), "f": _f32([]), "color": []}}
+    idx = np.linspace(0, len(res.t) - 1, min(len(res.t), MAX_OPERATING_POINTS)).astype(int)
+    u = sol.osc.v - res.v[idx]
+    mode = res.mode[idx]
+    hold = res.x[idx] + np.asarray(res.contact_force)[idx]
+    f = np.where(mode == Mode.STICK, hold, a * np.sign(u))
+    u = np.where(mode == Mode.STICK, 0.0, u)
+    return {"law": law, "ops": {"u": _f32(u * us), "f": _f32(f * fs),
+                                "color": [MODE_COLORS[int(m)] for m in mode]}}
+
+
+def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, np.ndarray]:
+    """Cumulative energy terms (per unit ``k``; in SI, joules)."""
+    res = sol.result
+    names = tuple(ENERGY_COLORS)
+    if res is None:
+        return {"t": _f32([]), **{n: _f32([]) for n in names}}
+    idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+    cols = {"t": _f32(res.t[idx] * scales.time)}
+    for n in names:
+        cols[n] = _f32(np.asarray(getattr(res.energy, n))[idx] * scales.energy)
+    return cols
+
+
+class PlotSet:
+    """All figures of one session and their sources.
+
+    Attributes
+    ----------
+    panes : dict
+        Bokeh layout of each plot id of :data:`app.scenes.PLOTS` except ``'anim'`` (built
+        by :mod:`app.animation`).
+    sources : dict
+        ``ColumnDataSource`` by name; ``sources['traj']`` also drives the animation.
+    """
+
+    def __init__(self) -> None:
+        s = self.sources = {
+            name: ColumnDataSource(data=cols) for name, cols in _EMPTY.items()
+        }
+        self.spans: dict[str, Span] = {}
+        self.labels: dict[str, Label] = {}
+        self.figures: dict[str, Any] = {}
+        self.panes: dict[str, Any] = {}
+        self._build_phase(s)
+        self._build_time(s)
+        self._build_force(s)
+        self._build_loop(s)
+        self._build_friction(s)
+        self._build_energy(s)
+        self._build_map(s)
+        self._last: Solution | None = None
+        self._dirty: set[str] = set()
+
+    # --- building ------------------------------------------------------------------------
+
+    @staticmethod
+    def _figure(title: str, size: tuple[int, int], **kw) -> Any:
+        fig = figure(title=title, width=size[0], height=size[1], tools=TOOLS,
+                     toolbar_location="right", output_backend="canvas", **kw)
+        fig.title.text_font_size = "13px"
+        fig.toolbar.logo = None
+        return fig
+
+    def _build_phase(self, s) -> None:
+        fig = self._figure("Phase portrait (x, x')", PHASE_SIZE,
+                           x_axis_label="x", y_axis_label="x'")
+        fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
+                 line_width=1, legend_label="Gamma_0")
+        fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1,
+                 legend_label="impactless")
+        lines = []
+        for m, name in MODE_NAMES.items():
+            lines.append(fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
+                                  line_color=MODE_COLORS[m], legend_label=name))
+        fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
+                    fill_alpha=0.6, legend_field="kind")
+        points = fig.scatter("x", "v", source=s["points"], marker="diamond", size=13,
+                    fill_color="#ffffff", line_color="#000000", line_width=2,
+                    legend_label="theory (A.1-A.12)")
+        fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset=6,
+                                y_offset=4, text_font_size="10px"))
+        fig.scatter("x", "v", source=s["start"], marker="circle", size=8,
+                    fill_color="#ffffff", line_color="#000000", legend_label="start")
+        # Underlay: the stick segment runs along the belt line and must stay visible.
+        self.spans["stop"] = Span(location=0.0, dimension="height", line_color="#000000",
+                                  line_width=3, level="underlay")
+        self.spans["belt"] = Span(location=0.0, dimension="width", line_color="#2ca02c",
+                                  line_dash="dotted", line_width=2, level="underlay")
+        fig.add_layout(self.spans["stop"])
+        fig.add_layout(self.spans["belt"])
+        fig.x_range = DataRange1d(renderers=[*lines, points], range_padding=0.15)
+        fig.y_range = DataRange1d(renderers=[*lines, points], range_padding=0.1)
+        legend = fig.legend[0]
+        fig.legend[0].location = "bottom_left"
+        fig.center.remove(legend)  # below the frame, so it never hides the trajectory
+        legend.update(orientation="horizontal", ncols=5, label_text_font_size="10px",
+                      spacing=2, padding=2, margin=2, click_policy="hide",
+                      glyph_width=14, label_standoff=3)
+        fig.add_layout(legend, "below")
+        self.figures["phase"] = fig
+        self.panes["phase"] = fig
+
+    def _build_time(self, s) -> None:
+        fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
+        fig_v = self._figure("Velocity x'(t)", TIME_SIZE, x_axis_label="t",
+                             y_axis_label="x'", x_range=fig_x.x_range)
+        for fig, col in ((fig_x, "x"), (fig_v, "v")):
+            fig.quad(left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
+                     source=s["bands"], fill_color="color", line_color=None)
+            line = fig.line("t", col, source=s["traj"], line_color="#222222", line_width=1.5)
+            fig.y_range = DataRange1d(renderers=[line], range_padding=0.1)
+        fig_x.x_range = DataRange1d(range_padding=0.0, renderers=[fig_x.renderers[1]])
+        fig_v.x_range = fig_x.x_range
+        self.spans["stop_t"] = Span(location=0.0, dimension="width", line_color="#000000",
+                                    line_width=2, level="underlay")
+        self.spans["belt_t"] = Span(location=0.0, dimension="width", line_color="#2ca02c",
+                                    line_dash="dotted", line_width=2, level="underlay")
+        fig_x.add_layout(self.spans["stop_t"])
+        fig_v.add_layout(self.spans["belt_t"])
+        self.figures["time_x"], self.figures["time_v"] = fig_x, fig_v
+        self.panes["time"] = column(fig_x, fig_v)
+
+    def _build_force(self, s) -> None:
+        fig = self._figure("Contact force", SMALL_SIZE, x_axis_label="t",
+                           y_axis_label="impulse / force")
+        fig.segment("t", 0.0, "t", "j", source=s["stems"], line_color=MODE_COLORS[2],
+                    line_width=1.5)
+        fig.scatter("t", "j", source=s["stems"], size=5, color=MODE_COLORS[2])
+        fig.line("t", "phi", source=s["force"], line_color=MODE_COLORS[2], line_width=1.5)
+        self.figures["force"] = fig
+        self.panes["force"] = fig
+
+    def _build_loop(self, s) -> None:
+        fig = self._figure("Hysteresis loop phi(overlap)", SMALL_SIZE,
+                           x_axis_label="overlap x - x_bar", y_axis_label="phi / k")
+        fig.line("d", "phi", source=s["comp"], line_color="#444444", line_dash="dashed",
+                 legend_label="compression envelope")
+        fig.line("d", "phi", source=s["exp"], line_color="#888888", line_dash="dotdash",
+                 legend_label="expansion envelope")
+        loop = fig.line("d", "phi", source=s["loop"], line_color=MODE_COLORS[2],
+                        line_width=2, legend_label="contact force")
+        fig.y_range = DataRange1d(renderers=[loop], range_padding=0.1)
+        fig.legend.location = "top_left"
+        fig.legend.label_text_font_size = "10px"
+        self.figures["loop"] = fig
+        self.panes["loop"] = fig
+
+    def _build_friction(self, s) -> None:
+        fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
+                           x_axis_label="relative velocity u_r = v - x'",
+                           y_axis_label="friction force / k")
+        fig.line("u", "f", source=s["law"], line_color="#000000", line_width=2)
+        fig.scatter("u", "f", source=s["ops"], color="color", size=6, alpha=0.5)
+        self.figures["friction"] = fig
+        self.panes["friction"] = fig
+
+    def _build_energy(self, s) -> None:
+        fig = self._figure("Energy", SMALL_SIZE, x_axis_label="t", y_axis_label="energy / k")
+        items = []
+        for name, color in ENERGY_COLORS.items():
+            r = fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
+            items.append(LegendItem(label=name.replace("_", " "), renderers=[r]))
+        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px",
+                              background_fill_alpha=0.6, click_policy="hide"))
+        self.figures["energy"] = fig
+        self.panes["energy"] = fig
+
+    def _build_map(self, s) -> None:
+        fig = self._figure("Regime map (tap to move there)", MAP_SIZE,
+                           x_axis_label="belt speed v", y_axis_label="clearance x_bar",
+                           x_range=Range1d(0, 1), y_range=Range1d(0, 1))
+        self.map_mapper = LinearColorMapper(palette=list(MAP_PALETTE), low=-0.5,
+                                            high=len(MAP_PALETTE) - 0.5)
+        fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
+                  color_mapper=self.map_mapper)
+        fig.scatter("v", "x", source=s["here"], marker="circle_cross", size=14,
+                    fill_color="#ffffff", line_color="#000000", line_width=2)
+        fig.xgrid.visible = fig.ygrid.visible = False
+        self.figures["map"] = fig
+        self.panes["map"] = fig
+
+    # --- updating ------------------------------------------------------------------------
+
+    def update(self, sol: Solution, scales: Scales, visible: tuple[str, ...],
+               map_data: Mapping[str, Any] | None = None) -> None:
+        """Assign the new columns of every visible plot (call under ``pn.io.hold``).
+
+        Hidden plots are marked stale and filled by :meth:`refresh` when shown.
+        """
+        self._last, self._scales = sol, scales
+        self._dirty = set(PLOTS)
+        self.refresh(visible, map_data)
+
+    def update_preview(self, sol: Solution, scales: Scales) -> None:
+        """Cheap update while a slider is dragged: the trajectory only."""
+        s = self.sources
+        s["traj"].data = trajectory_columns(sol, scales, max_points=len(sol.result.t))
+        s["trans"].data = transition_columns(sol, scales)
+        self._set_spans(sol, scales)
+
+    def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
+                ) -> None:
+        """Fill the stale sources of the ``visible`` plots from the last solution."""
+        sol = self._last
+        if sol is None:
+            return
+        scales = self._scales
+        s = self.sources
+        todo = self._dirty.intersection(visible)
+        if todo & {"phase", "time", "anim", "friction"}:
+            s["traj"].data = trajectory_columns(sol, scales)
+            s["trans"].data = transition_columns(sol, scales)
+            refs = reference_columns(sol, scales)
+            s["gamma0"].data, s["cycle"].data = refs["gamma0"], refs["cycle"]
+            s["points"].data = refs["points"]
+            s["start"].data = {"x": [sol.x0], "v": [sol.v0 * scales.velocity]}
+            self._dirty -= {"phase", "anim"}
+        if "time" in todo:
+            s["bands"].data = band_columns(sol, scales)
+            self._dirty.discard("time")
+        if "force" in todo:
+            cols = force_columns(sol, scales)
+            s["stems"].data, s["force"].data = cols["stems"], cols["line"]
+            self._dirty.discard("force")
+        if "loop" in todo:
+            cols = loop_columns(sol, scales)
+            s["loop"].data, s["comp"].data, s["exp"].data = cols["loop"], cols["comp"], \
+                cols["exp"]
+            self._dirty.discard("loop")
+        if "friction" in todo:
+            cols = friction_columns(sol, scales)
+            s["law"].data, s["ops"].data = cols["law"], cols["ops"]
+            self._dirty.discard("friction")
+        if "energy" in todo:
+            s["energy"].data = energy_columns(sol, scales)
+            self._dirty.discard("energy")
+        if "map" in todo and map_data is not None:
+            self._set_map(sol, scales, map_data)
+            self._dirty.discard("map")
+        self._set_spans(sol, scales)
+        self._set_labels(sol, scales)
+
+    def _set_spans(self, sol: Solution, scales: Scales) -> None:
+        has_stop = sol.stop is not None
+        for name in ("stop", "stop_t"):
+            span = self.spans[name]
+            span.visible = has_stop
+            span.location = sol.stop.clearance if has_stop else 0.0
+        for name in ("belt", "belt_t"):
+            self.spans[name].location = sol.osc.v * scales.velocity
+
+    def _set_labels(self, sol: Solution, scales: Scales) -> None:
+        f = self.figures
+        f["phase"].xaxis.axis_label = scales.length_label
+        f["phase"].yaxis.axis_label = scales.velocity_label
+        f["time_x"].yaxis.axis_label = scales.length_label
+        f["time_v"].yaxis.axis_label = scales.velocity_label
+        f["time_v"].xaxis.axis_label = scales.time_label
+        f["energy"].xaxis.axis_label = scales.time_label
+        f["energy"].yaxis.axis_label = scales.energy_label
+        f["friction"].yaxis.axis_label = scales.friction_label
+        program = sol.program is not None
+        f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
+        f["force"].yaxis.axis_label = (scales.impulse_label
+                                       if sol.values["stop_type"] == "rigid"
+                                       else scales.force_label)
+        f["loop"].yaxis.axis_label = scales.force_label
+        f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
+                                     else "belt speed v")
+
+    def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
+        v_hi = data["v_hi"] * scales.velocity
+        x_lo, x_hi = data["x_lo"], data["x_hi"]
+        codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
+        self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
+                                    "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
+        fig = self.figures["map"]
+        fig.x_range.update(start=0.0, end=v_hi)
+        fig.y_range.update(start=x_lo, end=x_hi)
+        clearance = sol.values["clearance"]
+        self.sources["here"].data = {"v": [sol.osc.v * scales.velocity], "x": [clearance]}
+
+
+_EMPTY: Mapping[str, Mapping[str, list]] = {
+    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick", "v_contact",
+                             "mode")},
+    "trans": {k: [] for k in ("x", "v", "t", "kind", "marker", "color")},
+    "bands": {"left": [], "right": [], "color": []},
+    "gamma0": {"x": [], "v": []},
+    "cycle": {"x": [], "v": []},
+    "points": {"x": [], "v": [], "name": []},
+    "start": {"x": [], "v": []},
+    "stems": {"t": [], "j": []},
+    "force": {"t": [], "phi": []},
+    "loop": {"d": [], "phi": []},
+    "comp": {"d": [], "phi": []},
+    "exp": {"d": [], "phi": []},
+    "law": {"u": [], "f": []},
+    "ops": {"u": [], "f": [], "color": []},
+    "energy": {"t": [], **{n: [] for n in ENERGY_COLORS}},
+    "map": {"image": [], "x": [], "y": [], "dw": [], "dh": []},
+    "here": {"v": [], "x": []},
+}

@@ -1,0 +1,97 @@
+"""The readout: the regime in words, the characteristic numbers, the steady state found.
+
+:func:`readout_rows` returns ``(label, text)`` pairs (tested without a browser);
+:func:`readout_html` renders them as the small table the page shows.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+
+import numpy as np
+
+from app.solver import Solution
+from app.state import DIMENSIONLESS, Scales
+from core import Status
+
+#: Significant digits of the numbers shown.
+DIGITS = 4
+#: Contacts whose measured restitution is averaged (the latest ones).
+RESTITUTION_CONTACTS = 5
+
+
+def _num(x: float, unit: str = "") -> str:
+    if x is None or not math.isfinite(x):
+        return "—" if x is None or math.isnan(x) else ("∞" if x > 0 else "-∞")
+    return f"{x:.{DIGITS}g}{unit}"
+
+
+def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[str, str]]:
+    """The readout as ``(label, text)`` rows.
+
+    >>> from app.scenes import SCENES
+    >>> from app.solver import solve
+    >>> rows = dict(readout_rows(solve(dict(SCENES["5b"].values))))
+    >>> rows["Belt"].startswith("slow")
+    True
+    """
+    rows: list[tuple[str, str]] = []
+    th, res = sol.theory, sol.result
+    vel_unit = " m/s" if scales.si else ""
+    len_unit = " m" if scales.si else ""
+    if sol.program is not None:
+        stop = sol.stop
+        rows.append(("Scene", "the stop alone, driven by a prescribed overlap (Fig. 2b)"))
+        rows.append(("Stop", f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}, "
+                             f"D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
+                             f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"))
+        area = float(np.trapezoid(sol.program.force, sol.program.overlap))
+        rows.append(("Energy lost", f"{_num(area * scales.energy)}"
+                                    f"{' J' if scales.si else ' (per unit k)'} "
+                                    "over the program (loop area)"))
+        return rows
+    if th is not None:
+        rows.append(("Regime", th.regime.description))
+        v = sol.osc.v
+        belt = "fast" if th.fast else "slow"
+        rel = ">" if th.fast else "<="
+        rows.append(("Belt", f"{belt}: v = {_num(v * scales.velocity, vel_unit)} {rel} "
+                             f"v* = {_num(th.critical_speed * scales.velocity, vel_unit)} "
+                             "(critical speed, Eq. 25)"))
+        rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
+        if sol.stop is not None and th.restitution < 1.0:
+            rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
+                               f"r = {_num(th.restitution)})"))
+    if res is not None:
+        rows.append(("x_max simulated", _num(res.x_max, len_unit)))
+        rows.append(("Steady state found", res.steady.describe()))
+        if res.steady.sequence:
+            rows.append(("Sequence", " -> ".join(res.steady.sequence)))
+        if th is not None and th.regime.expected_steady != res.steady.kind.value:
+            rows.append(("Theory expects", f"{th.regime.expected_steady} (for the "
+                                           "equivalent rigid stop, natural path)"))
+        measured = sol.restitution_measured[-RESTITUTION_CONTACTS:]
+        if len(measured):
+            rows.append(("Restitution measured", f"{_num(float(np.mean(measured)))} over the "
+                         f"last {len(measured)} contacts (r_eq = sqrt(k_e0/k_c0) = "
+                         f"{_num(th.restitution) if th is not None else '—'})"))
+        if res.status is not Status.SUCCESS:
+            rows.append(("Status", res.status.message))
+        if res.truncated:
+            rows.append(("Transitions", f"{res.n_transitions} (only the first "
+                                        f"{len(res.transitions)} stored)"))
+    err = "closed form, rounding only" if sol.method == "exact" and (
+        sol.stop is None or sol.values["stop_type"] == "rigid") else (
+        f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})")
+    rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; accuracy {err}"))
+    return rows
+
+
+def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
+    """The rows as an HTML table (escaped)."""
+    body = "".join(
+        f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>"
+        for k, v in readout_rows(sol, scales)
+    )
+    return f'<table class="fie-readout">{body}</table>'

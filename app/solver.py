@@ -1,0 +1,342 @@
+"""The app's only door to the core: state values in, a :class:`Solution` out, cached.
+
+:data:`ACCURACY` is the one place where the accuracy presets of the page map to method
+settings; update it from measurements (``benchmarks/``) without touching anything else.
+
+Examples
+--------
+>>> from app.scenes import SCENES
+>>> sol = solve(dict(SCENES["5b"].values))
+>>> sol.result.steady.kind.value, sol.regime.case
+('periodic', 'b')
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+import panel as pn
+
+from app.state import SOLVE_PARAMS, core_inputs
+from core import HystereticStop, Mode, Result, RigidStop, TransitionKind, simulate, theory
+from core.hysteresis import FIRST_LOADING, contact_force, reverse
+
+#: Accuracy presets -> method settings, and the error each gives as measured against a
+#: reference solve (relative error of ``x`` over the horizon; ``exact`` is closed form and
+#: limited only by rounding). ``n_samples`` is the display resolution of the full solve.
+ACCURACY: Mapping[str, Mapping[str, Any]] = MappingProxyType({
+    "draft": MappingProxyType({
+        "rtol": 1e-5, "atol": 1e-8, "eta": 1e-3, "n_samples": 800,
+        "error": {"exact": 1e-12, "event": 1e-4, "switch": 1e-2},
+    }),
+    "standard": MappingProxyType({
+        "rtol": 1e-8, "atol": 1e-11, "eta": 1e-4, "n_samples": 1600,
+        "error": {"exact": 1e-12, "event": 1e-7, "switch": 1e-3},
+    }),
+    "precise": MappingProxyType({
+        "rtol": 1e-10, "atol": 1e-13, "eta": 1e-6, "n_samples": 3000,
+        "error": {"exact": 1e-12, "event": 1e-9, "switch": 1e-5},
+    }),
+})
+#: Samples of a preview solve while a slider is dragged (one per few screen pixels).
+PREVIEW_SAMPLES = 400
+#: Accuracy preset of the previews.
+PREVIEW_ACCURACY = "draft"
+#: Cached solves kept (shared by all sessions of the server process).
+CACHE_ITEMS = 256
+#: Grid of the regime map: cells along belt speed and clearance.
+MAP_CELLS = 64
+#: Periods of the overlap program of paper Fig. 2b, and samples per period.
+PROGRAM_PERIODS = 4
+PROGRAM_SAMPLES_PER_PERIOD = 200
+#: Peak overlap of the program's first cycle, as a fraction of the limit overlap ``D``.
+PROGRAM_PEAK = 0.75
+#: Amplitude left at the end of the program (fraction of the first).
+PROGRAM_DECAY = 0.25
+
+
+@dataclass(frozen=True)
+class Program:
+    """The stop driven by a prescribed overlap (paper Fig. 2b): ``s``, overlap, force."""
+
+    s: np.ndarray
+    overlap: np.ndarray
+    force: np.ndarray
+
+
+@dataclass(frozen=True)
+class Theory:
+    """Closed-form references for the current parameters (:mod:`core.theory`)."""
+
+    regime: Any
+    critical_speed: float
+    fast: bool
+    gamma0_radius: float
+    limit_cycle: Any
+    x_max_impactless: float
+    x_star: float
+    points: Mapping[str, tuple[float, float]]
+    restitution: float  # r of the stop, or r_eq = sqrt(k_e0/k_c0) (Eq. 16)
+
+
+@dataclass(frozen=True)
+class Solution:
+    """What one solve gives the view.
+
+    Attributes
+    ----------
+    values : Mapping
+        The state values solved for.
+    osc, stop, x0, v0, t_end
+        The core inputs built from them.
+    result : Result or None
+        ``None`` for the overlap program of Fig. 2b.
+    program : Program or None
+    theory : Theory or None
+        ``None`` when the theory does not apply (it raised).
+    method : str
+        The core method used.
+    solve_time : float
+        Wall time of the core call [s] (of the original call when served from the cache).
+    error_estimate : float
+        Expected relative error of the method at this accuracy (:data:`ACCURACY`).
+    restitution_measured : ndarray
+        Rebound / approach speed of each deformable contact (empty otherwise).
+    preview : bool
+    """
+
+    values: Mapping[str, Any]
+    osc: Any
+    stop: Any
+    x0: float
+    v0: float
+    t_end: float
+    result: Result | None
+    program: Program | None
+    theory: Theory | None
+    method: str
+    solve_time: float
+    error_estimate: float
+    restitution_measured: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    preview: bool = False
+
+    @property
+    def regime(self):
+        """The theory's regime, or ``None``."""
+        return self.theory.regime if self.theory is not None else None
+
+
+def choose_method(method: str, stop_type: str) -> str:
+    """The core method for the page's choice: ``auto`` is ``exact`` (closed form for no or a
+    rigid stop; exact flight with an integrated contact for a hysteretic one)."""
+    return "exact" if method == "auto" else method
+
+
+def solve(values: Mapping[str, Any], *, preview: bool = False) -> Solution:
+    """Solve the state ``values``; raise ``ValueError`` with the core's message if invalid.
+
+    Parameters
+    ----------
+    values : Mapping
+        State values (:data:`app.state.SOLVE_PARAMS`).
+    preview : bool
+        A cheap solve while a slider is dragged: few samples, draft accuracy, no theory.
+    """
+    key = tuple((name, values[name]) for name in SOLVE_PARAMS)
+    return _solve_cached(key, preview)
+
+
+@pn.cache(max_items=CACHE_ITEMS, policy="lru")
+def _solve_cached(key: tuple, preview: bool) -> Solution:
+    values = MappingProxyType(dict(key))
+    osc, stop, x0, v0, t_end = core_inputs(values)
+    accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
+    method = choose_method(values["method"], values["stop_type"])
+    n_samples = PREVIEW_SAMPLES if preview else accuracy["n_samples"]
+    start = time.perf_counter()
+    if values.get("program") and isinstance(stop, HystereticStop):
+        program, result = overlap_program(stop), None
+    else:
+        program = None
+        result = simulate(
+            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
+            rtol=accuracy["rtol"], atol=accuracy["atol"],
+            eta=accuracy["eta"] if method == "switch" else None,
+        )
+    solve_time = time.perf_counter() - start
+    return Solution(
+        values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
+        result=result, program=program,
+        theory=None if preview else theory_for(osc, stop, x0, v0),
+        method=method, solve_time=solve_time,
+        error_estimate=accuracy["error"].get(method, math.nan),
+        restitution_measured=measured_restitution(result),
+        preview=preview,
+    )
+
+
+def equivalent_rigid(stop) -> RigidStop | None:
+    """The rigid stop the theory speaks of: the stop itself, or for a hysteretic stop the
+    equivalent rigid stop with ``r_eq = sqrt(k_e0/k_c0)`` (paper Eq. 16)."""
+    if isinstance(stop, HystereticStop):
+        return RigidStop(clearance=stop.clearance, restitution=stop.equivalent_restitution)
+    return stop
+
+
+def theory_for(osc, stop, x0: float, v0: float) -> Theory | None:
+    """Closed-form references, or ``None`` if the theory does not cover the inputs."""
+    rigid = equivalent_rigid(stop)
+    r = rigid.restitution if rigid is not None else 1.0
+    try:
+        return Theory(
+            regime=theory.classify(osc, rigid, x0, v0),
+            critical_speed=theory.critical_speed(osc, x0, v0),
+            fast=theory.is_fast_belt(osc, x0, v0),
+            gamma0_radius=theory.gamma0_radius(osc),
+            limit_cycle=theory.impactless_limit_cycle(osc) if osc.v > 0 else None,
+            x_max_impactless=theory.x_max_impactless(osc, x0, v0),
+            x_star=theory.x_star(osc, r),
+            points=MappingProxyType(theory.steady_points(osc, rigid)),
+            restitution=r,
+        )
+    except (ValueError, ZeroDivisionError, OverflowError):
+        return None
+
+
+def measured_restitution(result: Result | None) -> np.ndarray:
+    """Rebound over approach speed of each finished deformable contact (SPEC §4)."""
+    if result is None:
+        return np.zeros(0)
+    out = []
+    approach = None
+    for tr in result.transitions:
+        if tr.kind is TransitionKind.CONTACT:
+            approach = tr.v
+        elif tr.kind is TransitionKind.SEPARATION and approach:
+            out.append(-tr.v / approach)
+            approach = None
+    return np.asarray(out, dtype=float)
+
+
+def overlap_program(stop: HystereticStop) -> Program:
+    """Contact force under the overlap program of paper Fig. 2b, from the core's law.
+
+    The overlap ``delta(s) = A(s) (1 - cos s) / 2`` rises from zero and returns to it
+    each period while the amplitude ``A`` falls linearly from ``PROGRAM_PEAK * D`` to
+    ``PROGRAM_DECAY`` of that; a reversal is stored at each turn of the overlap rate and a
+    new contact starts on the compression envelope (:mod:`core.hysteresis`).
+    """
+    n = PROGRAM_PERIODS * PROGRAM_SAMPLES_PER_PERIOD + 1
+    s = np.linspace(0.0, 2.0 * math.pi * PROGRAM_PERIODS, n)
+    amplitude = PROGRAM_PEAK * stop.limit_overlap * (
+        1.0 - (1.0 - PROGRAM_DECAY) * s / s[-1]
+    )
+    delta = amplitude * (1.0 - np.cos(s)) / 2.0
+    force = np.zeros(n)
+    branch = FIRST_LOADING
+    for i in range(1, n):
+        rising = delta[i] > delta[i - 1]
+        if delta[i] <= 0.0:
+            branch = FIRST_LOADING
+        elif rising != branch.loading:
+            branch = reverse(delta[i - 1], force[i - 1], branch)
+        force[i] = float(contact_force(delta[i], branch, stop))
+    return Program(s=s, overlap=delta, force=force)
+
+
+def regime_map(values: Mapping[str, Any]) -> dict[str, Any]:
+    """Regime codes over a (belt speed, clearance) grid for the current friction, stop and
+    start (:func:`core.theory.classify`); cached on what the map depends on."""
+    key = tuple(
+        (name, values[name])
+        for name in ("mu_s", "mu_k", "u_s", "stop_type", "restitution", "k_c0", "k_e0",
+                     "x0", "v0")
+    )
+    v_hi, x_lo, x_hi = map_ranges(values)
+    key += (("v_hi", v_hi), ("x_lo", x_lo), ("x_hi", x_hi))
+    return _regime_map_cached(key)
+
+
+def map_ranges(values: Mapping[str, Any]) -> tuple[float, float, float]:
+    """Axes of the regime map: belt speed ``[0, v_hi]``, clearance ``[x_lo, x_hi]``.
+
+    Twice the critical speed of the start, and clearances from the start to a fifth past
+    the largest impactless excursion; widened to keep the current point inside.
+    """
+    a = values["mu_k"] * values["u_s"]
+    b = values["mu_s"] * values["u_s"]
+    v_crit = math.hypot(values["x0"] - a, values["v0"])
+    v_hi = _nice(max(2.0 * v_crit, 1.25 * values["belt_speed"], 1e-3))
+    x_hi = max(a + max(v_crit, math.hypot(b - a, v_hi)), 1.1 * values["clearance"])
+    x_lo = values["x0"]
+    return v_hi, x_lo, _nice(x_lo + 1.2 * (x_hi - x_lo)) if x_hi > x_lo else x_lo + 1.0
+
+
+def _nice(x: float) -> float:
+    """Round up to 1, 2, 2.5 or 5 times a power of ten (stable axes while dragging)."""
+    if x <= 0:
+        return 1.0
+    exp = math.floor(math.log10(x))
+    for m in (1.0, 2.0, 2.5, 5.0, 10.0):
+        if m * 10**exp >= x * (1 - 1e-12):
+            return m * 10**exp
+    return 10.0 ** (exp + 1)
+
+
+@pn.cache(max_items=32, policy="lru")
+def _regime_map_cached(key: tuple) -> dict[str, Any]:
+    values = dict(key)
+    v_hi, x_lo, x_hi = values["v_hi"], values["x_lo"], values["x_hi"]
+    speeds = (np.arange(MAP_CELLS) + 0.5) * v_hi / MAP_CELLS
+    clearances = x_lo + (np.arange(MAP_CELLS) + 0.5) * (x_hi - x_lo) / MAP_CELLS
+    labels: list[str] = []
+    codes = np.zeros((MAP_CELLS, MAP_CELLS), dtype=np.int32)
+    for j, v in enumerate(speeds):
+        for i, x_bar in enumerate(clearances):
+            values.update(belt_speed=float(v), clearance=float(x_bar))
+            label = regime_label(values)
+            if label not in labels:
+                labels.append(label)
+            codes[i, j] = labels.index(label)
+    return {"codes": codes, "labels": labels, "v_hi": v_hi, "x_lo": x_lo, "x_hi": x_hi}
+
+
+def regime_label(values: Mapping[str, Any]) -> str:
+    """Short words for the regime at ``values``: e.g. ``'slow, inelastic, case b'``."""
+    try:
+        osc, stop, x0, v0, _ = core_inputs({**values, "t_end": 1.0, "program": False})
+        reg = theory.classify(osc, equivalent_rigid(stop), x0, v0)
+    except ValueError:
+        return "invalid"
+    if reg.impactless:
+        return f"{reg.belt}, no impact"
+    words = [reg.belt, reg.impact]
+    if reg.case:
+        words.append(f"case {reg.case}")
+    if reg.expected_steady in ("grazing", "rest"):
+        words.append(reg.expected_steady)
+    return ", ".join(words)
+
+
+def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Start, end and mode of each run of equal modes in the samples (for mode bands)."""
+    mode = np.asarray(result.mode)
+    t = np.asarray(result.t)
+    if len(t) == 0:
+        return np.zeros(0), np.zeros(0), np.zeros(0, dtype=np.int8)
+    change = np.flatnonzero(np.diff(mode) != 0) + 1
+    starts = np.concatenate(([0], change))
+    ends = np.concatenate((change, [len(t) - 1]))
+    return t[starts], t[ends], mode[starts]
+
+
+__all__ = [
+    "ACCURACY", "Mode", "Program", "Solution", "Theory", "choose_method", "mode_intervals",
+    "overlap_program", "regime_label", "regime_map", "solve",
+]

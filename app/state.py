@@ -1,0 +1,225 @@
+"""The explorer's UI state: one ``param.Parameterized`` that maps to the core's inputs.
+
+The state holds the dimensionless parameters of the core (SPEC §2) whatever the units shown:
+in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed ``v_dr`` [m/s]
+convert through :meth:`core.Oscillator.from_physical` / :meth:`~core.Oscillator.to_physical`
+with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here too. Lengths (clearance,
+positions) are metres in SI mode and keep their unit otherwise.
+
+Examples
+--------
+>>> state = ExplorerState(belt_speed=0.1, clearance=0.25, restitution=1.0)
+>>> osc, stop = state.core_inputs()[:2]
+>>> round(osc.a, 12), stop.clearance
+(0.2, 0.25)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import param
+
+from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
+from core import HystereticStop, Oscillator, RigidStop
+
+#: Stop types offered in the page.
+STOP_TYPES = ("none", "rigid", "hysteretic")
+#: Unit systems offered in the page.
+UNITS = ("dimensionless", "SI")
+#: Accuracy presets; their method settings live in :data:`app.solver.ACCURACY`.
+ACCURACIES = ("draft", "standard", "precise")
+#: Methods: ``auto`` picks the exact solver where it applies (no stop, rigid stop).
+METHODS = ("auto", "exact", "event", "switch")
+
+#: Parameters that change the physics or the solve (a change triggers a new solve).
+SOLVE_PARAMS = (
+    "belt_speed", "clearance", "restitution", "mu_s", "mu_k", "u_s", "stop_type",
+    "k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "x0", "v0", "t_end",
+    "accuracy", "method", "program",
+)
+#: Parameters that only change how results are shown.
+VIEW_PARAMS = ("units", "mass", "stiffness", "show_all")
+#: Parameter name -> query-string key of the permalink (short keys keep URLs readable).
+URL_KEYS: Mapping[str, str] = {
+    "scene": "scene", "belt_speed": "v", "clearance": "xbar", "restitution": "r",
+    "mu_s": "mus", "mu_k": "muk", "u_s": "us", "stop_type": "stop", "k_c0": "kc0",
+    "k_e0": "ke0", "limit_overlap": "D", "beta_c": "bc", "beta_e": "be", "x0": "x0",
+    "v0": "v0", "t_end": "tend", "accuracy": "acc", "method": "method", "program": "prog",
+    "units": "units", "mass": "m", "stiffness": "k", "show_all": "all",
+}
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Factors from the core's dimensionless output to the units shown, and axis labels.
+
+    In SI mode time is ``tau = t / omega`` [s], velocities ``omega x'`` [m/s], forces ``k``
+    times the core's force-over-``k`` lengths [N], impulses ``m omega`` times the core's
+    impulse [N s], energies ``k`` times the core's energy-over-``k`` [J].
+    """
+
+    time: float = 1.0
+    velocity: float = 1.0
+    force: float = 1.0
+    impulse: float = 1.0
+    energy: float = 1.0
+    time_label: str = "t (dimensionless)"
+    length_label: str = "x"
+    velocity_label: str = "x'"
+    force_label: str = "phi / k"
+    impulse_label: str = "impulse / (m omega)"
+    energy_label: str = "energy / k"
+    friction_label: str = "friction force / k"
+    si: bool = False
+
+
+DIMENSIONLESS = Scales()
+
+
+class ExplorerState(param.Parameterized):
+    """All the user can set; defaults are the scene :data:`app.scenes.DEFAULT_SCENE`.
+
+    Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges.
+    """
+
+    scene = param.Selector(default=DEFAULT_SCENE, objects=[*SCENES, CUSTOM], doc="""
+        The paper's figure last loaded, or 'custom' once a parameter was changed.""")
+    units = param.Selector(default="dimensionless", objects=list(UNITS))
+    belt_speed = param.Number(0.1, bounds=(0.0, 10.0), softbounds=(0.0, 0.6), doc="""
+        Dimensionless belt speed v = v_dr / omega (a length).""")
+    clearance = param.Number(0.32, bounds=(-10.0, 10.0), softbounds=(-0.2, 0.8), doc="""
+        Stop position x_bar from the unstretched spring position.""")
+    restitution = param.Number(1.0, bounds=(0.0, 1.0), doc="Newton's restitution r.")
+    mu_s = param.Number(0.3, bounds=(0.0, 5.0), softbounds=(0.0, 1.0))
+    mu_k = param.Number(0.2, bounds=(0.0, 5.0), softbounds=(0.0, 1.0))
+    u_s = param.Number(1.0, bounds=(1e-6, 100.0), softbounds=(0.05, 3.0), doc="""
+        Static deflection u_s = F_N / k (a length).""")
+    stop_type = param.Selector(default="rigid", objects=list(STOP_TYPES))
+    k_c0 = param.Number(400.0, bounds=(1e-3, 1e6), softbounds=(1.0, 2000.0), doc="""
+        Initial compression stiffness over k.""")
+    k_e0 = param.Number(36.0, bounds=(1e-3, 1e6), softbounds=(1.0, 2000.0), doc="""
+        Initial expansion stiffness over k (<= k_c0).""")
+    limit_overlap = param.Number(0.02, bounds=(1e-6, 10.0), softbounds=(0.001, 0.2))
+    beta_c = param.Number(40.0, bounds=(1e-3, 1e4), softbounds=(0.5, 100.0))
+    beta_e = param.Number(40.0, bounds=(1e-3, 1e4), softbounds=(0.5, 100.0))
+    x0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
+    v0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
+    t_end = param.Number(60.0, bounds=(0.1, 5000.0), softbounds=(1.0, 300.0), doc="""
+        Horizon (dimensionless time; in SI mode the widget shows seconds).""")
+    accuracy = param.Selector(default="standard", objects=list(ACCURACIES))
+    method = param.Selector(default="auto", objects=list(METHODS))
+    program = param.Boolean(False, doc="""
+        Drive the stop with the overlap program of paper Fig. 2b instead of the oscillator.""")
+    mass = param.Number(1.0, bounds=(1e-6, 1e6), softbounds=(0.1, 10.0), doc="Mass m [kg].")
+    stiffness = param.Number(100.0, bounds=(1e-6, 1e9), softbounds=(1.0, 1000.0), doc="""
+        Spring stiffness k [N/m].""")
+    show_all = param.Boolean(False, doc="Show every plot, not only the scene's.")
+
+    # --- core inputs ---------------------------------------------------------------------
+
+    def values(self) -> dict[str, Any]:
+        """The solve parameters as a plain dict (what :mod:`app.solver` keys its cache on)."""
+        return {name: getattr(self, name) for name in SOLVE_PARAMS}
+
+    def core_inputs(self, **overrides: Any):
+        """``(osc, stop, x0, v0, t_end)`` for :func:`core.simulate`; raises ``ValueError``.
+
+        ``overrides`` replace state values (a slider being dragged).
+        """
+        return core_inputs({**self.values(), **overrides})
+
+    # --- units ---------------------------------------------------------------------------
+
+    @property
+    def omega(self) -> float:
+        """Natural circular frequency ``sqrt(k/m)`` [rad/s] of the SI view."""
+        return math.sqrt(self.stiffness / self.mass)
+
+    def scales(self) -> Scales:
+        """Conversion factors and labels for the units selected."""
+        if self.units != "SI":
+            return DIMENSIONLESS
+        omega = self.omega
+        return Scales(
+            time=1.0 / omega, velocity=omega, force=self.stiffness,
+            impulse=self.mass * omega, energy=self.stiffness,
+            time_label="time (s)", length_label="x (m)", velocity_label="dx/dt (m/s)",
+            force_label="contact force (N)", impulse_label="impulse (N s)",
+            energy_label="energy (J)", friction_label="friction force (N)", si=True,
+        )
+
+    def physical(self) -> dict[str, float]:
+        """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s], ...
+
+        Uses :meth:`core.Oscillator.to_physical`.
+        """
+        osc = Oscillator(mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s),
+                         belt_speed=self.belt_speed, u_s=self.u_s)
+        return osc.to_physical(m=self.mass, k=self.stiffness)
+
+    def set_physical(self, **si: float) -> None:
+        """Set the state from SI values (any of ``m``, ``k``, ``normal_force``,
+        ``belt_speed``); the others keep their SI values. Uses
+        :meth:`core.Oscillator.from_physical`; raises ``ValueError`` on bad input.
+
+        >>> s = ExplorerState()
+        >>> s.set_physical(m=1.0, k=100.0, normal_force=50.0, belt_speed=0.5)
+        >>> round(s.u_s, 12), round(s.belt_speed, 12)
+        (0.5, 0.05)
+        """
+        current = self.physical()
+        merged = {
+            "m": current["m"], "k": current["k"],
+            "normal_force": current["normal_force"], "belt_speed": current["belt_speed"],
+        }
+        merged.update(si)
+        osc = Oscillator.from_physical(
+            m=merged["m"], k=merged["k"], normal_force=merged["normal_force"],
+            mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s), belt_speed=merged["belt_speed"],
+        )
+        self.param.update(mass=merged["m"], stiffness=merged["k"], u_s=osc.u_s,
+                          belt_speed=osc.belt_speed)
+
+    # --- scenes --------------------------------------------------------------------------
+
+    def load_scene(self, key: str) -> None:
+        """Set every solve parameter from scene ``key`` in one batch (one solve)."""
+        scene = SCENES[key]
+        defaults = {name: self.param[name].default for name in SOLVE_PARAMS}
+        self.param.update(**{**defaults, **dict(scene.values), "scene": key})
+
+
+def core_inputs(values: Mapping[str, Any]):
+    """Build ``(osc, stop, x0, v0, t_end)`` from state values; raises ``ValueError``.
+
+    The core validates every value (:mod:`core.validation`), so its messages name the
+    parameter and the allowed range; the one check added here is the stop's position
+    relative to the start, in the domain's words.
+    """
+    osc = Oscillator(mu_s=values["mu_s"], mu_k=values["mu_k"],
+                     belt_speed=values["belt_speed"], u_s=values["u_s"])
+    stop_type = values["stop_type"]
+    if stop_type == "rigid":
+        stop = RigidStop(clearance=values["clearance"], restitution=values["restitution"])
+    elif stop_type == "hysteretic":
+        stop = HystereticStop(
+            clearance=values["clearance"], k_c0=values["k_c0"], k_e0=values["k_e0"],
+            limit_overlap=values["limit_overlap"], beta_c=values["beta_c"],
+            beta_e=values["beta_e"],
+        )
+    else:
+        stop = None
+    x0, v0 = float(values["x0"]), float(values["v0"])
+    if stop is not None and not values.get("program") and x0 > stop.clearance:
+        raise ValueError(
+            f"the stop must lie ahead of the start position: clearance {stop.clearance:.6g} "
+            f"< x0 {x0:.6g}"
+        )
+    t_end = float(values["t_end"])
+    if not t_end > 0.0:
+        raise ValueError(f"t_end must be positive; got {t_end:.6g}")
+    return osc, stop, x0, v0, t_end

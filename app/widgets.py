@@ -1,0 +1,129 @@
+"""A slider with typed entry, built from two plain widgets and synced on the server.
+
+Panel's ``EditableFloatSlider`` does the same with a JavaScript link per instance; every such
+link makes Bokeh re-walk the whole document while a session's page is built, which for the
+explorer's eighteen sliders costs seconds per page load. This composite keeps the two
+widgets in step in Python instead.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import panel as pn
+
+#: Width of the typed-entry box [px].
+INPUT_WIDTH = 96
+
+
+class TypedSlider:
+    """A labelled slider (soft range) and a number box (hard bounds) for one value.
+
+    Parameters
+    ----------
+    label : str
+    value, step : float
+    soft : (float, float)
+        The slider's range; a typed value outside it widens the slider.
+    bounds : (float, float)
+        Hard limits of the typed entry (the browser clamps to them).
+    on_drag : callable(float)
+        Called with each value while the slider is dragged.
+    on_commit : callable(float)
+        Called with the final value: slider released, or a number typed.
+    width : int
+        Width in pixels.
+    css_class : str
+        Class of the whole widget (the browser tests find it by this).
+    """
+
+    def __init__(self, label: str, value: float, step: float, soft: tuple[float, float],
+                 bounds: tuple[float, float], on_drag: Callable[[float], None],
+                 on_commit: Callable[[float], None], width: int, css_class: str) -> None:
+        self.step = step
+        self.bounds = bounds
+        self._on_drag, self._on_commit = on_drag, on_commit
+        self._quiet = False
+        start, end = min(soft[0], value), max(soft[1], value)
+        if end <= start:
+            end = start + step
+        self.label = pn.widgets.StaticText(value=label, margin=(6, 4, 0, 10))
+        self.input = pn.widgets.FloatInput(
+            value=value, step=step, start=bounds[0], end=bounds[1], width=INPUT_WIDTH,
+            margin=(0, 10, 0, 0), css_classes=["fie-input"], format="0[.]0000",
+        )
+        self.slider = pn.widgets.FloatSlider(
+            value=value, start=start, end=end, step=step, show_value=False,
+            width=width - 20, margin=(0, 10, 4, 10), css_classes=["fie-slider"],
+        )
+        self.slider.param.watch(self._dragged, "value")
+        self.slider.param.watch(self._released, "value_throttled")
+        self.input.param.watch(self._typed, "value")
+        self.layout = pn.Column(
+            pn.Row(self.label, pn.Spacer(), self.input, width=width, margin=0),
+            self.slider, width=width, margin=(2, 0), css_classes=["fie-typed", css_class],
+        )
+
+    # --- state ---------------------------------------------------------------------------
+
+    @property
+    def value(self) -> float:
+        """The number shown (the slider's value)."""
+        return self.slider.value
+
+    @property
+    def visible(self) -> bool:
+        return self.layout.visible
+
+    @visible.setter
+    def visible(self, show: bool) -> None:
+        self.layout.visible = show
+
+    def set_label(self, label: str) -> None:
+        self.label.value = label
+
+    def set(self, value: float, *, soft_end: float | None = None,
+            hard_end: float | None = None) -> None:
+        """Show ``value`` without calling back; optionally move the upper ends."""
+        self._quiet = True
+        try:
+            if hard_end is not None:
+                self.bounds = (self.bounds[0], hard_end)
+                self.input.end = hard_end
+            start, end = self.slider.start, self.slider.end
+            if soft_end is not None:
+                end = soft_end
+            start, end = min(start, value), max(end, value)
+            if end <= start:
+                start = min(start, value - self.step)
+            self.slider.param.update(start=start, end=end, value=value)
+            if self.input.value != value:
+                self.input.value = value
+        finally:
+            self._quiet = False
+
+    # --- callbacks -----------------------------------------------------------------------
+
+    def _dragged(self, event) -> None:
+        if not self._quiet:
+            self._on_drag(event.new)
+
+    def _released(self, event) -> None:
+        if self._quiet:
+            return
+        self._quiet = True
+        try:
+            self.input.value = event.new
+        finally:
+            self._quiet = False
+        self._on_commit(event.new)
+
+    def _typed(self, event) -> None:
+        if self._quiet or event.new is None:
+            return
+        value = min(max(event.new, self.bounds[0]), self.bounds[1])
+        self.set(value)
+        self._on_commit(value)
+
+    def __panel__(self) -> pn.Column:
+        return self.layout
