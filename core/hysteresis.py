@@ -1,0 +1,387 @@
+"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13, SPEC §4), in one place.
+
+Overlap ``delta = x - clearance`` (a length, ``> 0`` in contact), limit overlap
+``D = stop.limit_overlap``. Forces are contact forces over the spring stiffness ``k``
+(lengths), stiffnesses are relative to ``k``.
+
+Envelopes (paper Eq. 11), hyperbolas through the origin with the asymptote ``delta = D``::
+
+    phi_C(delta) = k_c0 * D * delta / (D - delta)     compression
+    phi_E(delta) = k_e0 * D * delta / (D - delta)     expansion, k_e0 <= k_c0
+
+Transition curves (the project's reading of paper Eqs. 12-13, SPEC §4). At each reversal of
+the overlap rate the point ``(delta_r, phi_r)`` is stored, and the force approaches the
+envelope of the new direction exponentially in the overlap travelled since the reversal::
+
+    unloading: phi = phi_E(delta) + (phi_r - phi_E(delta_r)) * exp(-beta_e (delta_r - delta) / D)
+    reloading: phi = phi_C(delta) - (phi_C(delta_r) - phi_r) * exp(-beta_c (delta - delta_r) / D)
+
+The force is always kept between the envelopes, ``phi_E <= phi <= phi_C`` (they are limit
+curves), and ``phi = 0`` for ``delta <= 0`` (separation). First loading from the origin is the
+reloading curve from ``(0, 0)``: the compression envelope itself.
+
+Two consequences worth knowing (both tested):
+
+* An unloading curve meets the compression envelope again near the origin, so the last part of
+  every unloading follows ``phi_C`` down to ``phi = 0`` at separation: the force is continuous
+  in ``delta`` and vanishes at separation.
+* Starting from the compression envelope, the unloading curve leaves it only where
+  ``beta_e * delta * (D - delta) > D**2``; a contact whose overlap stays below about
+  ``D / beta_e`` is elastic whatever ``k_e0 / k_c0`` says. The restitution of the equivalent
+  rigid stop, ``sqrt(k_e0 / k_c0)`` (paper Eq. 16), needs a sharp transition,
+  ``beta * delta_max / D >> 1``.
+
+Along one branch the force is a function of ``delta`` alone, so the work done on the stop is a
+path integral in ``delta``; :func:`branch_work` evaluates it in closed form (antiderivatives of
+the hyperbola and the exponential, split where the clip to an envelope switches on or off).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from core.params import HystereticStop
+
+#: Below this ``delta / D`` the envelope energy ``-x - log1p(-x)`` is summed as its series
+#: ``x^2/2 + x^3/3 + ...``: the closed form loses all digits to cancellation as ``x -> 0``.
+SERIES_CUTOFF = 0.05
+#: Terms of that series: ``0.05**24 / 24 ~ 2e-33``, far below double precision of ``x^2/2``.
+SERIES_TERMS = 24
+#: Relative tolerance of the roots where a transition curve meets an envelope (the root is
+#: only a breakpoint of a continuous integrand: its error enters the work at second order).
+ROOT_RTOL = 4.0 * np.finfo(float).eps
+#: Absolute tolerance of those roots, relative to ``D``.
+ROOT_XTOL_REL = 1e-15
+#: Cap of an exponent when a branch is evaluated behind its reversal point (an event
+#: locator may probe there): ``exp(700)`` is finite, and the clip to the envelopes takes over.
+EXP_CAP = 700.0
+
+
+@dataclass(frozen=True)
+class Branch:
+    """The curve the contact force follows between two reversals of the overlap rate.
+
+    Attributes
+    ----------
+    loading : bool
+        ``True`` while the overlap grows (reloading curve towards ``phi_C``), ``False`` while
+        it shrinks (unloading curve towards ``phi_E``).
+    delta_r, phi_r : float
+        The stored reversal point: overlap (a length) and force over ``k`` (a length).
+    """
+
+    loading: bool
+    delta_r: float
+    phi_r: float
+
+
+#: The branch of every new contact: the compression envelope from the origin (paper §2.4).
+FIRST_LOADING = Branch(True, 0.0, 0.0)
+
+
+def _hyperbola(delta, stiffness: float, d_lim: float):
+    delta = np.asarray(delta, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(
+            delta <= 0.0,
+            0.0,
+            np.where(delta < d_lim, stiffness * d_lim * delta / (d_lim - delta), np.inf),
+        )
+    return out[()] if out.ndim == 0 else out
+
+
+def phi_compression(delta, stop: HystereticStop):
+    """Compression envelope ``phi_C = k_c0 D delta / (D - delta)`` (paper Eq. 11, upper).
+
+    Parameters
+    ----------
+    delta : float or array_like
+        Overlap (a length); ``0`` for ``delta <= 0`` and ``inf`` for ``delta >= D``.
+    stop : HystereticStop
+
+    Returns
+    -------
+    float or ndarray
+        Force over ``k`` (a length).
+
+    Examples
+    --------
+    >>> stop = HystereticStop(clearance=0.1, k_c0=1000.0, k_e0=500.0, limit_overlap=0.05)
+    >>> float(phi_compression(0.025, stop))     # k_c0 * D at delta = D/2
+    50.0
+    """
+    return _hyperbola(delta, stop.k_c0, stop.limit_overlap)
+
+
+def phi_expansion(delta, stop: HystereticStop):
+    """Expansion envelope ``phi_E = k_e0 D delta / (D - delta)`` (paper Eq. 11, lower).
+
+    Same conventions as :func:`phi_compression`.
+    """
+    return _hyperbola(delta, stop.k_e0, stop.limit_overlap)
+
+
+def _envelope_slope(delta, stiffness: float, d_lim: float):
+    """``d/d delta`` of ``stiffness * D * delta / (D - delta)``: ``stiffness * D^2/(D-delta)^2``."""
+    delta = np.asarray(delta, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gap = d_lim - delta
+        out = np.where(gap > 0.0, stiffness * (d_lim / gap) ** 2, np.inf)
+    return out
+
+
+def _raw(delta, branch: Branch, stop: HystereticStop):
+    """Unclipped transition curve of ``branch`` (paper Eq. 13 in the SPEC §4 reading)."""
+    d_lim = stop.limit_overlap
+    if branch.loading:
+        gap0 = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
+        decay = np.exp(np.minimum(-stop.beta_c * (delta - branch.delta_r) / d_lim, EXP_CAP))
+        return phi_compression(delta, stop) - gap0 * decay, gap0 * decay * stop.beta_c / d_lim
+    gap0 = branch.phi_r - float(phi_expansion(branch.delta_r, stop))
+    decay = np.exp(np.minimum(-stop.beta_e * (branch.delta_r - delta) / d_lim, EXP_CAP))
+    return phi_expansion(delta, stop) + gap0 * decay, gap0 * decay * stop.beta_e / d_lim
+
+
+def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple[float, float]:
+    """Scalar ``(phi, d phi / d delta)`` on ``branch``: the fast path of the contact solver.
+
+    Same law as :func:`contact_force` and :func:`dphi_ddelta` (tested to agree), written
+    with :mod:`math` because the integrator calls it at every stage: about 1 us per call
+    against ~30 us for the array versions on a scalar.
+    """
+    d_lim = stop.limit_overlap
+    if delta <= 0.0:
+        return 0.0, 0.0
+    gap = d_lim - delta
+    if gap <= 0.0:
+        return math.inf, math.inf
+    hyper = d_lim * delta / gap
+    hyper_slope = (d_lim / gap) ** 2
+    upper, lower = stop.k_c0 * hyper, stop.k_e0 * hyper
+    if branch.loading:
+        r_gap = branch.delta_r
+        c = stop.k_c0 * d_lim * r_gap / (d_lim - r_gap) - branch.phi_r
+        decay = c * math.exp(min(-stop.beta_c * (delta - r_gap) / d_lim, EXP_CAP))
+        raw = upper - decay
+        slope = stop.k_c0 * hyper_slope + decay * stop.beta_c / d_lim
+    else:
+        r_gap = branch.delta_r
+        c = branch.phi_r - stop.k_e0 * d_lim * r_gap / (d_lim - r_gap)
+        decay = c * math.exp(min(-stop.beta_e * (r_gap - delta) / d_lim, EXP_CAP))
+        raw = lower + decay
+        slope = stop.k_e0 * hyper_slope + decay * stop.beta_e / d_lim
+    if raw > upper:
+        return upper, stop.k_c0 * hyper_slope
+    if raw < lower:
+        return lower, stop.k_e0 * hyper_slope
+    return raw, slope
+
+
+def contact_force(delta, branch: Branch, stop: HystereticStop):
+    """Contact force over ``k`` on ``branch`` at overlap ``delta`` (paper Eqs. 11-13).
+
+    The transition curve from the stored reversal point, kept between the envelopes,
+    ``phi_E(delta) <= phi <= phi_C(delta)``, and ``0`` for ``delta <= 0``.
+
+    Parameters
+    ----------
+    delta : float or array_like
+        Overlap (a length).
+    branch : Branch
+    stop : HystereticStop
+
+    Returns
+    -------
+    float or ndarray
+        ``phi / k`` (a length), ``>= 0``; ``inf`` at and beyond the limit overlap ``D``.
+
+    Examples
+    --------
+    >>> stop = HystereticStop(clearance=0.1, k_c0=1000.0, k_e0=500.0, limit_overlap=0.05)
+    >>> float(contact_force(0.025, FIRST_LOADING, stop))   # first loading: on phi_C
+    50.0
+    """
+    delta_arr = np.asarray(delta, dtype=float)
+    inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
+    d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
+    with np.errstate(over="ignore", invalid="ignore"):
+        raw, _ = _raw(d, branch, stop)
+        phi = np.clip(raw, phi_expansion(d, stop), phi_compression(d, stop))
+    out = np.where(inside, phi, np.where(delta_arr <= 0.0, 0.0, np.inf))
+    return out[()] if out.ndim == 0 else out
+
+
+def dphi_ddelta(delta, branch: Branch, stop: HystereticStop):
+    """Tangent stiffness ``d phi / d delta`` on ``branch`` (relative to ``k``).
+
+    Where the force is clipped to an envelope it is the envelope's slope
+    ``k0 D^2 / (D - delta)^2``; on the transition curve it is that curve's slope. ``0`` for
+    ``delta <= 0``, ``inf`` for ``delta >= D``. Used by implicit integrators and by the
+    event location of the contact solver.
+    """
+    delta_arr = np.asarray(delta, dtype=float)
+    inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
+    d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
+    d_lim = stop.limit_overlap
+    with np.errstate(over="ignore", invalid="ignore"):
+        raw, raw_exp_slope = _raw(d, branch, stop)
+        upper, lower = phi_compression(d, stop), phi_expansion(d, stop)
+        slope_c = _envelope_slope(d, stop.k_c0, d_lim)
+        slope_e = _envelope_slope(d, stop.k_e0, d_lim)
+        if branch.loading:
+            slope_raw = slope_c + raw_exp_slope
+        else:
+            slope_raw = slope_e + raw_exp_slope
+        slope = np.where(raw > upper, slope_c, np.where(raw < lower, slope_e, slope_raw))
+    out = np.where(inside, slope, np.where(delta_arr <= 0.0, 0.0, np.inf))
+    return out[()] if out.ndim == 0 else out
+
+
+def reverse(delta: float, phi: float, branch: Branch) -> Branch:
+    """The branch that starts at a reversal of the overlap rate at ``(delta, phi)``.
+
+    Loading turns into unloading and vice versa; the reversal point is stored (paper §2.4:
+    "up to a particular closure ... which must be stored, where a velocity sign inversion
+    occurs").
+    """
+    return Branch(not branch.loading, float(delta), float(phi))
+
+
+# --- work done on the stop -----------------------------------------------------------------
+
+
+def _envelope_energy(delta: float, stiffness: float, d_lim: float) -> float:
+    """``int_0^delta k0 D s/(D-s) ds = k0 D^2 (-x - log(1-x))``, ``x = delta/D``."""
+    x = delta / d_lim
+    if x <= 0.0:
+        return 0.0
+    if x < SERIES_CUTOFF:
+        total, term = 0.0, x
+        for n in range(2, SERIES_TERMS + 2):
+            term *= x
+            total += term / n
+        g = total
+    else:
+        g = -x - math.log1p(-x)
+    return stiffness * d_lim * d_lim * g
+
+
+def _clip_breaks(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> list[float]:
+    """Overlaps in ``(lo, hi)`` where the transition curve meets the envelope it is clipped to.
+
+    Unloading curves can rise above ``phi_C`` (clip ``f < 0`` with
+    ``f = (1 - e) phi_C - c exp(-beta_e (delta_r - s)/D)``, ``e = k_e0/k_c0``); reloading curves
+    can fall below ``phi_E`` only behind their reversal point (same ``f`` with the loading
+    exponent). ``log f`` has the slope ``D / (s (D - s)) -+ beta / D``, so its monotone pieces
+    are split at ``s (D - s) = D^2 / beta`` and each piece holds at most one root.
+    """
+    d_lim = stop.limit_overlap
+    ratio = 1.0 - stop.k_e0 / stop.k_c0
+    if branch.loading:
+        c = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
+        beta, sgn = stop.beta_c, 1.0
+    else:
+        c = branch.phi_r - float(phi_expansion(branch.delta_r, stop))
+        beta, sgn = stop.beta_e, -1.0
+    if c <= 0.0 or ratio <= 0.0:
+        return []
+
+    def f(s: float) -> float:
+        return ratio * stop.k_c0 * d_lim * s / (d_lim - s) - c * math.exp(
+            min(-beta * sgn * (s - branch.delta_r) / d_lim, EXP_CAP)
+        )
+
+    splits = [lo]
+    if not branch.loading and beta > 4.0:
+        half_width = 0.5 * d_lim * math.sqrt(1.0 - 4.0 / beta)
+        splits += [p for p in (0.5 * d_lim - half_width, 0.5 * d_lim + half_width) if lo < p < hi]
+    splits.append(hi)
+    roots = []
+    xtol = ROOT_XTOL_REL * d_lim
+    for p, q in zip(splits[:-1], splits[1:], strict=False):
+        fp, fq = f(p), f(q)
+        if fp == 0.0 and p > lo:
+            roots.append(p)
+        elif fp * fq < 0.0:
+            roots.append(brentq(f, p, q, xtol=xtol, rtol=ROOT_RTOL))
+    return roots
+
+
+def _piece_antiderivative(s: float, branch: Branch, stop: HystereticStop, which: str) -> float:
+    d_lim = stop.limit_overlap
+    if which == "C":
+        return _envelope_energy(s, stop.k_c0, d_lim)
+    if which == "E":
+        return _envelope_energy(s, stop.k_e0, d_lim)
+    if branch.loading:
+        c = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
+        beta = stop.beta_c
+        return _envelope_energy(s, stop.k_c0, d_lim) + c * d_lim / beta * math.exp(
+            -beta * (s - branch.delta_r) / d_lim
+        )
+    c = branch.phi_r - float(phi_expansion(branch.delta_r, stop))
+    beta = stop.beta_e
+    return _envelope_energy(s, stop.k_e0, d_lim) + c * d_lim / beta * math.exp(
+        -beta * (branch.delta_r - s) / d_lim
+    )
+
+
+def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> float:
+    """Work done on the stop, ``int_{d0}^{d1} phi(s) ds`` along one ``branch`` (closed form).
+
+    Parameters
+    ----------
+    d0, d1 : float
+        Start and end overlap (a length), ``< D``; negative overlaps count as ``0``.
+    branch : Branch
+    stop : HystereticStop
+
+    Returns
+    -------
+    float
+        Work per unit ``k`` (a length squared); negative when ``d1 < d0``.
+
+    Examples
+    --------
+    >>> stop = HystereticStop(clearance=0.1, k_c0=1000.0, k_e0=500.0, limit_overlap=0.05)
+    >>> round(branch_work(0.0, 0.001, FIRST_LOADING, stop), 12)   # ~ k_c0 d^2 / 2
+    0.000506768294
+    """
+    if d1 < d0:
+        return -branch_work(d1, d0, branch, stop)
+    lo, hi = max(d0, 0.0), max(d1, 0.0)
+    if hi <= lo:
+        return 0.0
+    if hi >= stop.limit_overlap:
+        return math.inf
+    points = [lo, *_clip_breaks(lo, hi, branch, stop), hi]
+    total = 0.0
+    for p, q in zip(points[:-1], points[1:], strict=False):
+        mid = 0.5 * (p + q)
+        raw = float(_raw(mid, branch, stop)[0])
+        if raw > float(phi_compression(mid, stop)):
+            which = "C"
+        elif raw < float(phi_expansion(mid, stop)):
+            which = "E"
+        else:
+            which = "raw"
+        total += _piece_antiderivative(q, branch, stop, which) - _piece_antiderivative(
+            p, branch, stop, which
+        )
+    return total
+
+
+def stored_energy(delta: float, phi: float, stop: HystereticStop) -> float:
+    """Energy the stop would give back if it unloaded now, from ``(delta, phi)`` to separation.
+
+    The integral of the force along the unloading branch that starts at the current state
+    (paper Eq. 12); it is the part of the work done on the stop that is not yet lost.
+    ``0`` out of contact.
+    """
+    if delta <= 0.0:
+        return 0.0
+    return branch_work(0.0, delta, Branch(False, delta, phi), stop)
