@@ -301,22 +301,27 @@ def simulate_event(
 
         watch = stop is not None and not contact  # a crossing inside one step can be missed
         opts = {}
-        if watch and x == c and v < 0.0:
-            # a rebound arc from the stop lasts about 2|x'|/|x''|: steps must not jump over
-            # it (the event function would see no sign change, or a spurious root at t)
-            arc = 2.0 * abs(v) / max(abs(slip_acc(x, s)), np.finfo(float).tiny)
-            opts["max_step"] = REBOUND_STEP_FRACTION * arc
-        sol = solve_ivp(
-            fun,
-            (t, t_end),
-            [x, v],
-            method=solver,
-            rtol=rtol,
-            atol=atol,
-            events=events,
-            dense_output=watch,
-            **opts,
-        )
+        if watch and x == c and v < 0.0 and slip_acc(x, s) > 0.0:
+            # pushed back to the stop, a rebound arc lasts about 2|x'|/x'': steps must not
+            # jump over it (the event function would see no sign change, or a root at t)
+            opts["max_step"] = REBOUND_STEP_FRACTION * 2.0 * abs(v) / slip_acc(x, s)
+        try:
+            sol = solve_ivp(
+                fun,
+                (t, t_end),
+                [x, v],
+                method=solver,
+                rtol=rtol,
+                atol=atol,
+                events=events,
+                dense_output=watch,
+                **opts,
+            )
+        except ValueError:
+            # solve_ivp's event root search failed: the interpolant of an implicit method
+            # (LSODA) did not reproduce the sign change its step end points showed
+            status = Status.INTEGRATION_FAILED
+            break
         n_eval += sol.nfev
         n_steps += len(sol.t) - 1
         if sol.status == -1:

@@ -172,7 +172,6 @@ def test_error_scales_linearly_with_eta():
     assert 0.9 < slope < 1.1, (slope, errs)
 
 
-@pytest.mark.slow
 def test_error_shrinks_with_rtol():
     """Integration error alone (fast belt, no stick): error at t_end against rtol."""
     rtols = np.array([1e-5, 1e-6, 1e-7, 1e-8, 1e-9])
