@@ -124,7 +124,7 @@ class Animation:
         fig.add_layout(self.clock)
         self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
                            line_dash="dashed", syncable=False)
-        self.play = pn.widgets.Toggle(label="Play / pause", button_type="primary", width=120)
+        self.play = pn.widgets.Toggle(label="Play / pause", color="primary", width=120)
         self.speed = pn.widgets.FloatSlider(label="speed", start=0.1, end=5.0, step=0.1,
                                             value=1.0, width=220)
         colors = [MODE_COLORS[m] for m in sorted(MODE_COLORS)]

@@ -118,7 +118,7 @@ class Explorer(pn.viewable.Viewer):
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
             callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
-            button_type="default", width=WIDGET_WIDTH,
+            color="default", width=WIDGET_WIDTH,
         )
         self.plot_panes = self._build_plot_panes()
         self.state.param.watch(self._on_state, [*SOLVE_PARAMS, *VIEW_PARAMS])
@@ -163,7 +163,7 @@ class Explorer(pn.viewable.Viewer):
         self.scene_select.param.watch(self._on_scene_select, "value")
         self.stop_type = pn.widgets.RadioButtonGroup(
             label="Stop", options=list(STOP_TYPES), value=st.stop_type, width=WIDGET_WIDTH,
-            button_type="default", css_classes=["fie-stop-type"])
+            color="default", css_classes=["fie-stop-type"])
         self.units = pn.widgets.RadioButtonGroup(
             label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
         self.accuracy = pn.widgets.RadioButtonGroup(
@@ -311,6 +311,11 @@ class Explorer(pn.viewable.Viewer):
         values = self._constrained({**self.state.values(), **changes})
         if values.get("program"):
             return
+        if values == self.state.values() and self.solution is not None:
+            # Back at the committed value: its release sends no new value, so show the full
+            # picture now rather than leave a draft on screen.
+            self._draw(self.solution)
+            return
         try:
             sol = solve(values, preview=True)
         except Exception:  # noqa: BLE001 - a preview that fails just does not draw
@@ -341,7 +346,7 @@ class Explorer(pn.viewable.Viewer):
     def _on_scene_label(self, event: param.parameterized.Event) -> None:
         self._set_syncing(lambda: setattr(self.scene_select, "value", event.new))
 
-    def _on_state(self, events: list[param.parameterized.Event]) -> None:
+    def _on_state(self, *events: param.parameterized.Event) -> None:
         self._sync_widgets()
         names = {e.name for e in events}
         if names & set(SOLVE_PARAMS):

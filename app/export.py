@@ -2,9 +2,9 @@
 
 Examples
 --------
->>> from app.scenes import SCENES
+>>> from app.state import scene_values
 >>> from app.solver import solve
->>> text = trajectory_csv(solve(dict(SCENES["5b"].values))).getvalue()
+>>> text = trajectory_csv(solve(scene_values("5b"))).getvalue()
 >>> text.splitlines()[1]
 't,x,xdot,mode,contact_force,overlap'
 """

@@ -30,9 +30,9 @@ def _num(x: float, unit: str = "") -> str:
 def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[str, str]]:
     """The readout as ``(label, text)`` rows.
 
-    >>> from app.scenes import SCENES
+    >>> from app.state import scene_values
     >>> from app.solver import solve
-    >>> rows = dict(readout_rows(solve(dict(SCENES["5b"].values))))
+    >>> rows = dict(readout_rows(solve(scene_values("5b"))))
     >>> rows["Belt"].startswith("slow")
     True
     """

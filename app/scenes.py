@@ -159,13 +159,15 @@ def _scene(key, title, caption, values, plots, conditions, expect) -> Scene:
 
 _HYST = {
     "stop_type": "hysteretic",
-    # k_e0/k_c0 = 0.09 gives the equivalent restitution sqrt(0.09) = R_INELASTIC (Eq. 16);
-    # a sharp transition (beta * overlap / D >> 1) makes the contacts really that lossy.
+    # k_e0/k_c0 = 0.09 gives the equivalent restitution sqrt(0.09) = R_INELASTIC (Eq. 16).
+    # The overlaps stay near 0.003, so only a sharp transition (beta * overlap / D ~ 90)
+    # makes the contacts that lossy: the first contact of Fig. 10 rebounds with r ~ 0.4
+    # (measured, shown in the readout), and Fig. 11 sticks to the stop.
     "k_c0": 400.0,
     "k_e0": 36.0,
-    "limit_overlap": 0.02,
-    "beta_c": 40.0,
-    "beta_e": 40.0,
+    "limit_overlap": 0.01,
+    "beta_c": 300.0,
+    "beta_e": 300.0,
 }
 
 _SCENE_LIST = (

@@ -5,14 +5,15 @@ settings; update it from measurements (``benchmarks/``) without touching anythin
 
 Examples
 --------
->>> from app.scenes import SCENES
->>> sol = solve(dict(SCENES["5b"].values))
+>>> from app.state import scene_values
+>>> sol = solve(scene_values("5b"))
 >>> sol.result.steady.kind.value, sol.regime.case
 ('periodic', 'b')
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import time
 from collections.abc import Mapping
@@ -29,19 +30,20 @@ from core.hysteresis import FIRST_LOADING, contact_force, reverse
 
 #: Accuracy presets -> method settings, and the error each gives as measured against a
 #: reference solve (relative error of ``x`` over the horizon; ``exact`` is closed form and
-#: limited only by rounding). ``n_samples`` is the display resolution of the full solve.
+#: limited only by rounding; ``contact`` is the exact method's integrated contact phase of a
+#: hysteretic stop). ``n_samples`` is the display resolution of the full solve.
 ACCURACY: Mapping[str, Mapping[str, Any]] = MappingProxyType({
     "draft": MappingProxyType({
         "rtol": 1e-5, "atol": 1e-8, "eta": 1e-3, "n_samples": 800,
-        "error": {"exact": 1e-12, "event": 1e-4, "switch": 1e-2},
+        "error": {"exact": 1e-12, "contact": 1e-4, "event": 1e-4, "switch": 1e-2},
     }),
     "standard": MappingProxyType({
         "rtol": 1e-8, "atol": 1e-11, "eta": 1e-4, "n_samples": 1600,
-        "error": {"exact": 1e-12, "event": 1e-7, "switch": 1e-3},
+        "error": {"exact": 1e-12, "contact": 1e-7, "event": 1e-7, "switch": 1e-3},
     }),
     "precise": MappingProxyType({
         "rtol": 1e-10, "atol": 1e-13, "eta": 1e-6, "n_samples": 3000,
-        "error": {"exact": 1e-12, "event": 1e-9, "switch": 1e-5},
+        "error": {"exact": 1e-12, "contact": 1e-9, "event": 1e-9, "switch": 1e-5},
     }),
 })
 #: Samples of a preview solve while a slider is dragged (one per few screen pixels).
@@ -133,9 +135,17 @@ class Solution:
 
 
 def choose_method(method: str, stop_type: str) -> str:
-    """The core method for the page's choice: ``auto`` is ``exact`` (closed form for no or a
-    rigid stop; exact flight with an integrated contact for a hysteretic one)."""
-    return "exact" if method == "auto" else method
+    """The core method for the page's choice.
+
+    ``auto`` is ``exact`` (closed form) for no stop or a rigid stop. For a hysteretic stop
+    it is ``exact`` (exact flight, integrated contact) where the core provides it, else the
+    paper's switch model.
+    """
+    if method != "auto":
+        return method
+    if stop_type == "hysteretic" and importlib.util.find_spec("core.hysteretic") is None:
+        return "switch"
+    return "exact"
 
 
 def solve(values: Mapping[str, Any], *, preview: bool = False) -> Solution:
@@ -175,7 +185,9 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
         result=result, program=program,
         theory=None if preview else theory_for(osc, stop, x0, v0),
         method=method, solve_time=solve_time,
-        error_estimate=accuracy["error"].get(method, math.nan),
+        error_estimate=accuracy["error"].get(
+            "contact" if method == "exact" and isinstance(stop, HystereticStop) else method,
+            math.nan),
         restitution_measured=measured_restitution(result),
         preview=preview,
     )

@@ -103,9 +103,9 @@ class ExplorerState(param.Parameterized):
         Initial compression stiffness over k.""")
     k_e0 = param.Number(36.0, bounds=(1e-3, 1e6), softbounds=(1.0, 2000.0), doc="""
         Initial expansion stiffness over k (<= k_c0).""")
-    limit_overlap = param.Number(0.02, bounds=(1e-6, 10.0), softbounds=(0.001, 0.2))
-    beta_c = param.Number(40.0, bounds=(1e-3, 1e4), softbounds=(0.5, 100.0))
-    beta_e = param.Number(40.0, bounds=(1e-3, 1e4), softbounds=(0.5, 100.0))
+    limit_overlap = param.Number(0.01, bounds=(1e-6, 10.0), softbounds=(0.001, 0.2))
+    beta_c = param.Number(300.0, bounds=(1e-3, 1e5), softbounds=(0.5, 1000.0))
+    beta_e = param.Number(300.0, bounds=(1e-3, 1e5), softbounds=(0.5, 1000.0))
     x0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
     v0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
     t_end = param.Number(60.0, bounds=(0.1, 5000.0), softbounds=(1.0, 300.0), doc="""
@@ -187,10 +187,22 @@ class ExplorerState(param.Parameterized):
     # --- scenes --------------------------------------------------------------------------
 
     def load_scene(self, key: str) -> None:
-        """Set every solve parameter from scene ``key`` in one batch (one solve)."""
-        scene = SCENES[key]
-        defaults = {name: self.param[name].default for name in SOLVE_PARAMS}
-        self.param.update(**{**defaults, **dict(scene.values), "scene": key})
+        """Set every physics parameter from scene ``key`` in one batch (one solve); the
+        accuracy and method chosen stay."""
+        values = scene_values(key, accuracy=self.accuracy, method=self.method)
+        self.param.update(**values, scene=key)
+
+
+def scene_values(key: str, **overrides: Any) -> dict[str, Any]:
+    """All solve parameters of scene ``key``: the state's defaults, then the scene's values.
+
+    >>> scene_values("7c")["restitution"]
+    0.3
+    """
+    values = {name: ExplorerState.param[name].default for name in SOLVE_PARAMS}
+    values.update(SCENES[key].values)
+    values.update(overrides)
+    return values
 
 
 def core_inputs(values: Mapping[str, Any]):

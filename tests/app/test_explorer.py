@@ -1,0 +1,168 @@
+"""The explorer's logic without a browser: widgets -> state -> solve -> sources."""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+
+import numpy as np
+import param
+import pytest
+from bokeh.events import Tap
+
+import app.explorer as explorer_module
+from app.explorer import Explorer
+from app.scenes import CUSTOM, PLOTS
+from app.solver import ACCURACY
+
+
+@pytest.fixture
+def ex() -> Explorer:
+    return Explorer()
+
+
+def _release(ex: Explorer, name: str, value: float) -> None:
+    """What the browser sends when a drag ends at ``value``."""
+    slider = ex.sliders[name].slider
+    slider.value = value
+    with param.edit_constant(slider):
+        slider.value_throttled = value
+
+
+def _traj(ex: Explorer) -> dict:
+    return {k: np.array(v) for k, v in ex.plots.sources["traj"].data.items()}
+
+
+def test_opens_on_a_scene_with_a_picture(ex):
+    assert ex.error is None and ex.solution is not None
+    traj = _traj(ex)
+    assert 100 < len(traj["x"]) <= 2 * ACCURACY["standard"]["n_samples"]
+    assert traj["x"].dtype == np.float32
+    assert "Steady state found" in ex.readout.object
+    visible = [n for n, p in ex.plot_panes.items() if p.visible]
+    assert visible == [p for p in PLOTS if p in ("phase", "time", "anim", "force", "energy",
+                                                 "map")]
+
+
+def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
+    before, traj_before = ex.solution, _traj(ex)
+    _release(ex, "clearance", -0.5)  # behind the start x0 = 0
+    assert ex.state.clearance == -0.5  # the user's value is shown ...
+    assert ex.alert.visible and "ahead of the start" in ex.alert.object
+    assert ex.solution is before  # ... but the last good picture stays
+    for key, col in _traj(ex).items():
+        np.testing.assert_array_equal(col, traj_before[key])
+    _release(ex, "clearance", 0.3)  # a valid value clears the alert
+    assert not ex.alert.visible and ex.solution is not before
+
+
+def test_a_crashing_solver_does_not_take_the_session_down(ex, monkeypatch):
+    before = ex.solution
+
+    def boom(values, preview=False):
+        raise RuntimeError("numerical trouble")
+
+    monkeypatch.setattr(explorer_module, "solve", boom)
+    _release(ex, "belt_speed", 0.12)
+    assert ex.alert.visible and "numerical trouble" in ex.alert.object
+    assert ex.solution is before
+
+
+def test_mu_k_is_clamped_to_mu_s(ex):
+    _release(ex, "mu_s", 0.15)  # below mu_k = 0.2
+    assert ex.state.mu_s == 0.15 and ex.state.mu_k == 0.15
+    w = ex.sliders["mu_k"]
+    assert w.slider.end == pytest.approx(0.15) and w.input.end == pytest.approx(0.15)
+    assert ex.error is None
+    _release(ex, "mu_s", 0.5)  # the end follows mu_s back up
+    assert w.slider.end == pytest.approx(0.5) and ex.state.mu_k == 0.15
+
+
+def test_typed_entry_commits_and_widens_the_slider(ex):
+    w = ex.sliders["belt_speed"]
+    w.input.value = 0.9  # beyond the slider's soft end
+    assert ex.state.belt_speed == 0.9 and ex.state.scene == CUSTOM
+    assert w.slider.end >= 0.9 and w.slider.value == 0.9
+    w.input.value = 50.0  # beyond the hard bound: clamped
+    assert ex.state.belt_speed == ex.state.param["belt_speed"].bounds[1]
+
+
+def test_drag_previews_without_committing(ex):
+    n_full = len(_traj(ex)["x"])
+    ex.sliders["belt_speed"].slider.value = 0.15
+    assert ex.state.belt_speed == 0.1  # not committed
+    assert len(_traj(ex)["x"]) < n_full  # a draft preview was drawn
+    _release(ex, "belt_speed", 0.15)
+    assert ex.state.belt_speed == 0.15 and len(_traj(ex)["x"]) >= n_full
+
+
+def test_release_where_the_drag_started_restores_the_full_picture(ex):
+    full = _traj(ex)
+    ex.sliders["belt_speed"].slider.value = 0.13
+    _release(ex, "belt_speed", 0.1)  # back to the committed value
+    np.testing.assert_array_equal(_traj(ex)["x"], full["x"])
+
+
+def test_scene_selector_loads_the_scene_and_its_plots(ex):
+    ex.scene_select.value = "3a"
+    assert ex.state.scene == "3a" and ex.state.stop_type == "none"
+    visible = {n for n, p in ex.plot_panes.items() if p.visible}
+    assert "force" not in visible and "loop" not in visible and "friction" in visible
+    res = ex.solution.result  # an impactless scene computes no contact force
+    assert len(res.impulses) == 0 and not np.any(res.contact_force)
+    assert "Fig. 3a" in ex.caption.object
+    ex.scene_select.value = "11"
+    visible = {n for n, p in ex.plot_panes.items() if p.visible}
+    assert {"force", "loop"} <= visible
+    assert np.max(ex.plots.sources["force"].data["phi"]) > 0
+    assert ex.hysteretic_box.visible and not ex.sliders["restitution"].visible
+
+
+def test_tap_in_the_phase_plane_sets_the_start(ex):
+    fig = ex.plots.figures["phase"]
+    ex._on_phase_tap(Tap(fig, x=-0.2, y=0.05))
+    assert (ex.state.x0, ex.state.v0) == (-0.2, 0.05)
+    assert ex.plots.sources["start"].data["x"] == [-0.2]
+
+
+def test_tap_on_the_map_moves_belt_speed_and_clearance(ex):
+    ex._on_map_tap(Tap(ex.plots.figures["map"], x=0.3, y=0.25))
+    assert (ex.state.belt_speed, ex.state.clearance) == (0.3, 0.25)
+    assert ex.sliders["belt_speed"].value == 0.3
+    assert ex.plots.sources["here"].data == {"v": [0.3], "x": [0.25]}
+
+
+def test_si_units_convert_the_view(ex):
+    ex.units.value = "SI"
+    assert ex.si_box.visible and not ex.sliders["u_s"].visible
+    phys = ex.state.physical()
+    assert ex.sliders["normal_force"].value == pytest.approx(phys["normal_force"])
+    assert ex.plots.figures["phase"].yaxis.axis_label == "dx/dt (m/s)"
+    omega = ex.state.omega
+    t = np.array(ex.plots.sources["traj"].data["t"])
+    t_raw = np.array(ex.plots.sources["traj"].data["t_raw"])
+    np.testing.assert_allclose(t, t_raw / omega, rtol=1e-6)
+    _release(ex, "normal_force", 2 * phys["normal_force"])
+    assert ex.state.u_s == pytest.approx(2.0)
+
+
+def test_csv_export(ex):
+    text = ex._csv().getvalue().splitlines()
+    assert text[0].startswith("#") and text[1] == "t,x,xdot,mode,contact_force,overlap"
+    assert len(text) == 2 + len(ex.solution.result.t)
+    assert text[2].split(",")[3] in ("slip", "stick", "contact")
+
+
+def test_overlap_program_scene(ex):
+    ex.scene_select.value = "2b"
+    assert [n for n, p in ex.plot_panes.items() if p.visible] == ["force", "loop"]
+    loop = ex.plots.sources["loop"].data
+    assert len(loop["d"]) > 100 and np.nanmax(loop["phi"]) > 0
+    assert "Fig. 2b" in ex.readout.object
+
+
+@pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
+                                    "app.readout", "app.export"])
+def test_docstring_examples(module):
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.failed == 0 and result.attempted > 0

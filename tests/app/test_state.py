@@ -1,0 +1,82 @@
+"""State -> core parameters, units and permalink keys (no browser)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from app.state import SOLVE_PARAMS, URL_KEYS, ExplorerState, core_inputs, scene_values
+from core import HystereticStop, Oscillator, RigidStop
+
+
+def test_rigid_state_maps_to_core_inputs():
+    state = ExplorerState(belt_speed=0.15, clearance=0.27, restitution=0.6, mu_s=0.4,
+                          mu_k=0.25, u_s=2.0, x0=-0.1, v0=0.05, t_end=33.0,
+                          stop_type="rigid")
+    osc, stop, x0, v0, t_end = state.core_inputs()
+    assert osc == Oscillator(mu_s=0.4, mu_k=0.25, belt_speed=0.15, u_s=2.0)
+    assert (osc.a, osc.b) == pytest.approx((0.5, 0.8))
+    assert stop == RigidStop(clearance=0.27, restitution=0.6)
+    assert (x0, v0, t_end) == (-0.1, 0.05, 33.0)
+
+
+def test_hysteretic_and_no_stop():
+    state = ExplorerState(stop_type="hysteretic", clearance=0.2, k_c0=100.0, k_e0=25.0,
+                          limit_overlap=0.03, beta_c=4.0, beta_e=6.0)
+    stop = state.core_inputs()[1]
+    assert stop == HystereticStop(clearance=0.2, k_c0=100.0, k_e0=25.0, limit_overlap=0.03,
+                                  beta_c=4.0, beta_e=6.0)
+    assert stop.equivalent_restitution == pytest.approx(0.5)
+    state.stop_type = "none"
+    assert state.core_inputs()[1] is None
+
+
+@pytest.mark.parametrize(
+    ("override", "word"),
+    [({"mu_k": 0.5, "mu_s": 0.3}, "mu_k"), ({"clearance": -0.1, "x0": 0.0}, "ahead"),
+     ({"k_e0": 500.0, "k_c0": 100.0, "stop_type": "hysteretic"}, "k_e0"),
+     ({"t_end": 0.0}, "t_end")],
+)
+def test_invalid_values_raise_with_the_parameter_named(override, word):
+    values = {**ExplorerState().values(), **override}
+    with pytest.raises(ValueError, match=word):
+        core_inputs(values)
+
+
+def test_si_conversion_both_ways():
+    state = ExplorerState(units="SI", mass=2.0, stiffness=200.0)
+    state.set_physical(normal_force=60.0, belt_speed=1.0)
+    omega = math.sqrt(100.0)
+    assert state.u_s == pytest.approx(60.0 / 200.0)
+    assert state.belt_speed == pytest.approx(1.0 / omega)
+    phys = state.physical()
+    assert phys["normal_force"] == pytest.approx(60.0)
+    assert phys["belt_speed"] == pytest.approx(1.0)
+    # A new stiffness keeps the physical F_N and v_dr, so u_s and v change.
+    state.set_physical(k=800.0)
+    assert state.u_s == pytest.approx(60.0 / 800.0)
+    assert state.belt_speed == pytest.approx(1.0 / math.sqrt(400.0))
+    sc = state.scales()
+    assert sc.si and sc.time == pytest.approx(1 / 20.0) and sc.velocity == pytest.approx(20.0)
+    assert sc.force == 800.0
+
+
+def test_set_physical_rejects_bad_si_input():
+    state = ExplorerState()
+    with pytest.raises(ValueError, match="m must lie"):
+        state.set_physical(m=-1.0)
+
+
+def test_every_url_key_is_a_parameter_and_unique():
+    assert set(URL_KEYS) <= set(ExplorerState.param)
+    assert len(set(URL_KEYS.values())) == len(URL_KEYS)
+    assert set(SOLVE_PARAMS) <= set(URL_KEYS)
+
+
+def test_load_scene_keeps_accuracy_and_method():
+    state = ExplorerState(accuracy="precise", method="switch")
+    state.load_scene("7b")
+    assert state.scene == "7b"
+    assert (state.accuracy, state.method) == ("precise", "switch")
+    assert state.values() == scene_values("7b", accuracy="precise", method="switch")
