@@ -270,6 +270,29 @@ def _envelope_energy(delta: float, stiffness: float, d_lim: float) -> float:
     return stiffness * d_lim * d_lim * g
 
 
+def _classify(delta: float, branch: Branch, stop: HystereticStop) -> str:
+    """Which curve the force follows at ``0 < delta < D``: ``"C"``, ``"E"`` or ``"raw"``."""
+    d_lim = stop.limit_overlap
+    hyper = d_lim * delta / (d_lim - delta)
+    raw = _raw_scalar(delta, branch, stop)
+    if raw > stop.k_c0 * hyper:
+        return "C"
+    if raw < stop.k_e0 * hyper:
+        return "E"
+    return "raw"
+
+
+def _raw_scalar(delta: float, branch: Branch, stop: HystereticStop) -> float:
+    d_lim = stop.limit_overlap
+    hyper = d_lim * delta / (d_lim - delta)
+    r = branch.delta_r
+    if branch.loading:
+        c = stop.k_c0 * d_lim * r / (d_lim - r) - branch.phi_r
+        return stop.k_c0 * hyper - c * math.exp(min(-stop.beta_c * (delta - r) / d_lim, EXP_CAP))
+    c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
+    return stop.k_e0 * hyper + c * math.exp(min(-stop.beta_e * (r - delta) / d_lim, EXP_CAP))
+
+
 def _clip_breaks(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> list[float]:
     """Overlaps in ``(lo, hi)`` where the transition curve meets the envelope it is clipped to.
 
@@ -281,11 +304,12 @@ def _clip_breaks(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> 
     """
     d_lim = stop.limit_overlap
     ratio = 1.0 - stop.k_e0 / stop.k_c0
+    r = branch.delta_r
     if branch.loading:
-        c = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
+        c = stop.k_c0 * d_lim * r / (d_lim - r) - branch.phi_r
         beta, sgn = stop.beta_c, 1.0
     else:
-        c = branch.phi_r - float(phi_expansion(branch.delta_r, stop))
+        c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
         beta, sgn = stop.beta_e, -1.0
     if c <= 0.0 or ratio <= 0.0:
         return []
@@ -317,13 +341,14 @@ def _piece_antiderivative(s: float, branch: Branch, stop: HystereticStop, which:
         return _envelope_energy(s, stop.k_c0, d_lim)
     if which == "E":
         return _envelope_energy(s, stop.k_e0, d_lim)
+    r = branch.delta_r
     if branch.loading:
-        c = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
+        c = stop.k_c0 * d_lim * r / (d_lim - r) - branch.phi_r
         beta = stop.beta_c
         return _envelope_energy(s, stop.k_c0, d_lim) + c * d_lim / beta * math.exp(
             -beta * (s - branch.delta_r) / d_lim
         )
-    c = branch.phi_r - float(phi_expansion(branch.delta_r, stop))
+    c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
     beta = stop.beta_e
     return _envelope_energy(s, stop.k_e0, d_lim) + c * d_lim / beta * math.exp(
         -beta * (branch.delta_r - s) / d_lim
@@ -361,14 +386,7 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
     points = [lo, *_clip_breaks(lo, hi, branch, stop), hi]
     total = 0.0
     for p, q in zip(points[:-1], points[1:], strict=False):
-        mid = 0.5 * (p + q)
-        raw = float(_raw(mid, branch, stop)[0])
-        if raw > float(phi_compression(mid, stop)):
-            which = "C"
-        elif raw < float(phi_expansion(mid, stop)):
-            which = "E"
-        else:
-            which = "raw"
+        which = _classify(0.5 * (p + q), branch, stop)
         total += _piece_antiderivative(q, branch, stop, which) - _piece_antiderivative(
             p, branch, stop, which
         )
@@ -385,3 +403,60 @@ def stored_energy(delta: float, phi: float, stop: HystereticStop) -> float:
     if delta <= 0.0:
         return 0.0
     return branch_work(0.0, delta, Branch(False, delta, phi), stop)
+
+
+def force_on_branches(delta, loading, delta_r, phi_r, stop: HystereticStop) -> np.ndarray:
+    """:func:`contact_force` for arrays of overlaps, each on its own branch.
+
+    ``loading``, ``delta_r`` and ``phi_r`` are arrays of the fields of :class:`Branch`,
+    broadcast against ``delta``; used to evaluate a response's samples in one pass.
+    """
+    delta = np.asarray(delta, dtype=float)
+    loading = np.asarray(loading, dtype=bool)
+    delta_r = np.asarray(delta_r, dtype=float)
+    phi_r = np.asarray(phi_r, dtype=float)
+    d_lim = stop.limit_overlap
+    inside = (delta > 0.0) & (delta < d_lim)
+    d = np.where(inside, delta, 0.5 * d_lim)
+    dr = np.clip(delta_r, 0.0, d_lim)
+    upper = stop.k_c0 * d_lim * d / (d_lim - d)
+    lower = stop.k_e0 * d_lim * d / (d_lim - d)
+    with np.errstate(over="ignore", invalid="ignore"):
+        c_load = stop.k_c0 * d_lim * dr / (d_lim - dr) - phi_r
+        c_unload = phi_r - stop.k_e0 * d_lim * dr / (d_lim - dr)
+        raw_load = upper - c_load * np.exp(np.minimum(-stop.beta_c * (d - dr) / d_lim, EXP_CAP))
+        raw_unload = lower + c_unload * np.exp(np.minimum(-stop.beta_e * (dr - d) / d_lim, EXP_CAP))
+        phi = np.clip(np.where(loading, raw_load, raw_unload), lower, upper)
+    return np.where(inside, phi, np.where(delta <= 0.0, 0.0, np.inf))
+
+
+class BranchPrimitive:
+    """``F(delta) = int_lo^delta phi(s) ds`` along one branch, for many ``delta`` in
+    ``[lo, hi]``: the clip breakpoints are found once (as in :func:`branch_work`), then each
+    evaluation is a closed form."""
+
+    def __init__(self, branch: Branch, stop: HystereticStop, lo: float, hi: float) -> None:
+        self.branch, self.stop = branch, stop
+        lo, hi = max(lo, 0.0), max(hi, 0.0)
+        points = [lo, *(_clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
+        self.points = points
+        self.which = []
+        self.offsets = []
+        total = 0.0
+        for p, q in zip(points[:-1], points[1:], strict=False):
+            which = _classify(0.5 * (p + q), branch, stop)
+            self.which.append(which)
+            self.offsets.append(total - _piece_antiderivative(p, branch, stop, which))
+            total += _piece_antiderivative(q, branch, stop, which) - _piece_antiderivative(
+                p, branch, stop, which
+            )
+        if not self.which:
+            self.which, self.offsets = ["C"], [0.0]
+
+    def __call__(self, delta: float) -> float:
+        delta = max(delta, 0.0)
+        k = 0
+        while k + 1 < len(self.which) and delta > self.points[k + 1]:
+            k += 1
+        which = self.which[k]
+        return self.offsets[k] + _piece_antiderivative(delta, self.branch, self.stop, which)
