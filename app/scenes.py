@@ -323,7 +323,7 @@ _SCENE_LIST = (
         "A start far from rest may hit the stop in the transient, but the steady state is "
         "the impactless limit cycle of Fig. 3a.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.36, "restitution": 1.0,
-         "x0": -0.5, "v0": 0.4},
+         "x0": -0.6, "v0": 0.6},
         RIGID_PLOTS,
         [SLOW, ELASTIC, ("x_bar >= x_max (Eq. 23)", lambda s: _xb(s) >= _xm(s)),
          ("a start other than rest", lambda s: (s["x0"], s["v0"]) != (0.0, 0.0))],
@@ -345,7 +345,7 @@ _SCENE_LIST = (
         "Inelastic impacts in the transient only: the motion settles on the impactless "
         "limit cycle.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.34, "restitution": R_INELASTIC,
-         "x0": -0.5, "v0": 0.4},
+         "x0": -0.6, "v0": 0.6},
         RIGID_PLOTS,
         [SLOW, INELASTIC, ("x_bar >= x_max (Eq. 23)", lambda s: _xb(s) >= _xm(s)),
          ("a start other than rest", lambda s: (s["x0"], s["v0"]) != (0.0, 0.0))],

@@ -1,0 +1,146 @@
+"""The explorer in a real browser: every scene draws, sliders repaint, errors show.
+
+Screenshots of every scene and of the interactions are written to the folder printed at the
+end of the run (``artifacts/screenshots`` unless ``$SCREENSHOT_DIR`` says otherwise).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from uipage import Page, count_color
+
+from app.plots import MODE_COLORS
+from app.scenes import SCENES
+from core import Mode
+
+pytestmark = pytest.mark.ui
+
+SLIP, STICK, CONTACT = (MODE_COLORS[int(m)] for m in (Mode.SLIP, Mode.STICK, Mode.CONTACT))
+#: Pixels of a mode colour that a drawn trajectory leaves at least (a 2 px line over a few
+#: hundred pixels of plot; an empty or failed plot has none).
+MIN_TRAJECTORY_PIXELS = 150
+#: Mean absolute pixel change that counts as "the picture changed" (0-255 scale).
+MIN_CHANGE = 0.5
+
+
+@pytest.fixture(scope="module")
+def page(browser, server):
+    p = Page(browser, server)
+    yield p
+    p.close()
+
+
+def _select_scene(p: Page, key: str) -> None:
+    old = p.text(".fie-caption")
+    if SCENES[key].title in old:
+        return
+    p.page.locator(".fie-scene select").select_option(label=SCENES[key].title)
+    p.wait_text_change(".fie-caption", old)
+    p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
+    p.settle()
+
+
+@pytest.mark.parametrize("key", list(SCENES))
+def test_scene_draws(page, shots, key):
+    _select_scene(page, key)
+    page.page.screenshot(path=shots / f"scene-{key}.png", full_page=True)
+    assert f"Fig. {key}" in page.text(".fie-caption")
+    readout = page.text(".fie-readout-pane")
+    if key == "2b":
+        loop = page.pixels(".fie-plot-loop")
+        assert count_color(loop, CONTACT) > MIN_TRAJECTORY_PIXELS
+        assert "prescribed overlap" in readout
+        assert not page.page.locator(".fie-plot-phase").first.is_visible()
+    else:
+        assert "Steady state found" in readout and "Regime" in readout
+        phase = page.pixels(".fie-plot-phase")
+        assert count_color(phase, SLIP) > MIN_TRAJECTORY_PIXELS
+        impactless = SCENES[key].values["stop_type"] == "none"
+        assert page.page.locator(".fie-plot-force").first.is_visible() is not impactless
+        if key in ("10", "11"):
+            assert count_color(page.pixels(".fie-plot-loop"), CONTACT) > 50
+        elif not impactless:
+            assert count_color(page.pixels(".fie-plot-force"), CONTACT) > 50
+    assert page.errors == []
+
+
+def _drag(p: Page, name: str, dx: float) -> None:
+    handle = p.page.locator(f".fie-w-{name} .noUi-handle").first
+    box = handle.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    p.page.mouse.move(x, y)
+    p.page.mouse.down()
+    p.page.mouse.move(x + dx, y, steps=8)
+    p.page.mouse.up()
+
+
+def test_slider_drag_repaints(page, shots):
+    _select_scene(page, "7b")
+    before = page.pixels(".fie-plot-phase")
+    readout = page.text(".fie-readout-pane")
+    _drag(page, "clearance", 40)
+    after_text = page.wait_text_change(".fie-readout-pane", readout)
+    page.page.wait_for_timeout(300)
+    page.settle()
+    after = page.pixels(".fie-plot-phase")
+    page.page.screenshot(path=shots / "slider-moved.png", full_page=True)
+    assert np.abs(after - before).mean() > MIN_CHANGE
+    assert "custom" in page.page.locator(".fie-scene select").first.input_value()
+    assert after_text != readout
+    assert "xbar=" in page.page.url  # the permalink follows
+    assert page.errors == []
+
+
+def test_invalid_input_keeps_the_picture(page, shots):
+    _select_scene(page, "5b")
+    before = page.pixels(".fie-plot-phase")
+    box = page.page.locator(".fie-w-clearance input").first
+    box.fill("-0.5")
+    box.press("Enter")
+    alert = page.page.locator(".fie-alert").first
+    alert.wait_for(state="visible", timeout=30_000)
+    page.settle()
+    page.page.screenshot(path=shots / "invalid-input.png", full_page=True)
+    assert "ahead of the start" in page.text(".fie-alert")
+    after = page.pixels(".fie-plot-phase")
+    assert np.abs(after - before).mean() < MIN_CHANGE
+    assert page.errors == []
+
+
+def test_permalink_reopens_the_same_view(browser, server, shots):
+    p = Page(browser, server + "?scene=7c")
+    try:
+        assert "Fig. 7c" in p.text(".fie-caption")
+        readout = p.text(".fie-readout-pane")
+        p.page.locator(".fie-w-belt_speed input").first.fill("0.08")
+        p.page.locator(".fie-w-belt_speed input").first.press("Enter")
+        readout = p.wait_text_change(".fie-readout-pane", readout)
+        url = p.page.url
+        assert "v=0.08" in url and "scene=custom" in url
+    finally:
+        p.close()
+    q = Page(browser, url)
+    try:
+        q.page.screenshot(path=shots / "permalink.png", full_page=True)
+        assert float(q.page.locator(".fie-w-belt_speed input").first.input_value()) == 0.08
+        assert q.text(".fie-readout-pane").split("Solve")[0] == readout.split("Solve")[0]
+        assert q.errors == []
+    finally:
+        q.close()
+
+
+def test_animation_plays_in_the_browser(page, shots):
+    _select_scene(page, "5a")
+    anim = ".fie-plot-anim"
+    first = page.pixels(anim)
+    page.page.locator(f"{anim} button").first.click()
+    page.page.wait_for_timeout(700)
+    second = page.pixels(anim)
+    page.page.wait_for_timeout(400)
+    third = page.pixels(anim)
+    page.page.screenshot(path=shots / "animation.png", full_page=True)
+    page.page.locator(f"{anim} button").first.click()  # pause
+    assert np.abs(second - first).mean() > 0.1
+    assert np.abs(third - second).mean() > 0.1
+    assert page.errors == []
