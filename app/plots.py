@@ -102,6 +102,23 @@ def _f32(a) -> np.ndarray:
     return np.asarray(a, dtype=np.float32)
 
 
+def _same(old: Any, new: Any) -> bool:
+    if isinstance(old, np.ndarray) and isinstance(new, np.ndarray):
+        return old.shape == new.shape and old.dtype == new.dtype and bool(
+            np.array_equal(old, new, equal_nan=old.dtype.kind == "f"))
+    return list(old) == list(new)
+
+
+def _assign(source: ColumnDataSource, cols: Mapping[str, Any]) -> bool:
+    """Replace ``source.data`` in one assignment, unless nothing changed (then the browser
+    has nothing to re-render). Returns whether it assigned."""
+    old = source.data
+    if old.keys() == cols.keys() and all(_same(old[k], cols[k]) for k in cols):
+        return False
+    source.data = dict(cols)
+    return True
+
+
 def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.ndarray:
     """Indices of the samples to draw: a uniform stride plus every mode change and both
     sides of every jump (samples at equal time, i.e. impacts).
@@ -319,6 +336,8 @@ class PlotSet:
         self._build_map(s)
         self._last: Solution | None = None
         self._dirty: set[str] = set()
+        self._map_shown: Mapping[str, Any] | None = None
+        self._map_scales: Scales | None = None
 
     # --- building ------------------------------------------------------------------------
 
@@ -463,8 +482,8 @@ class PlotSet:
     def update_preview(self, sol: Solution, scales: Scales) -> None:
         """Cheap update while a slider is dragged: the trajectory only."""
         s = self.sources
-        s["traj"].data = trajectory_columns(sol, scales, max_points=len(sol.result.t))
-        s["trans"].data = transition_columns(sol, scales)
+        _assign(s["traj"], trajectory_columns(sol, scales, max_points=len(sol.result.t)))
+        _assign(s["trans"], transition_columns(sol, scales))
         self._set_spans(sol, scales)
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
@@ -477,31 +496,34 @@ class PlotSet:
         s = self.sources
         todo = self._dirty.intersection(visible)
         if todo & {"phase", "time", "anim", "friction"}:
-            s["traj"].data = trajectory_columns(sol, scales)
-            s["trans"].data = transition_columns(sol, scales)
+            _assign(s["traj"], trajectory_columns(sol, scales))
+            _assign(s["trans"], transition_columns(sol, scales))
             refs = reference_columns(sol, scales)
-            s["gamma0"].data, s["cycle"].data = refs["gamma0"], refs["cycle"]
-            s["points"].data = refs["points"]
-            s["start"].data = {"x": [sol.x0], "v": [sol.v0 * scales.velocity]}
+            _assign(s["gamma0"], refs["gamma0"])
+            _assign(s["cycle"], refs["cycle"])
+            _assign(s["points"], refs["points"])
+            _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
-            s["bands"].data = band_columns(sol, scales)
+            _assign(s["bands"], band_columns(sol, scales))
             self._dirty.discard("time")
         if "force" in todo:
             cols = force_columns(sol, scales)
-            s["stems"].data, s["force"].data = cols["stems"], cols["line"]
+            _assign(s["stems"], cols["stems"])
+            _assign(s["force"], cols["line"])
             self._dirty.discard("force")
         if "loop" in todo:
             cols = loop_columns(sol, scales)
-            s["loop"].data, s["comp"].data, s["exp"].data = cols["loop"], cols["comp"], \
-                cols["exp"]
+            for name in ("loop", "comp", "exp"):
+                _assign(s[name], cols[name])
             self._dirty.discard("loop")
         if "friction" in todo:
             cols = friction_columns(sol, scales)
-            s["law"].data, s["ops"].data = cols["law"], cols["ops"]
+            _assign(s["law"], cols["law"])
+            _assign(s["ops"], cols["ops"])
             self._dirty.discard("friction")
         if "energy" in todo:
-            s["energy"].data = energy_columns(sol, scales)
+            _assign(s["energy"], energy_columns(sol, scales))
             self._dirty.discard("energy")
         if "map" in todo and map_data is not None:
             self._set_map(sol, scales, map_data)
@@ -541,13 +563,15 @@ class PlotSet:
         v_hi = data["v_hi"] * scales.velocity
         x_lo, x_hi = data["x_lo"], data["x_hi"]
         codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
-        self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
-                                    "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
+        if data is not self._map_shown or scales is not self._map_scales:  # cached maps
+            self._map_shown, self._map_scales = data, scales
+            self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
+                                        "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)
         clearance = sol.values["clearance"]
-        self.sources["here"].data = {"v": [sol.osc.v * scales.velocity], "x": [clearance]}
+        _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {

@@ -1,0 +1,127 @@
+"""Slider release -> repainted plot, measured in a real browser (Debian's Chromium).
+
+Serves the explorer with ``panel serve`` on a free loopback port, opens a rigid-stop and a
+hysteretic-stop scene, drags a slider many times and measures, inside the page, the time
+from the ``pointerup`` that ends each drag to the first animation frame after the full
+solution's trajectory arrived (a preview has fewer points, see ``app.solver``). Prints the
+median and 95th percentile per scene against the targets of issue 4.
+
+Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b,11]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from app.scenes import SCENES  # noqa: E402
+from app.solver import PREVIEW_SAMPLES  # noqa: E402
+
+CHROMIUM = os.environ.get("CHROMIUM", shutil.which("chromium") or "/usr/bin/chromium")
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+#: p95 targets [ms] by stop type (issue 4).
+TARGETS_MS = {"rigid": 100.0, "hysteretic": 250.0, "none": 100.0}
+#: Slider dragged in each scene and the drag distance [px] (alternating left and right).
+SLIDER = "clearance"
+DRAG_PX = 12
+#: A trajectory with more points than this is a full solve, not a preview.
+FULL_MIN_POINTS = PREVIEW_SAMPLES + 50
+
+#: Installs the probe: times of pointerup and of the first frame after each full update.
+JS_PROBE = """(minPoints) => {
+  const doc = Bokeh.documents[0];
+  const traj = [...doc.all_models].find(m => m.data && "t_raw" in m.data);
+  window.__lat = {up: null, painted: []};
+  document.addEventListener("pointerup", () => { window.__lat.up = performance.now(); },
+                            true);
+  traj.properties.data.change.connect(() => {
+    if (window.__lat.up === null || traj.data.t_raw.length < minPoints) return;
+    const up = window.__lat.up;
+    window.__lat.up = null;
+    requestAnimationFrame(() => window.__lat.painted.push(performance.now() - up));
+  });
+}"""
+
+
+def _serve() -> tuple[subprocess.Popen, str]:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port),
+         "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
+         "--static-dirs", "assets=static", "--liveness"],
+        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+    )
+    for _ in range(300):
+        try:
+            urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2)
+            return proc, f"http://127.0.0.1:{port}/main"
+        except OSError:
+            time.sleep(0.2)
+    proc.kill()
+    raise RuntimeError("panel serve did not start")
+
+
+def measure(page, url: str, scene: str, moves: int) -> np.ndarray:
+    """Latencies [ms] of ``moves`` drags of the slider in ``scene``."""
+    page.goto(f"{url}?scene={scene}", timeout=60_000)
+    page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
+                           "Bokeh.documents[0].is_idle", timeout=60_000)
+    page.evaluate(JS_PROBE, FULL_MIN_POINTS)
+    handle = page.locator(f".fie-w-{SLIDER} .noUi-handle").first
+    for i in range(moves):
+        box = handle.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        dx = DRAG_PX if i % 2 == 0 else -DRAG_PX
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + dx, y, steps=4)
+        page.mouse.up()
+        page.wait_for_function(f"() => window.__lat.painted.length > {i}", timeout=30_000)
+        page.wait_for_timeout(150)
+    return np.asarray(page.evaluate("() => window.__lat.painted"), dtype=float)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--moves", type=int, default=40)
+    parser.add_argument("--scenes", default="5b,7c,10,11")
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    proc, url = _serve()
+    try:
+        with sync_playwright() as pw:
+            browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            page = browser.new_page(viewport={"width": 1600, "height": 2000})
+            print(f"{'scene':>6} {'stop':>11} {'moves':>6} {'median ms':>10} {'p95 ms':>8} "
+                  f"{'target':>7}  ok")
+            for scene in args.scenes.split(","):
+                stop = SCENES[scene].values["stop_type"]
+                lat = measure(page, url, scene, args.moves)
+                med, p95 = np.median(lat), np.percentile(lat, 95)
+                target = TARGETS_MS[stop]
+                print(f"{scene:>6} {stop:>11} {len(lat):>6} {med:>10.1f} {p95:>8.1f} "
+                      f"{target:>7.0f}  {'yes' if p95 < target else 'NO'}")
+            browser.close()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+if __name__ == "__main__":
+    main()
