@@ -182,14 +182,20 @@ def free_flight(
         best = (dtheta, kind, x_ev, v)
 
     # The stop, x = barrier, reached with x' > 0: R cos(theta) = barrier - c, sin(theta) < 0.
-    gap = barrier - c
-    if math.isfinite(barrier) and -radius < gap < radius:
-        target = -math.acos(gap / radius)
-        dtheta = _angle_ahead(target, theta0)
-        speed = math.sqrt((radius - gap) * (radius + gap))
-        # On a tie the impact wins: the stop is reached with x' = v.
-        if best is None or dtheta <= best[0]:
-            best = (dtheta, TransitionKind.IMPACT, barrier, speed)
+    # The squared impact speed R^2 - (barrier - c)^2 is formed without cancellation, so a
+    # start a few ulps from the stop still finds its (tiny) arc.
+    if math.isfinite(barrier):
+        speed2 = (x0 - barrier) * (x0 + barrier - 2.0 * c) + v0 * v0
+        if speed2 > 0.0:
+            speed = math.sqrt(speed2)
+            # Zero only for a start within rounding of the stop: the impact is then now.
+            dtheta = (math.atan2(-speed, barrier - c) - theta0) % TWO_PI
+            # On a tie the impact wins: the stop is reached with x' = v.
+            if best is None or dtheta <= best[0]:
+                best = (dtheta, TransitionKind.IMPACT, barrier, speed)
+        elif x0 >= barrier and c > barrier:
+            # At the stop with x' = 0 and the force pushing into it: pressed now (speed 0).
+            best = (0.0, TransitionKind.IMPACT, barrier, 0.0)
 
     if best is None:
         return Segment(Mode.SLIP, t0, math.inf, x0, v0, c), None

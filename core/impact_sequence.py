@@ -110,7 +110,7 @@ def impact_sequence(
     speeds = w * np.exp(k * math.log(r))
     rebound = speeds[1:]  # arc k starts with speed r^k w and ends with the same speed
     if d < 0.0:
-        durations = 2.0 * np.arctan(rebound / -d)
+        durations = 2.0 * np.arctan2(rebound, -d)
     else:
         durations = 2.0 * math.pi - 2.0 * np.arctan2(rebound, d)
     t_impacts = t_start + np.concatenate(([0.0], np.cumsum(durations)))

@@ -38,6 +38,12 @@ from core.trajectory import PeriodicTail, SegmentTable, evaluate
 FIXED_POINT_RTOL = 1e-11
 #: How many earlier transitions of the same kind are compared with each new one.
 FIXED_POINT_LOOKBACK = 64
+#: An impact slower than this (relative to the length scale) ends an accumulation that the
+#: closed form does not cover (still belt). Below ~sqrt(machine epsilon) the speed at the
+#: stop is set by rounding (one ulp of x at a turning point next to the stop gives a speed
+#: of sqrt(2 ulp |x_bar - c|)), so it cannot be resolved; the rest state is then exact to
+#: this speed and the remaining time to ~this speed over |x_bar - c|.
+REST_SPEED = 1e-7
 #: Guard against an endless event loop (never reached by the paper's regimes: their
 #: transients end in a few dozen events); the result then says no steady state was found.
 MAX_EVENTS = 2_000_000
@@ -81,6 +87,7 @@ def simulate_rigid(
     *,
     n_samples: int,
     transition_cap: int,
+    t_eval: np.ndarray | None = None,
 ) -> Result:
     """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``)."""
     xb = stop.clearance if stop is not None else math.inf
@@ -100,6 +107,8 @@ def simulate_rigid(
     t, x, xd = 0.0, x0, v0
     motion = start_motion(osc, x, xd)
     pending_impact = stop is not None and x >= xb and xd > 0.0
+    if pending_impact:  # keep the state before an impact at t = 0 for the samples
+        table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, motion.s * a), 0.0, v)
     if stop is not None and x >= xb and xd == 0.0 and v > 0.0 and a >= xb:
         motion = Motion(Mode.CONTACT)  # starts pressed on the stop
         rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
@@ -110,6 +119,15 @@ def simulate_rigid(
             stuck = motion.mode is Mode.STICK
             kind = TransitionKind.STICK_IMPACT if stuck else TransitionKind.IMPACT
             w, after = xd, -r * xd
+            if w == 0.0 or (r < 1.0 and w <= REST_SPEED * scale):
+                # Pressed on the stop, or an accumulation not of the closed-form kind (a
+                # still belt): the impacts left take less than ~w/|x_bar| of time.
+                table.add_loss(0.5 * w * w)
+                if w > 0.0:
+                    rec.add(TransitionKind.ACCUMULATION, t, xb, w, 0.0)
+                rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
+                xd, motion = 0.0, Motion(Mode.CONTACT)
+                continue
             rec.add(kind, t, xb, w, after)
             table.add_loss(0.5 * (1.0 - r * r) * w * w)
             xd = after
@@ -160,7 +178,7 @@ def simulate_rigid(
         )
 
     return _assemble(
-        osc, stop, table, rec, tail, sequence, steady, t_end, x0, v0, n_samples
+        osc, stop, table, rec, tail, sequence, steady, t_end, x0, v0, n_samples, t_eval
     )
 
 
@@ -174,12 +192,21 @@ def _repeats(
     tol: float,
     row: int,
 ) -> bool:
-    """Record a transition state; True when it repeats an earlier one (Eq. 20)."""
+    """Record a transition state; True when it repeats an earlier one (Eq. 20).
+
+    A repeat must hold to ``tol`` and also to ``FIXED_POINT_RTOL`` of the cycle's own size:
+    a sequence converging on a point (an accumulation) has consecutive states that come
+    within any absolute tolerance without ever repeating.
+    """
     seen = history.setdefault(kind.value, [])
-    found = any(
-        abs(states[i][1] - x) <= tol and abs(states[i][2] - v) <= tol
-        for i in seen[-FIXED_POINT_LOOKBACK:]
-    )
+    found = False
+    for i in seen[-FIXED_POINT_LOOKBACK:]:
+        dx, dv = abs(states[i][1] - x), abs(states[i][2] - v)
+        if dx <= tol and dv <= tol:
+            size = max(abs(st[1] - x) + abs(st[2] - v) for st in states[i:])
+            if dx + dv <= FIXED_POINT_RTOL * size:
+                found = True
+                break
     states.append((t, x, v, row))
     seen.append(len(states) - 1)
     return found
@@ -298,10 +325,24 @@ def _endless(seg: Segment, t: float) -> Steady:
     return Steady(SteadyKind.EQUILIBRIUM, x_max=seg.x0, t_reached=t)
 
 
+def _rest_force(osc: Oscillator, stop: RigidStop | None) -> float:
+    """Contact force over ``k`` of the mass resting on the stop (SPEC §3): ``a - x_bar``
+    on a moving belt; on a still belt static friction is indeterminate and the least force
+    it allows, ``-x_bar - b``, is reported."""
+    if stop is None:
+        return 0.0
+    if osc.v > 0.0:
+        return max(osc.a - stop.clearance, 0.0)
+    return max(-stop.clearance - osc.b, 0.0)
+
+
 def _sample_times(
-    t_end: float, n_samples: int, rec: _Recorder
+    t_end: float, n_samples: int, rec: _Recorder, t_eval: np.ndarray | None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Uniform samples plus both sides of every stored impact and each stored transition."""
+    """Uniform samples plus both sides of every stored impact and each stored transition;
+    or exactly ``t_eval`` when given."""
+    if t_eval is not None:
+        return t_eval, np.zeros(len(t_eval), bool)
     uniform = np.linspace(0.0, t_end, n_samples)
     marks = [tr.t for tr in rec.stored if tr.t <= t_end]
     impacts = [
@@ -329,9 +370,10 @@ def _assemble(
     x0: float,
     v0: float,
     n_samples: int,
+    t_eval: np.ndarray | None,
 ) -> Result:
     """Evaluate the samples and build the :class:`Result`."""
-    times, before = _sample_times(t_end, n_samples, rec)
+    times, before = _sample_times(t_end, n_samples, rec, t_eval)
     v = osc.v
     if len(table) == 0:  # the motion starts with an endless impact sequence
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
@@ -359,9 +401,7 @@ def _assemble(
         # Rounding may put a sample a few ulps past the face; the exact solution never is.
         np.minimum(x, stop.clearance, out=x)
     mechanical = 0.5 * (x * x + xd * xd)
-    contact_force = np.where(
-        out["mode"] == Mode.CONTACT, max(osc.a - (stop.clearance if stop else 0.0), 0.0), 0.0
-    )
+    contact_force = np.where(out["mode"] == Mode.CONTACT, _rest_force(osc, stop), 0.0)
     energy = Energy(
         mechanical=mechanical,
         friction_work=out["friction_work"],

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
 from core.rigid import simulate_rigid
@@ -29,6 +31,7 @@ def simulate(
     rtol: float | None = None,
     atol: float | None = None,
     eta: float | None = None,
+    t_eval: np.ndarray | None = None,
 ) -> Result:
     """Response of the friction(-impact) oscillator over ``[0, t_end]`` (dimensionless time).
 
@@ -52,6 +55,9 @@ def simulate(
         with Runge-Kutta-Fehlberg 4(5). ``event``: ``solve_ivp`` with event location.
     rtol, atol, eta : float, optional
         Tolerances of the numerical parts and the switch model's stick band.
+    t_eval : array, optional
+        Exact method without a deformable stop: sample at these times in ``[0, t_end]``
+        instead of ``n_samples`` uniform ones (for comparisons with other methods).
 
     Examples
     --------
@@ -104,8 +110,13 @@ def simulate(
             osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
             **_given(rtol=rtol, atol=atol),
         )
+    if t_eval is not None:
+        t_eval = np.asarray(t_eval, dtype=float)
+        if t_eval.ndim != 1 or np.any(t_eval < 0.0) or np.any(t_eval > t_end):
+            raise ValueError("t_eval must be a 1-D array of times in [0, t_end]")
     return simulate_rigid(
-        osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap
+        osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
+        t_eval=t_eval,
     )
 
 
