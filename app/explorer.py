@@ -10,6 +10,7 @@ failure of a solve shows its message in an alert and keeps the last good picture
 from __future__ import annotations
 
 import html
+import json
 import logging
 import math
 from collections.abc import Mapping
@@ -240,6 +241,19 @@ class Explorer(pn.viewable.Viewer):
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
         loc.sync(self.state, dict(URL_KEYS), on_error=self._url_error)
+        # Panel writes only the parameters that change; a permalink needs all of them.
+        self.state.param.watch(self._write_url, list(URL_KEYS))
+        pn.state.onload(self._write_url)
+
+    def _write_url(self, *events: param.parameterized.Event) -> None:
+        loc = pn.state.location
+        if loc is None:
+            return
+        query = {}
+        for name, key in URL_KEYS.items():
+            value = self.state.param[name].serialize(getattr(self.state, name))
+            query[key] = value if isinstance(value, str) else json.dumps(value)
+        loc.update_query(**query)
 
     def _url_error(self, values: Mapping[str, Any]) -> None:
         self._show_error("Some URL parameters could not be applied: " +
