@@ -22,49 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.result import Mode
+from core.theory import accumulation_time
 
 #: Impact speeds below this fraction of the problem's length scale are indistinguishable
 #: from the limit (the state differs from it by less than this): the explicit sequence ends.
 SPEED_FLOOR = 1e-15
 #: Most arcs evaluated one by one; beyond, the accumulation sum uses its series tail.
 MAX_ARCS = 1_000_000
-#: The tail series is used once ``y = w/|d|`` is below this; its terms then fall by y^2.
-SERIES_Y = 0.25
-#: Terms of the tail series kept at most; y^(2k+1) < 1e-17 long before that for y <= 0.25.
-SERIES_TERMS = 40
-
-
-def accumulation_time(y0: float, r: float) -> float:
-    """``sum_{h>=0} 2 atan(y0 r^h)``: duration of an impact accumulation (SPEC §3).
-
-    Exact summation of the terms while ``y = y0 r^h > SERIES_Y``, then the convergent series
-    ``sum_k (-1)^k y^(2k+1) / ((2k+1)(1 - r^(2k+1)))`` for the rest, with ``1 - r^n``
-    computed as ``-expm1(n log r)`` so that ``r`` close to 1 keeps full precision.
-
-    >>> round(accumulation_time(1.0, 0.5), 12) == round(sum(2 * math.atan(0.5**h)
-    ...     for h in range(200)), 12)
-    True
-    """
-    if y0 <= 0.0:
-        return 0.0
-    if r <= 0.0:
-        return 2.0 * math.atan(y0)
-    log_r = math.log(r)
-    total = 0.0
-    y = y0
-    if y > SERIES_Y:
-        n_big = math.ceil(math.log(SERIES_Y / y) / log_r)
-        h = np.arange(n_big, dtype=float)
-        total += float(np.sum(2.0 * np.arctan(y * np.exp(h * log_r))))
-        y = y * math.exp(n_big * log_r)
-    series = 0.0
-    for k in range(SERIES_TERMS):
-        n = 2 * k + 1
-        term = y**n / (n * -math.expm1(n * log_r))
-        series += -term if k % 2 else term
-        if term < 1e-18 * series:
-            break
-    return total + 2.0 * series
 
 
 @dataclass(frozen=True)
@@ -119,7 +83,7 @@ def impact_sequence(
     limit_follows = cut == n
     t_acc = math.inf
     if d < 0.0:
-        t_acc = float(t_impacts[-1]) + accumulation_time(float(speeds[-1]) * r / -d, r)
+        t_acc = float(t_impacts[-1]) + accumulation_time(float(speeds[-1]) * r, r, -d)
     return ImpactSequence(
         t_start, w, r, clearance, a, t_impacts[:cut], speeds[:cut], t_acc, limit_follows
     )

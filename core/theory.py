@@ -51,6 +51,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.integrate import quad
 
 from core.params import Oscillator, RigidStop
 from core.result import SteadyKind, TransitionKind
@@ -91,6 +92,8 @@ SERIES_MAX_TERMS = 200
 #: ``accumulation_time``: terms with ``SERIES_Y_LOW < y <= SERIES_Y_HIGH`` are summed
 #: explicitly, in numpy chunks of this many terms to bound memory for ``r`` near 1.
 EXPLICIT_CHUNK = 1 << 20
+#: Above this many terms the middle band is summed by Euler-Maclaurin (r within ~1e-5 of 1).
+EULER_MACLAURIN_TERMS = 100_000
 
 _SLIP_STICK = TransitionKind.SLIP_STICK.value
 _STICK_SLIP = TransitionKind.STICK_SLIP.value
@@ -517,12 +520,34 @@ def accumulation_time(w0: float, r: float, d: float) -> float:
             n_mid += 1
         while n_mid > 0 and y * r ** (n_mid - 1) <= SERIES_Y_LOW:
             n_mid -= 1
-        for start in range(0, n_mid, EXPLICIT_CHUNK):
-            h = np.arange(start, min(start + EXPLICIT_CHUNK, n_mid), dtype=float)
-            total += float(np.sum(np.arctan(y * np.exp(h * log_r))))
+        if n_mid > EULER_MACLAURIN_TERMS:
+            total += _atan_band_euler_maclaurin(y, log_r, n_mid)
+        else:
+            for start in range(0, n_mid, EXPLICIT_CHUNK):
+                h = np.arange(start, min(start + EXPLICIT_CHUNK, n_mid), dtype=float)
+                total += float(np.sum(np.arctan(y * np.exp(h * log_r))))
     # Band y <= SERIES_Y_LOW: the infinite tail.
     total += _atan_geometric_series(y * r**n_mid, log_r, None)
     return 2.0 * total
+
+
+def _atan_band_euler_maclaurin(y: float, log_r: float, n: int) -> float:
+    """``sum_{h=0}^{n-1} atan(y r^h)`` by Euler-Maclaurin, for ``r`` so close to 1 that the
+    band holds more than :data:`EULER_MACLAURIN_TERMS` terms.
+
+    With ``lam = -log r``: the integral ``(1/lam) int_{y_n}^{y} atan(u)/u du`` plus the end
+    corrections ``(f(0) - f(n))/2 + (f'(n) - f'(0))/12``, ``f'(h) = -lam u/(1 + u^2)``. The
+    next term is of order ``lam^3``, below 1e-15 of the sum for ``lam < 1e-5``.
+    """
+    lam = -log_r
+    y_end = y * math.exp(-lam * n)
+    integral, _ = quad(lambda u: math.atan(u) / u, y_end, y, epsabs=0.0, epsrel=1e-13)
+
+    def slope(u: float) -> float:
+        return -lam * u / (1.0 + u * u)
+
+    ends = 0.5 * (math.atan(y) - math.atan(y_end)) + (slope(y_end) - slope(y)) / 12.0
+    return integral / lam + ends
 
 
 def _atan_geometric_series(y: float, log_r: float, n_terms: int | None) -> float:
