@@ -283,8 +283,12 @@ def test_invariants_over_the_parameter_box(p):
             assert tr.v > 0.0
             assert tr.v_after == pytest.approx(-p["r"] * tr.v, rel=1e-15, abs=0.0)
     # Energy balance d/dt (x^2 + x'^2)/2 = s a x' on slip, = x x' in stick; impact losses.
+    # Tolerance: at a tangency (slip circle touching the stick line, e.g. mu_s = mu_k) the
+    # event point x = c - sqrt(R^2 - v^2) is ill-conditioned: rounding of R^2 - v^2 moves it
+    # by up to sqrt(eps) R ~ 1.5e-8 R, and the energy by as much times R. Away from
+    # tangencies the balance closes to ~1e-15 (test_energy_balance_closes_for_paper_regimes).
     scale = max(1.0, float(np.max(res.energy.mechanical)))
-    assert energy_residual(res) <= 1e-10 * scale
+    assert energy_residual(res) <= 1e-7 * scale
 
 
 def test_energy_balance_closes_for_paper_regimes():
