@@ -8,6 +8,7 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -39,11 +40,11 @@ class TransitionKind(str, enum.Enum):
         return self.value
 
 
-@dataclass(frozen=True)
-class Transition:
+class Transition(NamedTuple):
     """State at one transition: time ``t``, position ``x``, velocity ``v`` (before it).
 
-    ``v_after`` is the velocity just after (differs from ``v`` only at an impact).
+    ``v_after`` is the velocity just after (differs from ``v`` only at an impact). A named
+    tuple: immutable and cheap to build (long responses store thousands).
     """
 
     kind: TransitionKind

@@ -290,12 +290,14 @@ def _periodic(
 def _sequence_steady(seq: ImpactSequence, rec: _Recorder, t_end: float) -> Steady:
     """Record the impacts of an endless sequence and say where it leads."""
     n_explicit = len(seq.t_impacts) - 1
-    for i in range(1, n_explicit + 1):
-        if len(rec.stored) >= rec.cap:
-            rec.add_many(TransitionKind.IMPACT, n_explicit + 1 - i)
-            break
-        w_k = float(seq.speeds[i])
-        rec.add(TransitionKind.IMPACT, float(seq.t_impacts[i]), seq.clearance, w_k, -seq.r * w_k)
+    room = max(0, min(n_explicit, rec.cap - len(rec.stored)))
+    times = seq.t_impacts[1 : room + 1].tolist()
+    speeds = seq.speeds[1 : room + 1].tolist()
+    impact, xb, r = TransitionKind.IMPACT, seq.clearance, seq.r
+    pairs = list(zip(times, speeds, strict=True))
+    rec.stored.extend(Transition(impact, t, xb, w, -r * w) for t, w in pairs)
+    rec.impulses.extend((t, (1.0 + r) * w) for t, w in pairs)
+    rec.add_many(impact, n_explicit)
     if seq.zeno:
         if seq.limit_follows and seq.t_accumulation <= t_end:
             for kind in (TransitionKind.ACCUMULATION, TransitionKind.REST):
@@ -377,22 +379,33 @@ def _assemble(
     v = osc.v
     if len(table) == 0:  # the motion starts with an endless impact sequence
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
-    out = evaluate(table.arrays(), times, before, v, tail)
     x_max = table.x_max
     stats: dict[str, float] = {"segments": float(len(table))}
+    late = np.zeros(len(times), bool)
     if seq is not None:
         late = (times > seq.t_start) | ((times == seq.t_start) & ~before)
+    early = ~late
+    out = {
+        name: np.empty(len(times), np.int8 if name == "mode" else float)
+        for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
+    }
+    if np.any(early):
+        part = evaluate(table.arrays(), times[early], before[early], v, tail)
+        for name, values in part.items():
+            out[name][early] = values
+    if seq is not None:
         if np.any(late):
             part = evaluate_sequence(seq, times[late], v)
             base = table.work
-            out["x"][late] = part["x"]
-            out["v"][late] = part["v"]
-            out["mode"][late] = part["mode"]
-            out["friction_work"][late] = base[0] + part["friction_work"]
-            out["belt_input"][late] = base[1] + part["belt_input"]
             # table.work already holds the loss of the first impact of the sequence.
             first_loss = 0.5 * (1.0 - seq.r**2) * seq.w**2
-            out["stop_loss"][late] = base[2] - first_loss + part["stop_loss"]
+            offsets = {
+                "friction_work": base[0],
+                "belt_input": base[1],
+                "stop_loss": base[2] - first_loss,
+            }
+            for name, values in part.items():
+                out[name][late] = values + offsets.get(name, 0.0)
         x_max = max(x_max, seq.clearance)
         stats["impacts_evaluated"] = float(len(seq.t_impacts))
         stats["last_impact_speed"] = float(seq.speeds[-1])
