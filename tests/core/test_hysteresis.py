@@ -259,10 +259,10 @@ def test_passivity_of_closed_overlap_programs(log_beta, log_ratio, blocks):
     """No closed overlap program (from separation back to separation) creates energy.
 
     Programs are blocks of a large excursion followed by many small cycles above its valley:
-    the small cycles are where this law can give back more than it took (see the xfail
-    below). Range: beta_c = beta_e from 0.1 to 1e3 and k_e0/k_c0 from 0.01 to 1. A random
-    search found a gain of 0.3 % of the loading work at k_e0/k_c0 = 0.0035, beta = 4.2, so the
-    property is only claimed where it was searched and held.
+    the small cycles are where this law can give back more than it took (see the
+    counterexample below). Range: beta_c = beta_e from 0.1 to 1e3 and k_e0/k_c0 from 0.01
+    to 1. A random search found a gain of 0.3 % of the loading work at k_e0/k_c0 = 0.0035,
+    beta = 4.2, so the property is only claimed where it was searched and held.
     """
     beta = 10.0**log_beta
     stop = HystereticStop(
@@ -281,10 +281,11 @@ def test_passivity_of_closed_overlap_programs(log_beta, log_ratio, blocks):
     assert work >= -PASSIVITY_RTOL * scale * (len(turns) + 1)
 
 
-@pytest.mark.xfail(strict=True, reason="the SPEC §4 law is not passive for beta_c < beta_e")
-def test_passivity_fails_for_beta_c_below_beta_e():
-    """A found counterexample: two blocks of small cycles with beta_e = 10 beta_c give back
-    2 % more than the loading work (first found by a random search over closed programs)."""
+def test_law_is_not_passive_for_beta_c_below_beta_e():
+    """A documented limit of the SPEC §4 reading: with beta_e = 10 beta_c two blocks of small
+    cycles give back about 2 % more than the loading work (found by a random search over
+    closed programs). Guards the finding: if the law changes so that this program becomes
+    passive, the documentation of the limit must change with it."""
     stop = HystereticStop(
         clearance=0.0, k_c0=1000.0, k_e0=500.0, limit_overlap=D, beta_c=0.45, beta_e=4.5
     )
@@ -295,7 +296,8 @@ def test_passivity_fails_for_beta_c_below_beta_e():
         + [0.2407 * D, 0.24 * D] * 70
     )
     work, scale = _run_program(turns, stop)
-    assert work >= -PASSIVITY_RTOL * scale * (len(turns) + 1)
+    # Energy gain well above the rounding bound used for the passive cases.
+    assert work < -100 * PASSIVITY_RTOL * scale * (len(turns) + 1)
 
 
 def test_elastic_stop_dissipates_nothing():
