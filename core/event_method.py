@@ -41,7 +41,7 @@ from core.hysteresis import FIRST_LOADING, force_and_slope, reverse, stored_ener
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind
 from core.switch import _accumulation_tail
-from core.validation import check_range
+from core.validation import check_range, check_start
 
 #: Integrators of :func:`scipy.integrate.solve_ivp` offered (explicit RK pairs, an implicit
 #: Radau IIA method for stiff contact, and LSODA's automatic stiffness switching).
@@ -132,13 +132,8 @@ def simulate_event(
     rigid = isinstance(stop, RigidStop)
     soft = isinstance(stop, HystereticStop)
     c = stop.clearance if stop is not None else math.inf
-    if rigid and x0 > c:
-        raise ValueError(f"x0 must lie at or before the stop (x0 <= {c:.6g}); got {x0:.6g}")
-    if soft and x0 - c >= stop.limit_overlap:
-        raise ValueError(
-            f"x0 must overlap the stop by less than its limit overlap "
-            f"(x0 < {c + stop.limit_overlap:.6g}); got {x0:.6g}"
-        )
+    if stop is not None:
+        check_start(x0, c, stop.limit_overlap if soft else None)
     a, b, vb = osc.a, osc.b, osc.v
     r = stop.restitution if rigid else 1.0
     if rest_speed is None:

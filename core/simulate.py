@@ -9,7 +9,7 @@ import numpy as np
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
 from core.rigid import simulate_rigid
-from core.validation import check_range
+from core.validation import check_range, check_start
 
 #: Methods offered by :func:`simulate`.
 METHODS = ("exact", "switch", "event")
@@ -76,11 +76,9 @@ def simulate(
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)
-    if stop is not None and x0 > stop.clearance:
-        raise ValueError(
-            f"x0 must not lie inside the stop: x0 <= clearance={stop.clearance:.6g}; "
-            f"got x0={x0:.6g}"
-        )
+    if stop is not None:
+        soft = isinstance(stop, HystereticStop)
+        check_start(x0, stop.clearance, stop.limit_overlap if soft else None)
     n_samples = int(check_range("n_samples", n_samples, 2, MAX_SAMPLES))
     transition_cap = int(check_range("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP))
     if method not in METHODS:

@@ -51,7 +51,7 @@ from core.dense import TransitionLog, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind
-from core.validation import check_range
+from core.validation import check_range, check_start
 
 # --- Runge-Kutta-Fehlberg 4(5) coefficients (Fehlberg 1969, "Formula 2" of Table III) ------
 A21 = 1.0 / 4.0
@@ -361,13 +361,8 @@ def simulate_switch(
     rigid = isinstance(stop, RigidStop)
     soft = isinstance(stop, HystereticStop)
     c = stop.clearance if stop is not None else math.inf
-    if rigid and x0 > c:
-        raise ValueError(f"x0 must lie at or before the stop (x0 <= {c:.6g}); got {x0:.6g}")
-    if soft and x0 - c >= stop.limit_overlap:
-        raise ValueError(
-            f"x0 must overlap the stop by less than its limit overlap "
-            f"(x0 < {c + stop.limit_overlap:.6g}); got {x0:.6g}"
-        )
+    if stop is not None:
+        check_start(x0, c, stop.limit_overlap if soft else None)
 
     a, b, vb = osc.a, osc.b, osc.v
     r = stop.restitution if rigid else 1.0

@@ -58,3 +58,18 @@ def _fmt(x: float) -> str:
     if x == -math.inf:
         return "-inf"
     return f"{x:.6g}"
+
+
+def check_start(x0: float, clearance: float, limit_overlap: float | None = None) -> None:
+    """The start must not lie inside a rigid stop (``x0 <= clearance``), nor beyond a
+    deformable stop's limit overlap (``x0 < clearance + limit_overlap``)."""
+    if limit_overlap is None:
+        if x0 > clearance:
+            raise ValueError(
+                f"x0 must not lie inside the stop: x0 <= clearance={clearance:.6g}; got {x0:.6g}"
+            )
+    elif x0 - clearance >= limit_overlap:
+        raise ValueError(
+            "x0 must overlap the stop by less than its limit overlap: "
+            f"x0 < clearance + limit_overlap = {clearance + limit_overlap:.6g}; got {x0:.6g}"
+        )
