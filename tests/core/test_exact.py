@@ -415,7 +415,7 @@ def test_grazing_long_horizon_counts_every_impact():
         (lambda: RigidStop(0.3, 1.5), "restitution"),
         (lambda: RigidStop(math.inf, 0.5), "clearance"),
         (lambda: simulate(SLOW, RigidStop(0.3, 0.5), x0=0.4), "x0"),
-        (lambda: simulate(SLOW, HystereticStop(0.1, limit_overlap=0.01), x0=0.11), "x0"),
+        (lambda: simulate(SLOW, HystereticStop(0.1, limit_overlap=0.01), x0=0.12), "x0"),
         (lambda: simulate(SLOW, None, t_end=0.0), "t_end"),
         (lambda: simulate(SLOW, None, t_end=math.inf), "t_end"),
         (lambda: simulate(SLOW, None, method="magic"), "method"),
