@@ -359,7 +359,8 @@ class Session:
         reply = await self._request(PROTOCOL.create("PULL-DOC-REQ"), timeout)
         if reply.msgtype != "PULL-DOC-REPLY":
             raise RuntimeError(f"PULL-DOC answered with {reply.msgtype}")
-        for obj in _objects(reply.content["doc"]):
+        # Only sliders a student can reach: inside no hidden layout (e.g. the SI-unit set).
+        for obj in _visible_objects(reply.content["doc"]):
             if obj.get("name") in SLIDER_TYPES:
                 self.sliders[obj["id"]] = dict(obj.get("attributes") or {})
         # What BokehJS sends once the page is rendered; Panel runs onload callbacks on it.
@@ -466,6 +467,37 @@ def _objects(node):
             stack.extend(item)
 
 
+def _visible_objects(doc: dict):
+    """The models reachable from the document's roots without passing a visible=False model.
+
+    A model is serialised in full once and referenced as {"id": ...} elsewhere, so the walk
+    follows references through an id -> model table.
+    """
+    by_id = {obj["id"]: obj for obj in _objects(doc)}
+    seen: set[str] = set()
+    stack = list(doc.get("roots", []))
+    while stack:
+        item = stack.pop()
+        if isinstance(item, list):
+            stack.extend(item)
+            continue
+        if not isinstance(item, dict):
+            continue
+        if "id" in item and set(item) <= {"id"}:  # a reference
+            item = by_id.get(item["id"], {})
+        if item.get("type") == "object" and "id" in item:
+            if item["id"] in seen:
+                continue
+            seen.add(item["id"])
+            attrs = item.get("attributes") or {}
+            if attrs.get("visible") is False:
+                continue
+            yield item
+            stack.extend(attrs.values())
+        else:
+            stack.extend(item.values())
+
+
 # --------------------------------------------------------------------------------------------
 # One round: N sessions
 # --------------------------------------------------------------------------------------------
@@ -553,7 +585,10 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     rss_after = server.rss()
 
     moves = [m for s in opened for m in s.result.moves]
-    lat = [m.latency * 1000 for m in moves if m.latency is not None]
+    # Latency of moves that changed the plots; moves that changed no data (the animation's
+    # speed, a value the app clamps back, ...) are counted apart with their first answer.
+    lat = [m.latency * 1000 for m in moves if m.latency is not None and m.had_data]
+    nodata_first = [m.first * 1000 for m in moves if m.first is not None and not m.had_data]
     first = [m.first * 1000 for m in moves if m.first is not None]
     errors = open_errors + [e for s in sessions for e in s.result.errors]
     errors += [f"server log: {e}" for e in server.log_errors()[log_errors0:]]
@@ -574,6 +609,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
         "open_p95_ms": pct(open_s, 95),
         "open_all_s": t_opened - t_start,
         "first_p50_ms": pct(first, 50),
+        "nodata_first_p50_ms": pct(nodata_first, 50),
         "lat_p50_ms": pct(lat, 50),
         "lat_p95_ms": pct(lat, 95),
         "lat_p99_ms": pct(lat, 99),
