@@ -20,13 +20,15 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
+#: Scripts of the page: repaint shortcuts for BokehJS (see the file's header).
+JS_FILES = {"fie_paint": f"{ASSETS}/bokeh_paint.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 
 
 def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
-    pn.extension(notifications=False, design="bootstrap")
+    pn.extension(notifications=False, design="bootstrap", js_files=JS_FILES)
     explorer = Explorer()
     explorer.sync_url()
     template = pn.template.BootstrapTemplate(

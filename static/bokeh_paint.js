@@ -1,0 +1,64 @@
+/* Faster repaints of the explorer's Bokeh figures (served as /assets/bokeh_paint.js).
+ *
+ * BokehJS 3.9 rewrites each renderer's positioning <style> on every paint, even when the
+ * text is unchanged, and reads every line/fill/text property through getComputedStyle to
+ * honour `--bk-*` CSS variables (bokeh/bokeh#15286). Each rewrite invalidates the page's
+ * styles and each read then forces a full style recalculation, so on a page with many
+ * widgets one figure takes ~100 ms to repaint in Chromium without a GPU. The explorer
+ * defines no `--bk-*` variables, so:
+ *
+ *   1. a stylesheet write that would not change the text is skipped;
+ *   2. the CSS-variable lookup of visual properties answers "" (what getPropertyValue
+ *      returns for an unset variable) without consulting the cascade;
+ *   3. a plot's base font size (the :host font-size, fixed by Bokeh's own CSS) is read
+ *      once per plot view instead of once per axis and label per paint.
+ *
+ * Each patch is applied only if the internal it replaces exists, so another BokehJS
+ * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
+ */
+(function () {
+  "use strict";
+  const applied = (window.__fie_paint = []);
+
+  function patch(B) {
+    let dom, visual, plot;
+    try {
+      dom = B.require("core/dom");
+      visual = B.require("core/visuals/visual");
+      plot = B.require("models/plots/plot_canvas");
+    } catch (err) {
+      return;
+    }
+    const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
+    if (sheet && typeof sheet._update === "function") {
+      const update = sheet._update;
+      sheet._update = function (css) {
+        if (this.el.textContent !== css) update.call(this, css);
+      };
+      applied.push("stylesheet");
+    }
+    const props = visual.VisualProperties && visual.VisualProperties.prototype;
+    if (props && typeof props._get_css_value === "function") {
+      props._get_css_value = function () { return ""; };
+      applied.push("css-variables");
+    }
+    const view = plot.PlotView && plot.PlotView.prototype;
+    const desc = view && Object.getOwnPropertyDescriptor(view, "base_font_size");
+    if (desc && typeof desc.get === "function") {
+      Object.defineProperty(view, "base_font_size", {
+        configurable: true,
+        get() {
+          if (this.__fie_font_size == null) this.__fie_font_size = desc.get.call(this);
+          return this.__fie_font_size;
+        },
+      });
+      applied.push("font-size");
+    }
+  }
+
+  (function wait() {
+    const B = window.Bokeh;
+    if (B && typeof B.require === "function") patch(B);
+    else setTimeout(wait, 5);
+  })();
+})();
