@@ -40,6 +40,9 @@ def create_app() -> pn.template.BaseTemplate:
         favicon=f"{ASSETS}/favicon.svg",
         css_files=[f"{ASSETS}/explorer.css"],
         header_background="#1f3b5f",
+        # The spinner would restyle the page twice per slider release, each time forcing
+        # every figure that repaints next to recompute its styles.
+        busy_indicator=None,
     )
     template.explorer = explorer  # reachable from tests and the benchmark
     return template

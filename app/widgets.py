@@ -16,6 +16,17 @@ import panel as pn
 INPUT_WIDTH = 96
 
 
+class _Slider(pn.widgets.FloatSlider):
+    """A float slider whose release is handled at once.
+
+    Panel waits ``_debounce`` (50 ms) before it processes a value from the browser, so that
+    a drag's many values collapse into the latest; the release is one value and needs no
+    such wait.
+    """
+
+    _priority_changes = ["value_throttled"]
+
+
 class TypedSlider:
     """A labelled slider (soft range) and a number box (hard bounds) for one value.
 
@@ -52,12 +63,11 @@ class TypedSlider:
             value=value, step=step, start=bounds[0], end=bounds[1], width=INPUT_WIDTH,
             margin=(0, 10, 0, 0), css_classes=["fie-input"], format="0[.]0000",
         )
-        self.slider = pn.widgets.FloatSlider(
+        self.slider = _Slider(
             value=value, start=start, end=end, step=step, show_value=False,
             width=width - 20, margin=(0, 10, 4, 10), css_classes=["fie-slider"],
         )
-        self.slider.param.watch(self._dragged, "value")
-        self.slider.param.watch(self._released, "value_throttled")
+        self.slider.param.watch(self._moved, ["value", "value_throttled"])
         self.input.param.watch(self._typed, "value")
         self.layout = pn.Column(
             pn.Row(self.label, pn.Spacer(), self.input, width=width, margin=0),
@@ -104,19 +114,22 @@ class TypedSlider:
 
     # --- callbacks -----------------------------------------------------------------------
 
-    def _dragged(self, event) -> None:
-        if not self._quiet:
-            self._on_drag(event.new)
-
-    def _released(self, event) -> None:
+    def _moved(self, *events) -> None:
+        """A drag step, or the release (which may arrive with the drag's last step: then
+        only the release counts, so no preview is solved and drawn just to be replaced)."""
         if self._quiet:
             return
+        by_name = {e.name: e for e in events}
+        if "value_throttled" not in by_name:
+            self._on_drag(by_name["value"].new)
+            return
+        value = by_name["value_throttled"].new
         self._quiet = True
         try:
-            self.input.value = event.new
+            self.input.value = value
         finally:
             self._quiet = False
-        self._on_commit(event.new)
+        self._on_commit(value)
 
     def _typed(self, event) -> None:
         if self._quiet or event.new is None:

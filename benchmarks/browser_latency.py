@@ -2,9 +2,11 @@
 
 Serves the explorer with ``panel serve`` on a free loopback port, opens a rigid-stop and a
 hysteretic-stop scene, drags a slider many times and measures, inside the page, the time
-from the ``pointerup`` that ends each drag to the first animation frame after the full
-solution's trajectory arrived (a preview has fewer points, see ``app.solver``). Prints the
-median and 95th percentile per scene against the targets of issue 4.
+from the ``pointerup`` that ends each drag until every figure has repainted with the full
+solution (the animation frame after the last figure repaint once the full trajectory has
+arrived; a preview has fewer points, see ``app.solver``). Prints the median and 95th
+percentile per scene against the targets of issue 4, and how many figure repaints a release
+cost.
 
 Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b,11]``
 """
@@ -40,18 +42,52 @@ DRAG_PX = 12
 #: A trajectory with more points than this is a full solve, not a preview.
 FULL_MIN_POINTS = PREVIEW_SAMPLES + 50
 
-#: Installs the probe: times of pointerup and of the first frame after each full update.
-JS_PROBE = """(minPoints) => {
+#: A release whose full solution has not repainted after this long [ms] counts as missed.
+RELEASE_TIMEOUT_MS = 20_000
+#: Paints quieter than this [ms] after the full solution arrived end a measurement.
+SETTLE_MS = 250
+
+#: Installs the probe. It records the ``pointerup`` that ends a drag, notices when the full
+#: solution's trajectory arrives (a preview has fewer points), and then follows every figure
+#: repaint (BokehJS ``PlotView._actual_paint``) until none has happened for ``settle`` ms:
+#: the latency is from the ``pointerup`` to the animation frame after the last of those
+#: paints, i.e. until every plot shows the new solution. It counts the repaints of all
+#: figures, not only the one whose data arrived first, and it does not poll.
+JS_PROBE = """([minPoints, settle]) => {
   const doc = Bokeh.documents[0];
   const traj = [...doc.all_models].find(m => m.data && "t_raw" in m.data);
-  window.__lat = {up: null, painted: []};
-  document.addEventListener("pointerup", () => { window.__lat.up = performance.now(); },
-                            true);
+  const lat = (window.__lat = {up: null, painted: [], paints: [], pending: null});
+  document.addEventListener("pointerup", () => { lat.up = performance.now(); }, true);
+  document.addEventListener("pointerdown", () => { lat.up = null; }, true);
+  let last = null, timer = null;
+  function finish() {
+    lat.painted.push(last - lat.pending);
+    lat.paints.push(lat.count);
+    lat.pending = null;
+  }
+  function painted() {
+    if (lat.pending === null) return;
+    lat.count += 1;
+    requestAnimationFrame(() => {
+      last = performance.now();
+      clearTimeout(timer);
+      timer = setTimeout(finish, settle);
+    });
+  }
+  const PlotView = Bokeh.require("models/plots/plot_canvas").PlotView.prototype;
+  const paint = PlotView._actual_paint;
+  PlotView._actual_paint = function (...args) {
+    const out = paint.apply(this, args);
+    painted();
+    return out;
+  };
   traj.properties.data.change.connect(() => {
-    if (window.__lat.up === null || traj.data.t_raw.length < minPoints) return;
-    const up = window.__lat.up;
-    window.__lat.up = null;
-    requestAnimationFrame(() => window.__lat.painted.push(performance.now() - up));
+    if (lat.up === null || traj.data.t_raw.length < minPoints) return;
+    lat.pending = lat.up;
+    lat.up = null;
+    lat.count = 0;
+    last = performance.now();
+    painted();
   });
 }"""
 
@@ -76,12 +112,15 @@ def _serve() -> tuple[subprocess.Popen, str]:
     raise RuntimeError("panel serve did not start")
 
 
-def measure(page, url: str, scene: str, moves: int) -> np.ndarray:
-    """Latencies [ms] of ``moves`` drags of the slider in ``scene``."""
+def measure(page, url: str, scene: str, moves: int) -> tuple[np.ndarray, np.ndarray]:
+    """Latencies [ms] of ``moves`` drags of the slider in ``scene``, and the number of
+    figure repaints after each release."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
     page.goto(f"{url}?scene={scene}", timeout=60_000)
     page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
                            "Bokeh.documents[0].is_idle", timeout=60_000)
-    page.evaluate(JS_PROBE, FULL_MIN_POINTS)
+    page.evaluate(JS_PROBE, [FULL_MIN_POINTS, SETTLE_MS])
     handle = page.locator(f".fie-w-{SLIDER} .noUi-handle").first
     for i in range(moves):
         box = handle.bounding_box()
@@ -91,9 +130,14 @@ def measure(page, url: str, scene: str, moves: int) -> np.ndarray:
         page.mouse.down()
         page.mouse.move(x + dx, y, steps=4)
         page.mouse.up()
-        page.wait_for_function(f"() => window.__lat.painted.length > {i}", timeout=30_000)
-        page.wait_for_timeout(150)
-    return np.asarray(page.evaluate("() => window.__lat.painted"), dtype=float)
+        try:
+            page.wait_for_function(f"() => window.__lat.painted.length > {i}",
+                                   timeout=RELEASE_TIMEOUT_MS)
+        except PlaywrightTimeout:  # the release changed nothing: count it as missed
+            page.evaluate("() => { window.__lat.painted.push(NaN); "
+                          "window.__lat.paints.push(0); window.__lat.pending = null; }")
+    lat = page.evaluate("() => window.__lat")
+    return np.asarray(lat["painted"], dtype=float), np.asarray(lat["paints"], dtype=float)
 
 
 def main() -> None:
@@ -112,11 +156,15 @@ def main() -> None:
                   f"{'target':>7}  ok")
             for scene in args.scenes.split(","):
                 stop = SCENES[scene].values["stop_type"]
-                lat = measure(page, url, scene, args.moves)
+                lat, paints = measure(page, url, scene, args.moves)
+                missed = int(np.isnan(lat).sum())
+                lat = lat[~np.isnan(lat)]
                 med, p95 = np.median(lat), np.percentile(lat, 95)
                 target = TARGETS_MS[stop]
+                ok = "yes" if p95 < target else "NO "
                 print(f"{scene:>6} {stop:>11} {len(lat):>6} {med:>10.1f} {p95:>8.1f} "
-                      f"{target:>7.0f}  {'yes' if p95 < target else 'NO'}")
+                      f"{target:>7.0f}  {ok}  {np.median(paints):>8.0f}"
+                      + (f"  ({missed} releases missed)" if missed else ""))
             browser.close()
     finally:
         proc.terminate()
