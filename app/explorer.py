@@ -33,7 +33,7 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import Solution, regime_map, solve
+from app.solver import Solution, SolveTooSlow, regime_map, solve
 from app.state import (
     ACCURACIES,
     METHODS,
@@ -445,6 +445,9 @@ class Explorer(pn.viewable.Viewer):
             sol = solve(self.state.values())
         except ValueError as exc:
             self._show_error(str(exc))
+            return
+        except SolveTooSlow as exc:
+            self._show_error(f"The solve was too slow: {exc}")
             return
         except Exception as exc:  # noqa: BLE001 - the server must survive any solve
             log.exception("solve failed")

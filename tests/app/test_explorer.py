@@ -166,3 +166,37 @@ def test_overlap_program_scene(ex):
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
+
+
+def test_a_too_slow_numerical_solve_keeps_the_picture_and_says_so(ex, monkeypatch):
+    import threading
+
+    import app.solver as solver_module
+
+    release = threading.Event()
+    real = solver_module._solve_cached
+
+    def slow(key, preview):
+        release.wait(5.0)  # a Zeno scene with the event method takes minutes
+        return real(key, preview)
+
+    monkeypatch.setattr(solver_module, "_solve_cached", slow)
+    monkeypatch.setattr(solver_module, "SOLVE_BUDGET_S", 0.2)
+    before = ex.solution
+    try:
+        ex.method.value = "event"
+        assert ex.alert.visible and "too slow" in ex.alert.object
+        assert "did not finish within 0.2 s" in ex.alert.object
+        assert ex.solution is before
+        _release(ex, "clearance", 0.26)  # a preview or a solve never waits past its budget
+        assert ex.solution is before
+    finally:
+        release.set()
+
+
+def test_exact_solves_bypass_the_budget_and_the_workers():
+    from app.solver import solve
+    from app.state import scene_values
+
+    sol = solve(scene_values("7c"), budget=0.0)  # closed form: never refused, never timed
+    assert sol.method == "exact" and sol.result is not None
