@@ -111,6 +111,8 @@ class Steady:
         if self.kind is SteadyKind.GRAZING:
             return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"
         if self.kind is SteadyKind.REST:
+            if math.isnan(self.t_reached):
+                return "rest at the stop, approached asymptotically"
             return f"rest at the stop (from t = {self.t_reached:.6g})"
         if self.kind is SteadyKind.EQUILIBRIUM:
             return "equilibrium: the mass stays at rest"
