@@ -383,6 +383,8 @@ class Session:
             label = str(a.get("title") or a.get("name") or "")
             if self.args.slider and not any(s in label for s in self.args.slider):
                 continue
+            if any(s == label for s in self.args.exclude_slider):
+                continue
             found.append(model_id)
         return sorted(found)
 
@@ -698,6 +700,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                    help="mean pause between a session's moves, s (default 1)")
     p.add_argument("--slider", action="append", default=[],
                    help="only move sliders whose title contains this (repeatable)")
+    p.add_argument("--exclude-slider", action="append", default=["speed"],
+                   help="never move sliders with this title (default: the animation's "
+                        "'speed', which only drives the animation in the browser and gets "
+                        "no answer from the server)")
     p.add_argument("--app", default=str(ROOT / "app" / "main.py"), help="app to serve")
     p.add_argument("--url", help="use a running loopback server, e.g. http://127.0.0.1:5006/main")
     p.add_argument("--server-pid", type=int, help="its process id, for memory (with --url)")
