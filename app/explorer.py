@@ -43,6 +43,7 @@ from app.state import (
     URL_KEYS,
     VIEW_PARAMS,
     ExplorerState,
+    scene_key,
 )
 from app.widgets import TypedSlider
 from core import Oscillator
@@ -237,7 +238,7 @@ class Explorer(pn.viewable.Viewer):
         loc = pn.state.location
         if loc is None:
             return
-        scene = loc.query_params.get("scene")
+        scene = scene_key(loc.query_params.get("scene"))
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
         loc.sync(self.state, dict(URL_KEYS), on_error=self._url_error)

@@ -33,7 +33,7 @@ from bokeh.plotting import figure
 from app.scenes import PLOTS
 from app.solver import Solution, mode_intervals
 from app.state import DIMENSIONLESS, Scales
-from core import Mode, TransitionKind
+from core import Mode, RigidStop, TransitionKind
 from core.hysteresis import phi_compression, phi_expansion
 
 #: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
@@ -75,6 +75,10 @@ ENERGY_COLORS: Mapping[str, str] = {
     "mechanical": "#000000", "belt_input": "#2ca02c", "friction_work": "#1f5fbf",
     "stop_loss": "#c8102e", "stop_stored": "#9467bd",
 }
+#: Relative distance from the stop within which a sample pair at equal times is an impact.
+IMPACT_X_TOL = 1e-9
+#: Relative difference of times within which a sample pair belongs to an impulse.
+IMPACT_T_TOL = 1e-12
 #: Points of the full trajectory sent to the browser (a few per pixel of a plot's width).
 MAX_POINTS = 1600
 #: Transition markers drawn at most (the latest ones).
@@ -139,6 +143,46 @@ def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.n
     return np.unique(np.concatenate(keep).astype(np.int64))
 
 
+def impact_velocities(res: Any, stop: Any) -> np.ndarray:
+    """The sampled velocities with both sides of every rigid impact in place.
+
+    The core samples each impact twice at the same time, the state before and then after
+    (``core.rigid._sample_times``), but in the periodic continuation of a steady state it
+    can return the same side twice. The phase portrait then joins one side to the next
+    sample on the other side's arc with a chord, one per period, which draws a filled wedge
+    beside the stop (scene 5a). Each pair at an impact therefore gets its velocities from
+    the impact's impulse ``j = x'- - x'+`` and Newton's law ``x'+ = -r x'-``:
+    ``x'- = j / (1 + r)``, ``x'+ = -r j / (1 + r)``, so the impact draws as the vertical
+    jump at ``x = x_bar``.
+
+    >>> from types import SimpleNamespace
+    >>> from core import RigidStop
+    >>> res = SimpleNamespace(t=np.array([0.0, 1.0, 1.0]), x=np.array([0.1, 0.3, 0.3]),
+    ...                       v=np.array([0.2, 0.4, 0.4]), impulses=np.array([[1.0, 0.75]]))
+    >>> impact_velocities(res, RigidStop(clearance=0.3, restitution=0.5)).tolist()
+    [0.2, 0.5, -0.25]
+    """
+    t, v = np.asarray(res.t), np.asarray(res.v)
+    imp = np.asarray(res.impulses, dtype=float).reshape(-1, 2)
+    if not isinstance(stop, RigidStop) or len(t) < 2 or len(imp) == 0:
+        return v
+    pair = np.flatnonzero(np.diff(t) == 0.0)
+    pair = pair[np.abs(np.asarray(res.x)[pair] - stop.clearance)
+                <= IMPACT_X_TOL * max(1.0, abs(stop.clearance))]
+    k = np.clip(np.searchsorted(imp[:, 0], t[pair]), 0, len(imp) - 1)
+    k_prev = np.maximum(k - 1, 0)  # the nearest impulse time, from either side
+    k = np.where(np.abs(imp[k_prev, 0] - t[pair]) < np.abs(imp[k, 0] - t[pair]), k_prev, k)
+    hit = np.abs(imp[k, 0] - t[pair]) <= IMPACT_T_TOL * np.maximum(1.0, np.abs(t[pair]))
+    pair, k = pair[hit], k[hit]
+    if len(pair) == 0:
+        return v
+    r = stop.restitution
+    v = v.copy()
+    v[pair] = imp[k, 1] / (1.0 + r)
+    v[pair + 1] = -r * v[pair]
+    return v
+
+
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
                        max_points: int = MAX_POINTS) -> dict[str, np.ndarray]:
     """Columns of the trajectory source: ``t``, ``x``, ``v`` and ``v_slip``/``v_stick``/
@@ -150,7 +194,8 @@ def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
         return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick",
                                          "v_contact")}, "mode": np.zeros(0, np.int8)}
     idx = decimation_indices(res.t, res.mode, max_points)
-    t, x, v, mode = res.t[idx], res.x[idx], res.v[idx] * scales.velocity, res.mode[idx]
+    v = impact_velocities(res, sol.stop)
+    t, x, v, mode = res.t[idx], res.x[idx], v[idx] * scales.velocity, res.mode[idx]
     prev = np.concatenate(([mode[0]], mode[:-1])) if len(mode) else mode
     cols = {"t": _f32(t * scales.time), "t_raw": _f32(t), "x": _f32(x), "v": _f32(v),
             "mode": np.asarray(mode, dtype=np.int8)}

@@ -28,8 +28,9 @@ import numpy as np
 import panel as pn
 
 from app.state import SOLVE_PARAMS, core_inputs
-from core import HystereticStop, Mode, Result, RigidStop, TransitionKind, simulate, theory
+from core import HystereticStop, Mode, Result, RigidStop, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
+from core.hysteretic import effective_restitutions
 
 #: Accuracy presets -> method settings, and the error each gives, from the work-precision
 #: measurements of ``benchmarks/README.md`` (largest of the relative errors of the state at
@@ -302,18 +303,11 @@ def theory_for(osc, stop, x0: float, v0: float) -> Theory | None:
 
 
 def measured_restitution(result: Result | None) -> np.ndarray:
-    """Rebound over approach speed of each finished deformable contact (SPEC §4)."""
+    """Rebound over approach speed of each finished deformable contact (SPEC §4), from
+    :func:`core.hysteretic.effective_restitutions`; empty without a result."""
     if result is None:
         return np.zeros(0)
-    out = []
-    approach = None
-    for tr in result.transitions:
-        if tr.kind is TransitionKind.CONTACT:
-            approach = tr.v
-        elif tr.kind is TransitionKind.SEPARATION and approach:
-            out.append(-tr.v / approach)
-            approach = None
-    return np.asarray(out, dtype=float)
+    return effective_restitutions(result)
 
 
 def overlap_program(stop: HystereticStop) -> Program:

@@ -6,13 +6,14 @@ import doctest
 import importlib
 
 import numpy as np
+import panel as pn
 import param
 import pytest
 from bokeh.events import Tap
 
 import app.explorer as explorer_module
 from app.explorer import Explorer
-from app.scenes import CUSTOM, PLOTS
+from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY
 
 
@@ -200,3 +201,19 @@ def test_exact_solves_bypass_the_budget_and_the_workers():
 
     sol = solve(scene_values("7c"), budget=0.0)  # closed form: never refused, never timed
     assert sol.method == "exact" and sol.result is not None
+
+
+@pytest.mark.parametrize("scene", ["11", "10", "5b"])
+def test_permalink_with_a_scene_name_opens_that_scene(monkeypatch, scene):
+    """Regression: Panel parses ``?scene=11`` as the number 11, which matched no scene
+    and showed 'Some URL parameters could not be applied'."""
+    from panel.io.location import Location
+
+    loc = Location(search=f"?scene={scene}")
+    monkeypatch.setattr(pn.state, "_location", loc)
+    ex = Explorer()
+    ex.sync_url()
+    assert ex.state.scene == scene
+    assert not ex.alert.visible and ex.error is None
+    assert ex.state.clearance == SCENES[scene].values.get("clearance", ex.state.clearance)
+    assert loc.query_params["scene"] in (scene, int(scene) if scene.isdigit() else scene)

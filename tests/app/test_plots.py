@@ -1,0 +1,61 @@
+"""The columns the figures draw, checked against the motion they show."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.plots import MODE_NAMES, trajectory_columns
+from app.scenes import SCENES
+from app.solver import solve
+from app.state import scene_values
+
+#: Scenes with a rigid stop (the impacts are jumps of the velocity at x = x_bar).
+RIGID_SCENES = [k for k, s in SCENES.items() if s.values.get("stop_type", "rigid") == "rigid"
+                and not s.values.get("program")]
+#: Largest mismatch allowed between a drawn segment's displacement and the trapezoidal
+#: integral of its end velocities: absolute [length] plus relative to the displacement.
+#: A chord between samples that are not neighbours on the motion misses by ~1e-3 and more
+#: (about all of its displacement); neighbours on a sampled sine arc miss by the
+#: trapezoid's error, ~1e-5 of a full solve's step and up to 0.2 % of a preview's.
+SEGMENT_ABS_TOL = 1e-4
+SEGMENT_REL_TOL = 0.02
+
+
+def _segments(cols: dict) -> list[tuple[int, int]]:
+    """Index pairs ``(i, i+1)`` joined by a drawn line of the phase portrait."""
+    out = set()
+    for name in MODE_NAMES.values():
+        y = np.asarray(cols[f"v_{name}"])
+        joined = np.flatnonzero(np.isfinite(y[:-1]) & np.isfinite(y[1:]))
+        out.update((int(i), int(i) + 1) for i in joined)
+    return sorted(out)
+
+
+@pytest.mark.parametrize("key", RIGID_SCENES)
+@pytest.mark.parametrize("preview", [False, True])
+def test_phase_trajectory_jumps_at_the_stop_and_joins_only_neighbours(key, preview):
+    """Regression (scene 5a): in the periodic steady state the core repeated the approach
+    velocity at each impact, and the portrait joined it to the rebound arc with a chord,
+    one per period, drawing a filled wedge beside the stop."""
+    sol = solve(scene_values(key), preview=preview)
+    cols = trajectory_columns(sol, max_points=len(sol.result.t) if preview else 1600)
+    t, x = np.asarray(cols["t"], float), np.asarray(cols["x"], float)
+    v = np.asarray(cols["v"], float)
+    x_bar, r = sol.stop.clearance, sol.stop.restitution
+    f32 = 4 * float(np.finfo(np.float32).eps) * max(1.0, abs(x_bar))
+    assert np.all(x <= x_bar + f32), "the trajectory passes the stop"
+    jumps = 0
+    for i, j in _segments(cols):
+        assert t[j] >= t[i], f"segment {i}-{j} runs back in time"
+        if t[j] == t[i]:  # an impact: a vertical jump at the stop, x'+ = -r x'-
+            jumps += 1
+            assert x[i] == pytest.approx(x_bar, abs=f32) and x[j] == x[i]
+            assert v[j] == pytest.approx(-r * v[i], rel=1e-5, abs=1e-6)
+        else:
+            dx = 0.5 * (v[i] + v[j]) * (t[j] - t[i])
+            tol = SEGMENT_ABS_TOL + SEGMENT_REL_TOL * abs(x[j] - x[i])
+            assert abs(x[j] - x[i] - dx) < tol, (
+                f"segment {i}-{j} at t={t[i]:.4f} joins samples that are not neighbours")
+    if len(sol.result.impulses):
+        assert jumps > 0
