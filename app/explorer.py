@@ -13,12 +13,13 @@ import html
 import json
 import logging
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import panel as pn
 import param
 from bokeh.events import Tap
+from panel.io.state import set_curdoc
 
 from app.animation import Animation
 from app.export import trajectory_csv
@@ -86,6 +87,10 @@ WIDGET_WIDTH = 290
 STYLESHEET = "assets/explorer.css"
 #: Soft range of the SI sliders, as multiples of their current value.
 SI_SOFT_SPAN = 3.0
+#: Delay [ms] of the URL rewrite after the last change of the state.
+URL_DELAY_MS = 400
+#: Delay [ms] before a drag's preview is drawn (a release arriving meanwhile cancels it).
+PREVIEW_DELAY_MS = 15
 
 
 class Explorer(pn.viewable.Viewer):
@@ -103,6 +108,9 @@ class Explorer(pn.viewable.Viewer):
         self.solution: Solution | None = None
         self.error: str | None = None
         self._syncing = False
+        self._url_timer: _Deferred | None = None
+        #: Counts the commits: a preview solved before the latest commit is not drawn.
+        self._commits = 0
         self.plots = PlotSet()
         self.anim = Animation(self.plots.sources["traj"])
         self.anim.attach(self.plots.figures["phase"],
@@ -233,20 +241,62 @@ class Explorer(pn.viewable.Viewer):
         """Keep the state in the page's query string (permalinks).
 
         A URL naming only a scene loads that scene; parameters given beside it override the
-        scene's values.
+        scene's values. The URL is rewritten :data:`URL_DELAY_MS` after the last change, so
+        that its round trip (the browser echoes the new address) does not delay the
+        repaint of a slider release.
         """
         loc = pn.state.location
         if loc is None:
             return
-        scene = scene_key(loc.query_params.get("scene"))
+        query = loc.query_params
+        scene = scene_key(query.get("scene"))
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
-        loc.sync(self.state, dict(URL_KEYS), on_error=self._url_error)
-        # Panel writes only the parameters that change; a permalink needs all of them.
-        self.state.param.watch(self._write_url, list(URL_KEYS))
+        self._apply_query(query)
+        self.state.param.watch(self._url_changed, list(URL_KEYS))
         pn.state.onload(self._write_url)
 
+    def _apply_query(self, query: Mapping[str, Any]) -> None:
+        """Set the state from the URL's parameters in one batch; report what failed."""
+        names = {key: name for name, key in URL_KEYS.items()}
+        values = {}
+        for key, raw in query.items():
+            name = names.get(key)
+            if name is None:
+                continue
+            try:
+                value = self.state.param[name].deserialize(raw)
+            except Exception:  # noqa: BLE001 - an unreadable value is reported below
+                value = raw
+            if value != getattr(self.state, name):
+                values[name] = value
+        try:
+            self.state.param.update(**values)
+        except Exception:  # noqa: BLE001 - any rejected value: say which
+            self._url_error(values)
+
+    def _url_changed(self, *events: param.parameterized.Event) -> None:
+        """Rewrite the URL once the state has been still for :data:`URL_DELAY_MS`."""
+        if self._url_timer is not None:
+            self._url_timer.cancel()
+        self._url_timer = self._later(self._write_url, URL_DELAY_MS)
+
+    def _later(self, fn: Callable[[], None], delay_ms: float) -> _Deferred:
+        """Run ``fn`` after ``delay_ms`` on the session's event loop (at once without a
+        server session, e.g. in tests)."""
+        call = _Deferred(fn)
+        doc = pn.state.curdoc
+        if doc is None or doc.session_context is None:
+            call()
+        else:
+            def run() -> None:
+                with set_curdoc(doc):
+                    call()
+            doc.add_timeout_callback(run, delay_ms)
+        return call
+
     def _write_url(self, *events: param.parameterized.Event) -> None:
+        self._url_timer = None
         loc = pn.state.location
         if loc is None:
             return
@@ -278,6 +328,7 @@ class Explorer(pn.viewable.Viewer):
         """
         if self._syncing:
             return
+        self._commits += 1
         new = {k: v for k, v in changes.items() if k not in SOLVE_PARAMS}
         solve_changes = {k: v for k, v in changes.items() if k in SOLVE_PARAMS}
         if solve_changes:
@@ -295,6 +346,7 @@ class Explorer(pn.viewable.Viewer):
     def _commit_si(self, si: Mapping[str, float]) -> None:
         if self._syncing:
             return
+        self._commits += 1
         try:
             with param.parameterized.batch_call_watchers(self.state):
                 self.state.set_physical(**si)
@@ -337,6 +389,15 @@ class Explorer(pn.viewable.Viewer):
             return
         if sol.result is None:
             return
+        # Drawn a moment later: a release that arrives meanwhile (the drag's last value and
+        # the release come together) replaces it, and its full solution is not held up by
+        # sending and painting a preview that is already stale.
+        commits = self._commits
+        self._later(lambda: self._draw_preview(sol, commits), PREVIEW_DELAY_MS)
+
+    def _draw_preview(self, sol: Solution, commits: int) -> None:
+        if commits != self._commits:
+            return
         with pn.io.hold():
             self.plots.update_preview(sol, self.state.scales())
 
@@ -362,6 +423,7 @@ class Explorer(pn.viewable.Viewer):
         self._set_syncing(lambda: setattr(self.scene_select, "value", event.new))
 
     def _on_state(self, *events: param.parameterized.Event) -> None:
+        self._commits += 1
         self._sync_widgets()
         names = {e.name for e in events}
         if names & set(SOLVE_PARAMS):
@@ -499,6 +561,21 @@ class Explorer(pn.viewable.Viewer):
         if self.solution is None:
             return None
         return trajectory_csv(self.solution, self.state.scales())
+
+
+class _Deferred:
+    """A call that can be cancelled before it runs."""
+
+    def __init__(self, fn: Callable[[], None]) -> None:
+        self._fn: Callable[[], None] | None = fn
+
+    def cancel(self) -> None:
+        self._fn = None
+
+    def __call__(self) -> None:
+        fn, self._fn = self._fn, None
+        if fn is not None:
+            fn()
 
 
 def _map_legend(labels: list[str]) -> str:

@@ -19,7 +19,6 @@ import numpy as np
 from bokeh.layouts import column
 from bokeh.models import (
     ColumnDataSource,
-    DataRange1d,
     Label,
     LabelSet,
     Legend,
@@ -93,6 +92,12 @@ CIRCLE_VERTICES = 181
 ENVELOPE_SAMPLES = 120
 #: Half height of the mode bands: far outside any data, kept out of the auto range.
 BAND_EXTENT = 1e6
+#: Fraction of the data span added to an axis range (half each side), and more for the
+#: phase portrait's displacement (room for the theory points' labels).
+RANGE_PADDING = 0.1
+PHASE_X_PADDING = 0.15
+#: Relative span below which data are a single value (the axis then spans one unit).
+EMPTY_SPAN = 1e-12
 #: Sizes of the figures [px].
 PHASE_SIZE = (540, 500)
 TIME_SIZE = (540, 215)
@@ -388,6 +393,8 @@ class PlotSet:
 
     @staticmethod
     def _figure(title: str, size: tuple[int, int], **kw) -> Any:
+        kw.setdefault("x_range", Range1d(0.0, 1.0))
+        kw.setdefault("y_range", Range1d(0.0, 1.0))
         fig = figure(title=title, width=size[0], height=size[1], tools=TOOLS,
                      toolbar_location="right", output_backend="canvas", **kw)
         fig.title.text_font_size = "13px"
@@ -401,13 +408,12 @@ class PlotSet:
                  line_width=1, legend_label="Gamma_0")
         fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1,
                  legend_label="impactless")
-        lines = []
         for m, name in MODE_NAMES.items():
-            lines.append(fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
-                                  line_color=MODE_COLORS[m], legend_label=name))
+            fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
+                     line_color=MODE_COLORS[m], legend_label=name)
         fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
                     fill_alpha=0.6, legend_field="kind")
-        points = fig.scatter("x", "v", source=s["points"], marker="diamond", size=13,
+        fig.scatter("x", "v", source=s["points"], marker="diamond", size=13,
                     fill_color="#ffffff", line_color="#000000", line_width=2,
                     legend_label="theory (A.1-A.12)")
         fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset=6,
@@ -421,8 +427,6 @@ class PlotSet:
                                   line_dash="dotted", line_width=2, level="underlay")
         fig.add_layout(self.spans["stop"])
         fig.add_layout(self.spans["belt"])
-        fig.x_range = DataRange1d(renderers=[*lines, points], range_padding=0.15)
-        fig.y_range = DataRange1d(renderers=[*lines, points], range_padding=0.1)
         legend = fig.legend[0]
         fig.legend[0].location = "bottom_left"
         fig.center.remove(legend)  # below the frame, so it never hides the trajectory
@@ -440,10 +444,7 @@ class PlotSet:
         for fig, col in ((fig_x, "x"), (fig_v, "v")):
             fig.quad(left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
                      source=s["bands"], fill_color="color", line_color=None)
-            line = fig.line("t", col, source=s["traj"], line_color="#222222", line_width=1.5)
-            fig.y_range = DataRange1d(renderers=[line], range_padding=0.1)
-        fig_x.x_range = DataRange1d(range_padding=0.0, renderers=[fig_x.renderers[1]])
-        fig_v.x_range = fig_x.x_range
+            fig.line("t", col, source=s["traj"], line_color="#222222", line_width=1.5)
         self.spans["stop_t"] = Span(location=0.0, dimension="width", line_color="#000000",
                                     line_width=2, level="underlay")
         self.spans["belt_t"] = Span(location=0.0, dimension="width", line_color="#2ca02c",
@@ -470,9 +471,8 @@ class PlotSet:
                  legend_label="compression envelope")
         fig.line("d", "phi", source=s["exp"], line_color="#888888", line_dash="dotdash",
                  legend_label="expansion envelope")
-        loop = fig.line("d", "phi", source=s["loop"], line_color=MODE_COLORS[2],
-                        line_width=2, legend_label="contact force")
-        fig.y_range = DataRange1d(renderers=[loop], range_padding=0.1)
+        fig.line("d", "phi", source=s["loop"], line_color=MODE_COLORS[2],
+                 line_width=2, legend_label="contact force")
         fig.legend.location = "top_left"
         fig.legend.label_text_font_size = "10px"
         self.figures["loop"] = fig
@@ -506,8 +506,9 @@ class PlotSet:
                                             high=len(MAP_PALETTE) - 0.5)
         fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
                   color_mapper=self.map_mapper)
+        # Overlay level: moving the marker repaints only the overlay canvas, not the image.
         fig.scatter("v", "x", source=s["here"], marker="circle_cross", size=14,
-                    fill_color="#ffffff", line_color="#000000", line_width=2)
+                    fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
         fig.xgrid.visible = fig.ygrid.visible = False
         self.figures["map"] = fig
         self.panes["map"] = fig
@@ -530,6 +531,7 @@ class PlotSet:
         _assign(s["traj"], trajectory_columns(sol, scales, max_points=len(sol.result.t)))
         _assign(s["trans"], transition_columns(sol, scales))
         self._set_spans(sol, scales)
+        self._set_ranges({"phase", "time"})
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
@@ -575,6 +577,40 @@ class PlotSet:
             self._dirty.discard("map")
         self._set_spans(sol, scales)
         self._set_labels(sol, scales)
+        self._set_ranges(todo)
+
+    def _set_ranges(self, plots: set[str] | frozenset[str]) -> None:
+        """Axis ranges of the ``plots`` from the data just assigned (call in the same
+        ``pn.io.hold``): computed on the server and sent with the data, so the browser
+        paints each figure once, instead of computing ``DataRange1d`` bounds and echoing
+        them back, which costs further messages and repaints."""
+        d = {name: src.data for name, src in self.sources.items()}
+        f = self.figures
+        if "phase" in plots:
+            traj, pts = d["traj"], d["points"]
+            _set_range(f["phase"].x_range, (traj["x"], pts["x"]), PHASE_X_PADDING)
+            _set_range(f["phase"].y_range, (traj["v"], pts["v"]), RANGE_PADDING)
+        if "time" in plots:
+            traj = d["traj"]
+            _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
+            _set_range(f["time_x"].y_range, (traj["x"],), RANGE_PADDING)
+            _set_range(f["time_v"].y_range, (traj["v"],), RANGE_PADDING)
+        if "force" in plots:
+            _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"]), RANGE_PADDING)
+            _set_range(f["force"].y_range, ((0.0,), d["stems"]["j"], d["force"]["phi"]),
+                       RANGE_PADDING)
+        if "loop" in plots:
+            _set_range(f["loop"].x_range, (d["loop"]["d"], d["comp"]["d"], d["exp"]["d"]),
+                       RANGE_PADDING)
+            _set_range(f["loop"].y_range, (d["loop"]["phi"],), RANGE_PADDING)
+        if "friction" in plots:
+            _set_range(f["friction"].x_range, (d["law"]["u"], d["ops"]["u"]), RANGE_PADDING)
+            _set_range(f["friction"].y_range, (d["law"]["f"], d["ops"]["f"]), RANGE_PADDING)
+        if "energy" in plots:
+            energy = d["energy"]
+            _set_range(f["energy"].x_range, (energy["t"],), RANGE_PADDING)
+            _set_range(f["energy"].y_range, tuple(energy[n] for n in ENERGY_COLORS),
+                       RANGE_PADDING)
 
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None
@@ -617,6 +653,32 @@ class PlotSet:
         fig.y_range.update(start=x_lo, end=x_hi)
         clearance = sol.values["clearance"]
         _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
+
+
+def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
+    """``(start, end)`` of an axis showing every finite value of ``arrays``, widened by
+    ``padding`` times the span (half on each side, as ``DataRange1d.range_padding``).
+
+    >>> data_bounds((np.array([0.0, 2.0]), [np.nan, 4.0]), 0.5)
+    (-1.0, 5.0)
+    >>> data_bounds(([3.0],), 0.1)
+    (2.5, 3.5)
+    """
+    finite = [a[np.isfinite(a)] for a in (np.asarray(x, dtype=float).ravel() for x in arrays)]
+    values = np.concatenate(finite) if finite else np.zeros(0)
+    if len(values) == 0:
+        return 0.0, 1.0
+    lo, hi = float(values.min()), float(values.max())
+    if hi - lo <= EMPTY_SPAN * max(abs(lo), abs(hi), 1.0):
+        return lo - 0.5, hi + 0.5
+    half = 0.5 * padding * (hi - lo)
+    return lo - half, hi + half
+
+
+def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
+    """Show ``arrays`` in ``rng``; the reset tool returns to the same view."""
+    start, end = data_bounds(arrays, padding)
+    rng.update(start=start, end=end, reset_start=start, reset_end=end)
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {

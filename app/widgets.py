@@ -8,9 +8,12 @@ widgets in step in Python instead.
 
 from __future__ import annotations
 
+import uuid
 from collections.abc import Callable
+from functools import partial
 
 import panel as pn
+from panel.io.state import set_curdoc, state
 
 #: Width of the typed-entry box [px].
 INPUT_WIDTH = 96
@@ -25,6 +28,20 @@ class _Slider(pn.widgets.FloatSlider):
     """
 
     _priority_changes = ["value_throttled"]
+
+    def _server_change(self, doc, ref, subpath, attr, old, new) -> None:
+        # Panel honours a priority change only when nothing is pending: a release that
+        # arrives while the drag's last value waits out its debounce would wait too (up to
+        # 50 ms). Process the pending changes with the release now; the debounce callback
+        # then finds nothing left to do.
+        pending = bool(self._events) and attr in self._priority_changes
+        super()._server_change(doc, ref, subpath, attr, old, new)
+        if pending and self._events and doc.session_context:
+            event_id = uuid.uuid4().hex
+            callback = partial(self._change_coroutine, doc, event_id=event_id)
+            state._change_callbacks.setdefault(doc, {})[event_id] = callback
+            with set_curdoc(doc):
+                state.execute(callback, schedule=True)
 
 
 class TypedSlider:
