@@ -3,8 +3,8 @@
 >>> from core import Oscillator, RigidStop, simulate
 >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1, u_s=1.0)
 >>> res = simulate(osc, stop=RigidStop(clearance=0.25, restitution=0.7), t_end=100.0)
->>> res.steady.kind.value
-'periodic'
+>>> res.steady.kind.value   # a < clearance < x* = a + v sqrt(1 - r^2): case c
+'grazing'
 
 ``core`` imports neither panel, bokeh nor param; ``app`` is built on top of it.
 """
