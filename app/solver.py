@@ -342,7 +342,7 @@ def regime_map(values: Mapping[str, Any]) -> dict[str, Any]:
     key = tuple(
         (name, values[name])
         for name in ("mu_s", "mu_k", "u_s", "stop_type", "restitution", "k_c0", "k_e0",
-                     "x0", "v0")
+                     "limit_overlap", "beta_c", "beta_e", "x0", "v0")
     )
     v_hi, x_lo, x_hi = map_ranges(values)
     key += (("v_hi", v_hi), ("x_lo", x_lo), ("x_hi", x_hi))

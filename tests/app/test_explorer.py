@@ -217,3 +217,14 @@ def test_permalink_with_a_scene_name_opens_that_scene(monkeypatch, scene):
     assert not ex.alert.visible and ex.error is None
     assert ex.state.clearance == SCENES[scene].values.get("clearance", ex.state.clearance)
     assert loc.query_params["scene"] in (scene, int(scene) if scene.isdigit() else scene)
+
+
+def test_regime_map_of_a_hysteretic_scene(ex):
+    """Regression: the map's cache key left out parameters the hysteretic stop needs, so
+    'show all plots' on a hysteretic scene failed to draw the map."""
+    ex.scene_select.value = "11"
+    ex.show_all.value = True
+    assert ex.plot_panes["map"].visible
+    image = ex.plots.sources["map"].data["image"]
+    assert len(image) == 1 and np.asarray(image[0]).shape == (64, 64)
+    assert "inelastic" in ex.map_legend.object
