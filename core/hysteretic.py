@@ -1089,7 +1089,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
     src, first_row = _locate(sv, t)
     free = src == 0
     if np.any(free):
-        table = sv.table.arrays()
+        table = sv.table.arrays(sv.vb)
         out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
         x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
         work[free, 0] = out["friction_work"]

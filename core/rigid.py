@@ -390,7 +390,7 @@ def _assemble(
         for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
     }
     if np.any(early):
-        part = evaluate(table.arrays(), times[early], before[early], v, tail)
+        part = evaluate(table.arrays(v), times[early], before[early], v, tail)
         for name, values in part.items():
             out[name][early] = values
     if seq is not None:

@@ -69,16 +69,30 @@ class SegmentTable:
         wf, wb, lost = self.work
         self.work = (wf, wb, lost + loss)
 
-    def arrays(self) -> dict[str, np.ndarray]:
+    def arrays(self, belt_speed: float) -> dict[str, np.ndarray]:
+        """Per-segment coefficients of one formula for every kind of segment:
+        ``x = A + B cos(tau) + C sin(tau) + D tau``, and of the work terms
+        ``friction = P (x - x0) + Q (x^2 - x0^2)/2``, ``belt = E tau + F tau^2``."""
         w = np.array(self.work0, dtype=float).reshape(-1, 3)
+        x0 = np.array(self.x0, dtype=float)
+        v0 = np.array(self.v0, dtype=float)
+        c = np.array(self.centre, dtype=float)
+        mode = np.array(self.mode, dtype=np.int8)
+        circle = np.array(self.formula, dtype=np.int8) == CIRCLE
+        stick = mode == Mode.STICK
+        friction = np.nan_to_num(np.array(self.friction, dtype=float))
         return {
             "t0": np.array(self.t0, dtype=float),
-            "formula": np.array(self.formula, dtype=np.int8),
-            "mode": np.array(self.mode, dtype=np.int8),
-            "x0": np.array(self.x0, dtype=float),
-            "v0": np.array(self.v0, dtype=float),
-            "centre": np.array(self.centre, dtype=float),
-            "friction": np.array(self.friction, dtype=float),
+            "mode": mode,
+            "x0": x0,
+            "A": np.where(circle, c, x0),
+            "B": np.where(circle, x0 - c, 0.0),
+            "C": np.where(circle, v0, 0.0),
+            "D": np.where(circle, 0.0, v0),
+            "P": np.where(mode == Mode.SLIP, friction, 0.0),
+            "Q": stick.astype(float),
+            "E": np.where(stick, belt_speed * x0, friction * belt_speed),
+            "F": np.where(stick, 0.5 * belt_speed * belt_speed, 0.0),
             "wf0": w[:, 0],
             "wb0": w[:, 1],
             "loss0": w[:, 2],
@@ -137,33 +151,24 @@ def evaluate(
         dwf, dwb, dloss = tail.work_per_period
         wf_off[late], wb_off[late], loss_off[late] = n * dwf, n * dwb, n * dloss
     t0 = table["t0"]
-    idx = np.where(
-        before,
-        np.searchsorted(t0, t, side="left") - 1,
-        np.searchsorted(t0, t, side="right") - 1,
-    )
+    idx = np.searchsorted(t0, t, side="right") - 1
+    if np.any(before):  # the state just before a segment's start: the previous segment
+        idx = idx - (before & (idx > 0) & (t0[np.clip(idx, 0, None)] == t))
     idx = np.clip(idx, 0, len(t0) - 1)
     tau = t - t0[idx]
-    x0 = table["x0"][idx]
-    v0 = table["v0"][idx]
-    c = table["centre"][idx]
-    circle = table["formula"][idx] == CIRCLE
     cos_t, sin_t = np.cos(tau), np.sin(tau)
-    x = np.where(circle, c + (x0 - c) * cos_t + v0 * sin_t, x0 + v0 * tau)
-    v = np.where(circle, -(x0 - c) * sin_t + v0 * cos_t, v0)
-    mode = table["mode"][idx]
-    friction = table["friction"][idx]
-    stick = mode == Mode.STICK
-    rest = mode == Mode.CONTACT
-    wf_seg = np.where(stick, (x * x - x0 * x0) / 2.0, np.where(rest, 0.0, friction * (x - x0)))
-    wb_seg = np.where(
-        stick, belt_speed * (x0 * tau + belt_speed * tau * tau / 2.0), friction * belt_speed * tau
-    )
+    b, c, d = table["B"][idx], table["C"][idx], table["D"][idx]
+    x = table["A"][idx] + b * cos_t + c * sin_t + d * tau
+    v = c * cos_t - b * sin_t + d
+    x0 = table["x0"][idx]
+    dx = x - x0
+    friction_work = dx * (table["P"][idx] + 0.5 * table["Q"][idx] * (x + x0))
+    belt_input = tau * (table["E"][idx] + table["F"][idx] * tau)
     return {
         "x": x,
         "v": v,
-        "mode": mode,
-        "friction_work": table["wf0"][idx] + wf_seg + wf_off,
-        "belt_input": table["wb0"][idx] + wb_seg + wb_off,
+        "mode": table["mode"][idx],
+        "friction_work": table["wf0"][idx] + friction_work + wf_off,
+        "belt_input": table["wb0"][idx] + belt_input + wb_off,
         "stop_loss": table["loss0"][idx] + loss_off,
     }
