@@ -404,22 +404,39 @@ class PlotSet:
     def _build_phase(self, s) -> None:
         fig = self._figure("Phase portrait (x, x')", PHASE_SIZE,
                            x_axis_label="x", y_axis_label="x'")
-        fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
-                 line_width=1, legend_label="Gamma_0")
-        fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1,
-                 legend_label="impactless")
+        items = []
+        r = fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
+                     line_width=1)
+        items.append(_legend_item(fig, r, "Gamma_0", "line", line_color="#777777",
+                                  line_dash="dashed", line_width=1))
+        r = fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1)
+        items.append(_legend_item(fig, r, "impactless", "line", line_color="#999999",
+                                  line_width=1))
         for m, name in MODE_NAMES.items():
-            fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
-                     line_color=MODE_COLORS[m], legend_label=name)
-        fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
-                    fill_alpha=0.6, legend_field="kind")
-        fig.scatter("x", "v", source=s["points"], marker="diamond", size=13,
-                    fill_color="#ffffff", line_color="#000000", line_width=2,
-                    legend_label="theory (A.1-A.12)")
+            r = fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
+                         line_color=MODE_COLORS[m])
+            items.append(_legend_item(fig, r, name, "line", line_width=2,
+                                      line_color=MODE_COLORS[m]))
+        r = fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
+                        fill_alpha=0.6)
+        # One entry per transition kind, shown while the trajectory has that kind.
+        self.kind_items: dict[str, LegendItem] = {}
+        for kind, (marker, color) in TRANSITION_STYLE.items():
+            item = _legend_item(fig, r, kind, "scatter", marker=marker, color=color, size=7,
+                                fill_alpha=0.6)
+            item.visible = False
+            self.kind_items[kind] = item
+            items.append(item)
+        style = {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
+                 "line_color": "#000000", "line_width": 2}
+        r = fig.scatter("x", "v", source=s["points"], **style)
+        items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
         fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset=6,
                                 y_offset=4, text_font_size="10px"))
-        fig.scatter("x", "v", source=s["start"], marker="circle", size=8,
-                    fill_color="#ffffff", line_color="#000000", legend_label="start")
+        style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
+                 "line_color": "#000000"}
+        r = fig.scatter("x", "v", source=s["start"], **style)
+        items.append(_legend_item(fig, r, "start", "scatter", **style))
         # Underlay: the stick segment runs along the belt line and must stay visible.
         self.spans["stop"] = Span(location=0.0, dimension="height", line_color="#000000",
                                   line_width=3, level="underlay")
@@ -427,13 +444,11 @@ class PlotSet:
                                   line_dash="dotted", line_width=2, level="underlay")
         fig.add_layout(self.spans["stop"])
         fig.add_layout(self.spans["belt"])
-        legend = fig.legend[0]
-        fig.legend[0].location = "bottom_left"
-        fig.center.remove(legend)  # below the frame, so it never hides the trajectory
-        legend.update(orientation="horizontal", ncols=5, label_text_font_size="10px",
-                      spacing=2, padding=2, margin=2, click_policy="hide",
-                      glyph_width=14, label_standoff=3)
-        fig.add_layout(legend, "below")
+        # Below the frame, so it never hides the trajectory.
+        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
+                              ncols=5, label_text_font_size="10px", spacing=2, padding=2,
+                              margin=2, click_policy="hide", glyph_width=14,
+                              label_standoff=3), "below")
         self.figures["phase"] = fig
         self.panes["phase"] = fig
 
@@ -467,14 +482,15 @@ class PlotSet:
     def _build_loop(self, s) -> None:
         fig = self._figure("Hysteresis loop phi(overlap)", SMALL_SIZE,
                            x_axis_label="overlap x - x_bar", y_axis_label="phi / k")
-        fig.line("d", "phi", source=s["comp"], line_color="#444444", line_dash="dashed",
-                 legend_label="compression envelope")
-        fig.line("d", "phi", source=s["exp"], line_color="#888888", line_dash="dotdash",
-                 legend_label="expansion envelope")
-        fig.line("d", "phi", source=s["loop"], line_color=MODE_COLORS[2],
-                 line_width=2, legend_label="contact force")
-        fig.legend.location = "top_left"
-        fig.legend.label_text_font_size = "10px"
+        items = []
+        for name, label, style in (
+            ("comp", "compression envelope", {"line_color": "#444444", "line_dash": "dashed"}),
+            ("exp", "expansion envelope", {"line_color": "#888888", "line_dash": "dotdash"}),
+            ("loop", "contact force", {"line_color": MODE_COLORS[2], "line_width": 2}),
+        ):
+            r = fig.line("d", "phi", source=s[name], **style)
+            items.append(_legend_item(fig, r, label, "line", **style))
+        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px"))
         self.figures["loop"] = fig
         self.panes["loop"] = fig
 
@@ -492,7 +508,8 @@ class PlotSet:
         items = []
         for name, color in ENERGY_COLORS.items():
             r = fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
-            items.append(LegendItem(label=name.replace("_", " "), renderers=[r]))
+            items.append(_legend_item(fig, r, name.replace("_", " "), "line",
+                                      line_color=color, line_width=1.5))
         fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px",
                               background_fill_alpha=0.6, click_policy="hide"))
         self.figures["energy"] = fig
@@ -545,6 +562,9 @@ class PlotSet:
         if todo & {"phase", "time", "anim", "friction"}:
             _assign(s["traj"], trajectory_columns(sol, scales))
             _assign(s["trans"], transition_columns(sol, scales))
+            kinds = set(s["trans"].data["kind"])
+            for kind, item in self.kind_items.items():
+                item.visible = kind in kinds
             refs = reference_columns(sol, scales)
             _assign(s["gamma0"], refs["gamma0"])
             _assign(s["cycle"], refs["cycle"])
@@ -653,6 +673,22 @@ class PlotSet:
         fig.y_range.update(start=x_lo, end=x_hi)
         clearance = sol.values["clearance"]
         _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
+
+
+def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> LegendItem:
+    """A legend entry for ``renderer`` drawn from a stand-in glyph with no data.
+
+    A legend redraws every entry whenever anything reachable from its items changes, so
+    entries that pointed at the data renderers were redrawn for each source a release
+    updates (~15 times per message in the phase portrait). The stand-in never changes;
+    hiding it from the legend hides the renderer it stands for.
+    """
+    # One point off the canvas: the legend draws the glyph of a data index.
+    source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
+    draw = fig.line if glyph == "line" else fig.scatter
+    proxy = draw("x", "y", source=source, **style)
+    proxy.js_link("visible", renderer, "visible")
+    return LegendItem(label=label, renderers=[proxy])
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:

@@ -59,3 +59,36 @@ def test_phase_trajectory_jumps_at_the_stop_and_joins_only_neighbours(key, previ
                 f"segment {i}-{j} at t={t[i]:.4f} joins samples that are not neighbours")
     if len(sol.result.impulses):
         assert jumps > 0
+
+
+def test_axis_ranges_come_with_the_data():
+    """The server sets every visible figure's range from the data it sends (no
+    ``DataRange1d`` computed in the browser and echoed back)."""
+    from bokeh.models import DataRange1d
+
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    figs = ex.plots.figures
+    assert not any(isinstance(r, DataRange1d) for f in figs.values()
+                   for r in (f.x_range, f.y_range))
+    traj = {k: np.asarray(v, float) for k, v in ex.plots.sources["traj"].data.items()}
+    phase = figs["phase"]
+    assert phase.x_range.start < traj["x"].min() and phase.x_range.end > traj["x"].max()
+    assert phase.y_range.start < traj["v"].min() and phase.y_range.end > traj["v"].max()
+    assert (phase.x_range.reset_start, phase.x_range.reset_end) == (
+        phase.x_range.start, phase.x_range.end)  # the reset tool returns here
+    t = figs["time_x"].x_range
+    assert (t.start, t.end) == pytest.approx((traj["t"][0], traj["t"][-1]))
+
+
+def test_a_preview_overtaken_by_a_release_is_not_drawn():
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    full = np.asarray(ex.plots.sources["traj"].data["x"]).copy()
+    sol = solve({**ex.state.values(), "clearance": 0.25}, preview=True)
+    ex._draw_preview(sol, ex._commits - 1)  # solved before the latest commit
+    np.testing.assert_array_equal(ex.plots.sources["traj"].data["x"], full)
+    ex._draw_preview(sol, ex._commits)
+    assert len(ex.plots.sources["traj"].data["x"]) == len(sol.result.t)
