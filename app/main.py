@@ -20,8 +20,10 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
-#: Scripts of the page: repaint shortcuts for BokehJS (see the file's header).
-JS_FILES = {"fie_paint": f"{ASSETS}/bokeh_paint.js"}
+#: Scripts of the page: repaint shortcuts for BokehJS, and no repaint of a stale preview
+#: after a slider's release (see the files' headers).
+JS_FILES = {"fie_paint": f"{ASSETS}/bokeh_paint.js",
+            "fie_release_hold": f"{ASSETS}/release_hold.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 

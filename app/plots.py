@@ -385,6 +385,9 @@ class PlotSet:
         self._build_energy(s)
         self._build_map(s)
         self._last: Solution | None = None
+        self._updates = 0
+        self._kinds_stop: str | None = None
+        self._kinds_shown: set[str] = set()
         self._dirty: set[str] = set()
         self._map_shown: Mapping[str, Any] | None = None
         self._map_scales: Scales | None = None
@@ -541,6 +544,9 @@ class PlotSet:
         self._last, self._scales = sol, scales
         self._dirty = set(PLOTS)
         self.refresh(visible, map_data)
+        # Tells the page a full solution arrived (static/release_hold.js).
+        self._updates += 1
+        self.sources["traj"].tags = [self._updates]
 
     def update_preview(self, sol: Solution, scales: Scales) -> None:
         """Cheap update while a slider is dragged: the trajectory only."""
@@ -562,9 +568,14 @@ class PlotSet:
         if todo & {"phase", "time", "anim", "friction"}:
             _assign(s["traj"], trajectory_columns(sol, scales))
             _assign(s["trans"], transition_columns(sol, scales))
-            kinds = set(s["trans"].data["kind"])
+            # Entries stay once shown (until the stop type changes): a legend that changes
+            # size relayouts and repaints its figure once more after each release.
+            stop_type = sol.values["stop_type"]
+            if stop_type != self._kinds_stop:
+                self._kinds_stop, self._kinds_shown = stop_type, set()
+            self._kinds_shown.update(s["trans"].data["kind"])
             for kind, item in self.kind_items.items():
-                item.visible = kind in kinds
+                item.visible = kind in self._kinds_shown
             refs = reference_columns(sol, scales)
             _assign(s["gamma0"], refs["gamma0"])
             _assign(s["cycle"], refs["cycle"])
@@ -681,13 +692,14 @@ def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> Le
     A legend redraws every entry whenever anything reachable from its items changes, so
     entries that pointed at the data renderers were redrawn for each source a release
     updates (~15 times per message in the phase portrait). The stand-in never changes;
-    hiding it from the legend hides the renderer it stands for.
+    hiding it from the legend hides the renderer it stands for, through the server (a
+    ``js_link`` would make the renderer, and so its data, reachable from the legend).
     """
     # One point off the canvas: the legend draws the glyph of a data index.
     source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
     draw = fig.line if glyph == "line" else fig.scatter
     proxy = draw("x", "y", source=source, **style)
-    proxy.js_link("visible", renderer, "visible")
+    proxy.on_change("visible", lambda attr, old, new: setattr(renderer, "visible", new))
     return LegendItem(label=label, renderers=[proxy])
 
 

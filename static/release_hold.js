@@ -1,0 +1,72 @@
+/* No repaint of a stale preview after a slider's release (served as
+ * /assets/release_hold.js).
+ *
+ * While a slider is dragged the server sends cheap previews; the one for the drag's last
+ * value is often still on its way when the slider is released, and painting it (~30 ms of
+ * figure repaints on this page) delays the full solution right behind it. From the release
+ * of a slider's handle until the full solution arrives (the trajectory source's `tags`
+ * change with every full update, see app.plots.PlotSet.update) the figures' paints are
+ * deferred; then each deferred figure paints once, with the full solution. Past
+ * HOLD_MS (a slow numerical solve, an input the server rejects) the figures paint what
+ * they have.
+ */
+(function () {
+  "use strict";
+  const HOLD_MS = 400;
+  const hold = (window.__fie_hold = {active: false, held: new Set(), timer: null});
+  let dragging = false;
+
+  function resume() {
+    clearTimeout(hold.timer);
+    hold.active = false;
+    const views = [...hold.held];
+    hold.held.clear();
+    for (const view of views) view.request_paint();
+  }
+
+  function install(B) {
+    let plot;
+    try {
+      plot = B.require("models/plots/plot_canvas");
+    } catch (err) {
+      return;
+    }
+    const view = plot.PlotView && plot.PlotView.prototype;
+    if (!view || typeof view.paint !== "function") return;
+    const paint = view.paint;
+    view.paint = function () {
+      if (hold.active) {
+        hold.held.add(this);
+        return;
+      }
+      paint.call(this);
+    };
+    // Widgets live in shadow roots: look along the composed path, not at ev.target.
+    document.addEventListener("pointerdown", (ev) => {
+      dragging = ev.composedPath().some(
+        (el) => el instanceof Element && el.classList.contains("noUi-target"));
+    }, true);
+    document.addEventListener("pointerup", () => {
+      if (!dragging) return;
+      dragging = false;
+      hold.active = true;
+      clearTimeout(hold.timer);
+      hold.timer = setTimeout(resume, HOLD_MS);
+    }, true);
+    (function watch() {
+      const doc = B.documents && B.documents[0];
+      const traj = doc && [...doc.all_models].find((m) => m.data && "t_raw" in m.data);
+      if (traj == null) {
+        setTimeout(watch, 50);
+        return;
+      }
+      traj.properties.tags.change.connect(() => { if (hold.active) resume(); });
+    })();
+  }
+
+  (function wait() {
+    const B = window.Bokeh;
+    if (B && typeof B.require === "function") install(B);
+    else setTimeout(wait, 5);
+  })();
+})();
