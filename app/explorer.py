@@ -131,7 +131,7 @@ class Explorer(pn.viewable.Viewer):
             color="default", width=WIDGET_WIDTH,
         )
         self.plot_panes = self._build_plot_panes()
-        self.state.param.watch(self._on_state, [*SOLVE_PARAMS, *VIEW_PARAMS])
+        self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
         self._sync_widgets()
         self._update()
@@ -426,6 +426,8 @@ class Explorer(pn.viewable.Viewer):
         self._commits += 1
         self._sync_widgets()
         names = {e.name for e in events}
+        if "scene" in names and self.state.scene in SCENES:
+            self.plots.forget_transition_kinds()
         if names & set(SOLVE_PARAMS):
             self._update()
         elif self.solution is not None:

@@ -548,6 +548,10 @@ class PlotSet:
         self._updates += 1
         self.sources["traj"].tags = [self._updates]
 
+    def forget_transition_kinds(self) -> None:
+        """List only the next solution's transition kinds in the legend (a new scene)."""
+        self._kinds_stop = None
+
     def update_preview(self, sol: Solution, scales: Scales) -> None:
         """Cheap update while a slider is dragged: the trajectory only."""
         s = self.sources

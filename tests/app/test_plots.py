@@ -92,3 +92,15 @@ def test_a_preview_overtaken_by_a_release_is_not_drawn():
     np.testing.assert_array_equal(ex.plots.sources["traj"].data["x"], full)
     ex._draw_preview(sol, ex._commits)
     assert len(ex.plots.sources["traj"].data["x"]) == len(sol.result.t)
+
+
+def test_legend_lists_the_transition_kinds_of_the_scene():
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex.scene_select.value = "10"
+    shown = {k for k, item in ex.plots.kind_items.items() if item.visible}
+    assert shown == set(ex.plots.sources["trans"].data["kind"])
+    ex.scene_select.value = "11"  # a new scene forgets the kinds of the last one
+    shown = {k for k, item in ex.plots.kind_items.items() if item.visible}
+    assert shown == set(ex.plots.sources["trans"].data["kind"])
