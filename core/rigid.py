@@ -341,10 +341,11 @@ def _rest_force(osc: Oscillator, stop: RigidStop | None) -> float:
 def _sample_times(
     t_end: float, n_samples: int, rec: _Recorder, t_eval: np.ndarray | None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Uniform samples plus both sides of every stored impact and each stored transition;
-    or exactly ``t_eval`` when given."""
+    """Uniform samples plus each stored transition (the state after it) and the state
+    before every stored impact; or exactly ``t_eval`` when given. The second array is the
+    side of a transition each sample stands for (-1 before, +1 after, 0 none)."""
     if t_eval is not None:
-        return t_eval, np.zeros(len(t_eval), bool)
+        return t_eval, np.zeros(len(t_eval), np.int8)
     uniform = np.linspace(0.0, t_end, n_samples)
     marks = [tr.t for tr in rec.stored if tr.t <= t_end]
     impacts = [
@@ -353,11 +354,15 @@ def _sample_times(
         if tr.kind in (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT) and tr.t <= t_end
     ]
     times = np.concatenate((uniform, marks, impacts))
-    before = np.concatenate(
-        (np.zeros(len(uniform) + len(marks), bool), np.ones(len(impacts), bool))
+    side = np.concatenate(
+        (
+            np.zeros(len(uniform), np.int8),
+            np.ones(len(marks), np.int8),
+            -np.ones(len(impacts), np.int8),
+        )
     )
-    order = np.lexsort((~before, times))  # at equal times the state before comes first
-    return times[order], before[order]
+    order = np.lexsort((side, times))  # at equal times the state before comes first
+    return times[order], side[order]
 
 
 def _assemble(
@@ -375,7 +380,7 @@ def _assemble(
     t_eval: np.ndarray | None,
 ) -> Result:
     """Evaluate the samples and build the :class:`Result`."""
-    times, before = _sample_times(t_end, n_samples, rec, t_eval)
+    times, side = _sample_times(t_end, n_samples, rec, t_eval)
     v = osc.v
     if len(table) == 0:  # the motion starts with an endless impact sequence
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
@@ -383,14 +388,14 @@ def _assemble(
     stats: dict[str, float] = {"segments": float(len(table))}
     late = np.zeros(len(times), bool)
     if seq is not None:
-        late = (times > seq.t_start) | ((times == seq.t_start) & ~before)
+        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
     early = ~late
     out = {
         name: np.empty(len(times), np.int8 if name == "mode" else float)
         for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
     }
     if np.any(early):
-        part = evaluate(table.arrays(v), times[early], before[early], v, tail)
+        part = evaluate(table.arrays(v), times[early], side[early], v, tail)
         for name, values in part.items():
             out[name][early] = values
     if seq is not None:

@@ -15,6 +15,13 @@ import numpy as np
 from core.flight import Segment
 from core.result import Mode
 
+#: Samples within this fraction of a period of a cycle boundary are put on it (rounding of
+#: the repeated transition times is ~1e-16 of the horizon; 1e-9 of a period moves a sample
+#: by nanoseconds of dimensionless time).
+TILE_SNAP = 1e-9
+#: Time (dimensionless) by which a sample is nudged to pick the segment after, or before,
+#: a transition it lies on: far above the ulp of times up to ~1e6, far below any sampling.
+EVENT_NUDGE = 1e-9
 #: Formula codes of a segment.
 CIRCLE = 0  # x = c + (x0 - c) cos(tau) + v0 sin(tau)
 LINE = 1  # x = x0 + v0 tau
@@ -128,32 +135,45 @@ class PeriodicTail:
 def evaluate(
     table: dict[str, np.ndarray],
     times: np.ndarray,
-    before: np.ndarray,
+    side: np.ndarray,
     belt_speed: float,
     tail: PeriodicTail | None = None,
 ) -> dict[str, np.ndarray]:
     """State, mode and cumulative energy terms at ``times``.
 
-    ``before[i]`` asks for the state just before ``times[i]`` (on the segment that ends
-    there), used to draw both sides of an impact.
+    ``side[i]`` is -1 for the state just before a transition at ``times[i]`` (on the segment
+    that ends there; both sides of an impact are drawn), +1 for the state just after one,
+    0 for a plain sample.
     """
     t = np.asarray(times, dtype=float)
+    side = np.asarray(side, dtype=np.int8)
     wf_off = np.zeros_like(t)
     wb_off = np.zeros_like(t)
     loss_off = np.zeros_like(t)
     if tail is not None:
-        late = t > tail.t_from
+        # The state just after the repeated transition at t_from is the cycle's start.
+        late = (t > tail.t_from) | ((t == tail.t_from) & (side >= 0))
         k = np.floor((t[late] - tail.t_from) / tail.period)
         shift = t[late] - tail.t_from - k * tail.period
+        # A time on a cycle boundary (a repeated transition, e.g. an impact sampled on both
+        # sides) must map onto the cycle's start exactly, not a rounding error before it.
+        snap = TILE_SNAP * tail.period
+        wrap = shift >= tail.period - snap
+        k = np.where(wrap, k + 1.0, k)
+        shift = np.where(wrap | (shift <= snap), 0.0, shift)
         t = t.copy()
         t[late] = tail.cycle_t0 + shift
         n = k + 1.0
         dwf, dwb, dloss = tail.work_per_period
         wf_off[late], wb_off[late], loss_off[late] = n * dwf, n * dwb, n * dloss
     t0 = table["t0"]
-    idx = np.searchsorted(t0, t, side="right") - 1
-    if np.any(before):  # the state just before a segment's start: the previous segment
-        idx = idx - (before & (idx > 0) & (t0[np.clip(idx, 0, None)] == t))
+    # A sample at a transition belongs to the segment after it, or before it when asked;
+    # the nudge makes that hold when rounding of repeated-cycle times puts the sample an
+    # ulp off the segment's start.
+    idx = np.searchsorted(t0, t + side * EVENT_NUDGE, side="right") - 1
+    if np.any(side < 0):  # exactly at a segment's start: the segment before it
+        at_start = (side < 0) & (idx > 0) & (t0[np.clip(idx, 0, None)] == t)
+        idx = idx - at_start
     idx = np.clip(idx, 0, len(t0) - 1)
     tau = t - t0[idx]
     cos_t, sin_t = np.cos(tau), np.sin(tau)

@@ -433,3 +433,30 @@ def test_core_imports_no_ui_library():
         "assert not bad, bad"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+@pytest.mark.parametrize(
+    ("osc", "stop"),
+    [
+        (SLOW, RigidStop(0.32, 1.0)),
+        (SLOW, RigidStop(0.28, 0.7)),
+        (SLOW, RigidStop(0.25, 1.0)),
+        (FAST, RigidStop(0.3, 1.0)),
+    ],
+    ids=["case-a", "case-b-inelastic", "case-b-elastic", "fast-elastic"],
+)
+def test_every_impact_is_sampled_on_both_sides(osc, stop):
+    """Regression: in the repeated cycle an impact time, rounded an ulp off its segment's
+    start, was sampled twice on the same side, which drew a chord beside the stop."""
+    res = simulate(osc, stop, t_end=500.0, transition_cap=100_000)
+    impacts = [
+        tr for tr in res.transitions
+        if tr.kind in (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+    ]
+    same_time = np.nonzero(np.diff(res.t) == 0.0)[0]
+    pairs = {float(res.t[i]): (res.v[i], res.v[i + 1]) for i in same_time}
+    assert len(impacts) > 50
+    for tr in impacts:
+        v_before, v_after = pairs[tr.t]
+        assert v_before == pytest.approx(tr.v, rel=1e-9)
+        assert v_after == pytest.approx(tr.v_after, rel=1e-9, abs=1e-15)
