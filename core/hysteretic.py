@@ -558,16 +558,10 @@ class _Solver:
             if self.use_arcs and st.v == 0.0 and branch.delta_r == st.x - xb:
                 phi = self.arc(st, s, branch)
                 if phi is not None:
-                    delta = st.x - xb
-                    branch = reverse(delta, phi, branch)
-                    d_branch0 = delta
-                    self.new_branch(branch, delta, st.work[2])
-                    self.record(TransitionKind.REVERSAL, st, 0.0, phi=phi)
-                    if self.steady is not None:
-                        return "periodic"
-                    reversal_x.append(st.x)
-                    if self.settled(reversal_x):
-                        return self.rest_at_stop(st, branch, s)
+                    branch, ended = self.reversal(st, branch, phi, reversal_x, s)
+                    d_branch0 = st.x - xb
+                    if ended:
+                        return ended
                     continue
             outcome, s_new = self.slip_in_contact(st, s, branch)
             delta = st.x - xb
@@ -580,15 +574,10 @@ class _Solver:
             if outcome == "reversal":
                 phi, _ = force_and_slope(delta, branch, stop)
                 self.close_branch(branch, d_branch0, delta, st)
-                branch = reverse(delta, phi, branch)
+                branch, ended = self.reversal(st, branch, phi, reversal_x, s)
                 d_branch0 = delta
-                self.new_branch(branch, delta, st.work[2])
-                self.record(TransitionKind.REVERSAL, st, 0.0, phi=phi)
-                if self.steady is not None:
-                    return "periodic"
-                reversal_x.append(st.x)
-                if self.settled(reversal_x):
-                    return self.rest_at_stop(st, branch, s)
+                if ended:
+                    return ended
                 continue
             if outcome == "friction":
                 phi, _ = force_and_slope(delta, branch, stop)
@@ -788,6 +777,23 @@ class _Solver:
             return "failed"
         self.status = Status.LIMIT_OVERLAP
         return "limit"
+
+    def reversal(
+        self, st: _State, branch: Branch, phi: float, reversal_x: list[float], s: int
+    ) -> tuple[Branch, str | None]:
+        """The overlap rate changes sign at ``st``: the new branch starts from the stored
+        reversal point (Eq. 13). Returns it, and ``"periodic"`` or ``"rest"`` when the
+        contact ends here (a fixed point, or the reversals have died out)."""
+        delta = st.x - self.xb
+        branch = reverse(delta, phi, branch)
+        self.new_branch(branch, delta, st.work[2])
+        self.record(TransitionKind.REVERSAL, st, 0.0, phi=phi)
+        if self.steady is not None:
+            return branch, "periodic"
+        reversal_x.append(st.x)
+        if self.settled(reversal_x):
+            return branch, self.rest_at_stop(st, branch, s)
+        return branch, None
 
     def settled(self, reversal_x: list[float]) -> bool:
         if len(reversal_x) < 4:
