@@ -41,6 +41,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
+from core.theory import accumulation_time
 
 #: How many of the most recent transitions are kept for the steady-state search.
 STEADY_WINDOW = 96
@@ -109,6 +110,23 @@ class TransitionLog:
         for tr in transitions:
             log.add(tr.kind, tr.t, tr.x, tr.v, tr.v_after)
         return log
+
+
+def log_rest_at_stop(
+    log: TransitionLog, t: float, w: float, r: float, a: float, c: float, t_end: float
+) -> float:
+    """A numerical method stops following the bounces at ``t`` (last approach speed ``w``):
+    record the accumulation (for ``0 < r < 1`` with the stop behind the slip centre, after
+    the closed-form remaining time, SPEC §3) and the rest at the stop; return the rest time.
+    """
+    t_rest = t
+    if 0.0 < r < 1.0 and a > c:
+        t_rest = t + accumulation_time(r * w, r, a - c)
+        if t_rest <= t_end:
+            log.add(TransitionKind.ACCUMULATION, t_rest, c, 0.0, 0.0)
+    if t_rest <= t_end:
+        log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
+    return t_rest
 
 
 def _locate(t: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:

@@ -36,11 +36,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from core.dense import TransitionLog, result_from_dense
+from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
 from core.hysteresis import FIRST_LOADING, force_and_slope, reverse, stored_energy
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind
-from core.switch import _accumulation_tail
 from core.validation import check_range, check_start
 
 #: Integrators of :func:`scipy.integrate.solve_ivp` offered (explicit RK pairs, an implicit
@@ -189,13 +188,7 @@ def simulate_event(
     def rest_from(w: float) -> None:
         """The bouncing ends: rest on the stop (after the accumulation time for 0<r<1)."""
         nonlocal at_rest
-        t_rest = t
-        if 0.0 < r < 1.0 and a > c:
-            t_rest = t + _accumulation_tail(r * w, r, a - c)
-            if t_rest <= t_end:
-                log.add(TransitionKind.ACCUMULATION, t_rest, c, 0.0, 0.0)
-        if t_rest <= t_end:
-            log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
+        t_rest = log_rest_at_stop(log, t, w, r, a, c, t_end)
         for tt in (t, min(max(t_rest, t), t_end), t_end):
             point(tt, c, 0.0, 0.0, 0)
             modes[-1] = Mode.CONTACT

@@ -47,7 +47,7 @@ from __future__ import annotations
 import math
 from functools import partial
 
-from core.dense import TransitionLog, result_from_dense
+from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind
@@ -477,13 +477,7 @@ def simulate_switch(
     def come_to_rest(w: float) -> None:
         """The bouncing ends on the stop (Zeno guard, module docstring)."""
         nonlocal at_rest, t, v, acc, contact
-        t_rest = t
-        if 0.0 < r < 1.0 and a > c:
-            t_rest = t + _accumulation_tail(r * w, r, a - c)
-            if t_rest <= t_end:
-                log.add(TransitionKind.ACCUMULATION, t_rest, c, 0.0, 0.0)
-        if t_rest <= t_end:
-            log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
+        t_rest = log_rest_at_stop(log, t, w, r, a, c, t_end)
         at_rest, contact = True, True  # the mass sits on the stop: x = c, x' = 0
         v = acc = 0.0
         record()
@@ -667,19 +661,3 @@ def _friction_transition(
     s = _root(g, 0.0, 1.0, g0, g1) if g0 * g1 < 0.0 else 1.0
     xs, vs = xv(s)
     log.add(kind, t0 + s * h, xs, vs)
-
-
-def _accumulation_tail(w: float, r: float, gap: float) -> float:
-    """Time left until the impacts accumulate: ``sum_h 2 atan(r^h w / gap)``, ``h >= 0``.
-
-    The rebound arcs of speed ``w r^h`` about ``(a, 0)`` left of the stop (SPEC §3); summed
-    until the terms no longer change the total.
-    """
-    total, speed = 0.0, w
-    while speed > 0.0:
-        term = 2.0 * math.atan(speed / gap)
-        if total + term == total:
-            break
-        total += term
-        speed *= r
-    return total
