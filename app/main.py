@@ -16,7 +16,9 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the path
     sys.path.insert(0, str(ROOT))
 
+from app.connection import send_without_delay_once_loaded  # noqa: E402
 from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
+from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
@@ -47,6 +49,8 @@ def create_app() -> pn.template.BaseTemplate:
         busy_indicator=None,
     )
     template.explorer = explorer  # reachable from tests and the benchmark
+    keep_long_lived_out_of_collections()
+    send_without_delay_once_loaded()
     return template
 
 

@@ -15,6 +15,8 @@ from functools import partial
 import panel as pn
 from panel.io.state import set_curdoc, state
 
+from app.connection import writes_done
+
 #: Width of the typed-entry box [px].
 INPUT_WIDTH = 96
 
@@ -24,7 +26,8 @@ class _Slider(pn.widgets.FloatSlider):
 
     Panel waits ``_debounce`` (50 ms) before it processes a value from the browser, so that
     a drag's many values collapse into the latest; the release is one value and needs no
-    such wait.
+    such wait (only for the acknowledgement of the value to be written, see
+    :func:`app.connection.writes_done`).
     """
 
     _priority_changes = ["value_throttled"]
@@ -42,6 +45,10 @@ class _Slider(pn.widgets.FloatSlider):
             state._change_callbacks.setdefault(doc, {})[event_id] = callback
             with set_curdoc(doc):
                 state.execute(callback, schedule=True)
+
+    async def _change_coroutine(self, doc, event_id: str | None = None) -> None:
+        await writes_done(doc)
+        await super()._change_coroutine(doc, event_id=event_id)
 
 
 class TypedSlider:
