@@ -1,5 +1,5 @@
-/* No repaint of a stale preview after a slider's release (served as
- * /assets/release_hold.js).
+/* No repaint of a stale preview after a slider's release, and no restyle of the whole
+ * page when a slider is pressed or released (served as /assets/release_hold.js).
  *
  * While a slider is dragged the server sends cheap previews; the one for the drag's last
  * value is often still on its way when the slider is released, and painting it (~30 ms of
@@ -9,6 +9,14 @@
  * deferred; then each deferred figure paints once, with the full solution. Past
  * HOLD_MS (a slow numerical solve, an input the server rejects) the figures paint what
  * they have.
+ *
+ * When a slider's handle is pressed and released, BokehJS's slider view writes
+ * `user-select` into the page body's inline style (to stop text selection while dragging)
+ * and noUiSlider writes the handle's cursor there. Any write to the body's inline style
+ * makes the browser recompute the style of every element of the page: about 14 ms here,
+ * right when the release has to be sent and its answer drawn. These three properties of
+ * the body's inline style are therefore made inert; noUiSlider already blocks text
+ * selection during a drag (a `selectstart` listener) and the handle keeps its own cursor.
  */
 (function () {
   "use strict";
@@ -63,6 +71,25 @@
       traj.properties.tags.change.connect(() => { if (hold.active) resume(); });
     })();
   }
+
+  const INERT_BODY_STYLE = ["cursor", "userSelect", "webkitUserSelect"];
+
+  function inertBodyStyle() {
+    if (document.body == null) {
+      document.addEventListener("DOMContentLoaded", inertBodyStyle, {once: true});
+      return;
+    }
+    for (const name of INERT_BODY_STYLE) {
+      try {
+        Object.defineProperty(document.body.style, name, {
+          configurable: true, get: () => "", set: () => {},
+        });
+      } catch (err) {
+        // An engine that refuses the property keeps the sliders' own behaviour.
+      }
+    }
+  }
+  inertBodyStyle();
 
   (function wait() {
     const B = window.Bokeh;
