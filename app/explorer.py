@@ -91,6 +91,12 @@ SI_SOFT_SPAN = 3.0
 URL_DELAY_MS = 400
 #: Delay [ms] before a drag's preview is drawn (a release arriving meanwhile cancels it).
 PREVIEW_DELAY_MS = 15
+#: Rows the readout shows without scrolling, and the height of one (``explorer.css``).
+READOUT_ROWS, READOUT_ROW_PX = 9, 22
+#: Fixed height [px] of the readout: a readout that grew or shrank by a row on a release
+#: resized the page's main column, and BokehJS then laid out every figure again and rebuilt
+#: their toolbars (about 60 ms in the browser before the new picture showed).
+READOUT_HEIGHT = READOUT_ROWS * READOUT_ROW_PX + 12
 
 
 class Explorer(pn.viewable.Viewer):
@@ -122,7 +128,8 @@ class Explorer(pn.viewable.Viewer):
                                    sizing_mode="stretch_width", css_classes=["fie-alert"])
         self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-caption"], stylesheets=[STYLESHEET])
-        self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
+        self.readout = pn.pane.HTML("", sizing_mode="stretch_width", height=READOUT_HEIGHT,
+                                    styles={"overflow-y": "auto"},
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
         self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
                                        stylesheets=[STYLESHEET])
