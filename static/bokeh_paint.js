@@ -13,12 +13,14 @@
  *   3. a plot's base font size (the :host font-size, fixed by Bokeh's own CSS) is read
  *      once per plot view instead of once per axis and label per paint;
  *   4. a glyph renderer's positioning <style> (its data's bounding box on the page, which
- *      changes with every new data or range) is written once per animation frame, after
- *      the paints, instead of in the middle of each figure's paint. Written there, it
- *      invalidates the page's styles, and the next text the figure draws (a tick label:
- *      Chromium resolves a canvas font against the element's style) forces a full style
- *      recalculation, ~8 ms per glyph renderer on the explorer's page. The element is an
- *      empty positioning box: the glyphs themselves are drawn on the canvas.
+ *      changes with every new data or range) is written once, at the renderer's first
+ *      paint, instead of at every paint. Each rewrite invalidates the page's styles: in the
+ *      middle of a figure's paint the next text it draws (a tick label: Chromium resolves
+ *      a canvas font against the element's style) forced a full style recalculation, ~8 ms
+ *      per glyph renderer, and deferred to the next frame the rewrites still cost one
+ *      recalculation of 9-18 ms there. The element is an empty box below the canvas: the
+ *      glyphs themselves are drawn on the canvas, and the explorer attaches nothing to
+ *      the element, so where it sits changes nothing on screen.
  *
  * Each patch is applied only if the internal it replaces exists, so another BokehJS
  * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
@@ -65,15 +67,10 @@
     const glyph_view = glyph.GlyphRendererView && glyph.GlyphRendererView.prototype;
     if (glyph_view && typeof glyph_view.update_position === "function") {
       const update_position = glyph_view.update_position;
-      const pending = new Set();
-      const flush = () => {
-        const views = [...pending];
-        pending.clear();
-        for (const view of views) update_position.call(view);
-      };
       glyph_view.update_position = function () {
-        if (pending.size == 0) requestAnimationFrame(flush);
-        pending.add(this);
+        if (this.__fie_positioned) return;
+        this.__fie_positioned = true;
+        update_position.call(this);
       };
       applied.push("glyph-position");
     }
