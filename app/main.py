@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the path
     sys.path.insert(0, str(ROOT))
 
-from app.connection import send_without_delay_once_loaded  # noqa: E402
+from app.connection import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 
@@ -51,6 +51,7 @@ def create_app() -> pn.template.BaseTemplate:
     template.explorer = explorer  # reachable from tests and the benchmark
     keep_long_lived_out_of_collections()
     send_without_delay_once_loaded()
+    send_arrays_inline()
     return template
 
 

@@ -148,12 +148,15 @@ class TypedSlider:
             self._on_drag(by_name["value"].new)
             return
         value = by_name["value_throttled"].new
-        self._quiet = True
-        try:
-            self.input.value = value
-        finally:
-            self._quiet = False
-        self._on_commit(value)
+        # One message for the typed-entry box and whatever the commit redraws: a message of
+        # its own for the box cost ~3 ms (Bokeh's per-message overhead) before the solve.
+        with pn.io.hold():
+            self._on_commit(value)
+            self._quiet = True
+            try:
+                self.input.value = value
+            finally:
+                self._quiet = False
 
     def _typed(self, event) -> None:
         if self._quiet or event.new is None:

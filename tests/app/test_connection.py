@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 import asyncio
+import importlib
 from types import SimpleNamespace
 
+import numpy as np
+from bokeh.document import Document
+from bokeh.models import ColumnDataSource
+from bokeh.protocol import Protocol
 from tornado.locks import Lock
 
 from app import connection
@@ -56,3 +61,35 @@ def test_writes_done_waits_for_the_write_lock():
         return order
 
     assert asyncio.run(run()) == ["write finished", "update"]
+
+
+def _patch_events(doc, source, data):
+    events = []
+    doc.on_change(lambda event: events.append(event))
+    source.data = data
+    return events
+
+
+def test_arrays_travel_inside_the_message(monkeypatch):
+    """After send_arrays_inline an update is three frames whatever its arrays, and a copy
+    of the document that applies it holds the same values (Bokeh decodes the base64)."""
+    patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+    monkeypatch.setattr(patch_doc, "create", patch_doc.__dict__["create"])  # restored after
+    doc = Document()
+    source = ColumnDataSource({"x": np.zeros(3, dtype=np.float32), "y": np.zeros(3)})
+    doc.add_root(source)
+    copy = Document.from_json(doc.to_json())
+    new = {"x": np.linspace(0, 1, 500, dtype=np.float32), "y": np.arange(500.0)}
+    events = _patch_events(doc, source, new)
+    protocol = Protocol()
+    assert len(protocol.create("PATCH-DOC", events).buffers) == 2  # Bokeh's default
+
+    connection.send_arrays_inline()
+    connection.send_arrays_inline()  # idempotent
+    msg = protocol.create("PATCH-DOC", events)
+    assert msg.buffers == []
+    msg.apply_to_document(copy)
+    got = copy.get_model_by_id(source.id).data
+    np.testing.assert_array_equal(got["x"], new["x"])
+    np.testing.assert_array_equal(got["y"], new["y"])
+    assert np.asarray(got["x"]).dtype == np.float32

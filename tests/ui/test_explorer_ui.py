@@ -79,6 +79,8 @@ def test_slider_drag_repaints(page, shots):
     _select_scene(page, "7b")
     before = page.pixels(".fie-plot-phase")
     readout = page.text(".fie-readout-pane")
+    box = page.page.locator(".fie-w-clearance input").first
+    typed = float(box.input_value())
     _drag(page, "clearance", 40)
     after_text = page.wait_text_change(".fie-readout-pane", readout)
     page.page.wait_for_timeout(300)
@@ -89,6 +91,12 @@ def test_slider_drag_repaints(page, shots):
     assert "custom" in page.page.locator(".fie-scene select").first.input_value()
     assert after_text != readout
     assert "xbar=" in page.page.url  # the permalink follows
+    # The typed-entry box follows the released slider (sent with the new picture): the
+    # drag moved right, so the clearance grew.
+    assert float(box.input_value()) > typed
+    # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
+    assert page.page.evaluate("() => window.__fie_paint") == [
+        "stylesheet", "css-variables", "font-size", "glyph-position"]
     assert page.errors == []
 
 
