@@ -119,17 +119,21 @@ class TypedSlider:
     def set(self, value: float, *, soft_end: float | None = None,
             hard_end: float | None = None) -> None:
         """Show ``value`` without calling back; optionally move the upper ends."""
+        start, end = self.slider.start, self.slider.end
+        if soft_end is not None:
+            end = soft_end
+        start, end = min(start, value), max(end, value)
+        if end <= start:
+            start = min(start, value - self.step)
+        if ((start, end, value) == (self.slider.start, self.slider.end, self.slider.value)
+                and value == self.input.value
+                and hard_end in (None, self.bounds[1])):
+            return  # nothing to change (this runs for several sliders on every release)
         self._quiet = True
         try:
             if hard_end is not None:
                 self.bounds = (self.bounds[0], hard_end)
                 self.input.end = hard_end
-            start, end = self.slider.start, self.slider.end
-            if soft_end is not None:
-                end = soft_end
-            start, end = min(start, value), max(end, value)
-            if end <= start:
-                start = min(start, value - self.step)
             self.slider.param.update(start=start, end=end, value=value)
             if self.input.value != value:
                 self.input.value = value

@@ -96,7 +96,7 @@ def test_slider_drag_repaints(page, shots):
     assert float(box.input_value()) > typed
     # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
     assert page.page.evaluate("() => window.__fie_paint") == [
-        "stylesheet", "css-variables", "font-size", "glyph-position"]
+        "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update"]
     assert page.errors == []
 
 
