@@ -108,7 +108,8 @@ JS_PROBE = """([minPoints, settle]) => {
 }"""
 
 
-def _serve() -> tuple[subprocess.Popen, str]:
+def _serve(root: Path = ROOT) -> tuple[subprocess.Popen, str]:
+    """``panel serve`` of the explorer in the checkout ``root`` on a free loopback port."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
@@ -116,7 +117,7 @@ def _serve() -> tuple[subprocess.Popen, str]:
         [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port),
          "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
          "--static-dirs", "assets=static", "--liveness"],
-        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )
     for _ in range(300):
         try:

@@ -1,0 +1,108 @@
+"""A/B of slider-release latency: this checkout against a git revision, in one browser.
+
+On a shared machine the latency of ``browser_latency.py`` drifts by 20-30 ms between runs,
+more than most single changes are worth. This harness serves both versions at once (two
+``panel serve`` processes), opens one page of each in the same Chromium, and alternates
+releases between them (A B, B A, ...), so that both see the same load. It prints the median
+and 95th percentile of each and the median of the paired differences. The probe and the drag
+are those of ``browser_latency.py``.
+
+Usage: ``.venv/bin/python benchmarks/browser_ab.py --ref HEAD~1 [--scenes 5b,7c] [--rounds 40]``
+(the revision is checked out into a temporary git worktree, removed afterwards).
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import browser_latency as bl  # noqa: E402
+
+ROOT = bl.ROOT
+
+
+def _drag_once(page, i: int) -> float:
+    """One drag and release of the slider; the latency [ms] the probe measured."""
+    handle = page.locator(f".fie-w-{bl.SLIDER} .noUi-handle").first
+    box = handle.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    dx = bl.DRAG_PX if i % 2 == 0 else -bl.DRAG_PX
+    page.mouse.move(x, y)
+    page.mouse.down()
+    page.mouse.move(x + dx, y, steps=4)
+    page.mouse.up()
+    page.wait_for_function(f"() => window.__lat.painted.length > {i}",
+                           timeout=bl.RELEASE_TIMEOUT_MS)
+    return float(page.evaluate(f"() => window.__lat.painted[{i}]"))
+
+
+def compare(browser, urls: dict[str, str], scene: str, rounds: int) -> dict[str, np.ndarray]:
+    """Latencies [ms] of ``rounds`` releases per version, alternating between them."""
+    pages = {}
+    for key, url in urls.items():
+        page = browser.new_page(viewport={"width": 1600, "height": 2000})
+        page.goto(f"{url}?scene={scene}", timeout=60_000)
+        page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
+                               "Bokeh.documents[0].is_idle", timeout=60_000)
+        page.evaluate(bl.JS_PROBE, [bl.FULL_MIN_POINTS, bl.SETTLE_MS])
+        pages[key] = page
+    lat: dict[str, list[float]] = {key: [] for key in pages}
+    order = list(pages)
+    for r in range(rounds):
+        for key in (order if r % 2 == 0 else order[::-1]):
+            pages[key].bring_to_front()
+            lat[key].append(_drag_once(pages[key], len(lat[key])))
+    for page in pages.values():
+        page.close()
+    return {key: np.asarray(v) for key, v in lat.items()}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--ref", required=True, help="git revision to compare against (B)")
+    parser.add_argument("--scenes", default="5b,7c")
+    parser.add_argument("--rounds", type=int, default=40)
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    with tempfile.TemporaryDirectory() as tmp:
+        other = Path(tmp) / "b"
+        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(other), args.ref],
+                       cwd=ROOT, check=True)
+        procs = []
+        try:
+            proc_a, url_a = bl._serve(ROOT)
+            procs.append(proc_a)
+            proc_b, url_b = bl._serve(other)
+            procs.append(proc_b)
+            print(f"A = this checkout, B = {args.ref}; {args.rounds} releases each, "
+                  "alternating")
+            print(f"{'scene':>6} {'A median':>9} {'A p95':>7} {'B median':>9} {'B p95':>7} "
+                  f"{'median(A-B)':>12}")
+            with sync_playwright() as pw:
+                browser = pw.chromium.launch(executable_path=bl.CHROMIUM,
+                                             args=bl.CHROMIUM_ARGS)
+                for scene in args.scenes.split(","):
+                    lat = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
+                    a, b = lat["A"], lat["B"]
+                    print(f"{scene:>6} {np.median(a):>9.1f} {np.percentile(a, 95):>7.1f} "
+                          f"{np.median(b):>9.1f} {np.percentile(b, 95):>7.1f} "
+                          f"{np.median(a - b):>+12.1f}")
+                browser.close()
+        finally:
+            for proc in procs:
+                proc.terminate()
+                proc.wait(timeout=10)
+            subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT,
+                           check=False)
+
+
+if __name__ == "__main__":
+    main()
