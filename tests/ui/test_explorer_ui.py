@@ -96,8 +96,30 @@ def test_slider_drag_repaints(page, shots):
     assert float(box.input_value()) > typed
     # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
     assert page.page.evaluate("() => window.__fie_paint") == [
-        "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update"]
+        "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
+        "marker-mask"]
     assert page.errors == []
+
+
+@pytest.mark.parametrize("key", ["5b", "7c", "10"])
+def test_paint_shortcuts_change_no_pixel(browser, server, key):
+    """static/bokeh_paint.js makes BokehJS paint faster, never differently: the figures of
+    a scene are the same pixels with and without it."""
+    seen = {}
+    for flag in ("", "&paint_shortcuts=off"):
+        p = Page(browser, f"{server}?scene={key}{flag}")
+        try:
+            p.page.wait_for_timeout(500)  # any late repaint lands first
+            p.settle()
+            seen[flag] = (p.pixels(".fie-plots"), p.page.evaluate("() => window.__fie_paint"),
+                          p.errors)
+        finally:
+            p.close()
+    (on, applied, errors_on), (off, none, errors_off) = seen.values()
+    assert len(applied) >= 6 and none == []
+    assert on.shape == off.shape
+    assert np.array_equal(on, off)
+    assert errors_on == errors_off == []
 
 
 def test_invalid_input_keeps_the_picture(page, shots):
