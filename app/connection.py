@@ -69,10 +69,13 @@ async def writes_done(doc: Any) -> None:
 
 
 def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
-    """Bokeh's ``patch_doc.create`` (3.9), with arrays base64-encoded into the content.
+    """Bokeh's ``patch_doc.create`` (3.9), with the arrays encoded into the content.
 
-    The message is three frames (header, metadata, content) whatever the number of
-    arrays, for a third more bytes of array data (base64); BokehJS decodes both forms.
+    The message is three frames (header, metadata, content) whatever the number of arrays.
+    Each array is then gzip-compressed and base64-encoded (Bokeh's own inline form, which
+    BokehJS reads as well as binary frames): for the explorer's smooth float32 columns
+    about half the bytes of the binary frames (~45 instead of ~80 kB per release of scene
+    5b), for ~1 ms more of encoding in the server and of decoding in the browser.
     """
     header = cls.create_header()
     if not events:

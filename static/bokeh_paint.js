@@ -47,15 +47,19 @@
   const applied = (window.__fie_paint = []);
 
   function patch(B) {
-    let dom, visual, plot, glyph, marker;
+    let dom, visual, plot, glyph, marker = {};
     try {
       dom = B.require("core/dom");
       visual = B.require("core/visuals/visual");
       plot = B.require("models/plots/plot_canvas");
       glyph = B.require("models/renderers/glyph_renderer");
-      marker = B.require("models/glyphs/marker");
     } catch (err) {
       return;
+    }
+    try {
+      marker = B.require("models/glyphs/marker");
+    } catch (err) {
+      // No marker module: patch 6 is skipped, the others apply.
     }
     const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
     if (sheet && typeof sheet._update === "function") {
