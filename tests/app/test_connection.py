@@ -42,7 +42,7 @@ def test_a_document_without_a_session_has_no_sockets():
     assert connection.send_without_delay(SimpleNamespace(session_context=None)) == 0
 
 
-def test_writes_done_waits_for_the_write_lock():
+def test_writes_done_waits_for_the_write_lock(run_async):
     socket = _Socket()
 
     async def run() -> list[str]:
@@ -60,7 +60,7 @@ def test_writes_done_waits_for_the_write_lock():
         await task
         return order
 
-    assert asyncio.run(run()) == ["write finished", "update"]
+    assert run_async(run) == ["write finished", "update"]
 
 
 def _patch_events(doc, source, data):

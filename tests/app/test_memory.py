@@ -60,7 +60,7 @@ def test_a_cycle_made_after_the_freeze_is_collected_as_usual():
     assert ref() is None
 
 
-def test_a_burst_of_session_ends_schedules_one_refreeze(monkeypatch):
+def test_a_burst_of_session_ends_schedules_one_refreeze(monkeypatch, run_async):
     monkeypatch.setattr(memory, "REFREEZE_DELAY_S", 0.05)
 
     async def run() -> tuple[int, int]:
@@ -70,7 +70,7 @@ def test_a_burst_of_session_ends_schedules_one_refreeze(monkeypatch):
         await asyncio.sleep(0.2)
         return pending, gc.get_freeze_count()
 
-    pending, frozen = asyncio.run(run())
+    pending, frozen = run_async(run)
     assert pending == 1
     assert frozen > 0
     assert memory._refreeze["handle"] is None
