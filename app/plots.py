@@ -96,6 +96,10 @@ BAND_EXTENT = 1e6
 #: phase portrait's displacement (room for the theory points' labels).
 RANGE_PADDING = 0.1
 PHASE_X_PADDING = 0.15
+#: A stop the motion does not reach is still shown (phase portrait, x(t)) when it lies
+#: within this fraction of the motion's displacement span beyond it; a farther stop would
+#: squeeze the motion into a corner (the readout then says the stop lies beyond x_max).
+STOP_VIEW_REACH = 0.5
 #: Relative span below which data are a single value (the axis then spans one unit).
 EMPTY_SPAN = 1e-12
 #: Sizes of the figures [px].
@@ -558,7 +562,7 @@ class PlotSet:
         _assign(s["traj"], trajectory_columns(sol, scales, max_points=len(sol.result.t)))
         _assign(s["trans"], transition_columns(sol, scales))
         self._set_spans(sol, scales)
-        self._set_ranges({"phase", "time"})
+        self._set_ranges({"phase", "time"}, sol)
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
@@ -612,23 +616,24 @@ class PlotSet:
             self._dirty.discard("map")
         self._set_spans(sol, scales)
         self._set_labels(sol, scales)
-        self._set_ranges(todo)
+        self._set_ranges(todo, sol)
 
-    def _set_ranges(self, plots: set[str] | frozenset[str]) -> None:
+    def _set_ranges(self, plots: set[str] | frozenset[str], sol: Solution) -> None:
         """Axis ranges of the ``plots`` from the data just assigned (call in the same
         ``pn.io.hold``): computed on the server and sent with the data, so the browser
         paints each figure once, instead of computing ``DataRange1d`` bounds and echoing
         them back, which costs further messages and repaints."""
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
+        stop = _stop_in_view(d["traj"]["x"], sol)
         if "phase" in plots:
             traj, pts = d["traj"], d["points"]
-            _set_range(f["phase"].x_range, (traj["x"], pts["x"]), PHASE_X_PADDING)
+            _set_range(f["phase"].x_range, (traj["x"], pts["x"], stop), PHASE_X_PADDING)
             _set_range(f["phase"].y_range, (traj["v"], pts["v"]), RANGE_PADDING)
         if "time" in plots:
             traj = d["traj"]
             _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
-            _set_range(f["time_x"].y_range, (traj["x"],), RANGE_PADDING)
+            _set_range(f["time_x"].y_range, (traj["x"], stop), RANGE_PADDING)
             _set_range(f["time_v"].y_range, (traj["v"],), RANGE_PADDING)
         if "force" in plots:
             _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"]), RANGE_PADDING)
@@ -725,6 +730,30 @@ def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
         return lo - 0.5, hi + 0.5
     half = 0.5 * padding * (hi - lo)
     return lo - half, hi + half
+
+
+def _stop_in_view(x: Any, sol: Solution) -> list[float]:
+    """``[x_bar]`` if the stop should widen the displacement axes, else ``[]``: always when
+    the motion reaches it, and when it lies within :data:`STOP_VIEW_REACH` of the motion's
+    span beyond it.
+
+    >>> from types import SimpleNamespace as NS
+    >>> _stop_in_view([0.0, 0.2], NS(stop=NS(clearance=0.25)))
+    [0.25]
+    >>> _stop_in_view([0.0, 0.2], NS(stop=NS(clearance=0.5)))
+    []
+    >>> _stop_in_view([0.0, 0.2], NS(stop=None))
+    []
+    """
+    if sol.stop is None:
+        return []
+    x = np.asarray(x, dtype=float)
+    x = x[np.isfinite(x)]
+    if len(x) == 0:
+        return []
+    clearance = float(sol.stop.clearance)
+    lo, hi = float(x.min()), float(x.max())
+    return [clearance] if clearance <= hi + STOP_VIEW_REACH * (hi - lo) else []
 
 
 def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:

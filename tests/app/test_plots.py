@@ -104,3 +104,25 @@ def test_legend_lists_the_transition_kinds_of_the_scene():
     ex.scene_select.value = "11"  # a new scene forgets the kinds of the last one
     shown = {k for k, item in ex.plots.kind_items.items() if item.visible}
     assert shown == set(ex.plots.sources["trans"].data["kind"])
+
+
+@pytest.mark.parametrize("beyond, shown", [(0.3, True), (2.0, False)])
+def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
+    """With the clearance past the motion's reach (no impact), the stop line stays in the
+    phase portrait and x(t) when it is near the motion, not when it would squeeze it."""
+    from app.explorer import Explorer
+    from app.state import ExplorerState
+
+    state = ExplorerState()
+    state.load_scene("7b")
+    ex = Explorer(state)
+    x = np.asarray(ex.plots.sources["traj"].data["x"], float)
+    span = x.max() - x.min()
+    clearance = round(float(x.max() + beyond * span), 4)
+    ex._commit({"clearance": clearance})
+    assert ex.error is None
+    x = np.asarray(ex.plots.sources["traj"].data["x"], float)
+    assert x.max() < clearance  # no impact: the motion does not reach the stop
+    figs = ex.plots.figures
+    for rng in (figs["phase"].x_range, figs["time_x"].y_range):
+        assert (rng.end > clearance) is shown
