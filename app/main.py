@@ -22,10 +22,11 @@ from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
-#: Scripts of the page: repaint shortcuts for BokehJS, and no repaint of a stale preview
-#: after a slider's release (see the files' headers).
+#: Scripts of the page: repaint shortcuts for BokehJS, no repaint of a stale preview after
+#: a slider's release, and no history entry per change of the address (see their headers).
 JS_FILES = {"fie_paint": f"{ASSETS}/bokeh_paint.js",
-            "fie_release_hold": f"{ASSETS}/release_hold.js"}
+            "fie_release_hold": f"{ASSETS}/release_hold.js",
+            "fie_url_history": f"{ASSETS}/url_history.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 

@@ -143,6 +143,7 @@ def test_permalink_reopens_the_same_view(browser, server, shots):
     try:
         assert "Fig. 11" in p.text(".fie-caption")
         assert not p.page.locator(".fie-alert").first.is_visible()
+        history = p.page.evaluate("() => history.length")
         readout = p.text(".fie-readout-pane")
         p.page.locator(".fie-w-belt_speed input").first.fill("0.08")
         p.page.locator(".fie-w-belt_speed input").first.press("Enter")
@@ -151,6 +152,8 @@ def test_permalink_reopens_the_same_view(browser, server, shots):
         p.page.wait_for_function("() => location.search.includes('v=0.08') && "
                                  "location.search.includes('scene=custom')", timeout=10_000)
         url = p.page.url
+        # ... in place: no history entry per change (static/url_history.js).
+        assert p.page.evaluate("() => history.length") == history
     finally:
         p.close()
     q = Page(browser, url)
