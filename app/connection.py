@@ -68,6 +68,10 @@ async def writes_done(doc: Any) -> None:
                 pass
 
 
+#: Bokeh's own ``patch_doc.create``, once :func:`send_arrays_inline` has replaced it.
+_bokeh_create: Any = None
+
+
 def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
     """Bokeh's ``patch_doc.create`` (3.9), with the arrays encoded into the content.
 
@@ -93,7 +97,9 @@ def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
 def send_arrays_inline() -> None:
     """Make every document update of this server one message of three frames (see the
     module's docstring); idempotent."""
+    global _bokeh_create
     # The package exports the class under the module's name: fetch the module itself.
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
     if getattr(patch_doc.create, "__func__", None) is not _patch_doc_inline:
+        _bokeh_create = patch_doc.__dict__["create"]
         patch_doc.create = classmethod(_patch_doc_inline)

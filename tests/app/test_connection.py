@@ -74,7 +74,10 @@ def test_arrays_travel_inside_the_message(monkeypatch):
     """After send_arrays_inline an update is three frames whatever its arrays, and a copy
     of the document that applies it holds the same values (Bokeh decodes the base64)."""
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
-    monkeypatch.setattr(patch_doc, "create", patch_doc.__dict__["create"])  # restored after
+    # Bokeh's own create for the first message (whatever ran before), restored after.
+    monkeypatch.setattr(patch_doc, "create",
+                        connection._bokeh_create or patch_doc.__dict__["create"])
+    monkeypatch.setattr(connection, "_bokeh_create", None)
     doc = Document()
     source = ColumnDataSource({"x": np.zeros(3, dtype=np.float32), "y": np.zeros(3)})
     doc.add_root(source)
