@@ -3,8 +3,8 @@
 Serves the explorer with ``panel serve`` on a free loopback port, opens a rigid-stop and a
 hysteretic-stop scene, drags a slider many times and measures, inside the page, the time
 from the ``pointerup`` that ends each drag until every figure has repainted with the full
-solution (until the browser has rendered the frame that shows the last figure repaint
-once the full trajectory has arrived; a preview has fewer points, see ``app.solver``).
+solution (until the screen shows the frame with the last figure repaint, once the full
+trajectory has arrived; a preview has fewer points, see ``app.solver``).
 Prints the median and 95th percentile per scene against the targets of issue 4, and how
 many figure repaints a release cost.
 
@@ -50,11 +50,11 @@ SETTLE_MS = 250
 #: Installs the probe. It records the ``pointerup`` that ends a drag, notices when the full
 #: solution's trajectory arrives (a preview has fewer points), and then follows every figure
 #: repaint (BokehJS ``PlotView._actual_paint``) until none has happened for ``settle`` ms:
-#: the latency is from the ``pointerup`` until the browser has rendered the frame that
-#: shows the last of those paints (a task posted during a frame's animation-frame callbacks
-#: runs after that frame's rendering; a paint made in one shows in that frame, a paint
-#: made in a task in the next), i.e. until every plot shows the new solution. It counts
-#: the repaints of all figures, not only the one whose data arrived first, and it does not
+#: the latency is from the ``pointerup`` until the screen shows the frame with the last
+#: of those paints: the start of the following frame (the next vsync), i.e. until every
+#: plot shows the new solution. A paint made in an animation-frame callback (where
+#: BokehJS paints) is in that frame; one made in a task, in the next. It counts the
+#: repaints of all figures, not only the one whose data arrived first, and it does not
 #: poll.
 JS_PROBE = """([minPoints, settle]) => {
   const doc = Bokeh.documents[0];
@@ -68,14 +68,11 @@ JS_PROBE = """([minPoints, settle]) => {
     lat.paints.push(lat.count);
     lat.pending = null;
   }
-  // A task posted from an animation frame callback runs after that frame's rendering.
-  const channel = new MessageChannel();
-  channel.port1.onmessage = () => {
+  function mark() {
     last = performance.now();
     clearTimeout(timer);
     timer = setTimeout(finish, settle);
-  };
-  const rendered = () => channel.port2.postMessage(null);
+  }
   // Whether the code running now is an animation frame callback (BokehJS paints in them).
   let inFrame = false;
   const raf = window.requestAnimationFrame.bind(window);
@@ -86,9 +83,11 @@ JS_PROBE = """([minPoints, settle]) => {
   function painted() {
     if (lat.pending === null) return;
     lat.count += 1;
-    // A paint in a frame callback shows with that frame; a paint in a task, with the next.
-    if (inFrame) rendered();
-    else raf(rendered);
+    // A paint made in a frame callback is in that frame, which the screen shows at the
+    // next vsync: the start of the next frame. A paint made in a task is in the next frame,
+    // shown at the start of the one after.
+    if (inFrame) raf(mark);
+    else raf(() => raf(mark));
   }
   const PlotView = Bokeh.require("models/plots/plot_canvas").PlotView.prototype;
   const paint = PlotView._actual_paint;
