@@ -625,7 +625,7 @@ class PlotSet:
         them back, which costs further messages and repaints."""
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
-        stop = _stop_in_view(d["traj"]["x"], sol)
+        stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
         if "phase" in plots:
             traj, pts = d["traj"], d["points"]
             _set_range(f["phase"].x_range, (traj["x"], pts["x"], stop), PHASE_X_PADDING)

@@ -91,8 +91,6 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
 def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     """The rows as an HTML table (escaped); a cell too long for its line shows in full on
     hover."""
-    body = "".join(
-        f"<tr><th>{html.escape(k)}</th><td title=\"{html.escape(v)}\">{html.escape(v)}</td></tr>"
-        for k, v in readout_rows(sol, scales)
-    )
+    rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
+    body = "".join(f'<tr><th>{k}</th><td title="{v}">{v}</td></tr>' for k, v in rows)
     return f'<table class="fie-readout">{body}</table>'

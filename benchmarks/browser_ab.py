@@ -28,40 +28,22 @@ import browser_latency as bl  # noqa: E402
 ROOT = bl.ROOT
 
 
-def _drag_once(page, i: int) -> float:
-    """One drag and release of the slider; the latency [ms] the probe measured."""
-    handle = page.locator(f".fie-w-{bl.SLIDER} .noUi-handle").first
-    box = handle.bounding_box()
-    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-    dx = bl.DRAG_PX if i % 2 == 0 else -bl.DRAG_PX
-    page.mouse.move(x, y)
-    page.mouse.down()
-    page.mouse.move(x + dx, y, steps=4)
-    page.mouse.up()
-    page.wait_for_function(f"() => window.__lat.painted.length > {i}",
-                           timeout=bl.RELEASE_TIMEOUT_MS)
-    return float(page.evaluate(f"() => window.__lat.painted[{i}]"))
-
-
 def compare(browser, urls: dict[str, str], scene: str, rounds: int) -> dict[str, np.ndarray]:
     """Latencies [ms] of ``rounds`` releases per version, alternating between them."""
     pages = {}
     for key, url in urls.items():
-        page = browser.new_page(viewport={"width": 1600, "height": 2000})
-        page.goto(f"{url}?scene={scene}", timeout=60_000)
-        page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
-                               "Bokeh.documents[0].is_idle", timeout=60_000)
-        page.evaluate(bl.JS_PROBE, [bl.FULL_MIN_POINTS, bl.SETTLE_MS])
-        pages[key] = page
-    lat: dict[str, list[float]] = {key: [] for key in pages}
+        pages[key] = browser.new_page(viewport={"width": 1600, "height": 2000})
+        bl.open_scene(pages[key], url, scene)
     order = list(pages)
     for r in range(rounds):
         for key in (order if r % 2 == 0 else order[::-1]):
             pages[key].bring_to_front()
-            lat[key].append(_drag_once(pages[key], len(lat[key])))
+            bl.drag(pages[key], r)
+    lat = {key: np.asarray(page.evaluate("() => window.__lat.painted"), dtype=float)
+           for key, page in pages.items()}
     for page in pages.values():
         page.close()
-    return {key: np.asarray(v) for key, v in lat.items()}
+    return lat
 
 
 def main() -> None:
@@ -92,9 +74,10 @@ def main() -> None:
                 for scene in args.scenes.split(","):
                     lat = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
                     a, b = lat["A"], lat["B"]
-                    print(f"{scene:>6} {np.median(a):>9.1f} {np.percentile(a, 95):>7.1f} "
-                          f"{np.median(b):>9.1f} {np.percentile(b, 95):>7.1f} "
-                          f"{np.median(a - b):>+12.1f}")
+                    # A release that changed nothing is NaN (browser_latency.drag).
+                    print(f"{scene:>6} {np.nanmedian(a):>9.1f} {np.nanpercentile(a, 95):>7.1f} "
+                          f"{np.nanmedian(b):>9.1f} {np.nanpercentile(b, 95):>7.1f} "
+                          f"{np.nanmedian(a - b):>+12.1f}")
                 browser.close()
         finally:
             for proc in procs:

@@ -128,30 +128,40 @@ def _serve(root: Path = ROOT) -> tuple[subprocess.Popen, str]:
     raise RuntimeError("panel serve did not start")
 
 
-def measure(page, url: str, scene: str, moves: int) -> tuple[np.ndarray, np.ndarray]:
-    """Latencies [ms] of ``moves`` drags of the slider in ``scene``, and the number of
-    figure repaints after each release."""
-    from playwright.sync_api import TimeoutError as PlaywrightTimeout
-
+def open_scene(page, url: str, scene: str) -> None:
+    """Load ``scene`` in ``page``, wait until BokehJS is idle and install the probe."""
     page.goto(f"{url}?scene={scene}", timeout=60_000)
     page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
                            "Bokeh.documents[0].is_idle", timeout=60_000)
     page.evaluate(JS_PROBE, [FULL_MIN_POINTS, SETTLE_MS])
-    handle = page.locator(f".fie-w-{SLIDER} .noUi-handle").first
+
+
+def drag(page, i: int) -> None:
+    """The ``i``-th drag and release of the slider (alternately right and left), then wait
+    for the probe's measurement of it (NaN if the release changed nothing)."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    box = page.locator(f".fie-w-{SLIDER} .noUi-handle").first.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    dx = DRAG_PX if i % 2 == 0 else -DRAG_PX
+    page.mouse.move(x, y)
+    page.mouse.down()
+    page.mouse.move(x + dx, y, steps=4)
+    page.mouse.up()
+    try:
+        page.wait_for_function(f"() => window.__lat.painted.length > {i}",
+                               timeout=RELEASE_TIMEOUT_MS)
+    except PlaywrightTimeout:  # the release changed nothing: count it as missed
+        page.evaluate("() => { window.__lat.painted.push(NaN); "
+                      "window.__lat.paints.push(0); window.__lat.pending = null; }")
+
+
+def measure(page, url: str, scene: str, moves: int) -> tuple[np.ndarray, np.ndarray]:
+    """Latencies [ms] of ``moves`` drags of the slider in ``scene``, and the number of
+    figure repaints after each release."""
+    open_scene(page, url, scene)
     for i in range(moves):
-        box = handle.bounding_box()
-        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-        dx = DRAG_PX if i % 2 == 0 else -DRAG_PX
-        page.mouse.move(x, y)
-        page.mouse.down()
-        page.mouse.move(x + dx, y, steps=4)
-        page.mouse.up()
-        try:
-            page.wait_for_function(f"() => window.__lat.painted.length > {i}",
-                                   timeout=RELEASE_TIMEOUT_MS)
-        except PlaywrightTimeout:  # the release changed nothing: count it as missed
-            page.evaluate("() => { window.__lat.painted.push(NaN); "
-                          "window.__lat.paints.push(0); window.__lat.pending = null; }")
+        drag(page, i)
     lat = page.evaluate("() => window.__lat")
     return np.asarray(lat["painted"], dtype=float), np.asarray(lat["paints"], dtype=float)
 
