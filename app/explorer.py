@@ -18,6 +18,7 @@ from typing import Any
 
 import panel as pn
 import param
+from bokeh.core.properties import validate
 from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
@@ -405,7 +406,7 @@ class Explorer(pn.viewable.Viewer):
     def _draw_preview(self, sol: Solution, commits: int) -> None:
         if commits != self._commits:
             return
-        with pn.io.hold():
+        with pn.io.hold(), validate(False):
             self.plots.update_preview(sol, self.state.scales())
 
     def _on_phase_tap(self, event: Tap) -> None:
@@ -539,7 +540,10 @@ class Explorer(pn.viewable.Viewer):
                 map_data = regime_map(sol.values)
             except Exception:  # noqa: BLE001 - a map that fails leaves the old one
                 log.exception("regime map failed")
-        with pn.io.hold():
+        # The values come from the solver and the plot code, valid by construction: Bokeh's
+        # check of each of the ~100 properties set here is skipped (server time on the
+        # critical path of every release).
+        with pn.io.hold(), validate(False):
             self.plots.update(sol, scales, visible, map_data)
             if "anim" in visible:
                 self.anim.update(sol, scales)

@@ -107,6 +107,8 @@ PHASE_SIZE = (540, 500)
 TIME_SIZE = (540, 215)
 SMALL_SIZE = (540, 300)
 MAP_SIZE = (540, 380)
+#: Tag of the legend stand-ins (:func:`_legend_item`), which draw nothing in the frame.
+LEGEND_PROXY_TAG = "fie-legend-proxy"
 #: Tools of every figure (SaveTool exports the PNG).
 TOOLS = "pan,wheel_zoom,box_zoom,reset,save"
 
@@ -707,7 +709,8 @@ def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> Le
     # One point off the canvas: the legend draws the glyph of a data index.
     source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
     draw = fig.line if glyph == "line" else fig.scatter
-    proxy = draw("x", "y", source=source, **style)
+    # Tagged so that the page skips painting it in the frame (static/bokeh_paint.js).
+    proxy = draw("x", "y", source=source, tags=[LEGEND_PROXY_TAG], **style)
     proxy.on_change("visible", lambda attr, old, new: setattr(renderer, "visible", new))
     return LegendItem(label=label, renderers=[proxy])
 
@@ -759,7 +762,10 @@ def _stop_in_view(x: Any, sol: Solution) -> list[float]:
 def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
     """Show ``arrays`` in ``rng``; the reset tool returns to the same view."""
     start, end = data_bounds(arrays, padding)
-    rng.update(start=start, end=end, reset_start=start, reset_end=end)
+    if (rng.start, rng.end, rng.reset_start, rng.reset_end) != (start, end, start, end):
+        # Setting equal values sends nothing but still costs Bokeh's checks and change
+        # bookkeeping; most ranges of a release (time axes, a fixed map) stay as they are.
+        rng.update(start=start, end=end, reset_start=start, reset_end=end)
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {

@@ -31,6 +31,10 @@ class _Slider(pn.widgets.FloatSlider):
     """
 
     _priority_changes = ["value_throttled"]
+    # Panel counts every widget event as "busy" (for a busy indicator the page does not
+    # have): each count and uncount rewrites pn.state's read-only flags, ~1 ms of server
+    # time per event, several events per drag and one on the release's critical path.
+    _busy__ignore = ["value", "value_throttled"]
 
     def _server_change(self, doc, ref, subpath, attr, old, new) -> None:
         # Panel honours a priority change only when nothing is pending: a release that

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import importlib
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -96,3 +97,43 @@ def test_arrays_travel_inside_the_message(monkeypatch):
     np.testing.assert_array_equal(got["x"], new["x"])
     np.testing.assert_array_equal(got["y"], new["y"])
     assert np.asarray(got["x"]).dtype == np.float32
+
+
+
+def test_lazy_references_encode_like_bokeh():
+    """The serializer that looks references up lazily gives Bokeh's encoding: a model the
+    browser has is a reference, a model new in this message is sent in full, and the new
+    models the message carried are no longer new after it."""
+    from bokeh.core.serialization import Serializer
+    from bokeh.models import Range1d
+
+    def encoded(make_serializer):
+        doc = Document()
+        source = ColumnDataSource({"x": np.zeros(3, dtype=np.float32)})
+        rng = Range1d(0, 1)
+        doc.add_root(source)
+        doc.add_root(rng)
+        doc.models.flush_synced()  # the browser has both
+        events = []
+        doc.on_change(lambda event: events.append(event))
+        source.data = {"x": np.arange(4, dtype=np.float32)}
+        new = ColumnDataSource({"y": [1.0]})
+        rng.tags = [new, source]  # one model new to the browser, one it has
+        serializer = make_serializer(doc)
+        content = serializer.encode(events)
+        doc.models.flush_synced(lambda model: not serializer.has_ref(model))
+        text = repr(content).replace(source.id, "SOURCE").replace(new.id, "NEW")
+        # The two documents' other ids differ: number them in order of appearance.
+        ids = dict.fromkeys(re.findall(r"'(p\d+)'", text))
+        for k, old in enumerate(ids):
+            text = text.replace(f"'{old}'", f"'M{k}'")
+        return text, len(doc.models._new_models)
+
+    bokeh = encoded(lambda doc: Serializer(references=doc.models.synced_references,
+                                           deferred=False))
+    lazy = encoded(lambda doc: connection._SyncedRefSerializer(doc, deferred=False))
+    assert lazy == bokeh
+    text = bokeh[0]
+    assert "{'id': 'SOURCE'}" in text  # the known model as a reference
+    assert "'name': 'ColumnDataSource', 'id': 'NEW', 'attributes'" in text  # new: in full
+    assert bokeh[1] == 0  # sent, so no longer new

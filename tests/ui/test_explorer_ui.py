@@ -97,7 +97,7 @@ def test_slider_drag_repaints(page, shots):
     # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
     assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "marker-mask"]
+        "legend-proxy", "marker-mask"]
     assert page.errors == []
 
 
@@ -116,7 +116,7 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
         finally:
             p.close()
     (on, applied, errors_on), (off, none, errors_off) = seen.values()
-    assert len(applied) >= 6 and none == []
+    assert len(applied) >= 7 and none == []
     assert on.shape == off.shape
     assert np.array_equal(on, off)
     assert errors_on == errors_off == []
