@@ -48,7 +48,6 @@ from app.state import (
     scene_key,
 )
 from app.widgets import TypedSlider
-from core import Oscillator
 
 log = logging.getLogger(__name__)
 
@@ -71,12 +70,19 @@ SLIDERS: Mapping[str, tuple[str, float]] = {
     "mass": ("mass m (kg)", 0.01),
     "stiffness": ("stiffness k (N/m)", 1.0),
 }
-#: SI widgets derived from the state through Oscillator.to_physical / from_physical:
-#: name -> (label, step, key of to_physical()).
+#: SI widgets derived from the state through ExplorerState.physical / from_physical:
+#: name -> (label, step, key of ExplorerState.physical()).
 SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
     "normal_force": ("normal force F_N (N)", 0.1, "normal_force"),
     "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
+    "v0_si": ("initial velocity x'0 (m/s)", 0.001, "v0"),
+    "t_end_si": ("horizon t_end (s)", 0.01, "t_end"),
 }
+#: SI sliders that stand for a dimensionless one in SI mode, and the power of omega that
+#: converts its slider range: x'0 [m/s] = omega x'0, t_end [s] = t_end / omega.
+SI_TWINS: Mapping[str, tuple[str, int]] = {"v0_si": ("v0", 1), "t_end_si": ("t_end", -1)}
+#: Sliders of a length: their label gains "(m)" in SI mode.
+LENGTH_SLIDERS = ("clearance", "limit_overlap", "x0")
 #: Constraints kept by the widgets: the first may not exceed the second.
 CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
 #: Smallest mu_s the slider allows (a zero-width mu_k slider cannot be drawn).
@@ -167,8 +173,14 @@ class Explorer(pn.viewable.Viewer):
         phys = st.physical()
         for name, (label, step, key) in SI_SLIDERS.items():
             value = phys[key]
+            soft, bounds = (0.0, max(SI_SOFT_SPAN * value, step)), (0.0, 1e9)
+            if name in SI_TWINS:
+                twin, power = SI_TWINS[name]
+                scale = phys["omega"] ** power
+                soft = tuple(scale * b for b in st.param[twin].softbounds)
+                bounds = (-1e9 if st.param[twin].bounds[0] < 0 else 0.0, 1e9)
             self.sliders[name] = TypedSlider(
-                label, value, step, (0.0, max(SI_SOFT_SPAN * value, step)), (0.0, 1e9),
+                label, value, step, soft, bounds,
                 on_drag=lambda v, k=key: self._preview_si(k, v),
                 on_commit=lambda v, k=key: self._commit_si({k: v}),
                 width=WIDGET_WIDTH, css_class=f"fie-w-{name}",
@@ -228,7 +240,7 @@ class Explorer(pn.viewable.Viewer):
             pn.pane.HTML("<b>Units</b>", margin=(8, 10, 0, 10)), self.units, self.si_box,
             pn.pane.HTML("<b>Start and horizon</b> (or click the phase portrait)",
                          margin=(8, 10, 0, 10)),
-            w["x0"], w["v0"], w["t_end"],
+            w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
             self.show_all, self.download,
         ]
@@ -371,16 +383,11 @@ class Explorer(pn.viewable.Viewer):
     def _preview_si(self, key: str, value: float) -> None:
         if self._syncing:
             return
-        phys = self.state.physical()
-        phys[key] = value
         try:
-            osc = Oscillator.from_physical(
-                m=phys["m"], k=phys["k"], normal_force=phys["normal_force"],
-                mu_s=self.state.mu_s, mu_k=min(self.state.mu_k, self.state.mu_s),
-                belt_speed=phys["belt_speed"])
+            values = self.state.from_physical(**{key: value})
         except ValueError:
             return
-        self._preview_values({"u_s": osc.u_s, "belt_speed": osc.belt_speed})
+        self._preview_values({k: v for k, v in values.items() if k in SOLVE_PARAMS})
 
     def _preview_values(self, changes: Mapping[str, Any]) -> None:
         values = self._constrained({**self.state.values(), **changes})
@@ -474,7 +481,8 @@ class Explorer(pn.viewable.Viewer):
             for name, (_, step, key) in SI_SLIDERS.items():
                 w, value = self.sliders[name], phys[key]
                 if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
-                    w.set(value, soft_end=max(w.slider.end, SI_SOFT_SPAN * value, step))
+                    grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
+                    w.set(value, soft_end=max(w.slider.end, grow * value, step))
         self.stop_type.value = st.stop_type
         self.units.value = st.units
         self.accuracy.value = st.accuracy
@@ -483,16 +491,17 @@ class Explorer(pn.viewable.Viewer):
         self.scene_select.value = st.scene
         si = st.units == "SI"
         self.si_box.visible = si
+        for name, (twin, _) in SI_TWINS.items():
+            self.sliders[name].visible = si
+            self.sliders[twin].visible = not si
         self.sliders["u_s"].visible = not si
         self.sliders["belt_speed"].visible = not si
         has_stop = st.stop_type != "none"
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
         self.hysteretic_box.visible = st.stop_type == "hysteretic"
-        t_label = SLIDERS["t_end"][0]
-        if si:
-            t_label += f" (= {st.t_end / st.omega:.3g} s)"
-        self.sliders["t_end"].set_label(t_label)
+        for name in LENGTH_SLIDERS:
+            self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
 
     # --- solving and drawing -------------------------------------------------------------
 

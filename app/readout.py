@@ -65,7 +65,8 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                                f"r = {_num(th.restitution)})"))
     if res is not None:
         rows.append(("x_max simulated", _num(res.x_max, len_unit)))
-        rows.append(("Steady state found", res.steady.describe()))
+        rows.append(("Steady state found",
+                     res.steady.describe(scales.time, " s" if scales.si else "")))
         if res.steady.sequence:
             rows.append(("Sequence", " -> ".join(res.steady.sequence)))
         if th is not None and th.regime.expected_steady != res.steady.kind.value:

@@ -3,7 +3,8 @@
 The state holds the dimensionless parameters of the core (SPEC §2) whatever the units shown:
 in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed ``v_dr`` [m/s]
 convert through :meth:`core.Oscillator.from_physical` / :meth:`~core.Oscillator.to_physical`
-with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here too. Lengths (clearance,
+with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here too, and those for the initial
+velocity [m/s] and the horizon [s] through ``omega = sqrt(k/m)``. Lengths (clearance,
 positions) are metres in SI mode and keep their unit otherwise.
 
 Examples
@@ -41,6 +42,9 @@ SOLVE_PARAMS = (
     "k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "x0", "v0", "t_end",
     "accuracy", "method", "program",
 )
+#: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
+#: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s].
+SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end")
 #: Parameters that only change how results are shown.
 VIEW_PARAMS = ("units", "mass", "stiffness", "show_all")
 #: Parameter name -> query-string key of the permalink (short keys keep URLs readable).
@@ -177,36 +181,61 @@ class ExplorerState(param.Parameterized):
         )
 
     def physical(self) -> dict[str, float]:
-        """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s], ...
+        """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s],
+        ``v0`` [m/s], ``t_end`` [s], ...
 
-        Uses :meth:`core.Oscillator.to_physical`.
+        Uses :meth:`core.Oscillator.to_physical`; the initial velocity is ``omega x'0`` and
+        the horizon ``t_end / omega`` (SPEC §2: ``t = omega tau``).
         """
         osc = Oscillator(mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s),
                          belt_speed=self.belt_speed, u_s=self.u_s)
-        return osc.to_physical(m=self.mass, k=self.stiffness)
+        phys = osc.to_physical(m=self.mass, k=self.stiffness)
+        phys["v0"] = self.v0 * phys["omega"]
+        phys["t_end"] = self.t_end / phys["omega"]
+        return phys
+
+    def from_physical(self, **si: float) -> dict[str, float]:
+        """The state values that SI values give (any of :data:`SI_KEYS`); the others keep
+        their SI values. Uses :meth:`core.Oscillator.from_physical`; raises ``ValueError``
+        on bad input. Nothing is set (see :meth:`set_physical`).
+
+        >>> s = ExplorerState(belt_speed=0.1, t_end=60.0)  # m = 1 kg, k = 100 N/m
+        >>> s.physical()["t_end"], s.physical()["belt_speed"]  # omega = 10 rad/s
+        (6.0, 1.0)
+        >>> v = s.from_physical(k=400.0)  # omega = 20 rad/s: the same seconds and m/s
+        >>> v["t_end"], v["belt_speed"]
+        (120.0, 0.05)
+        """
+        unknown = set(si) - set(SI_KEYS)
+        if unknown:
+            raise ValueError(f"unknown SI value(s) {sorted(unknown)}; expected {SI_KEYS}")
+        merged = {key: value for key, value in self.physical().items() if key in SI_KEYS}
+        merged.update(si)
+        osc = Oscillator.from_physical(
+            m=merged["m"], k=merged["k"], normal_force=merged["normal_force"],
+            mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s), belt_speed=merged["belt_speed"],
+        )
+        omega = math.sqrt(merged["k"] / merged["m"])
+        return {"mass": merged["m"], "stiffness": merged["k"], "u_s": osc.u_s,
+                "belt_speed": osc.belt_speed, "v0": merged["v0"] / omega,
+                "t_end": merged["t_end"] * omega}
 
     def set_physical(self, **si: float) -> None:
-        """Set the state from SI values (any of ``m``, ``k``, ``normal_force``,
-        ``belt_speed``); the others keep their SI values. Uses
-        :meth:`core.Oscillator.from_physical`; raises ``ValueError`` on bad input.
+        """Set the state from SI values (see :meth:`from_physical`) in one batch; raises
+        ``ValueError`` on bad input, naming the parameter and its bounds.
 
         >>> s = ExplorerState()
         >>> s.set_physical(m=1.0, k=100.0, normal_force=50.0, belt_speed=0.5)
         >>> round(s.u_s, 12), round(s.belt_speed, 12)
         (0.5, 0.05)
         """
-        current = self.physical()
-        merged = {
-            "m": current["m"], "k": current["k"],
-            "normal_force": current["normal_force"], "belt_speed": current["belt_speed"],
-        }
-        merged.update(si)
-        osc = Oscillator.from_physical(
-            m=merged["m"], k=merged["k"], normal_force=merged["normal_force"],
-            mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s), belt_speed=merged["belt_speed"],
-        )
-        self.param.update(mass=merged["m"], stiffness=merged["k"], u_s=osc.u_s,
-                          belt_speed=osc.belt_speed)
+        values = self.from_physical(**si)
+        for name, value in values.items():
+            low, high = self.param[name].bounds
+            if not low <= value <= high:
+                raise ValueError(
+                    f"{name} = {value:.6g} (from the SI values) must lie in [{low:g}, {high:g}]")
+        self.param.update(**values)
 
     # --- scenes --------------------------------------------------------------------------
 

@@ -100,24 +100,25 @@ class Steady:
     impact_speed: float = math.nan
     t_reached: float = math.nan
 
-    def describe(self) -> str:
-        """One line in words, for the readout."""
+    def describe(self, time_scale: float = 1.0, time_unit: str = "") -> str:
+        """One line in words, for the readout; times are shown multiplied by
+        ``time_scale`` and followed by ``time_unit`` (e.g. ``1/omega`` and ``" s"``)."""
         if self.kind is SteadyKind.PERIODIC:
             seq = " -> ".join(self.sequence)
             return (
-                f"periodic, period {self.period:.6g}, {self.transitions_per_period} "
-                f"transitions per period: {seq}"
+                f"periodic, period {self.period * time_scale:.6g}{time_unit}, "
+                f"{self.transitions_per_period} transitions per period: {seq}"
             )
         if self.kind is SteadyKind.GRAZING:
             return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"
         if self.kind is SteadyKind.REST:
             if math.isnan(self.t_reached):
                 return "rest at the stop, approached asymptotically"
-            return f"rest at the stop (from t = {self.t_reached:.6g})"
+            return f"rest at the stop (from t = {self.t_reached * time_scale:.6g}{time_unit})"
         if self.kind is SteadyKind.EQUILIBRIUM:
             return "equilibrium: the mass stays at rest"
         if self.kind is SteadyKind.PURE_SLIP:
-            return f"pure slip on a circle, period {self.period:.6g}"
+            return f"pure slip on a circle, period {self.period * time_scale:.6g}{time_unit}"
         return "no steady state found within the horizon"
 
 

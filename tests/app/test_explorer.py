@@ -147,6 +147,30 @@ def test_si_units_convert_the_view(ex):
     assert ex.state.u_s == pytest.approx(2.0)
 
 
+def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
+    ex.units.value = "SI"
+    omega = ex.state.omega
+    visible = {name: s.visible for name, s in ex.sliders.items()}
+    assert visible["v0_si"] and visible["t_end_si"]
+    assert not visible["v0"] and not visible["t_end"]
+    assert ex.sliders["t_end_si"].value == pytest.approx(ex.state.t_end / omega)
+    assert "(m)" in ex.sliders["x0"].label.value
+    _release(ex, "t_end_si", 3.0)  # seconds
+    assert ex.state.t_end == pytest.approx(3.0 * omega)
+    _release(ex, "v0_si", -0.2)  # m/s: the dimensionless x'0 is v / omega
+    assert ex.state.v0 == pytest.approx(-0.2 / omega)
+    assert ex.plots.sources["start"].data["v"] == [pytest.approx(-0.2)]
+    t = np.array(ex.plots.sources["traj"].data["t"])
+    assert t[-1] == pytest.approx(3.0, rel=1e-6)  # the time axis ends at 3 s
+    # A horizon the core cannot take is refused with its range, and the picture stays.
+    _release(ex, "t_end_si", 1e6)
+    assert ex.alert.visible and "t_end" in ex.alert.object and "5000" in ex.alert.object
+    assert ex.state.t_end == pytest.approx(3.0 * omega)
+    ex.units.value = "dimensionless"
+    assert ex.sliders["t_end"].visible and not ex.sliders["t_end_si"].visible
+    assert ex.sliders["t_end"].value == pytest.approx(3.0 * omega)
+
+
 def test_csv_export(ex):
     text = ex._csv().getvalue().splitlines()
     assert text[0].startswith("#") and text[1] == "t,x,xdot,mode,contact_force,overlap"

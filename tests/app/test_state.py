@@ -62,6 +62,22 @@ def test_si_conversion_both_ways():
     assert sc.force == 800.0
 
 
+def test_si_start_velocity_and_horizon_both_ways():
+    state = ExplorerState(mass=1.0, stiffness=100.0, v0=0.05, t_end=60.0)  # omega = 10
+    phys = state.physical()
+    assert phys["v0"] == pytest.approx(0.5) and phys["t_end"] == pytest.approx(6.0)
+    state.set_physical(v0=-1.0, t_end=2.5)
+    assert state.v0 == pytest.approx(-0.1) and state.t_end == pytest.approx(25.0)
+    # A new mass keeps the seconds and metres per second (as it keeps F_N and v_dr).
+    state.set_physical(m=4.0)  # omega = 5
+    assert state.t_end == pytest.approx(12.5) and state.v0 == pytest.approx(-0.2)
+    assert state.physical()["t_end"] == pytest.approx(2.5)
+    with pytest.raises(ValueError, match=r"t_end = 5e\+06 .* \[0.1, 5000\]"):
+        state.set_physical(t_end=1e6)
+    with pytest.raises(ValueError, match="unknown SI value"):
+        state.from_physical(x0=1.0)
+
+
 def test_set_physical_rejects_bad_si_input():
     state = ExplorerState()
     with pytest.raises(ValueError, match="m must lie"):

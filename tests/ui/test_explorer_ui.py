@@ -180,3 +180,31 @@ def test_animation_plays_in_the_browser(page, shots):
     assert np.abs(second - first).mean() > 0.1
     assert np.abs(third - second).mean() > 0.1
     assert page.errors == []
+
+
+def test_si_units_take_seconds_and_metres_per_second(browser, server, shots):
+    """In SI mode the horizon is typed in seconds and the start velocity in m/s; the state
+    (and so the permalink) holds their dimensionless values (default m = 1 kg, k = 100 N/m:
+    omega = 10 rad/s)."""
+    p = Page(browser, f"{server}?scene=5b&units=SI")
+    try:
+        seconds = p.page.locator(".fie-w-t_end_si input").first
+        assert seconds.is_visible()
+        assert not p.page.locator(".fie-w-t_end input").first.is_visible()
+        assert "t_end (s)" in p.text(".fie-w-t_end_si")
+        seconds.fill("3")
+        seconds.press("Enter")
+        p.page.wait_for_function("() => location.search.includes('tend=30.0')",
+                                 timeout=30_000)
+        speed = p.page.locator(".fie-w-v0_si input").first
+        speed.fill("0.5")
+        speed.press("Enter")
+        p.page.wait_for_function("() => location.search.includes('v0=0.05')", timeout=30_000)
+        p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
+        p.settle()
+        p.page.screenshot(path=shots / "si-units.png", full_page=True)
+        assert count_color(p.pixels(".fie-plot-phase"), SLIP) > MIN_TRAJECTORY_PIXELS
+        assert not p.page.locator(".fie-alert").first.is_visible()
+        assert p.errors == []
+    finally:
+        p.close()
