@@ -80,6 +80,8 @@ IMPACT_X_TOL = 1e-9
 IMPACT_T_TOL = 1e-12
 #: Points of the full trajectory sent to the browser (a few per pixel of a plot's width).
 MAX_POINTS = 1600
+#: Points of the hysteresis loop sent at most (of many contacts, the latest loops).
+MAX_LOOP_POINTS = 4 * MAX_POINTS
 #: Transition markers drawn at most (the latest ones).
 MAX_MARKERS = 400
 #: Mode bands drawn at most (shorter bands are merged into their neighbours' gaps).
@@ -136,7 +138,9 @@ def _assign(source: ColumnDataSource, cols: Mapping[str, Any]) -> bool:
 
 def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.ndarray:
     """Indices of the samples to draw: a uniform stride plus every mode change and both
-    sides of every jump (samples at equal time, i.e. impacts).
+    sides of every jump (samples at equal time, i.e. impacts). Samples in contact
+    (:attr:`Mode.CONTACT`, short and sampled densely by the core) have a budget of
+    ``max_points`` of their own, so a contact is not thinned to a few chords.
 
     >>> t = np.linspace(0, 1, 11); mode = np.zeros(11, dtype=int); mode[5:] = 1
     >>> decimation_indices(t, mode, 4).tolist()
@@ -147,6 +151,9 @@ def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.n
         return np.arange(n)
     step = int(math.ceil(n / max_points))
     keep = [np.arange(0, n, step), [n - 1]]
+    contact = np.flatnonzero(np.asarray(mode) == int(Mode.CONTACT))
+    if len(contact):
+        keep.append(contact[::int(math.ceil(len(contact) / max_points))])
     change = np.flatnonzero(np.diff(mode) != 0)
     keep += [change, change + 1]
     jump = np.flatnonzero(np.diff(t) <= 0.0)
@@ -315,7 +322,7 @@ def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dic
         d = np.where(inside, ov, np.nan)
         phi = np.where(inside, f, np.nan)
         keep = inside | np.roll(inside, -1) | gap
-        d, phi = d[keep], phi[keep]
+        d, phi = d[keep][-MAX_LOOP_POINTS:], phi[keep][-MAX_LOOP_POINTS:]
     else:
         d = phi = np.zeros(0)
     d_max = float(np.nanmax(d)) if np.isfinite(d).any() else stop.limit_overlap / 2

@@ -126,3 +126,22 @@ def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
     figs = ex.plots.figures
     for rng in (figs["phase"].x_range, figs["time_x"].y_range):
         assert (rng.end > clearance) is shown
+
+
+def test_deformable_contacts_are_drawn_from_the_contact_itself():
+    """Scene 10: the force history and the hysteresis loop reach the solution's peak force,
+    and the loop's chords stay under the compression envelope (within 1 % of the peak: the
+    envelope is convex, so a chord between two samples on it lies above it by a sliver).
+    With only the uniform samples and the transition times a contact is a few chords,
+    which cut up to 6 % of the peak above the envelope."""
+    from app.plots import force_columns, loop_columns
+    from core.hysteresis import phi_compression
+
+    sol = solve(scene_values("10"))
+    peak = float(np.max(sol.result.contact_force))
+    loop, line = loop_columns(sol)["loop"], force_columns(sol)["line"]
+    d, phi = np.asarray(loop["d"], float), np.asarray(loop["phi"], float)
+    assert np.nanmax(phi) >= 0.99 * peak and np.max(line["phi"]) >= 0.99 * peak
+    both = np.isfinite(d[:-1]) & np.isfinite(d[1:])
+    mid_d, mid_phi = (0.5 * (d[:-1] + d[1:]))[both], (0.5 * (phi[:-1] + phi[1:]))[both]
+    assert np.max(mid_phi - phi_compression(mid_d, sol.stop)) < 0.01 * peak

@@ -248,3 +248,24 @@ def test_stored_energy_many_matches_scalar():
         np.testing.assert_allclose(
             stored_energy_many(delta, np.array(phi), stop), ref, rtol=1e-12, atol=1e-18
         )
+
+
+def test_every_contact_is_sampled_densely():
+    """Each contact (a few uniform samples long) gets CONTACT_SAMPLES samples of its own,
+    so the sampled force reaches the contact's peak: compared with a dense evaluation of
+    the same solve (20 000 uniform samples) the sampled peak of every contact is within
+    2 % (32 samples over a half sine-like pulse: the worst sample lies within
+    (pi/33)^2/8 ~ 1.1 % of the crest)."""
+    from core.hysteretic import CONTACT_SAMPLES
+
+    stop = HystereticStop(0.24, **SCENE_STOP)
+    res = simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0, n_samples=1600)
+    dense = simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0, n_samples=20_001)
+    starts = [tr.t for tr in res.transitions if tr.kind is TransitionKind.CONTACT]
+    ends = [tr.t for tr in res.transitions if tr.kind is TransitionKind.SEPARATION]
+    assert len(starts) >= 5 and len(ends) == len(starts)
+    for t0, t1 in zip(starts, ends, strict=True):
+        inside = (res.t > t0) & (res.t < t1)
+        assert inside.sum() >= CONTACT_SAMPLES
+        true_peak = dense.contact_force[(dense.t > t0) & (dense.t < t1)].max()
+        assert res.contact_force[inside].max() >= 0.98 * true_peak
