@@ -23,6 +23,7 @@ from bokeh.models import (
     LabelSet,
     Legend,
     LegendItem,
+    LinearAxis,
     LinearColorMapper,
     Range1d,
     Span,
@@ -64,14 +65,22 @@ TRANSITION_STYLE: Mapping[str, tuple[str, str]] = {
     TransitionKind.REVERSAL.value: ("cross", "#c8102e"),
     TransitionKind.FAILURE.value: ("x", "#000000"),
 }
+#: Legend labels of the transition kinds that differ from the kind's name (a mode is also
+#: called "contact").
+TRANSITION_LABELS: Mapping[str, str] = {
+    TransitionKind.SIGN_CHANGE.value: "sign change",
+    TransitionKind.CONTACT.value: "contact start",
+}
 #: Colours of the regime map's categories (cycled).
 MAP_PALETTE = (
     "#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#d9d9d9", "#9ecae1", "#fdae6b",
     "#a1d99b", "#bcbddc", "#fc9272", "#bdbdbd",
 )
+#: Colour of the force that holds the mass on a rigid stop (and of its axis).
+REST_COLOR = "#6a3d9a"
 #: Colours of the energy terms.
 ENERGY_COLORS: Mapping[str, str] = {
-    "mechanical": "#000000", "belt_input": "#2ca02c", "friction_work": "#1f5fbf",
+    "mechanical": "#000000", "belt_input": "#2ca02c", "friction_heat": "#1f5fbf",
     "stop_loss": "#c8102e", "stop_stored": "#9467bd",
 }
 #: Relative distance from the stop within which a sample pair at equal times is an impact.
@@ -88,6 +97,8 @@ MAX_MARKERS = 400
 MAX_BANDS = 600
 #: Operating points drawn on the friction law.
 MAX_OPERATING_POINTS = 500
+#: Gap [px] between a theory point and its label.
+LABEL_GAP_PX = 6
 #: Vertices of the reference circles (Gamma_0, limit cycle).
 CIRCLE_VERTICES = 181
 #: Samples of the hysteresis envelopes.
@@ -260,7 +271,7 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
     empty = {"x": _f32([]), "v": _f32([])}
     th = sol.theory
     if th is None:
-        return {"gamma0": empty, "cycle": empty, "points": {"x": [], "v": [], "name": []}}
+        return {"gamma0": empty, "cycle": empty, "points": _theory_points({}, math.inf, scales)}
     a, v = sol.osc.a, sol.osc.v
     phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
     gamma0 = {"x": _f32(a + th.gamma0_radius * np.cos(phi)),
@@ -282,28 +293,63 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
         cx = np.r_[cx, np.nan, lc.stick_start[0], lc.stick_end[0]]
         cv = np.r_[cv, np.nan, v, v]
         cycle = {"x": _f32(cx), "v": _f32(cv * scales.velocity)}
-    names = list(th.points)
-    points = {"x": [th.points[n][0] for n in names],
-              "v": [th.points[n][1] * scales.velocity for n in names],
-              "name": [n.removeprefix("P_").replace("_", " ") for n in names]}
-    return {"gamma0": gamma0, "cycle": cycle, "points": points}
+    stop = sol.stop.clearance if sol.stop is not None else math.inf
+    return {"gamma0": gamma0, "cycle": cycle,
+            "points": _theory_points(th.points, stop, scales)}
+
+
+def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
+                   scales: Scales) -> dict:
+    """The theory's points with their labels; points that coincide (a stick segment that
+    ends at the stop: its end is the impact point) are one marker with a joint label, not
+    labels printed over each other. Labels of points on the stop, the right edge of the
+    motion, are written to their left (``align``, ``dx`` [px]) so that they stay in view.
+
+    >>> p = _theory_points({"P_stick_end": (0.25, 0.07), "P_impact_in": (0.25, 0.07 + 1e-15),
+    ...                     "P_stick_start": (0.1, 0.07)}, 0.25, DIMENSIONLESS)
+    >>> p["name"], p["align"]
+    (['stick end = impact in', 'stick start'], ['right', 'left'])
+    """
+    merged: list[tuple[float, float, list[str]]] = []
+    for key, (x, v) in named.items():
+        label = key.removeprefix("P_").replace("_", " ")
+        for mx, mv, labels in merged:
+            if math.isclose(x, mx, rel_tol=1e-9, abs_tol=1e-12) and math.isclose(
+                    v, mv, rel_tol=1e-9, abs_tol=1e-12):
+                labels.append(label)
+                break
+        else:
+            merged.append((x, v, [label]))
+    on_stop = [m[0] >= stop - 1e-9 * max(1.0, abs(stop)) for m in merged]
+    return {"x": [m[0] for m in merged], "v": [m[1] * scales.velocity for m in merged],
+            "name": [" = ".join(m[2]) for m in merged],
+            "align": ["right" if s else "left" for s in on_stop],
+            "dx": [-LABEL_GAP_PX if s else LABEL_GAP_PX for s in on_stop]}
 
 
 def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
-    """Contact force: rigid impulses as stems (``t``, ``j``), deformable ``phi(t)``."""
+    """Contact force: rigid impulses as stems (``t``, ``j``) and, once the mass rests on a
+    rigid stop, the force that holds it there (``rest``: ``k (a - x_bar)``, SPEC §3, on an
+    axis of its own); deformable ``phi(t)``."""
     res, prog = sol.result, sol.program
     stems = {"t": _f32([]), "j": _f32([])}
     line = {"t": _f32([]), "phi": _f32([])}
+    rest = {"t": _f32([]), "f": _f32([])}
     if prog is not None:
         line = {"t": _f32(prog.s), "phi": _f32(prog.force * scales.force)}
-    elif res is not None and sol.values["stop_type"] == "rigid" and len(res.impulses):
-        imp = np.asarray(res.impulses)[-MAX_MARKERS:]
+    elif res is not None and sol.values["stop_type"] == "rigid":
+        imp = np.asarray(res.impulses).reshape(-1, 2)[-MAX_MARKERS:]
         stems = {"t": _f32(imp[:, 0] * scales.time), "j": _f32(imp[:, 1] * scales.impulse)}
+        pressed = np.asarray(res.mode) == int(Mode.CONTACT)
+        if pressed.any():
+            idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+            f = np.where(pressed[idx], np.asarray(res.contact_force)[idx], np.nan)
+            rest = {"t": _f32(res.t[idx] * scales.time), "f": _f32(f * scales.force)}
     elif res is not None and sol.values["stop_type"] == "hysteretic":
         idx = decimation_indices(res.t, res.mode, MAX_POINTS)
         line = {"t": _f32(res.t[idx] * scales.time),
                 "phi": _f32(np.asarray(res.contact_force)[idx] * scales.force)}
-    return {"stems": stems, "line": line}
+    return {"stems": stems, "line": line, "rest": rest}
 
 
 def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -358,15 +404,23 @@ def friction_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str,
 
 
 def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, np.ndarray]:
-    """Cumulative energy terms (per unit ``k``; in SI, joules)."""
+    """Cumulative energy terms (per unit ``k``; in SI, joules), as a budget of what the belt
+    puts in: ``belt_input = (mechanical - mechanical[0]) + friction_heat + stop_loss +
+    stop_stored``, where ``friction_heat = belt_input - friction_work`` is the heat of the
+    sliding contact (``int F u_r dt >= 0``) and ``friction_work`` the work of friction on
+    the mass (:class:`core.Energy`)."""
     res = sol.result
     names = tuple(ENERGY_COLORS)
     if res is None:
         return {"t": _f32([]), **{n: _f32([]) for n in names}}
     idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+    e = res.energy
+    terms = {"mechanical": e.mechanical, "belt_input": e.belt_input,
+             "friction_heat": np.asarray(e.belt_input) - np.asarray(e.friction_work),
+             "stop_loss": e.stop_loss, "stop_stored": e.stop_stored}
     cols = {"t": _f32(res.t[idx] * scales.time)}
     for n in names:
-        cols[n] = _f32(np.asarray(getattr(res.energy, n))[idx] * scales.energy)
+        cols[n] = _f32(np.asarray(terms[n])[idx] * scales.energy)
     return cols
 
 
@@ -438,8 +492,8 @@ class PlotSet:
         # One entry per transition kind, shown while the trajectory has that kind.
         self.kind_items: dict[str, LegendItem] = {}
         for kind, (marker, color) in TRANSITION_STYLE.items():
-            item = _legend_item(fig, r, kind, "scatter", marker=marker, color=color, size=7,
-                                fill_alpha=0.6)
+            item = _legend_item(fig, r, TRANSITION_LABELS.get(kind, kind), "scatter",
+                                marker=marker, color=color, size=7, fill_alpha=0.6)
             item.visible = False
             self.kind_items[kind] = item
             items.append(item)
@@ -447,8 +501,8 @@ class PlotSet:
                  "line_color": "#000000", "line_width": 2}
         r = fig.scatter("x", "v", source=s["points"], **style)
         items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
-        fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset=6,
-                                y_offset=4, text_font_size="10px"))
+        fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
+                                text_align="align", y_offset=4, text_font_size="10px"))
         style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
                  "line_color": "#000000"}
         r = fig.scatter("x", "v", source=s["start"], **style)
@@ -492,6 +546,13 @@ class PlotSet:
                     line_width=1.5)
         fig.scatter("t", "j", source=s["stems"], size=5, color=MODE_COLORS[2])
         fig.line("t", "phi", source=s["force"], line_color=MODE_COLORS[2], line_width=1.5)
+        # The force holding the mass on a rigid stop (a force, not an impulse): own axis.
+        fig.extra_y_ranges = {"rest": Range1d(0.0, 1.0)}
+        self.rest_axis = LinearAxis(y_range_name="rest", axis_label="force at rest",
+                                    axis_label_text_color=REST_COLOR, visible=False)
+        fig.add_layout(self.rest_axis, "right")
+        fig.line("t", "f", source=s["rest"], y_range_name="rest", line_color=REST_COLOR,
+                 line_width=2, line_dash="dashed")
         self.figures["force"] = fig
         self.panes["force"] = fig
 
@@ -526,8 +587,11 @@ class PlotSet:
             r = fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
             items.append(_legend_item(fig, r, name.replace("_", " "), "line",
                                       line_color=color, line_width=1.5))
-        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px",
-                              background_fill_alpha=0.6, click_policy="hide"))
+        # Below the frame, so it never hides a curve.
+        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
+                              label_text_font_size="10px", spacing=4, padding=2, margin=2,
+                              click_policy="hide", glyph_width=14, label_standoff=3),
+                       "below")
         self.figures["energy"] = fig
         self.panes["energy"] = fig
 
@@ -606,6 +670,8 @@ class PlotSet:
             cols = force_columns(sol, scales)
             _assign(s["stems"], cols["stems"])
             _assign(s["force"], cols["line"])
+            _assign(s["rest"], cols["rest"])
+            self.rest_axis.visible = bool(np.isfinite(cols["rest"]["f"]).any())
             self._dirty.discard("force")
         if "loop" in todo:
             cols = loop_columns(sol, scales)
@@ -645,8 +711,11 @@ class PlotSet:
             _set_range(f["time_x"].y_range, (traj["x"], stop), RANGE_PADDING)
             _set_range(f["time_v"].y_range, (traj["v"],), RANGE_PADDING)
         if "force" in plots:
-            _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"]), RANGE_PADDING)
+            _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"], d["rest"]["t"]),
+                       RANGE_PADDING)
             _set_range(f["force"].y_range, ((0.0,), d["stems"]["j"], d["force"]["phi"]),
+                       RANGE_PADDING)
+            _set_range(f["force"].extra_y_ranges["rest"], ((0.0,), d["rest"]["f"]),
                        RANGE_PADDING)
         if "loop" in plots:
             _set_range(f["loop"].x_range, (d["loop"]["d"], d["comp"]["d"], d["exp"]["d"]),
@@ -682,12 +751,15 @@ class PlotSet:
         f["friction"].yaxis.axis_label = scales.friction_label
         program = sol.program is not None
         f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
-        f["force"].yaxis.axis_label = (scales.impulse_label
-                                       if sol.values["stop_type"] == "rigid"
-                                       else scales.force_label)
+        f["force"].left[0].axis_label = (scales.impulse_label
+                                         if sol.values["stop_type"] == "rigid"
+                                         else scales.force_label)
+        self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
         f["loop"].yaxis.axis_label = scales.force_label
+        f["loop"].xaxis.axis_label = "overlap x - x_bar" + (" (m)" if scales.si else "")
         f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
                                      else "belt speed v")
+        f["map"].yaxis.axis_label = "clearance x_bar" + (" (m)" if scales.si else "")
 
     def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
         v_hi = data["v_hi"] * scales.velocity
@@ -782,10 +854,11 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
-    "points": {"x": [], "v": [], "name": []},
+    "points": {"x": [], "v": [], "name": [], "align": [], "dx": []},
     "start": {"x": [], "v": []},
     "stems": {"t": [], "j": []},
     "force": {"t": [], "phi": []},
+    "rest": {"t": [], "f": []},
     "loop": {"d": [], "phi": []},
     "comp": {"d": [], "phi": []},
     "exp": {"d": [], "phi": []},

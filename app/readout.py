@@ -13,12 +13,10 @@ import numpy as np
 
 from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
-from core import Status
+from core import Mode, Status
 
 #: Significant digits of the numbers shown.
 DIGITS = 4
-#: Contacts whose measured restitution is averaged (the latest ones).
-RESTITUTION_CONTACTS = 5
 
 
 def _num(x: float, unit: str = "") -> str:
@@ -60,23 +58,32 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                              f"v* = {_num(th.critical_speed * scales.velocity, vel_unit)} "
                              "(critical speed, Eq. 25)"))
         rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
-        if sol.stop is not None and th.restitution < 1.0:
+        if sol.stop is not None and th.restitution < 1.0 and not th.fast:
             rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
                                f"r = {_num(th.restitution)})"))
     if res is not None:
         rows.append(("x_max simulated", _num(res.x_max, len_unit)))
         rows.append(("Steady state found",
                      res.steady.describe(scales.time, " s" if scales.si else "")))
+        pressed = np.asarray(res.mode) == int(Mode.CONTACT)
+        if sol.values["stop_type"] == "rigid" and pressed.any():
+            force = float(np.asarray(res.contact_force)[pressed][-1]) * scales.force
+            rows.append(("Force on the stop", f"{_num(force, ' N' if scales.si else '')}"
+                         f"{'' if scales.si else ' (per unit k)'} = k (a - x_bar): the belt "
+                         "holds the mass on the stop"))
         if res.steady.sequence:
             rows.append(("Sequence", " -> ".join(res.steady.sequence)))
         if th is not None and th.regime.expected_steady != res.steady.kind.value:
             rows.append(("Theory expects", f"{th.regime.expected_steady} (for the "
                                            "equivalent rigid stop, natural path)"))
-        measured = sol.restitution_measured[-RESTITUTION_CONTACTS:]
+        measured = sol.restitution_measured
         if len(measured):
-            rows.append(("Restitution measured", f"{_num(float(np.mean(measured)))} over the "
-                         f"last {len(measured)} contacts (r_eq = sqrt(k_e0/k_c0) = "
-                         f"{_num(th.restitution) if th is not None else '—'})"))
+            r_eq = _num(th.restitution) if th is not None else "—"
+            spread = (f"{_num(measured[0])} at the first contact, {_num(measured[-1])} at the "
+                      f"last of {len(measured)}" if len(measured) > 1
+                      else f"{_num(measured[0])} (one contact)")
+            rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
+                         "holds only for beta * overlap / D >> 1"))
         if res.status is not Status.SUCCESS:
             rows.append(("Status", res.status.message))
         if res.truncated:

@@ -107,7 +107,8 @@ class Steady:
             seq = " -> ".join(self.sequence)
             return (
                 f"periodic, period {self.period * time_scale:.6g}{time_unit}, "
-                f"{self.transitions_per_period} transitions per period: {seq}"
+                f"{self.transitions_per_period} "
+                f"transition{'' if self.transitions_per_period == 1 else 's'} per period: {seq}"
             )
         if self.kind is SteadyKind.GRAZING:
             return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"

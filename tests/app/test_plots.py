@@ -145,3 +145,18 @@ def test_deformable_contacts_are_drawn_from_the_contact_itself():
     both = np.isfinite(d[:-1]) & np.isfinite(d[1:])
     mid_d, mid_phi = (0.5 * (d[:-1] + d[1:]))[both], (0.5 * (phi[:-1] + phi[1:]))[both]
     assert np.max(mid_phi - phi_compression(mid_d, sol.stop)) < 0.01 * peak
+
+
+@pytest.mark.parametrize("key", ["5b", "7c", "10"])
+def test_energy_plot_is_a_budget_of_the_belt_input(key):
+    """What the belt puts in is the change of mechanical energy plus the friction heat plus
+    what the stop took: the plotted columns close the budget (float32 columns: 1e-5 of the
+    belt input), and the heat of a sliding contact never decreases."""
+    from app.plots import energy_columns
+
+    cols = {k: np.asarray(v, float) for k, v in energy_columns(solve(scene_values(key))).items()}
+    budget = (cols["mechanical"] - cols["mechanical"][0] + cols["friction_heat"]
+              + cols["stop_loss"] + cols["stop_stored"])
+    np.testing.assert_allclose(budget, cols["belt_input"],
+                               atol=1e-5 * np.abs(cols["belt_input"]).max())
+    assert np.all(np.diff(cols["friction_heat"]) >= -1e-6 * cols["friction_heat"].max())

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from app.readout import readout_rows
 from app.solver import solve
 from app.state import DIMENSIONLESS, ExplorerState, scene_values
@@ -16,3 +18,35 @@ def test_the_period_is_in_the_units_shown():
     rows = dict(readout_rows(sol, si))
     assert rows["Steady state found"].startswith(f"periodic, period {period / 20.0:.6g} s, ")
     assert rows["x_max simulated"].endswith(" m")
+
+
+def test_the_force_holding_the_mass_on_a_rigid_stop_is_shown():
+    """Scenes 6b and 7d end at rest on the stop, pressed by k (a - x_bar) (SPEC §3): the
+    readout says so, and the force plot draws it from the accumulation time on."""
+    from app.plots import force_columns
+
+    for key in ("6b", "7d"):
+        sol = solve(scene_values(key))
+        expected = sol.osc.a - sol.stop.clearance
+        assert expected > 0
+        row = dict(readout_rows(sol))["Force on the stop"]
+        assert row.startswith(f"{expected:.4g} (per unit k)")
+        rest = force_columns(sol)["rest"]
+        held = np.isfinite(rest["f"])
+        # float32 columns: 1e-6 relative.
+        np.testing.assert_allclose(rest["f"][held], expected, rtol=1e-6)
+        t_rest = sol.result.steady.t_reached
+        assert rest["t"][held][0] >= t_rest * (1 - 1e-6)
+    assert "Force on the stop" not in dict(readout_rows(solve(scene_values("5b"))))
+
+
+def test_the_restitution_of_deformable_contacts_is_shown_first_to_last():
+    """Scene 10: the contacts shrink and grow more elastic (SPEC §4): the readout gives the
+    first and the last contact's measured restitution, not a mean that hides the spread."""
+    sol = solve(scene_values("10"))
+    measured = sol.restitution_measured
+    assert len(measured) > 3 and measured[-1] > measured[0] + 0.3
+    row = dict(readout_rows(sol))["Restitution"]
+    assert row.startswith(f"{measured[0]:.4g} at the first contact, {measured[-1]:.4g} at the "
+                          f"last of {len(measured)}")
+    assert "0.3" in row  # r_eq = sqrt(36 / 400)
