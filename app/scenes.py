@@ -173,9 +173,10 @@ _HYST = {
 _SCENE_LIST = (
     _scene(
         "2b", "Fig. 2b: cyclic behaviour of the hysteretic stop",
-        "A sinusoidal overlap program of decreasing amplitude: each unloading leaves the "
-        "compression envelope and heads for the expansion envelope; the loop area is the "
-        "energy lost.",
+        "A sinusoidal overlap program of decreasing amplitude with the paper's k_c0 = 2 k_e0 "
+        "and beta = 5: each unloading, kept under the compression envelope, mostly follows "
+        "it and the loop is thin; raise beta_e (to 50, say) to see it head for the expansion "
+        "envelope. The loop area is the energy lost.",
         {"stop_type": "hysteretic", "program": True, "belt_speed": V_SLOW_INELASTIC,
          "clearance": 0.24, "k_c0": 400.0, "k_e0": 200.0, "limit_overlap": 0.02,
          "beta_c": 5.0, "beta_e": 5.0},

@@ -92,3 +92,15 @@ def test_fig11_mass_stays_pressed_on_the_stop():
     target = sol.osc.a - sol.stop.clearance  # k (a - x_bar), per unit k
     assert res.contact_force[-1] == pytest.approx(target, rel=0.05)
     assert res.steady.kind is not SteadyKind.NONE
+
+
+def test_fig2b_caption_holds_a_thin_loop_that_opens_with_beta_e():
+    """Scene 2b's caption: with the paper's beta = 5 the loop is thin, and raising beta_e
+    to 50 makes it head for the expansion envelope (measured: 8x the area)."""
+
+    def area(beta_e: float) -> float:
+        program = solve(scene_values("2b", beta_e=beta_e)).program
+        return float(np.trapezoid(program.force, program.overlap))
+
+    assert "raise beta_e" in SCENES["2b"].caption
+    assert area(50.0) > 5.0 * area(5.0) > 0.0
