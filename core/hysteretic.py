@@ -141,9 +141,9 @@ STEADY_TAIL = 64
 #: ~pi/sqrt(k_c0), a few uniform samples at most, and a force history or hysteresis loop
 #: drawn through so few is a polygon of chords that cuts above the compression envelope
 #: and misses the peak force.
-CONTACT_SAMPLES = 32
+CONTACT_SAMPLES = 16
 #: At most this many such samples in all (of a long horizon's many contacts, the latest).
-MAX_CONTACT_SAMPLES = 40_000
+MAX_CONTACT_SAMPLES = 4_000
 
 #: Semi-analytic arcs: the G7 and K15 estimates of an arc's duration must agree to this
 #: fraction of it (K15 is then good to ~1e-10 relative: its error falls like the square of

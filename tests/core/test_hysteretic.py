@@ -254,8 +254,8 @@ def test_every_contact_is_sampled_densely():
     """Each contact (a few uniform samples long) gets CONTACT_SAMPLES samples of its own,
     so the sampled force reaches the contact's peak: compared with a dense evaluation of
     the same solve (20 000 uniform samples) the sampled peak of every contact is within
-    2 % (32 samples over a half sine-like pulse: the worst sample lies within
-    (pi/33)^2/8 ~ 1.1 % of the crest)."""
+    2 % (CONTACT_SAMPLES = 16 evenly spaced samples over a half-sine-like pulse: the
+    nearest lies within pi / 34 of the crest, 1 - cos(pi / 34) ~ 0.43 % below it)."""
     from core.hysteretic import CONTACT_SAMPLES
 
     stop = HystereticStop(0.24, **SCENE_STOP)
