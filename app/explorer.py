@@ -543,12 +543,7 @@ class Explorer(pn.viewable.Viewer):
         st = self.state
         scales = st.scales()
         visible = self.visible_plots()
-        map_data = None
-        if "map" in visible:
-            try:
-                map_data = regime_map(sol.values)
-            except Exception:  # noqa: BLE001 - a map that fails leaves the old one
-                log.exception("regime map failed")
+        map_data = regime_map(sol.values, compute=False) if "map" in visible else None
         # The values come from the solver and the plot code, valid by construction: Bokeh's
         # check of each of the ~100 properties set here is skipped (server time on the
         # critical path of every release).
@@ -563,6 +558,25 @@ class Explorer(pn.viewable.Viewer):
             for name, pane in self.plot_panes.items():
                 pane.visible = name in visible
             self.alert.visible = False
+        if "map" in visible and map_data is None:
+            # A new map (friction, stop or start changed) takes ~80 ms: the rest of the
+            # picture is sent first, the map follows.
+            self._later(lambda: self._draw_map(sol), 0)
+
+    def _draw_map(self, sol: Solution) -> None:
+        """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
+        if sol is not self.solution:
+            return
+        try:
+            data = regime_map(sol.values)
+        except Exception:  # noqa: BLE001 - a map that fails leaves the old one
+            log.exception("regime map failed")
+            return
+        if sol is not self.solution or "map" not in self.visible_plots():
+            return
+        with pn.io.hold(), validate(False):
+            self.plots.show_map(data)
+            self.map_legend.object = _map_legend(data["labels"])
 
     def _caption_html(self) -> str:
         scene = SCENES.get(self.state.scene)

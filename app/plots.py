@@ -693,6 +693,13 @@ class PlotSet:
         self._set_labels(sol, scales)
         self._set_ranges(todo, sol)
 
+    def show_map(self, map_data: Mapping[str, Any]) -> None:
+        """Draw the regime map of the last solution, computed after the rest of its update
+        was sent (:meth:`app.explorer.Explorer._draw`); call under ``pn.io.hold``."""
+        if self._last is not None:
+            self._set_map(self._last, self._scales, map_data)
+            self._dirty.discard("map")
+
     def _set_ranges(self, plots: set[str] | frozenset[str], sol: Solution) -> None:
         """Axis ranges of the ``plots`` from the data just assigned (call in the same
         ``pn.io.hold``): computed on the server and sent with the data, so the browser

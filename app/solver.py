@@ -17,6 +17,7 @@ import importlib.util
 import math
 import threading
 import time
+from collections import OrderedDict
 from collections.abc import Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import TimeoutError as FutureTimeout
@@ -82,6 +83,10 @@ SOLVE_WORKERS = 2
 CACHE_ITEMS = 256
 #: Grid of the regime map: cells along belt speed and clearance.
 MAP_CELLS = 64
+#: Regime maps kept, least recently used first out (shared by the server's sessions).
+MAP_CACHE_ITEMS = 32
+_MAP_CACHE: OrderedDict[tuple, dict[str, Any]] = OrderedDict()
+_MAP_LOCK = threading.Lock()
 #: Periods of the overlap program of paper Fig. 2b, and samples per period.
 PROGRAM_PERIODS = 4
 PROGRAM_SAMPLES_PER_PERIOD = 200
@@ -336,9 +341,13 @@ def overlap_program(stop: HystereticStop) -> Program:
     return Program(s=s, overlap=delta, force=force)
 
 
-def regime_map(values: Mapping[str, Any]) -> dict[str, Any]:
+def regime_map(values: Mapping[str, Any], *, compute: bool = True) -> dict[str, Any] | None:
     """Regime codes over a (belt speed, clearance) grid for the current friction, stop and
-    start (:func:`core.theory.classify`); cached on what the map depends on."""
+    start (:func:`core.theory.classify`); cached on what the map depends on.
+
+    A map takes ~80 ms (:data:`MAP_CELLS` squared classifications); with ``compute=False``
+    only a cached one is returned, else ``None`` (the page then draws the rest first).
+    """
     key = tuple(
         (name, values[name])
         for name in ("mu_s", "mu_k", "u_s", "stop_type", "restitution", "k_c0", "k_e0",
@@ -346,7 +355,18 @@ def regime_map(values: Mapping[str, Any]) -> dict[str, Any]:
     )
     v_hi, x_lo, x_hi = map_ranges(values)
     key += (("v_hi", v_hi), ("x_lo", x_lo), ("x_hi", x_hi))
-    return _regime_map_cached(key)
+    with _MAP_LOCK:
+        data = _MAP_CACHE.get(key)
+        if data is not None:
+            _MAP_CACHE.move_to_end(key)
+    if data is not None or not compute:
+        return data
+    data = _compute_regime_map(key)
+    with _MAP_LOCK:
+        _MAP_CACHE[key] = data
+        while len(_MAP_CACHE) > MAP_CACHE_ITEMS:
+            _MAP_CACHE.popitem(last=False)
+    return data
 
 
 def map_ranges(values: Mapping[str, Any]) -> tuple[float, float, float]:
@@ -375,8 +395,7 @@ def _nice(x: float) -> float:
     return 10.0 ** (exp + 1)
 
 
-@pn.cache(max_items=32, policy="lru")
-def _regime_map_cached(key: tuple) -> dict[str, Any]:
+def _compute_regime_map(key: tuple) -> dict[str, Any]:
     values = dict(key)
     v_hi, x_lo, x_hi = values["v_hi"], values["x_lo"], values["x_hi"]
     speeds = (np.arange(MAP_CELLS) + 0.5) * v_hi / MAP_CELLS

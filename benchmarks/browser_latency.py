@@ -8,7 +8,8 @@ trajectory has arrived; a preview has fewer points, see ``app.solver``).
 Prints the median and 95th percentile per scene against the targets of issue 4, and how
 many figure repaints a release cost.
 
-Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b,11]``
+Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b,11]
+[--slider mu_s]``
 """
 
 from __future__ import annotations
@@ -36,7 +37,8 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
 #: p95 targets [ms] by stop type (issue 4).
 TARGETS_MS = {"rigid": 100.0, "hysteretic": 250.0, "none": 100.0}
-#: Slider dragged in each scene and the drag distance [px] (alternating left and right).
+#: Slider dragged in each scene (``--slider``) and the drag distance [px] (alternating left
+#: and right).
 SLIDER = "clearance"
 DRAG_PX = 12
 #: A trajectory with more points than this is a full solve, not a preview.
@@ -136,12 +138,12 @@ def open_scene(page, url: str, scene: str) -> None:
     page.evaluate(JS_PROBE, [FULL_MIN_POINTS, SETTLE_MS])
 
 
-def drag(page, i: int) -> None:
+def drag(page, i: int, slider: str = SLIDER) -> None:
     """The ``i``-th drag and release of the slider (alternately right and left), then wait
     for the probe's measurement of it (NaN if the release changed nothing)."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
-    box = page.locator(f".fie-w-{SLIDER} .noUi-handle").first.bounding_box()
+    box = page.locator(f".fie-w-{slider} .noUi-handle").first.bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
     dx = DRAG_PX if i % 2 == 0 else -DRAG_PX
     page.mouse.move(x, y)
@@ -156,12 +158,13 @@ def drag(page, i: int) -> None:
                       "window.__lat.paints.push(0); window.__lat.pending = null; }")
 
 
-def measure(page, url: str, scene: str, moves: int) -> tuple[np.ndarray, np.ndarray]:
-    """Latencies [ms] of ``moves`` drags of the slider in ``scene``, and the number of
+def measure(page, url: str, scene: str, moves: int,
+            slider: str = SLIDER) -> tuple[np.ndarray, np.ndarray]:
+    """Latencies [ms] of ``moves`` drags of ``slider`` in ``scene``, and the number of
     figure repaints after each release."""
     open_scene(page, url, scene)
     for i in range(moves):
-        drag(page, i)
+        drag(page, i, slider)
     lat = page.evaluate("() => window.__lat")
     return np.asarray(lat["painted"], dtype=float), np.asarray(lat["paints"], dtype=float)
 
@@ -170,6 +173,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--moves", type=int, default=40)
     parser.add_argument("--scenes", default="5b,7c,10,11")
+    parser.add_argument("--slider", default=SLIDER,
+                        help="state parameter whose slider is dragged (default: clearance)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -182,7 +187,7 @@ def main() -> None:
                   f"{'target':>7}  ok")
             for scene in args.scenes.split(","):
                 stop = SCENES[scene].values["stop_type"]
-                lat, paints = measure(page, url, scene, args.moves)
+                lat, paints = measure(page, url, scene, args.moves, args.slider)
                 missed = int(np.isnan(lat).sum())
                 lat = lat[~np.isnan(lat)]
                 med, p95 = np.median(lat), np.percentile(lat, 95)

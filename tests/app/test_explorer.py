@@ -252,3 +252,28 @@ def test_regime_map_of_a_hysteretic_scene(ex):
     image = ex.plots.sources["map"].data["image"]
     assert len(image) == 1 and np.asarray(image[0]).shape == (64, 64)
     assert "inelastic" in ex.map_legend.object
+
+
+def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
+    """A change of friction needs a new map (~80 ms): the trajectory is drawn first and the
+    map in a later callback of the session's loop; a map already computed comes at once."""
+    from app.solver import regime_map
+
+    deferred = []
+    ex._later = lambda fn, delay_ms: deferred.append(fn)
+
+    def map_callbacks():
+        return [fn for fn in deferred if "_draw." in fn.__qualname__]
+
+    old_image = ex.plots.sources["map"].data["image"]
+    _release(ex, "mu_s", 0.337)
+    assert ex.state.mu_s == 0.337 and ex.solution.values["mu_s"] == 0.337
+    assert regime_map(ex.state.values(), compute=False) is None
+    assert ex.plots.sources["map"].data["image"] is old_image  # not yet
+    [draw_map] = map_callbacks()
+    draw_map()
+    assert ex.plots.sources["map"].data["image"] is not old_image
+    assert regime_map(ex.state.values(), compute=False) is not None
+    deferred.clear()
+    _release(ex, "clearance", ex.state.clearance + 0.01)  # the same map, cached
+    assert map_callbacks() == []
