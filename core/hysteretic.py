@@ -137,13 +137,14 @@ EVENT_HALVINGS = 60
 REST_AMPLITUDE_RTOL = 1e-7
 #: Transitions inspected for the asymptotic steady state when no fixed point is found.
 STEADY_TAIL = 64
-#: Samples added inside each contact phase besides the uniform grid: a contact lasts
-#: ~pi/sqrt(k_c0), a few uniform samples at most, and a force history or hysteresis loop
-#: drawn through so few is a polygon of chords that cuts above the compression envelope
-#: and misses the peak force.
+#: Samples added on each branch of a contact (from its start, a reversal of the overlap
+#: rate or its end to the next) besides the uniform grid: a contact lasts ~pi/sqrt(k_c0),
+#: a few uniform samples at most, and a force history or hysteresis loop drawn through so
+#: few is a polygon of chords that cuts above the compression envelope.
 CONTACT_SAMPLES = 16
-#: At most this many such samples in all (of a long horizon's many contacts, the latest).
-MAX_CONTACT_SAMPLES = 4_000
+#: Branches sampled so at the start and at the end of a response (a mass that rattles on
+#: the stop has thousands; the first loops are the large ones, the last the steady ones).
+CONTACT_SAMPLED_BRANCHES = 16
 
 #: Semi-analytic arcs: the G7 and K15 estimates of an arc's duration must agree to this
 #: fraction of it (K15 is then good to ~1e-10 relative: its error falls like the square of
@@ -1048,11 +1049,14 @@ def _last_time(sv: _Solver) -> float:
 
 
 def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
-    """:data:`CONTACT_SAMPLES` times inside each contact phase, the contacts of a detected
-    cycle's continuation included; at most :data:`MAX_CONTACT_SAMPLES` (the latest)."""
-    starts = [e[0] for e in sv.timeline] + [t_stop]
-    spans = [(starts[i], starts[i + 1]) for i, e in enumerate(sv.timeline)
-             if e[1] == 1 and starts[i + 1] > starts[i]]
+    """:data:`CONTACT_SAMPLES` times on each branch of the first and the last
+    :data:`CONTACT_SAMPLED_BRANCHES` contact branches, a detected cycle's continuation
+    included."""
+    kinds = (TransitionKind.CONTACT, TransitionKind.REVERSAL, TransitionKind.SEPARATION)
+    marks = [(tr.t, tr.kind) for tr in sv.log.stored if tr.kind in kinds and tr.t <= t_stop]
+    marks.append((t_stop, TransitionKind.SEPARATION))
+    spans = [(t0, t1) for (t0, k0), (t1, _) in zip(marks[:-1], marks[1:], strict=True)
+             if k0 is not TransitionKind.SEPARATION and t1 > t0]
     if spans and sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
         t_then, t_now = sv.tail_start
         period = t_now - t_then
@@ -1060,7 +1064,8 @@ def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
         repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
         spans += [(a + k * period, b + k * period)
                   for k in range(1, repeats + 1) for a, b in cycle if a + k * period < t_end]
-    spans = spans[-(MAX_CONTACT_SAMPLES // CONTACT_SAMPLES):]
+    if len(spans) > 2 * CONTACT_SAMPLED_BRANCHES:
+        spans = spans[:CONTACT_SAMPLED_BRANCHES] + spans[-CONTACT_SAMPLED_BRANCHES:]
     if not spans:
         return np.zeros(0)
     a, b = np.array(spans).T

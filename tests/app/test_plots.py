@@ -128,8 +128,9 @@ def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
         assert (rng.end > clearance) is shown
 
 
-def test_deformable_contacts_are_drawn_from_the_contact_itself():
-    """Scene 10: the force history and the hysteresis loop reach the solution's peak force,
+@pytest.mark.parametrize("key", ["10", "11"])
+def test_deformable_contacts_are_drawn_from_the_contact_itself(key):
+    """Scenes 10 and 11: the force history and the hysteresis loop reach the solution's peak force,
     and the loop's chords stay under the compression envelope (within 1 % of the peak: the
     envelope is convex, so a chord between two samples on it lies above it by a sliver).
     With only the uniform samples and the transition times a contact is a few chords,
@@ -137,7 +138,7 @@ def test_deformable_contacts_are_drawn_from_the_contact_itself():
     from app.plots import force_columns, loop_columns
     from core.hysteresis import phi_compression
 
-    sol = solve(scene_values("10"))
+    sol = solve(scene_values(key))
     peak = float(np.max(sol.result.contact_force))
     loop, line = loop_columns(sol)["loop"], force_columns(sol)["line"]
     d, phi = np.asarray(loop["d"], float), np.asarray(loop["phi"], float)
