@@ -572,7 +572,7 @@ class Explorer(pn.viewable.Viewer):
         except Exception:  # noqa: BLE001 - a map that fails leaves the old one
             log.exception("regime map failed")
             return
-        if sol is not self.solution or "map" not in self.visible_plots():
+        if "map" not in self.visible_plots():
             return
         with pn.io.hold(), validate(False):
             self.plots.show_map(data)
