@@ -168,7 +168,8 @@ class Explorer(pn.viewable.Viewer):
             self.sliders[name] = TypedSlider(
                 label, getattr(st, name), step, soft, bounds,
                 on_drag=lambda v, n=name: self._preview(n, v), on_commit=on_commit,
-                width=WIDGET_WIDTH, css_class=f"fie-w-{name}",
+                on_release=self._release_arrived, width=WIDGET_WIDTH,
+                css_class=f"fie-w-{name}",
             )
         phys = st.physical()
         for name, (label, step, key) in SI_SLIDERS.items():
@@ -183,7 +184,8 @@ class Explorer(pn.viewable.Viewer):
                 label, value, step, soft, bounds,
                 on_drag=lambda v, k=key: self._preview_si(k, v),
                 on_commit=lambda v, k=key: self._commit_si({k: v}),
-                width=WIDGET_WIDTH, css_class=f"fie-w-{name}",
+                on_release=self._release_arrived, width=WIDGET_WIDTH,
+                css_class=f"fie-w-{name}",
             )
         self.scene_select = pn.widgets.Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
@@ -373,6 +375,12 @@ class Explorer(pn.viewable.Viewer):
                 self.state.scene = CUSTOM
         except ValueError as exc:
             self._show_error(str(exc))
+
+    def _release_arrived(self) -> None:
+        """A slider's release has arrived and will be committed: a preview whose drawing is
+        still pending is stale (it would delay the release's full picture on the server,
+        and its message the browser's work on it)."""
+        self._commits += 1
 
     def _preview(self, name: str, value: float) -> None:
         """While dragging: a draft solve of the trajectory only."""

@@ -36,7 +36,12 @@ class _Slider(pn.widgets.FloatSlider):
     # time per event, several events per drag and one on the release's critical path.
     _busy__ignore = ["value", "value_throttled"]
 
+    #: Called as soon as a release arrives from the browser, before Panel processes it.
+    on_release: Callable[[], None] | None = None
+
     def _server_change(self, doc, ref, subpath, attr, old, new) -> None:
+        if attr == "value_throttled" and self.on_release is not None:
+            self.on_release()
         # Panel honours a priority change only when nothing is pending: a release that
         # arrives while the drag's last value waits out its debounce would wait too (up to
         # 50 ms). Process the pending changes with the release now; the debounce callback
@@ -70,6 +75,9 @@ class TypedSlider:
         Called with each value while the slider is dragged.
     on_commit : callable(float)
         Called with the final value: slider released, or a number typed.
+    on_release : callable(), optional
+        Called when a release arrives from the browser, before its value is processed
+        (a drag's preview still waiting to be drawn is stale from then on).
     width : int
         Width in pixels.
     css_class : str
@@ -78,7 +86,8 @@ class TypedSlider:
 
     def __init__(self, label: str, value: float, step: float, soft: tuple[float, float],
                  bounds: tuple[float, float], on_drag: Callable[[float], None],
-                 on_commit: Callable[[float], None], width: int, css_class: str) -> None:
+                 on_commit: Callable[[float], None], width: int, css_class: str,
+                 on_release: Callable[[], None] | None = None) -> None:
         self.step = step
         self.bounds = bounds
         self._on_drag, self._on_commit = on_drag, on_commit
@@ -95,6 +104,7 @@ class TypedSlider:
             value=value, start=start, end=end, step=step, show_value=False,
             width=width - 20, margin=(0, 10, 4, 10), css_classes=["fie-slider"],
         )
+        self.slider.on_release = on_release
         self.slider.param.watch(self._moved, ["value", "value_throttled"])
         self.input.param.watch(self._typed, "value")
         self.layout = pn.Column(

@@ -97,6 +97,38 @@ def test_drag_previews_without_committing(ex):
     assert ex.state.belt_speed == 0.15 and len(_traj(ex)["x"]) >= n_full
 
 
+def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypatch):
+    """A drag's preview is drawn a moment after it is solved. A release read from the
+    browser before that moment, even if Panel has not processed it yet, makes the preview
+    stale: drawing it would only delay the release's full picture."""
+    from bokeh.document import Document
+
+    deferred = []
+    ex._later = lambda fn, delay_ms: deferred.append(fn)
+    slider = ex.sliders["belt_speed"].slider
+    before = _traj(ex)
+    slider.value = 0.15  # a drag step: the preview is solved, its drawing deferred
+    [draw_preview] = deferred
+    # The release as Panel receives it from the browser; its processing waits for a later
+    # turn of the event loop.
+    pending = []
+    monkeypatch.setattr(slider, "_change_event", pending.append)
+    slider._server_change(Document(), "ref", None, "value_throttled", 0.1, 0.15)
+    draw_preview()  # the preview's moment comes first: it is not drawn
+    for key, col in _traj(ex).items():
+        np.testing.assert_array_equal(col, before[key])
+    monkeypatch.undo()
+    slider._change_event(pending[0])  # the release's turn: committed, full picture
+    assert ex.state.belt_speed == 0.15 and ex.solution.values["belt_speed"] == 0.15
+    # Without a release in between, a deferred preview is drawn.
+    full = _traj(ex)
+    deferred.clear()
+    slider.value = 0.2
+    [draw_preview] = deferred
+    draw_preview()
+    assert len(_traj(ex)["x"]) < len(full["x"])
+
+
 def test_release_where_the_drag_started_restores_the_full_picture(ex):
     full = _traj(ex)
     ex.sliders["belt_speed"].slider.value = 0.13
