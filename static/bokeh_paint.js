@@ -31,7 +31,9 @@
  *      callback, after the message has been applied, and every request made until then
  *      joins it. (It already ran in promise callbacks after its first few lines, and the
  *      figures paint in the next animation frame; a partial update, `patch`, is not
- *      deferred.)
+ *      deferred.) While release_hold.js holds the paints after a slider's release, the
+ *      recomputation waits for the hold to end: a drag's last preview often arrives after
+ *      the release, and its glyph data (~3-8 ms) would never be painted;
  *   6. a marker glyph (scatter) finds the points near the frame without creating Bokeh
  *      models: BokehJS builds four `Range1d` models per marker renderer and paint to hold
  *      the widened frame's bounds (`widen`, `map`), ~0.7 ms per paint of the phase
@@ -42,6 +44,14 @@
  *      (the phase portrait has 18; its forced repaint 4.8 -> 4.2 ms, median, paired in one
  *      page). The legend draws its entry from the glyph itself (`draw_legend`), which is
  *      untouched.
+ *   8. a legend whose entries all stand in through such stand-ins draws its entries' glyph
+ *      images once, not at every paint of its figure: BokehJS 3.9 lays a legend out in
+ *      the page (HTML, one small canvas per entry) and redrew every entry's canvas at each
+ *      paint (the phase portrait has 18 entries: ~1 ms per paint, and 18 canvases for the
+ *      compositor to take up again). A stand-in's style never changes, and new or changed
+ *      items give the legend new entries, which are drawn; so are entries after a change
+ *      of glyph size or of the screen's pixel ratio. Exports (`is_forcing_paint`) copy the
+ *      entries' canvases, which stay drawn.
  *
  * Each patch is applied only if the internal it replaces exists, so another BokehJS
  * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
@@ -53,7 +63,7 @@
   const applied = (window.__fie_paint = []);
 
   function patch(B) {
-    let dom, visual, plot, glyph, marker = {};
+    let dom, visual, plot, glyph, marker = {}, legend = {};
     try {
       dom = B.require("core/dom");
       visual = B.require("core/visuals/visual");
@@ -66,6 +76,11 @@
       marker = B.require("models/glyphs/marker");
     } catch (err) {
       // No marker module: patch 6 is skipped, the others apply.
+    }
+    try {
+      legend = B.require("models/annotations/legend");
+    } catch (err) {
+      // No legend module: patch 8 is skipped.
     }
     const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
     if (sheet && typeof sheet._update === "function") {
@@ -107,7 +122,9 @@
       glyph_view.update_data = function (indices) {
         if (indices != null) return update_data.call(this, indices);
         if (this.__fie_update == null) {
-          this.__fie_update = Promise.resolve().then(() => {
+          const hold = window.__fie_hold;
+          const turn = hold != null && hold.active ? hold.released : Promise.resolve();
+          this.__fie_update = turn.then(() => {
             this.__fie_update = null;
             return update_data.call(this);
           });
@@ -124,6 +141,21 @@
         else paint.call(this, ctx);
       };
       applied.push("legend-proxy");
+    }
+    const legend_view = legend.LegendView && legend.LegendView.prototype;
+    if (legend_view && typeof legend_view._paint_glyphs === "function") {
+      const paint_glyphs = legend_view._paint_glyphs;
+      legend_view._paint_glyphs = function () {
+        const {glyph_width, glyph_height} = this.model;
+        const key = `${glyph_width}x${glyph_height}@${window.devicePixelRatio}`;
+        if (this.__fie_glyphs === this.entries && this.__fie_glyphs_key === key) return;
+        paint_glyphs.call(this);
+        const fixed = this.entries.every(({item}) => item.renderers.every(
+          (r) => r.tags.includes("fie-legend-proxy")));
+        this.__fie_glyphs = fixed ? this.entries : null;
+        this.__fie_glyphs_key = key;
+      };
+      applied.push("legend-glyphs");
     }
     const marker_view = marker.MarkerView && marker.MarkerView.prototype;
     if (marker_view && typeof marker_view._mask_data === "function" &&

@@ -8,7 +8,9 @@
  * change with every full update, see app.plots.PlotSet.update) the figures' paints are
  * deferred; then each deferred figure paints once, with the full solution. Past
  * HOLD_MS (a slow numerical solve, an input the server rejects) the figures paint what
- * they have.
+ * they have. `window.__fie_hold.released` settles when the hold ends: bokeh_paint.js
+ * waits for it before it recomputes glyph data during a hold, so a stale preview's data
+ * cost no work in the browser while the full solution is on its way.
  *
  * When a slider's handle is pressed and released, BokehJS's slider view writes
  * `user-select` into the page body's inline style (to stop text selection while dragging)
@@ -21,12 +23,18 @@
 (function () {
   "use strict";
   const HOLD_MS = 400;
-  const hold = (window.__fie_hold = {active: false, held: new Set(), timer: null});
+  const hold = (window.__fie_hold = {
+    active: false, held: new Set(), timer: null, released: Promise.resolve(), release: null,
+  });
   let dragging = false;
 
   function resume() {
     clearTimeout(hold.timer);
     hold.active = false;
+    if (hold.release !== null) {
+      hold.release();
+      hold.release = null;
+    }
     const views = [...hold.held];
     hold.held.clear();
     for (const view of views) view.request_paint();
@@ -58,6 +66,9 @@
       if (!dragging) return;
       dragging = false;
       hold.active = true;
+      if (hold.release === null) {
+        hold.released = new Promise((resolve) => { hold.release = resolve; });
+      }
       clearTimeout(hold.timer);
       hold.timer = setTimeout(resume, HOLD_MS);
     }, true);

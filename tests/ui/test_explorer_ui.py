@@ -97,28 +97,43 @@ def test_slider_drag_repaints(page, shots):
     # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
     assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "legend-proxy", "marker-mask"]
+        "legend-proxy", "legend-glyphs", "marker-mask"]
     assert page.errors == []
 
 
 @pytest.mark.parametrize("key", ["5b", "7c", "10"])
 def test_paint_shortcuts_change_no_pixel(browser, server, key):
     """static/bokeh_paint.js makes BokehJS paint faster, never differently: the figures of
-    a scene are the same pixels with and without it."""
+    a scene are the same pixels with and without it, when the scene has loaded and after a
+    drag of a slider (its preview, the release's hold and the full solution)."""
     seen = {}
     for flag in ("", "&paint_shortcuts=off"):
         p = Page(browser, f"{server}?scene={key}{flag}")
         try:
             p.page.wait_for_timeout(500)  # any late repaint lands first
             p.settle()
-            seen[flag] = (p.pixels(".fie-plots"), p.page.evaluate("() => window.__fie_paint"),
-                          p.errors)
+            loaded = p.pixels(".fie-plots")
+            readout = p.text(".fie-readout-pane")
+            _drag(p, "clearance", 30)
+            p.wait_text_change(".fie-readout-pane", readout)
+            p.page.wait_for_timeout(500)
+            p.settle()
+            seen[flag] = (loaded, p.pixels(".fie-plots"),
+                          p.page.evaluate("() => window.__fie_paint"), p.errors)
         finally:
             p.close()
-    (on, applied, errors_on), (off, none, errors_off) = seen.values()
-    assert len(applied) >= 7 and none == []
+    (on, on_dragged, applied, errors_on), (off, off_dragged, none, errors_off) = seen.values()
+    assert len(applied) >= 8 and none == []
     assert on.shape == off.shape
     assert np.array_equal(on, off)
+    # After the drag, one kind of pixel may differ: the left end of a legend entry's line.
+    # BokehJS redraws an entry's small canvas at each paint after clearing it offset by
+    # half a pixel, so that end darkens with every repaint; patch 8 draws a new entry once.
+    # Anything else the patches could get wrong (a stale or missing glyph) would change
+    # hundreds of pixels or change them by more.
+    diff = np.abs(on_dragged - off_dragged).max(axis=2)
+    assert np.count_nonzero(diff) <= 40 and diff.max() <= 40
+    assert not np.array_equal(on, on_dragged)  # the drag changed the picture
     assert errors_on == errors_off == []
 
 
