@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from bokeh.layouts import column
 from bokeh.models import (
+    BasicTickFormatter,
     ColumnDataSource,
     Label,
     LabelSet,
@@ -122,6 +123,9 @@ SMALL_SIZE = (540, 300)
 MAP_SIZE = (540, 380)
 #: Tag of the legend stand-ins (:func:`_legend_item`), which draw nothing in the frame.
 LEGEND_PROXY_TAG = "fie-legend-proxy"
+#: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
+#: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
+TICK_POWER_LIMIT_LOW = -5
 #: Tools of every figure (SaveTool exports the PNG).
 TOOLS = "pan,wheel_zoom,box_zoom,reset,save"
 
@@ -469,6 +473,8 @@ class PlotSet:
                      toolbar_location="right", output_backend="canvas", **kw)
         fig.title.text_font_size = "13px"
         fig.toolbar.logo = None
+        for axis in (*fig.xaxis, *fig.yaxis):
+            axis.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
         return fig
 
     def _build_phase(self, s) -> None:
@@ -549,7 +555,9 @@ class PlotSet:
         # The force holding the mass on a rigid stop (a force, not an impulse): own axis.
         fig.extra_y_ranges = {"rest": Range1d(0.0, 1.0)}
         self.rest_axis = LinearAxis(y_range_name="rest", axis_label="force at rest",
-                                    axis_label_text_color=REST_COLOR, visible=False)
+                                    axis_label_text_color=REST_COLOR, visible=False,
+                                    formatter=BasicTickFormatter(
+                                        power_limit_low=TICK_POWER_LIMIT_LOW))
         fig.add_layout(self.rest_axis, "right")
         fig.line("t", "f", source=s["rest"], y_range_name="rest", line_color=REST_COLOR,
                  line_width=2, line_dash="dashed")

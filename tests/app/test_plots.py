@@ -161,3 +161,17 @@ def test_energy_plot_is_a_budget_of_the_belt_input(key):
     np.testing.assert_allclose(budget, cols["belt_input"],
                                atol=1e-5 * np.abs(cols["belt_input"]).max())
     assert np.all(np.diff(cols["friction_heat"]) >= -1e-6 * cols["friction_heat"].max())
+
+
+@pytest.mark.parametrize("key", ["10", "11"])
+def test_tick_labels_of_the_loop_overlaps_are_decimals(key):
+    """The hysteresis loop's overlaps are a few 1e-3 and its ticks a few 1e-4: every axis
+    writes such ticks as decimals (Bokeh switches to 5.000e-4 below its power limit)."""
+    from app.plots import PlotSet, loop_columns
+
+    plots = PlotSet()
+    d = np.asarray(loop_columns(solve(scene_values(key)))["loop"]["d"], float)
+    tick = (np.nanmax(d) - np.nanmin(d)) / 10  # Bokeh aims at ~10 ticks or fewer
+    axes = [a for f in plots.figures.values() for a in (*f.xaxis, *f.yaxis)]
+    axes.append(plots.rest_axis)
+    assert all(tick > 10.0 ** a.formatter.power_limit_low for a in axes)
