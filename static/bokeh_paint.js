@@ -52,6 +52,12 @@
  *      items give the legend new entries, which are drawn; so are entries after a change
  *      of glyph size or of the screen's pixel ratio. Exports (`is_forcing_paint`) copy the
  *      entries' canvases, which stay drawn.
+ *   9. a glyph renderer's visuals (colours, widths, alphas of its six glyph variants) are
+ *      not recomputed when only its masked indices (the points near the frame) changed.
+ *      BokehJS sets the masked indices at every paint and after every data update, and
+ *      each set fires a recomputation of all six variants' visuals, inside the paint;
+ *      the visuals are computed from all indices and the data, never from the mask, and
+ *      a data update recomputes them itself.
  *
  * Each patch is applied only if the internal it replaces exists, so another BokehJS
  * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
@@ -141,6 +147,25 @@
         else paint.call(this, ctx);
       };
       applied.push("legend-proxy");
+    }
+    if (glyph_view && typeof glyph_view._update_masked_indices === "function" &&
+        typeof glyph_view.set_visuals === "function") {
+      const update_masked = glyph_view._update_masked_indices;
+      const set_visuals = glyph_view.set_visuals;
+      glyph_view._update_masked_indices = function () {
+        this.__fie_masking = true;
+        try {
+          return update_masked.call(this);
+        } finally {
+          this.__fie_masking = false;
+        }
+      };
+      glyph_view.set_visuals = function () {
+        if (this.__fie_masking && this.__fie_visuals) return Promise.resolve();
+        this.__fie_visuals = true;
+        return set_visuals.call(this);
+      };
+      applied.push("mask-visuals");
     }
     const legend_view = legend.LegendView && legend.LegendView.prototype;
     if (legend_view && typeof legend_view._paint_glyphs === "function") {

@@ -97,7 +97,7 @@ def test_slider_drag_repaints(page, shots):
     # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
     assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "legend-proxy", "legend-glyphs", "marker-mask"]
+        "legend-proxy", "mask-visuals", "legend-glyphs", "marker-mask"]
     assert page.errors == []
 
 
@@ -123,7 +123,7 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
         finally:
             p.close()
     (on, on_dragged, applied, errors_on), (off, off_dragged, none, errors_off) = seen.values()
-    assert len(applied) >= 8 and none == []
+    assert len(applied) >= 9 and none == []
     assert on.shape == off.shape
     assert np.array_equal(on, off)
     # After the drag, one kind of pixel may differ: the left end of a legend entry's line.
