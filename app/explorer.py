@@ -567,8 +567,8 @@ class Explorer(pn.viewable.Viewer):
                 pane.visible = name in visible
             self.alert.visible = False
         if "map" in visible and map_data is None:
-            # A new map (friction, stop or start changed) takes ~80 ms: the rest of the
-            # picture is sent first, the map follows.
+            # A new map (friction, stop or start changed): the rest of the picture is sent
+            # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
 
     def _draw_map(self, sol: Solution) -> None:

@@ -60,8 +60,10 @@ __all__ = [
     "LimitCycle",
     "Prediction",
     "Regime",
+    "RegimeGrid",
     "accumulation_time",
     "classify",
+    "classify_grid",
     "critical_speed",
     "first_stick_point",
     "gamma0_radius",
@@ -163,6 +165,35 @@ class Regime:
     impactless: bool
     expected_steady: str
     description: str
+
+
+@dataclass(frozen=True)
+class RegimeGrid:
+    """:func:`classify` at every point of a grid of belt speeds and clearances.
+
+    Arrays of shape ``(len(clearances), len(speeds))``: row ``i`` is ``clearances[i]``,
+    column ``j`` is ``speeds[j]``. Each field holds what :class:`Regime`'s field of the same
+    name holds, with ``''`` for a case of None.
+
+    Attributes
+    ----------
+    speeds, clearances : numpy.ndarray
+        The grid's belt speeds and clearances (1-D).
+    belt, impact, case, expected_steady : numpy.ndarray of str
+    impactless : numpy.ndarray of bool
+    valid : numpy.ndarray of bool
+        False where the stop lies behind the start (``clearance < x0``), which
+        :func:`classify` refuses; the other fields are meaningless there.
+    """
+
+    speeds: np.ndarray
+    clearances: np.ndarray
+    belt: np.ndarray
+    impact: np.ndarray
+    case: np.ndarray
+    impactless: np.ndarray
+    expected_steady: np.ndarray
+    valid: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -947,6 +978,116 @@ def classify(osc: Oscillator, stop: RigidStop | None, x0: float = 0.0, v0: float
         impactless=an.impactless,
         expected_steady=an.kind.value,
         description=an.description,
+    )
+
+
+def classify_grid(
+    osc: Oscillator,
+    stop: RigidStop | None,
+    speeds: np.ndarray,
+    clearances: np.ndarray,
+    x0: float = 0.0,
+    v0: float = 0.0,
+) -> RegimeGrid:
+    """:func:`classify` over belt speeds x clearances at once (the regime map).
+
+    The friction (``osc``'s ``a`` and ``b``), the restitution and the start are those
+    given; ``osc.belt_speed`` and ``stop.clearance`` are replaced by the grid's values.
+    The boundaries are :func:`classify`'s, evaluated with the same floating-point
+    arithmetic (the quantities of one speed with ``math`` as :func:`classify` does, the
+    comparisons per point with NumPy), so every point gets :func:`classify`'s answer.
+
+    Examples
+    --------
+    >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+    >>> grid = classify_grid(osc, RigidStop(0.3, 0.6), [0.1, 0.25], [0.29, 0.5])
+    >>> grid.case.tolist()
+    [['b', ''], ['', '']]
+    >>> grid.expected_steady.tolist()
+    [['periodic', 'grazing'], ['periodic', 'pure_slip']]
+    """
+    _check_oscillator(osc)
+    x0, v0 = _check_state(x0, v0)
+    if stop is not None and not isinstance(stop, RigidStop):
+        _check_stop(stop, x0)  # raises: the closed forms speak of a rigid stop
+    speeds = np.asarray(speeds, dtype=float).ravel()
+    clearances = np.asarray(clearances, dtype=float).ravel()
+    if not (np.all(np.isfinite(speeds)) and np.all(speeds >= 0.0)):
+        raise ValueError("belt_speed must lie in [0, inf) at every point of the grid")
+    if not np.all(np.isfinite(clearances)):
+        raise ValueError("clearance must be a finite number at every point of the grid")
+    a, b = osc.a, osc.b
+    vc = math.hypot(x0 - a, v0)  # critical speed, Eq. 25
+    shape = (clearances.size, speeds.size)
+    V = np.broadcast_to(speeds[None, :], shape)
+    X = np.broadcast_to(clearances[:, None], shape)
+    fast = V > vc
+
+    # Per speed, as classify computes them: x_max of the impactless motion, the first
+    # stick point of a natural start, x* (Eq. 35) and the limit cycle's radius.
+    rest = _rest_position_still_belt(osc, x0, v0) if np.any(speeds == 0.0) else math.nan
+    r = stop.restitution if stop is not None else 1.0
+    natural = x0 == 0.0 and v0 == 0.0
+    x_max0 = np.array([a + vc if v > vc else (a + math.hypot(b - a, v) if v > 0 else rest)
+                       for v in speeds.tolist()])[None, :]
+    x_stick1 = np.array([a - math.sqrt((a - v) * (a + v)) if natural and v <= a
+                         else -math.inf for v in speeds.tolist()])[None, :]
+    x_st = np.array([a + v * math.sqrt((1.0 - r) * (1.0 + r))
+                     for v in speeds.tolist()])[None, :]
+    radius = np.array([math.hypot(b - a, v) for v in speeds.tolist()])[None, :]
+
+    belt = np.where(fast, "fast", "slow")
+    impactless = np.ones(shape, dtype=bool) if stop is None else X >= x_max0
+    valid = np.ones(shape, dtype=bool) if stop is None else X >= x0
+    steady = np.where(V == 0.0, "equilibrium",
+                      np.where(fast, "equilibrium" if vc == 0.0 else "pure_slip", "periodic"))
+    case = np.full(shape, "", dtype="<U1")
+    impact = np.full(shape, "none", dtype="<U9")
+    if stop is not None:
+        hit = ~impactless
+        label = _impact_label(r)
+        elastic = label == "elastic"
+        impact[hit] = label
+
+        def decay(mask: np.ndarray, w_positive: np.ndarray) -> None:
+            # _decay: grazing iff x_bar >= a and w > 0, else rest at the stop
+            steady[mask] = np.where((X >= a) & w_positive, "grazing", "rest")[mask]
+
+        def periodic_or_decay(mask: np.ndarray, w_positive: np.ndarray) -> None:
+            # _impact_cycle_or_decay: the elastic impact-slip cycle needs w > 0
+            if elastic:
+                steady[mask & w_positive] = "periodic"
+                decay(mask & ~w_positive, w_positive)
+            else:
+                decay(mask, w_positive)
+
+        # Fast belt (Sec. 4.1, 4.3): w of Eq. A.1 on the circle through the start.
+        periodic_or_decay(hit & fast, vc**2 - (X - a) ** 2 > 0.0)
+        slow = hit & ~fast
+        steady[slow & (V == 0.0)] = "equilibrium"
+        slow &= V > 0.0
+        first = slow & (X < x_stick1)  # stop hit before the first stick (Sec. 4.6)
+        case[first] = "c"
+        periodic_or_decay(first, X * (2.0 * a - X) > 0.0)
+        slow &= ~first
+        in_a = slow & (X >= b)  # case a, Eqs. A.7-A.9
+        case[in_a] = "a"
+        disc = (1.0 - r) * (1.0 + r) * ((X - a) ** 2 - V * V) + (r * (b - a)) ** 2
+        steady[in_a & (disc >= 0.0)] = "periodic"
+        decay(in_a & (disc < 0.0), (radius - (X - a)) * (radius + (X - a)) > 0.0)
+        slow &= ~in_a
+        in_b = slow & (X >= x_st)  # case b
+        case[in_b] = "b"
+        steady[in_b] = "periodic"
+        in_c = slow & ~in_b  # case c: sticks into the stop at speed v > 0
+        case[in_c] = "c"
+        if elastic:
+            steady[in_c] = "periodic"
+        else:
+            decay(in_c, np.ones(shape, dtype=bool))
+    return RegimeGrid(
+        speeds=speeds, clearances=clearances, belt=belt, impact=impact, case=case,
+        impactless=impactless, expected_steady=steady, valid=valid,
     )
 
 

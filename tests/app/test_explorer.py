@@ -14,7 +14,7 @@ from bokeh.events import Tap
 import app.explorer as explorer_module
 from app.explorer import Explorer
 from app.scenes import CUSTOM, PLOTS, SCENES
-from app.solver import ACCURACY
+from app.solver import ACCURACY, MAP_CELLS
 
 
 @pytest.fixture
@@ -282,12 +282,12 @@ def test_regime_map_of_a_hysteretic_scene(ex):
     ex.show_all.value = True
     assert ex.plot_panes["map"].visible
     image = ex.plots.sources["map"].data["image"]
-    assert len(image) == 1 and np.asarray(image[0]).shape == (64, 64)
+    assert len(image) == 1 and np.asarray(image[0]).shape == (MAP_CELLS, MAP_CELLS)
     assert "inelastic" in ex.map_legend.object
 
 
 def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
-    """A change of friction needs a new map (~80 ms): the trajectory is drawn first and the
+    """A change of friction needs a new map: the trajectory is drawn first and the
     map in a later callback of the session's loop; a map already computed comes at once."""
     from app.solver import regime_map
 

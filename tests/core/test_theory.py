@@ -28,6 +28,7 @@ from core.theory import (
     Regime,
     accumulation_time,
     classify,
+    classify_grid,
     critical_speed,
     first_stick_point,
     gamma0_radius,
@@ -666,3 +667,61 @@ def test_x_star_separates_periodic_from_grazing_in_the_integration():
         out, _ = simulate_reference(SLOW.a, SLOW.b, SLOW.v, x_bar, r, n_transitions=6)
         after = [tr[0] for tr in out[out.index(next(t for t in out if "impact" in t[0])) :]]
         assert ("slip->stick" in after) == sticks
+
+
+def _grid_draws(n: int):
+    """Random frictions, restitutions and starts, with the edge values classify treats
+    apart (r = 0 and 1, mu_s = mu_k, natural and other starts, no stop)."""
+    rng = np.random.default_rng(7)
+    for k in range(n):
+        mu_s = rng.uniform(0.05, 0.6)
+        mu_k = mu_s if k % 7 == 0 else rng.uniform(0.0, mu_s)
+        u_s = rng.uniform(0.3, 2.0)
+        r = (0.0, 1.0, rng.uniform(0.0, 1.0))[k % 3]
+        x0, v0 = (0.0, 0.0) if k % 2 == 0 else (rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3))
+        yield Oscillator(mu_s=mu_s, mu_k=mu_k, belt_speed=0.1, u_s=u_s), r, x0, v0, k % 11 == 0
+
+
+def test_vectorised_classify_grid_agrees_with_classify_everywhere():
+    """classify_grid answers what classify answers at every point: on random grids and
+    exactly on the boundaries (x_max, the first stick point, b, x*, a and v*), where a
+    formula evaluated differently would flip a point."""
+    for osc, r, x0, v0, no_stop in _grid_draws(60):
+        a, b = osc.a, osc.b
+        vc = critical_speed(osc, x0, v0)
+        rng = np.random.default_rng(int(1e6 * osc.mu_s))
+        speeds = np.concatenate(([0.0, vc, a, 0.5 * vc], rng.uniform(0.0, 2.0 * vc + 0.05, 12)))
+        bounds = [a, b, x0, 2 * a - b]
+        for v in speeds[1:4]:
+            o = Oscillator(mu_s=osc.mu_s, mu_k=osc.mu_k, belt_speed=float(v), u_s=osc.u_s)
+            bounds += [x_max_impactless(o, x0, v0), x_star(o, r), a + float(v)]
+            if v <= a:
+                bounds.append(a - math.sqrt((a - v) * (a + v)))
+        clearances = np.concatenate((bounds, rng.uniform(x0, x0 + 3.0 * (b + vc) + 0.1, 14)))
+        stop = None if no_stop else RigidStop(clearance=1.0, restitution=r)
+        grid = classify_grid(osc, stop, speeds, clearances, x0, v0)
+        for j, v in enumerate(speeds.tolist()):
+            o = Oscillator(mu_s=osc.mu_s, mu_k=osc.mu_k, belt_speed=v, u_s=osc.u_s)
+            for i, x_bar in enumerate(clearances.tolist()):
+                where = f"mu_s={osc.mu_s}, mu_k={osc.mu_k}, r={r}, x0={x0}, v={v}, x_bar={x_bar}"
+                if stop is not None and x_bar < x0:
+                    assert not grid.valid[i, j], where
+                    with pytest.raises(ValueError):
+                        classify(o, RigidStop(x_bar, r), x0, v0)
+                    continue
+                reg = classify(o, None if stop is None else RigidStop(x_bar, r), x0, v0)
+                got = (grid.belt[i, j], grid.impact[i, j], grid.case[i, j] or None,
+                       bool(grid.impactless[i, j]), grid.expected_steady[i, j])
+                assert grid.valid[i, j], where
+                assert got == (reg.belt, reg.impact, reg.case, reg.impactless,
+                               reg.expected_steady), where
+
+
+def test_classify_grid_rejects_bad_grids():
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+    with pytest.raises(ValueError, match="belt_speed"):
+        classify_grid(osc, RigidStop(0.3), [-0.1, 0.1], [0.3])
+    with pytest.raises(ValueError, match="clearance"):
+        classify_grid(osc, RigidStop(0.3), [0.1], [math.nan])
+    with pytest.raises(TypeError, match="RigidStop"):
+        classify_grid(osc, HystereticStop(clearance=0.3), [0.1], [0.3])
