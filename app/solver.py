@@ -401,8 +401,7 @@ def _compute_regime_map(key: tuple) -> dict[str, Any]:
     v_hi, x_lo, x_hi = values["v_hi"], values["x_lo"], values["x_hi"]
     speeds = (np.arange(MAP_CELLS) + 0.5) * v_hi / MAP_CELLS
     clearances = x_lo + (np.arange(MAP_CELLS) + 0.5) * (x_hi - x_lo) / MAP_CELLS
-    cells, names = _regime_cells({**values, "belt_speed": float(speeds[0]),
-                                  "clearance": float(clearances[0])}, speeds, clearances)
+    cells, names = _regime_cells(values, speeds, clearances)
     # Regimes numbered in the order they first appear going up each speed's column.
     found, first, inverse = np.unique(cells.T.ravel(), return_index=True, return_inverse=True)
     order = np.argsort(first, kind="stable")
@@ -433,10 +432,16 @@ _CASES, _SETTLES = ("", "a", "b", "c"), ("", "grazing", "rest")
 
 def _regime_cells(values: Mapping[str, Any], speeds, clearances
                   ) -> tuple[np.ndarray, dict[int, str]]:
-    """An integer per grid cell that names its regime, and the words of each integer."""
+    """An integer per grid cell that names its regime, and the words of each integer.
+
+    The parameters other than belt speed and clearance are checked once, with the grid's
+    largest speed and clearance (a stop behind the start is refused cell by cell).
+    """
     shape = (len(clearances), len(speeds))
     try:
-        osc, stop, x0, v0, _ = core_inputs({**values, "t_end": 1.0, "program": False})
+        osc, stop, x0, v0, _ = core_inputs({
+            **values, "belt_speed": float(np.max(speeds)),
+            "clearance": float(np.max(clearances)), "t_end": 1.0, "program": False})
         grid = theory.classify_grid(osc, equivalent_rigid(stop), speeds, clearances, x0, v0)
     except ValueError:
         return np.zeros(shape, dtype=np.int64), {0: "invalid"}
@@ -448,6 +453,7 @@ def _regime_cells(values: Mapping[str, Any], speeds, clearances
     cells = np.zeros(shape, dtype=np.int64)
     for digit, radix in zip(fields, (2, 2, 2, 4, 3, len(impacts)), strict=True):
         cells = cells * radix + np.asarray(digit, dtype=np.int64)
+    cells = np.where(grid.valid, cells, 0)  # one code for every refused cell
     names = {}
     for cell in np.unique(cells).tolist():
         rest, impact_k = divmod(cell, len(impacts))

@@ -641,7 +641,11 @@ def _analyse(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) -> _
     x_bar, r = stop.clearance, stop.restitution
     label = _impact_label(r)
     if fast:
-        w = math.sqrt(max(critical_speed(osc, x0, v0) ** 2 - (x_bar - a) ** 2, 0.0))
+        # Squares as products here and in classify_grid: x ** 2 (libm pow) and x * x can
+        # differ in the last bit, and a point on a boundary would then be classified
+        # differently by the two.
+        vc, d = critical_speed(osc, x0, v0), x_bar - a
+        w = math.sqrt(max(vc * vc - d * d, 0.0))
         ref = f"Sec. 4.1, Fig. {'4a' if x_bar >= a else '4b'}"
         return _impact_cycle_or_decay(
             osc, stop, w, belt, None, "x_bar < x_max = a + v*", "x_bar < a", ref
@@ -831,7 +835,8 @@ def _slow_case_a(osc: Oscillator, stop: RigidStop, label: str) -> _Analysis:
     # Rebound circle radius^2 - v^2, the radicand of A.9: (x_bar-a)^2 + r^2 w^2 - v^2 with
     # w^2 = (b-a)^2 + v^2 - (x_bar-a)^2, grouped so that r = 1 gives (b-a)^2 exactly. The
     # rebound circle reaches the stick line x' = v iff it is >= 0.
-    disc = (1.0 - r) * (1.0 + r) * ((x_bar - a) ** 2 - v * v) + (r * (b - a)) ** 2
+    d, e = x_bar - a, r * (b - a)
+    disc = (1.0 - r) * (1.0 + r) * (d * d - v * v) + e * e
     if disc < 0.0:
         where = (
             "case a (b <= x_bar < x_max) with x* > b, where the rebound circle misses the "
@@ -869,7 +874,8 @@ def _slow_case_b(osc: Oscillator, stop: RigidStop, label: str) -> _Analysis:
     """Case b, ``x* <= x_bar < b`` (Eqs. 32, 36; A.3-A.4, A.10-A.11)."""
     a, v = osc.a, osc.v
     x_bar, r = stop.clearance, stop.restitution
-    disc = max((x_bar - a) ** 2 - (1.0 - r) * (1.0 + r) * v * v, 0.0)  # >= 0 above x*
+    d = x_bar - a
+    disc = max(d * d - (1.0 - r) * (1.0 + r) * v * v, 0.0)  # >= 0 above x*
     x_stick = a - math.sqrt(disc)  # A.4 (r = 1: 2a - x_bar), A.11
     if label == "elastic":
         bound, ref = "a", "Sec. 4.2, Fig. 5b"
@@ -1062,7 +1068,8 @@ def classify_grid(
                 decay(mask, w_positive)
 
         # Fast belt (Sec. 4.1, 4.3): w of Eq. A.1 on the circle through the start.
-        periodic_or_decay(hit & fast, vc**2 - (X - a) ** 2 > 0.0)
+        D = X - a
+        periodic_or_decay(hit & fast, vc * vc - D * D > 0.0)
         slow = hit & ~fast
         steady[slow & (V == 0.0)] = "equilibrium"
         slow &= V > 0.0
@@ -1072,7 +1079,8 @@ def classify_grid(
         slow &= ~first
         in_a = slow & (X >= b)  # case a, Eqs. A.7-A.9
         case[in_a] = "a"
-        disc = (1.0 - r) * (1.0 + r) * ((X - a) ** 2 - V * V) + (r * (b - a)) ** 2
+        e = r * (b - a)
+        disc = (1.0 - r) * (1.0 + r) * (D * D - V * V) + e * e
         steady[in_a & (disc >= 0.0)] = "periodic"
         decay(in_a & (disc < 0.0), (radius - (X - a)) * (radius + (X - a)) > 0.0)
         slow &= ~in_a

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.solver import MAP_CELLS, equivalent_rigid, map_ranges, regime_map
+from app.solver import MAP_CELLS, equivalent_rigid, map_ranges, regime_labels, regime_map
 from app.state import core_inputs, scene_values
 from core import theory
 
@@ -60,3 +60,16 @@ def test_a_map_refused_by_the_theory_says_so():
     values = {**scene_values("5b"), "mu_k": 0.5, "mu_s": 0.3}  # mu_k > mu_s
     data = regime_map(values)
     assert data["labels"] == ["invalid"] and not np.asarray(data["codes"]).any()
+
+
+def test_cells_behind_the_start_are_invalid_the_others_classified():
+    """A stop behind the start (x0 = 0) is refused cell by cell, under one label; the
+    state's own clearance does not decide for the whole grid."""
+    values = {**scene_values("5b"), "clearance": -0.5}
+    speeds, clearances = [0.05, 0.5], [-0.2, -0.1, 0.2, 0.3]
+    labels = regime_labels(values, speeds, clearances)
+    assert labels[:2].ravel().tolist() == ["invalid"] * 4
+    for i, clearance in enumerate(clearances[2:], start=2):
+        for j, speed in enumerate(speeds):
+            expected = _words({**values, "belt_speed": speed, "clearance": clearance})
+            assert labels[i, j] == expected != "invalid"

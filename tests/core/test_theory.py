@@ -725,3 +725,37 @@ def test_classify_grid_rejects_bad_grids():
         classify_grid(osc, RigidStop(0.3), [0.1], [math.nan])
     with pytest.raises(TypeError, match="RigidStop"):
         classify_grid(osc, HystereticStop(clearance=0.3), [0.1], [0.3])
+
+
+def test_classify_grid_agrees_to_the_last_bit_of_a_boundary():
+    """Points one ulp either side of a boundary: a square computed as x ** 2 in one
+    function and x * x in the other once flipped them (a fast belt at twice the critical
+    speed hitting a stop at its start; the edge of case a's grazing band)."""
+    cases = [  # (mu_s, mu_k, v, x0, r, x_bar)
+        (1.5 * 0.13583893694860305, 0.13583893694860305, 2 * 0.13583893694860305, 0.0,
+         1.0, 0.0),
+        (0.3, 0.2, 1.0, -0.1861167882863629, 1.0, -0.1861167882863629),
+    ]
+    rng = np.random.default_rng(11)
+    while len(cases) < 300:  # the clearance where case a's disc (Eq. A.9) is zero
+        mu_s = rng.uniform(0.2, 0.6)
+        mu_k = rng.uniform(0.5, 0.9) * mu_s
+        a, b, r = mu_k, mu_s, rng.uniform(0.05, 0.6)
+        v = rng.uniform(0.5, 0.95) * a
+        t = v * v - (r * (b - a)) ** 2 / ((1 - r) * (1 + r))
+        if t > 0 and a + math.sqrt(t) >= b:
+            cases.append((mu_s, mu_k, v, 0.0, r, a + math.sqrt(t)))
+    for mu_s, mu_k, v, x0, r, root in cases:
+        xs = [root]
+        for direction in (math.inf, -math.inf):
+            x = root
+            for _ in range(4):
+                x = math.nextafter(x, direction)
+                xs.append(x)
+        xs = [x for x in xs if x >= x0]
+        osc = Oscillator(mu_s=mu_s, mu_k=mu_k, belt_speed=v)
+        grid = classify_grid(osc, RigidStop(1.0, r), [v], xs, x0, 0.0)
+        for i, x in enumerate(xs):
+            reg = classify(osc, RigidStop(x, r), x0, 0.0)
+            assert grid.expected_steady[i, 0] == reg.expected_steady, (mu_s, mu_k, v, r, x)
+            assert (grid.case[i, 0] or None) == reg.case, (mu_s, mu_k, v, r, x)
