@@ -13,6 +13,7 @@ from collections.abc import Callable
 from functools import partial
 
 import panel as pn
+import param
 from panel.io.state import set_curdoc, state
 
 from app.connection import writes_done
@@ -54,6 +55,23 @@ class _Slider(pn.widgets.FloatSlider):
             state._change_callbacks.setdefault(doc, {})[event_id] = callback
             with set_curdoc(doc):
                 state.execute(callback, schedule=True)
+
+    def expect_release_from(self, value: float) -> None:
+        """Make ``value`` the last released value, on the server's side of the link.
+
+        A value set on the server (typed, a scene, a URL, a map tap) leaves the released
+        value where the last release put it, in Python and in the Bokeh model behind the
+        slider; a release at that old value then changed nothing on the server and was
+        dropped before it reached Panel. Bokeh's ``value_throttled`` is read-only, so its
+        stored value is replaced in place (the browser sends every release anyway, see
+        static/release_hold.js).
+        """
+        with param.edit_constant(self):
+            self.value_throttled = value
+        for model, _ in self._models.values():
+            stored = getattr(model, "_property_values", None)
+            if isinstance(stored, dict):
+                stored["value_throttled"] = value
 
     async def _change_coroutine(self, doc, event_id: str | None = None) -> None:
         await writes_done(doc)
@@ -140,7 +158,7 @@ class TypedSlider:
         if end <= start:
             start = min(start, value - self.step)
         if ((start, end, value) == (self.slider.start, self.slider.end, self.slider.value)
-                and value == self.input.value
+                and value == self.input.value == self.slider.value_throttled
                 and hard_end in (None, self.bounds[1])):
             return  # nothing to change (this runs for several sliders on every release)
         self._quiet = True
@@ -149,6 +167,7 @@ class TypedSlider:
                 self.bounds = (self.bounds[0], hard_end)
                 self.input.end = hard_end
             self.slider.param.update(start=start, end=end, value=value)
+            self.slider.expect_release_from(value)
             if self.input.value != value:
                 self.input.value = value
         finally:

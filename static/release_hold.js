@@ -19,6 +19,15 @@
  * right when the release has to be sent and its answer drawn. These three properties of
  * the body's inline style are therefore made inert; noUiSlider already blocks text
  * selection during a drag (a `selectstart` listener) and the handle keeps its own cursor.
+ *
+ * Every release of a slider reaches the server. BokehJS sends the released value
+ * (`value_throttled`) only when it differs from the last one released; a value set on
+ * the server in between (a typed number, a scene, a permalink, a tap on the map) does not
+ * update it in the browser, so releasing the slider where it had last been released sent
+ * nothing: the server kept the typed value while the slider showed another, under the
+ * drag's draft picture. The release is now sent even when it equals the last one (and
+ * app.widgets._Slider.expect_release_from keeps the server's released value in step with
+ * what the slider shows, so that such a release is a change there).
  */
 (function () {
   "use strict";
@@ -102,9 +111,35 @@
   }
   inertBodyStyle();
 
+  function sendEveryRelease(B, tries) {
+    let sliders;
+    try {
+      sliders = B.require("models/widgets/sliders/abstract_slider");
+    } catch (err) {
+      // The widgets bundle registers after BokehJS: try again for a while.
+      if (tries > 0) setTimeout(() => sendEveryRelease(B, tries - 1), 20);
+      return;
+    }
+    const view = sliders.AbstractSliderView && sliders.AbstractSliderView.prototype;
+    if (!view || typeof view._change !== "function" ||
+        !String(view._change).includes("value_throttled")) {
+      return;
+    }
+    view._change = function (values) {
+      // What BokehJS does (abstract_slider.ts), without skipping an unchanged value.
+      const value = this._calc_from(values);
+      this.model.setv({value, value_throttled: value}, {check_eq: false});
+    };
+    window.__fie_release_sent = true;
+  }
+
   (function wait() {
     const B = window.Bokeh;
-    if (B && typeof B.require === "function") install(B);
-    else setTimeout(wait, 5);
+    if (B && typeof B.require === "function") {
+      install(B);
+      sendEveryRelease(B, 500);
+    } else {
+      setTimeout(wait, 5);
+    }
   })();
 })();

@@ -129,6 +129,29 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
     assert len(_traj(ex)["x"]) < len(full["x"])
 
 
+def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_value(ex):
+    """Released at 0.12, then 0.15 typed, then released at 0.12 again: the browser sends
+    that release (static/release_hold.js), and the Bokeh model behind the slider must see
+    a change, or it drops the release before Panel hears of it."""
+    from bokeh.document import Document
+
+    doc = Document()
+    model = ex.sliders["belt_speed"].slider.get_root(doc)
+    doc.add_root(model)
+
+    def release(value):  # as the server applies the browser's message
+        model.set_from_json("value", value)
+        model.set_from_json("value_throttled", value)
+
+    release(0.12)
+    assert ex.state.belt_speed == 0.12
+    ex.sliders["belt_speed"].input.value = 0.15
+    assert ex.state.belt_speed == 0.15
+    release(0.12)
+    assert ex.state.belt_speed == 0.12 and ex.solution.values["belt_speed"] == 0.12
+    assert ex.sliders["belt_speed"].input.value == 0.12
+
+
 def test_release_where_the_drag_started_restores_the_full_picture(ex):
     full = _traj(ex)
     ex.sliders["belt_speed"].slider.value = 0.13

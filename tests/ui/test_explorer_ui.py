@@ -137,6 +137,37 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
     assert errors_on == errors_off == []
 
 
+def test_a_release_after_a_typed_value_is_applied(page, shots):
+    """Drag the clearance and release it, type another clearance, then drag the handle back
+    to where it was released: that release applies (BokehJS alone sent nothing, as the
+    released value had not changed, and the typed value stayed under a draft picture)."""
+    _select_scene(page, "5b")
+    handle = page.page.locator(".fie-w-clearance .noUi-handle").first
+    box = page.page.locator(".fie-w-clearance input").first
+    readout = page.text(".fie-readout-pane")
+    _drag(page, "clearance", 30)
+    readout = page.wait_text_change(".fie-readout-pane", readout)
+    page.settle()
+    released = float(box.input_value())
+    spot = handle.bounding_box()
+    box.fill(f"{released + 0.03:.4f}")
+    box.press("Enter")
+    readout = page.wait_text_change(".fie-readout-pane", readout)
+    page.settle()
+    moved = handle.bounding_box()
+    assert moved["x"] > spot["x"] + 5  # the handle followed the typed value
+    page.page.mouse.move(moved["x"] + moved["width"] / 2, moved["y"] + moved["height"] / 2)
+    page.page.mouse.down()
+    page.page.mouse.move(spot["x"] + spot["width"] / 2, spot["y"] + spot["height"] / 2,
+                         steps=8)
+    page.page.mouse.up()
+    page.wait_text_change(".fie-readout-pane", readout)
+    page.settle()
+    page.page.screenshot(path=shots / "release-after-typing.png", full_page=True)
+    assert float(box.input_value()) == released
+    assert page.errors == []
+
+
 def test_invalid_input_keeps_the_picture(page, shots):
     _select_scene(page, "5b")
     before = page.pixels(".fie-plot-phase")
