@@ -51,7 +51,9 @@
  *      compositor to take up again). A stand-in's style never changes, and new or changed
  *      items give the legend new entries, which are drawn; so are entries after a change
  *      of glyph size or of the screen's pixel ratio. Exports (`is_forcing_paint`) copy the
- *      entries' canvases, which stay drawn.
+ *      entries' canvases, which stay drawn. The one pixel this changes: BokehJS clears an
+ *      entry's canvas offset by half a pixel, so each redraw darkened the left end of a
+ *      line entry a little more; drawn once, it keeps the shade of one drawing.
  *   9. a glyph renderer's visuals (colours, widths, alphas of its six glyph variants) are
  *      not recomputed when only its masked indices (the points near the frame) changed.
  *      BokehJS sets the masked indices at every paint and after every data update, and
@@ -62,7 +64,7 @@
  * Each patch is applied only if the internal it replaces exists, so another BokehJS
  * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
  * With `paint_shortcuts=off` in the page's address none is applied: the UI tests compare
- * the figures both ways, pixel for pixel.
+ * the figures both ways, pixel for pixel (but for the legend pixels of patch 8).
  */
 (function () {
   "use strict";
@@ -175,8 +177,10 @@
         const key = `${glyph_width}x${glyph_height}@${window.devicePixelRatio}`;
         if (this.__fie_glyphs === this.entries && this.__fie_glyphs_key === key) return;
         paint_glyphs.call(this);
+        // Kept only when every entry was drawn from a stand-in whose view exists.
         const fixed = this.entries.every(({item}) => item.renderers.every(
-          (r) => r.tags.includes("fie-legend-proxy")));
+          (r) => r.tags.includes("fie-legend-proxy") &&
+                 this.plot_view.views.find_one(r) != null));
         this.__fie_glyphs = fixed ? this.entries : null;
         this.__fie_glyphs_key = key;
       };
