@@ -779,9 +779,9 @@ class PlotSet:
     def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
         v_hi = data["v_hi"] * scales.velocity
         x_lo, x_hi = data["x_lo"], data["x_hi"]
-        codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
         if data is not self._map_shown or scales is not self._map_scales:  # cached maps
             self._map_shown, self._map_scales = data, scales
+            codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
             self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
                                         "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
         fig = self.figures["map"]

@@ -412,15 +412,10 @@ def _compute_regime_map(key: tuple) -> dict[str, Any]:
             "v_hi": v_hi, "x_lo": x_lo, "x_hi": x_hi}
 
 
-def regime_label(values: Mapping[str, Any]) -> str:
-    """Short words for the regime at ``values``: e.g. ``'slow, inelastic, case b'``."""
-    return str(regime_labels(values, [values["belt_speed"]], [values["clearance"]])[0, 0])
-
-
 def regime_labels(values: Mapping[str, Any], speeds, clearances) -> np.ndarray:
-    """:func:`regime_label` at every belt speed (columns) and clearance (rows), the rest
-    of ``values`` fixed (:func:`core.theory.classify_grid`); ``'invalid'`` where the
-    theory refuses the inputs."""
+    """Short words for the regime (e.g. ``'slow, inelastic, case b'``) at every belt speed
+    (columns) and clearance (rows), the rest of ``values`` fixed
+    (:func:`core.theory.classify_grid`); ``'invalid'`` where the theory refuses the inputs."""
     cells, names = _regime_cells(values, speeds, clearances)
     found, inverse = np.unique(cells, return_inverse=True)
     return np.array([names[c] for c in found])[inverse].reshape(cells.shape)
@@ -489,5 +484,5 @@ def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 __all__ = [
     "ACCURACY", "Mode", "Program", "SolveTooSlow", "Solution", "Theory", "choose_method",
     "mode_intervals",
-    "overlap_program", "regime_label", "regime_labels", "regime_map", "solve",
+    "overlap_program", "regime_labels", "regime_map", "solve",
 ]
