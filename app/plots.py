@@ -803,8 +803,11 @@ def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> Le
     # One point off the canvas: the legend draws the glyph of a data index.
     source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
     draw = fig.line if glyph == "line" else fig.scatter
-    # Tagged so that the page skips painting it in the frame (static/bokeh_paint.js).
-    proxy = draw("x", "y", source=source, tags=[LEGEND_PROXY_TAG], **style)
+    proxy = draw("x", "y", source=source, **style)
+    # The renderer is tagged (a ``tags`` argument of ``fig.line`` would tag its glyph), so
+    # that the page skips painting it in the frame and draws its legend entry once
+    # (static/bokeh_paint.js, patches 7 and 8).
+    proxy.tags = [LEGEND_PROXY_TAG]
     proxy.on_change("visible", lambda attr, old, new: setattr(renderer, "visible", new))
     return LegendItem(label=label, renderers=[proxy])
 

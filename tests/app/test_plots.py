@@ -106,6 +106,25 @@ def test_legend_lists_the_transition_kinds_of_the_scene():
     assert shown == set(ex.plots.sources["trans"].data["kind"])
 
 
+def test_every_legend_entry_is_a_tagged_stand_in():
+    """The page's paint shortcuts for legends (static/bokeh_paint.js, patches 7 and 8) find
+    the stand-ins by the tag of their renderer: each legend entry of every figure is drawn
+    from a renderer that carries it and has no data to show."""
+    from bokeh.models import GlyphRenderer, Legend
+
+    from app.explorer import Explorer
+    from app.plots import LEGEND_PROXY_TAG
+
+    ex = Explorer()
+    legends = [m for fig in ex.plots.figures.values() for m in fig.select(type=Legend)]
+    assert len(legends) >= 3  # phase portrait, energy, hysteresis loop
+    for legend in legends:
+        for item in legend.items:
+            for r in item.renderers:
+                assert isinstance(r, GlyphRenderer) and LEGEND_PROXY_TAG in r.tags, item.label
+                assert np.isnan(r.data_source.data["x"]).all()
+
+
 @pytest.mark.parametrize("beyond, shown", [(0.3, True), (2.0, False)])
 def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
     """With the clearance past the motion's reach (no impact), the stop line stays in the
