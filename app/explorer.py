@@ -513,21 +513,22 @@ class Explorer(pn.viewable.Viewer):
 
     # --- solving and drawing -------------------------------------------------------------
 
-    def visible_plots(self) -> tuple[str, ...]:
-        """The plots the current scene needs (or all that apply, with 'show all plots')."""
+    def applicable_plots(self) -> tuple[str, ...]:
+        """The plots that can show the current state (no contact force without a stop)."""
         st = self.state
         if st.program and st.stop_type == "hysteretic":
             return ("loop", "force")
+        left_out = {"none": {"force", "loop"}, "rigid": {"loop"}}.get(st.stop_type, set())
+        return tuple(p for p in PLOTS if p not in left_out)
+
+    def visible_plots(self) -> tuple[str, ...]:
+        """The plots the current scene needs (or all that apply, with 'show all plots')."""
+        st = self.state
         by_stop = {"none": IMPACTLESS_PLOTS, "rigid": RIGID_PLOTS,
                    "hysteretic": HYSTERETIC_PLOTS}[st.stop_type]
         scene = SCENES.get(st.scene)
         wanted = PLOTS if st.show_all else (scene.plots if scene is not None else by_stop)
-        applicable = set(PLOTS)
-        if st.stop_type == "none":
-            applicable -= {"force", "loop"}
-        elif st.stop_type == "rigid":
-            applicable -= {"loop"}
-        return tuple(p for p in PLOTS if p in wanted and p in applicable)
+        return tuple(p for p in self.applicable_plots() if p in wanted or st.program)
 
     def _update(self) -> None:
         """Full solve of the state and redraw; on failure show why and keep the picture."""
@@ -565,6 +566,7 @@ class Explorer(pn.viewable.Viewer):
                 self.map_legend.object = _map_legend(map_data["labels"])
             for name, pane in self.plot_panes.items():
                 pane.visible = name in visible
+            self.show_all.name = _show_all_label(visible, self.applicable_plots())
             self.alert.visible = False
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
@@ -605,6 +607,16 @@ class Explorer(pn.viewable.Viewer):
         if self.solution is None:
             return None
         return trajectory_csv(self.solution, self.state.scales())
+
+
+def _show_all_label(visible: tuple[str, ...], applicable: tuple[str, ...]) -> str:
+    """The label of the 'show all plots' box, naming the plots it would add.
+
+    >>> _show_all_label(("phase", "time"), ("phase", "time", "friction", "energy"))
+    'show all plots (+ friction law, energy)'
+    """
+    hidden = [PLOT_TITLES[p].lower() for p in applicable if p not in visible]
+    return "show all plots" + (f" (+ {', '.join(hidden)})" if hidden else "")
 
 
 class _Deferred:

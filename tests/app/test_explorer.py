@@ -41,8 +41,13 @@ def test_opens_on_a_scene_with_a_picture(ex):
     assert traj["x"].dtype == np.float32
     assert "Steady state found" in ex.readout.object
     visible = [n for n, p in ex.plot_panes.items() if p.visible]
-    assert visible == [p for p in PLOTS if p in ("phase", "time", "anim", "force", "energy",
-                                                 "map")]
+    assert visible == [p for p in PLOTS if p in ("phase", "time", "anim", "force", "map")]
+    # The box that shows the others names them.
+    assert ex.show_all.name == "show all plots (+ friction law, energy)"
+    ex.show_all.value = True
+    assert [n for n, p in ex.plot_panes.items() if p.visible] == [
+        p for p in PLOTS if p != "loop"]
+    assert ex.show_all.name == "show all plots"
 
 
 def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
@@ -242,7 +247,7 @@ def test_overlap_program_scene(ex):
 
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
-                                    "app.readout", "app.export"])
+                                    "app.readout", "app.export", "app.explorer"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
