@@ -524,11 +524,14 @@ class Explorer(pn.viewable.Viewer):
     def visible_plots(self) -> tuple[str, ...]:
         """The plots the current scene needs (or all that apply, with 'show all plots')."""
         st = self.state
+        applicable = self.applicable_plots()
+        if st.program and st.stop_type == "hysteretic":
+            return applicable
         by_stop = {"none": IMPACTLESS_PLOTS, "rigid": RIGID_PLOTS,
                    "hysteretic": HYSTERETIC_PLOTS}[st.stop_type]
         scene = SCENES.get(st.scene)
         wanted = PLOTS if st.show_all else (scene.plots if scene is not None else by_stop)
-        return tuple(p for p in self.applicable_plots() if p in wanted or st.program)
+        return tuple(p for p in applicable if p in wanted)
 
     def _update(self) -> None:
         """Full solve of the state and redraw; on failure show why and keep the picture."""
