@@ -530,20 +530,28 @@ def accumulation_time(w0: float, r: float, d: float) -> float:
     if r == 0.0:
         return 2.0 * math.atan(y0)
     log_r = math.log(r)
+    # log(y0), finite where w0 / d overflows (a subnormal d: a stop at the slip centre).
+    log_y0 = math.log(w0) - math.log(d)
+
+    def y_at(h: int) -> float:
+        """``y0 r^h``, the ratio of the ``h``-th rebound."""
+        y = y0 * r**h
+        return y if math.isfinite(y) else math.exp(log_y0 + h * log_r)
+
     total = 0.0
     # Band y > SERIES_Y_HIGH: h = 0 .. n_high-1.
     n_high = 0
     if y0 > SERIES_Y_HIGH:
-        n_high = math.ceil(math.log(SERIES_Y_HIGH / y0) / log_r)
+        n_high = math.ceil((math.log(SERIES_Y_HIGH) - log_y0) / log_r)
         # Guard the rounding of the ceil: the first excluded term must be <= the bound.
-        while y0 * r**n_high > SERIES_Y_HIGH:
+        while y_at(n_high) > SERIES_Y_HIGH:
             n_high += 1
-        while n_high > 0 and y0 * r ** (n_high - 1) <= SERIES_Y_HIGH:
+        while n_high > 0 and y_at(n_high - 1) <= SERIES_Y_HIGH:
             n_high -= 1
-        z_last = 1.0 / (y0 * r ** (n_high - 1))  # the largest z = 1/y of the band
+        z_last = 1.0 / y_at(n_high - 1)  # the largest z = 1/y of the band
         total += n_high * (math.pi / 2) - _atan_geometric_series(z_last, log_r, n_high)
     # Band SERIES_Y_LOW < y <= SERIES_Y_HIGH: explicit terms.
-    y = y0 * r**n_high
+    y = y_at(n_high)
     n_mid = 0
     if y > SERIES_Y_LOW:
         n_mid = math.ceil(math.log(SERIES_Y_LOW / y) / log_r)

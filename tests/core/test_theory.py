@@ -474,6 +474,28 @@ def test_accumulation_time_near_elastic_is_finite_fast_and_right(y0):
     assert total == pytest.approx(estimate, rel=1e-11)
 
 
+@pytest.mark.parametrize("r", [0.01, 0.5, 0.9])
+def test_accumulation_time_with_a_subnormal_distance_is_the_plain_sum(r):
+    # w0 / d overflows: the stop sits at the slip centre to within a subnormal distance.
+    w0, d = 0.05, 5e-324
+    log_y0 = math.log(w0) - math.log(d)
+    terms, h = [], 0
+    while (log_y := log_y0 + h * math.log(r)) > math.log(1e-19):
+        # atan(y) = pi/2 - atan(1/y): the first ratios (~1e322) overflow exp.
+        terms.append(math.pi - 2.0 * math.atan(math.exp(-log_y)) if log_y > 0
+                     else 2.0 * math.atan(math.exp(log_y)))
+        h += 1
+    # Each term's ratio comes from exp(log y), relative error ~|log y| * eps ~ 2e-13, and
+    # the large terms are all near pi, where atan is flat: the sums agree far closer.
+    assert accumulation_time(w0, r, d) == pytest.approx(math.fsum(terms), rel=1e-12)
+
+
+def test_classify_a_stop_at_the_slip_centre_to_a_subnormal_distance():
+    regime = classify(Oscillator(mu_s=0.3, mu_k=0.0, belt_speed=0.05), RigidStop(-5e-324, 0.5),
+                      x0=-1.0)
+    assert regime.expected_steady == "rest"
+
+
 def test_accumulation_time_edges():
     assert accumulation_time(0.0, 0.5, 1.0) == 0.0
     assert accumulation_time(1.0, 0.0, 1.0) == pytest.approx(math.pi / 2, abs=EXACT)
