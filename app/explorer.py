@@ -47,7 +47,7 @@ from app.state import (
     ExplorerState,
     scene_key,
 )
-from app.widgets import TypedSlider
+from app.widgets import TypedSlider, set_changed
 
 log = logging.getLogger(__name__)
 
@@ -491,14 +491,12 @@ class Explorer(pn.viewable.Viewer):
                 if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                     grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
                     w.set(value, soft_end=max(w.slider.end, grow * value, step))
-        self.stop_type.value = st.stop_type
-        self.units.value = st.units
-        self.accuracy.value = st.accuracy
-        self.method.value = st.method
-        self.show_all.value = st.show_all
-        self.scene_select.value = st.scene
+        for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
+                              (self.accuracy, st.accuracy), (self.method, st.method),
+                              (self.show_all, st.show_all), (self.scene_select, st.scene)):
+            set_changed(widget, value=value)
         si = st.units == "SI"
-        self.si_box.visible = si
+        set_changed(self.si_box, visible=si)
         for name, (twin, _) in SI_TWINS.items():
             self.sliders[name].visible = si
             self.sliders[twin].visible = not si
@@ -507,7 +505,7 @@ class Explorer(pn.viewable.Viewer):
         has_stop = st.stop_type != "none"
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
-        self.hysteretic_box.visible = st.stop_type == "hysteretic"
+        set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
 
@@ -568,9 +566,9 @@ class Explorer(pn.viewable.Viewer):
             if map_data is not None:
                 self.map_legend.object = _map_legend(map_data["labels"])
             for name, pane in self.plot_panes.items():
-                pane.visible = name in visible
-            self.show_all.name = _show_all_label(visible, self.applicable_plots())
-            self.alert.visible = False
+                set_changed(pane, visible=name in visible)
+            set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
+            set_changed(self.alert, visible=False)
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
