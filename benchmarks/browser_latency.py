@@ -48,6 +48,10 @@ FULL_MIN_POINTS = PREVIEW_SAMPLES + 50
 RELEASE_TIMEOUT_MS = 20_000
 #: Paints quieter than this [ms] after the full solution arrived end a measurement.
 SETTLE_MS = 250
+#: How often [ms] the harness asks the page whether a measurement has ended. The probe
+#: times the release inside the page; Playwright's default (the question asked in every
+#: animation frame) ran the harness's own script in the very frames being measured.
+POLL_MS = 100
 
 #: Installs the probe. It records the ``pointerup`` that ends a drag, notices when the full
 #: solution's trajectory arrives (a preview has fewer points), and then follows every figure
@@ -152,7 +156,7 @@ def drag(page, i: int, slider: str = SLIDER) -> None:
     page.mouse.up()
     try:
         page.wait_for_function(f"() => window.__lat.painted.length > {i}",
-                               timeout=RELEASE_TIMEOUT_MS)
+                               timeout=RELEASE_TIMEOUT_MS, polling=POLL_MS)
     except PlaywrightTimeout:  # the release changed nothing: count it as missed
         page.evaluate("() => { window.__lat.painted.push(NaN); "
                       "window.__lat.paints.push(0); window.__lat.pending = null; }")
