@@ -77,10 +77,16 @@ SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
     "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
     "v0_si": ("initial velocity x'0 (m/s)", 0.001, "v0"),
     "t_end_si": ("horizon t_end (s)", 0.01, "t_end"),
+    "k_c0_si": ("compression stiffness k_c0 (N/m)", 1.0, "k_c0"),
+    "k_e0_si": ("expansion stiffness k_e0 (N/m)", 1.0, "k_e0"),
 }
-#: SI sliders that stand for a dimensionless one in SI mode, and the power of omega that
-#: converts its slider range: x'0 [m/s] = omega x'0, t_end [s] = t_end / omega.
-SI_TWINS: Mapping[str, tuple[str, int]] = {"v0_si": ("v0", 1), "t_end_si": ("t_end", -1)}
+#: SI sliders that stand for a dimensionless one in SI mode, and the factor that converts
+#: its slider range, a power of an SI value: x'0 [m/s] = omega x'0, t_end [s] =
+#: t_end / omega, k_c0 [N/m] = k (k_c0 / k).
+SI_TWINS: Mapping[str, tuple[str, str, int]] = {
+    "v0_si": ("v0", "omega", 1), "t_end_si": ("t_end", "omega", -1),
+    "k_c0_si": ("k_c0", "k", 1), "k_e0_si": ("k_e0", "k", 1),
+}
 #: Sliders of a length: their label gains "(m)" in SI mode.
 LENGTH_SLIDERS = ("clearance", "limit_overlap", "x0")
 #: Constraints kept by the widgets: the first may not exceed the second.
@@ -176,8 +182,8 @@ class Explorer(pn.viewable.Viewer):
             value = phys[key]
             soft, bounds = (0.0, max(SI_SOFT_SPAN * value, step)), (0.0, 1e9)
             if name in SI_TWINS:
-                twin, power = SI_TWINS[name]
-                scale = phys["omega"] ** power
+                twin, factor, power = SI_TWINS[name]
+                scale = phys[factor] ** power
                 soft = tuple(scale * b for b in st.param[twin].softbounds)
                 bounds = (-1e9 if st.param[twin].bounds[0] < 0 else 0.0, 1e9)
             self.sliders[name] = TypedSlider(
@@ -209,7 +215,8 @@ class Explorer(pn.viewable.Viewer):
             widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
         self.hysteretic_box = pn.Column(
             *(self.sliders[n].layout
-              for n in ("k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e")), margin=0)
+              for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c",
+                      "beta_e")), margin=0)
         self.si_box = pn.Column(
             *(self.sliders[n].layout
               for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
@@ -366,15 +373,17 @@ class Explorer(pn.viewable.Viewer):
             self._draw(self.solution)
 
     def _commit_si(self, si: Mapping[str, float]) -> None:
+        """A user's final SI value(s): converted, then committed as the state's values
+        (through the same constraints)."""
         if self._syncing:
             return
-        self._commits += 1
         try:
-            with param.parameterized.batch_call_watchers(self.state):
-                self.state.set_physical(**si)
-                self.state.scene = CUSTOM
+            values = self.state.from_physical(**si)
         except ValueError as exc:
+            self._commits += 1
             self._show_error(str(exc))
+            return
+        self._commit(values)
 
     def _release_arrived(self) -> None:
         """A slider's release has arrived and will be committed: a preview whose drawing is
@@ -486,9 +495,15 @@ class Explorer(pn.viewable.Viewer):
         except ValueError:
             phys = None
         if phys is not None:
+            twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
+            si_bounded = {twin_of[low]: phys[high] for low, high in CONSTRAINTS
+                          if low in twin_of and high in twin_of}
             for name, (_, step, key) in SI_SLIDERS.items():
                 w, value = self.sliders[name], phys[key]
-                if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                if name in si_bounded:  # as above, in SI
+                    top = si_bounded[name]
+                    w.set(value, hard_end=top, soft_end=top)
+                elif not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                     grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
                     w.set(value, soft_end=max(w.slider.end, grow * value, step))
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
@@ -497,7 +512,7 @@ class Explorer(pn.viewable.Viewer):
             set_changed(widget, value=value)
         si = st.units == "SI"
         set_changed(self.si_box, visible=si)
-        for name, (twin, _) in SI_TWINS.items():
+        for name, (twin, _, _) in SI_TWINS.items():
             self.sliders[name].visible = si
             self.sliders[twin].visible = not si
         self.sliders["u_s"].visible = not si

@@ -41,7 +41,10 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     if sol.program is not None:
         stop = sol.stop
         rows.append(("Scene", "the stop alone, driven by a prescribed overlap (Fig. 2b)"))
-        rows.append(("Stop", f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}, "
+        stiffness = (f"k_c0 = {_num(stop.k_c0 * scales.force)} N/m, "
+                     f"k_e0 = {_num(stop.k_e0 * scales.force)} N/m" if scales.si else
+                     f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}")
+        rows.append(("Stop", f"{stiffness}, "
                              f"D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
                              f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"))
         area = float(np.trapezoid(sol.program.force, sol.program.overlap))

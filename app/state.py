@@ -43,8 +43,11 @@ SOLVE_PARAMS = (
     "accuracy", "method", "program",
 )
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
-#: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s].
-SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end")
+#: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
+#: the deformable stop's initial compression and expansion stiffnesses [N/m].
+SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end", "k_c0", "k_e0")
+#: Stop stiffnesses: the state holds them over k (SPEC §3), SI shows them in N/m.
+STOP_STIFFNESSES = ("k_c0", "k_e0")
 #: Parameters that only change how results are shown.
 VIEW_PARAMS = ("units", "mass", "stiffness", "show_all")
 #: Parameter name -> query-string key of the permalink (short keys keep URLs readable).
@@ -182,22 +185,27 @@ class ExplorerState(param.Parameterized):
 
     def physical(self) -> dict[str, float]:
         """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s],
-        ``v0`` [m/s], ``t_end`` [s], ...
+        ``v0`` [m/s], ``t_end`` [s], ``k_c0`` and ``k_e0`` [N/m], ...
 
-        Uses :meth:`core.Oscillator.to_physical`; the initial velocity is ``omega x'0`` and
-        the horizon ``t_end / omega`` (SPEC §2: ``t = omega tau``).
+        Uses :meth:`core.Oscillator.to_physical`; the initial velocity is ``omega x'0``, the
+        horizon ``t_end / omega`` (SPEC §2: ``t = omega tau``), a stop stiffness ``k`` times
+        its ratio.
         """
         osc = Oscillator(mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s),
                          belt_speed=self.belt_speed, u_s=self.u_s)
         phys = osc.to_physical(m=self.mass, k=self.stiffness)
         phys["v0"] = self.v0 * phys["omega"]
         phys["t_end"] = self.t_end / phys["omega"]
+        for name in STOP_STIFFNESSES:
+            phys[name] = getattr(self, name) * self.stiffness
         return phys
 
     def from_physical(self, **si: float) -> dict[str, float]:
         """The state values that SI values give (any of :data:`SI_KEYS`); the others keep
-        their SI values. Uses :meth:`core.Oscillator.from_physical`; raises ``ValueError``
-        on bad input. Nothing is set (see :meth:`set_physical`).
+        their SI values (a new ``k`` keeps the stop's stiffnesses in N/m, so their ratios
+        change). Uses :meth:`core.Oscillator.from_physical`; raises ``ValueError`` on bad
+        input, naming the parameter and its bounds. Nothing is set (see
+        :meth:`set_physical`).
 
         >>> s = ExplorerState(belt_speed=0.1, t_end=60.0)  # m = 1 kg, k = 100 N/m
         >>> s.physical()["t_end"], s.physical()["belt_speed"]  # omega = 10 rad/s
@@ -216,9 +224,19 @@ class ExplorerState(param.Parameterized):
             mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s), belt_speed=merged["belt_speed"],
         )
         omega = math.sqrt(merged["k"] / merged["m"])
-        return {"mass": merged["m"], "stiffness": merged["k"], "u_s": osc.u_s,
-                "belt_speed": osc.belt_speed, "v0": merged["v0"] / omega,
-                "t_end": merged["t_end"] * omega}
+        values = {"mass": merged["m"], "stiffness": merged["k"], "u_s": osc.u_s,
+                  "belt_speed": osc.belt_speed, "v0": merged["v0"] / omega,
+                  "t_end": merged["t_end"] * omega}
+        # A ratio is recomputed only when k or the stiffness itself is new: (k_c0 k) / k
+        # need not give back k_c0's last bit.
+        values.update({name: merged[name] / merged["k"] for name in STOP_STIFFNESSES
+                       if name in si or "k" in si})
+        for name, value in values.items():
+            low, high = self.param[name].bounds
+            if not low <= value <= high:
+                raise ValueError(
+                    f"{name} = {value:.6g} (from the SI values) must lie in [{low:g}, {high:g}]")
+        return values
 
     def set_physical(self, **si: float) -> None:
         """Set the state from SI values (see :meth:`from_physical`) in one batch; raises
@@ -229,13 +247,7 @@ class ExplorerState(param.Parameterized):
         >>> round(s.u_s, 12), round(s.belt_speed, 12)
         (0.5, 0.05)
         """
-        values = self.from_physical(**si)
-        for name, value in values.items():
-            low, high = self.param[name].bounds
-            if not low <= value <= high:
-                raise ValueError(
-                    f"{name} = {value:.6g} (from the SI values) must lie in [{low:g}, {high:g}]")
-        self.param.update(**values)
+        self.param.update(**self.from_physical(**si))
 
     # --- scenes --------------------------------------------------------------------------
 

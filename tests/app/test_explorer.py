@@ -13,6 +13,7 @@ from bokeh.events import Tap
 
 import app.explorer as explorer_module
 from app.explorer import Explorer
+from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY, MAP_CELLS
 
@@ -229,6 +230,32 @@ def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
     ex.units.value = "dimensionless"
     assert ex.sliders["t_end"].visible and not ex.sliders["t_end_si"].visible
     assert ex.sliders["t_end"].value == pytest.approx(3.0 * omega)
+
+
+def test_si_stop_stiffnesses_are_in_newtons_per_metre_and_keep_their_order(ex):
+    ex.scene_select.value = "10"
+    ex.units.value = "SI"
+    k = ex.state.stiffness
+    shown = {name for name in ("k_c0", "k_c0_si", "k_e0", "k_e0_si") if ex.sliders[name].visible}
+    assert shown == {"k_c0_si", "k_e0_si"}
+    assert ex.sliders["k_c0_si"].value == pytest.approx(ex.state.k_c0 * k)
+    assert "N/m" in ex.sliders["k_c0_si"].label.value
+    # The expansion stiffness ends where the compression stiffness stands (k_e0 <= k_c0).
+    assert ex.sliders["k_e0_si"].bounds[1] == pytest.approx(ex.state.k_c0 * k)
+    _release(ex, "k_c0_si", 20_000.0)
+    assert ex.state.k_c0 == pytest.approx(20_000.0 / k) and ex.state.scene == "custom"
+    # Below the expansion stiffness: the expansion stiffness follows it down, as in the
+    # dimensionless view, and nothing is refused.
+    _release(ex, "k_c0_si", 0.5 * ex.sliders["k_e0_si"].value)
+    assert ex.state.k_e0 == ex.state.k_c0 and not ex.alert.visible
+    assert ex.sliders["k_e0_si"].value == pytest.approx(ex.state.k_c0 * k)
+    ex.units.value = "dimensionless"
+    assert ex.sliders["k_c0"].visible and not ex.sliders["k_c0_si"].visible
+    assert ex.sliders["k_c0"].value == pytest.approx(ex.state.k_c0)
+    ex.scene_select.value = "2b"  # the stop alone: the readout names its stiffnesses
+    assert f"k_c0/k = {ex.state.k_c0:.{DIGITS}g}," in ex.readout.object
+    ex.units.value = "SI"
+    assert f"k_c0 = {ex.state.k_c0 * k:.{DIGITS}g} N/m" in ex.readout.object
 
 
 def test_csv_export(ex):

@@ -78,6 +78,20 @@ def test_si_start_velocity_and_horizon_both_ways():
         state.from_physical(x0=1.0)
 
 
+def test_si_stop_stiffnesses_both_ways():
+    state = ExplorerState(stiffness=100.0, k_c0=400.0, k_e0=36.0)
+    phys = state.physical()
+    assert (phys["k_c0"], phys["k_e0"]) == (40_000.0, 3_600.0)
+    state.set_physical(k_c0=50_000.0)
+    assert state.k_c0 == 500.0 and state.k_e0 == 36.0
+    # A new k keeps the stop's stiffnesses in N/m (as it keeps F_N and v_dr).
+    state.set_physical(k=200.0)
+    assert (state.k_c0, state.k_e0) == (250.0, 18.0)
+    assert state.physical()["k_c0"] == pytest.approx(50_000.0)
+    with pytest.raises(ValueError, match=r"k_c0 = 5e\+09 .* \[0.001, 1e\+06\]"):
+        state.set_physical(k_c0=1e12)
+
+
 def test_set_physical_rejects_bad_si_input():
     state = ExplorerState()
     with pytest.raises(ValueError, match="m must lie"):
