@@ -100,6 +100,12 @@ MAX_BANDS = 600
 MAX_OPERATING_POINTS = 500
 #: Gap [px] between a theory point and its label.
 LABEL_GAP_PX = 6
+#: Vertical offsets [px] of a theory point's label: above it, or below it (a label that
+#: would face another on the same level, see :func:`_theory_points`).
+LABEL_ABOVE_PX, LABEL_BELOW_PX = 4, -14
+#: Points whose velocities differ by less than this fraction of the largest are on one
+#: level (their labels, 10 px high, would share a line in a 500 px high portrait).
+LABEL_LEVEL_FRACTION = 0.03
 #: Vertices of the reference circles (Gamma_0, limit cycle).
 CIRCLE_VERTICES = 181
 #: Samples of the hysteresis envelopes.
@@ -307,12 +313,15 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     """The theory's points with their labels; points that coincide (a stick segment that
     ends at the stop: its end is the impact point) are one marker with a joint label, not
     labels printed over each other. Labels of points on the stop, the right edge of the
-    motion, are written to their left (``align``, ``dx`` [px]) so that they stay in view.
+    motion, are written to their left (``align``, ``dx`` [px]) so that they stay in view;
+    such a label goes below its point (``dy`` [px]) when a label on the same level, to its
+    left, is written towards it (the stick line's two ends: their labels ran into each
+    other when the stick is short).
 
     >>> p = _theory_points({"P_stick_end": (0.25, 0.07), "P_impact_in": (0.25, 0.07 + 1e-15),
     ...                     "P_stick_start": (0.1, 0.07)}, 0.25, DIMENSIONLESS)
-    >>> p["name"], p["align"]
-    (['stick end = impact in', 'stick start'], ['right', 'left'])
+    >>> p["name"], p["align"], p["dy"]
+    (['stick end = impact in', 'stick start'], ['right', 'left'], [-14, 4])
     """
     merged: list[tuple[float, float, list[str]]] = []
     for key, (x, v) in named.items():
@@ -325,10 +334,15 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
         else:
             merged.append((x, v, [label]))
     on_stop = [m[0] >= stop - 1e-9 * max(1.0, abs(stop)) for m in merged]
+    level = LABEL_LEVEL_FRACTION * max((abs(m[1]) for m in merged), default=0.0)
+    facing = [s and any(not other_s and o[0] < m[0] and abs(o[1] - m[1]) <= level
+                        for o, other_s in zip(merged, on_stop, strict=True))
+              for m, s in zip(merged, on_stop, strict=True)]
     return {"x": [m[0] for m in merged], "v": [m[1] * scales.velocity for m in merged],
             "name": [" = ".join(m[2]) for m in merged],
             "align": ["right" if s else "left" for s in on_stop],
-            "dx": [-LABEL_GAP_PX if s else LABEL_GAP_PX for s in on_stop]}
+            "dx": [-LABEL_GAP_PX if s else LABEL_GAP_PX for s in on_stop],
+            "dy": [LABEL_BELOW_PX if f else LABEL_ABOVE_PX for f in facing]}
 
 
 def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -508,7 +522,7 @@ class PlotSet:
         r = fig.scatter("x", "v", source=s["points"], **style)
         items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
         fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                                text_align="align", y_offset=4, text_font_size="10px"))
+                                text_align="align", y_offset="dy", text_font_size="10px"))
         style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
                  "line_color": "#000000"}
         r = fig.scatter("x", "v", source=s["start"], **style)
@@ -872,7 +886,7 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
-    "points": {"x": [], "v": [], "name": [], "align": [], "dx": []},
+    "points": {"x": [], "v": [], "name": [], "align": [], "dx": [], "dy": []},
     "start": {"x": [], "v": []},
     "stems": {"t": [], "j": []},
     "force": {"t": [], "phi": []},

@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.plots import MODE_NAMES, trajectory_columns
+from app.plots import (
+    LABEL_ABOVE_PX,
+    LABEL_BELOW_PX,
+    MODE_NAMES,
+    reference_columns,
+    trajectory_columns,
+)
 from app.scenes import SCENES
 from app.solver import solve
 from app.state import scene_values
@@ -194,3 +200,15 @@ def test_tick_labels_of_the_loop_overlaps_are_decimals(key):
     axes = [a for f in plots.figures.values() for a in (*f.xaxis, *f.yaxis)]
     axes.append(plots.rest_axis)
     assert all(tick > 10.0 ** a.formatter.power_limit_low for a in axes)
+
+
+@pytest.mark.parametrize("key", ["5b", "7b"])
+def test_the_two_ends_of_the_stick_line_label_away_from_each_other(key):
+    # The stick starts left of the stop and ends at it, both at x' = v: "stick start" is
+    # written rightwards and the stop's label leftwards, so the stop's goes below its point.
+    pts = reference_columns(solve(scene_values(key)))["points"]
+    by_name = dict(zip(pts["name"], zip(pts["align"], pts["dy"], strict=True), strict=True))
+    stop_label = next(name for name in by_name if name.startswith("stick end"))
+    assert by_name["stick start"] == ("left", LABEL_ABOVE_PX)
+    assert by_name[stop_label] == ("right", LABEL_BELOW_PX)
+    assert all(dy == LABEL_ABOVE_PX for name, (_, dy) in by_name.items() if name != stop_label)
