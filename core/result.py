@@ -8,7 +8,7 @@ from __future__ import annotations
 import enum
 import math
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import NamedTuple, Protocol
 
 import numpy as np
 
@@ -130,6 +130,9 @@ class Status(str, enum.Enum):
     STOP_FAILED = "stop_failed"
     LIMIT_OVERLAP = "limit_overlap"
     INTEGRATION_FAILED = "integration_failed"
+    EVENT_LIMIT = "event_limit"
+    STEP_LIMIT = "step_limit"
+    TIME_BUDGET = "time_budget"
 
     @property
     def message(self) -> str:
@@ -144,7 +147,46 @@ _STATUS_MESSAGES = {
         "penetrated beyond its asymptote. Raise limit_overlap or k_c0."
     ),
     Status.INTEGRATION_FAILED: "The contact integration failed (step size too small).",
+    Status.EVENT_LIMIT: (
+        "The solver stopped at its limit on the number of events before the horizon; "
+        "the result covers the time up to that point."
+    ),
+    Status.STEP_LIMIT: (
+        "The solver stopped at its limit on the number of integration steps before the "
+        "horizon; the result covers the time up to that point."
+    ),
+    Status.TIME_BUDGET: (
+        "The solver stopped when its time budget ran out before the horizon; the result "
+        "covers the time up to that point. Give it more time or choose a faster method."
+    ),
 }
+
+#: Keys of :attr:`Result.stats`, the same for every method (all integer counts):
+#: ``segments`` closed-form pieces or integrator calls, ``steps`` accepted numerical steps,
+#: ``rejected`` rejected steps, ``rhs_evals`` right-hand-side evaluations, ``events``
+#: transitions located (stored or not).
+STATS_KEYS = ("segments", "steps", "rejected", "rhs_evals", "events")
+
+
+def make_stats(**counts: int) -> dict[str, int]:
+    """The stats dictionary of a :class:`Result`: every key of :data:`STATS_KEYS`, as ``int``.
+
+    >>> make_stats(steps=3)
+    {'segments': 0, 'steps': 3, 'rejected': 0, 'rhs_evals': 0, 'events': 0}
+    """
+    unknown = set(counts) - set(STATS_KEYS)
+    if unknown:
+        raise ValueError(f"unknown stats keys {sorted(unknown)}; allowed: {STATS_KEYS}")
+    return {key: int(counts.get(key, 0)) for key in STATS_KEYS}
+
+
+class DenseSolution(Protocol):
+    """What a method attaches to its :class:`Result` so that it can be evaluated anywhere."""
+
+    def evaluate(self, t: np.ndarray, side: int) -> tuple[np.ndarray, np.ndarray]:
+        """Position and velocity at times ``t``; at a jump (an impact) ``side=-1`` gives the
+        left limit (before) and ``side=+1`` the right limit (after)."""
+        ...
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
@@ -209,10 +251,32 @@ class Result:
     impulses: np.ndarray
     method: str = "exact"
     stats: dict[str, float] = field(default_factory=dict)
+    #: Method-specific diagnostics that are not counts (e.g. the solver's name, a measured
+    #: restitution); the counts live in ``stats``.
+    info: dict[str, object] = field(default_factory=dict)
+    #: The solution as a function of time (see :meth:`evaluate`); ``None`` if the method
+    #: offers only its samples.
+    dense: DenseSolution | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for name in ("t", "x", "v", "mode", "contact_force", "overlap", "impulses"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
+        """Position and velocity at any times in ``[0, t_end]``: exact on closed-form
+        segments, the dense interpolant on integrated ones. ``side=-1`` (default) gives the
+        left limit at an impact (the velocity before it), ``side=+1`` the right limit."""
+        if side not in (-1, 1):
+            raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")
+        if self.dense is None:
+            raise NotImplementedError(f"method {self.method!r} offers no dense solution")
+        t = np.asarray(t, dtype=float)
+        return self.dense.evaluate(t, side)
+
+    @property
+    def success(self) -> bool:
+        """True when the solve reached the horizon (``status`` is ``SUCCESS``)."""
+        return self.status is Status.SUCCESS
 
     @property
     def truncated(self) -> bool:
