@@ -49,6 +49,7 @@ from functools import partial
 
 from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
+from core.numerics.limits import MAX_STEPS, WorkLimit
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind
 from core.validation import check_range, check_start
@@ -289,6 +290,19 @@ def _hermite_dx(s: float, h: float, x0: float, v0: float, x1: float, v1: float) 
     ) / h
 
 
+def band_edge(vb: float, eta: float, s: int) -> float:
+    """The velocity where slip with sign ``s`` enters the stick band ``|vb - x'| <= eta``,
+    rounded so that the band test holds for it (``vb - (vb - eta)`` may round above ``eta``).
+
+    >>> v = band_edge(1e-5, 1e-9, 1); abs(1e-5 - v) <= 1e-9
+    True
+    """
+    v = vb - s * eta
+    while abs(vb - v) > eta:
+        v = math.nextafter(v, vb)
+    return v
+
+
 def _default_eta(osc: Oscillator) -> float:
     scale = osc.v if osc.v > 0.0 else max(osc.a, osc.b, osc.u_s)
     return ETA_REL * scale
@@ -308,6 +322,8 @@ def simulate_switch(
     eta: float | None = None,
     max_step: float = math.inf,
     rest_speed: float | None = None,
+    max_steps: int = MAX_STEPS,
+    time_budget: float | None = None,
 ) -> Result:
     """Response by the switch model and adaptive RKF 4(5), the paper's method (SPEC §5).
 
@@ -334,6 +350,13 @@ def simulate_switch(
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop is taken to rest there
         (the Zeno guard, see the module docstring); default ``eta``.
+    max_steps : int
+        Largest number of Runge-Kutta steps tried (accepted and rejected). When it is
+        reached the solve stops with ``Status.STEP_LIMIT`` and the result covers the time
+        up to that point.
+    time_budget : float, optional
+        Wall-clock seconds the solve may take; when they run out it stops with
+        ``Status.TIME_BUDGET`` (result up to that point). ``None``: no budget.
 
     Returns
     -------
@@ -356,6 +379,7 @@ def simulate_switch(
     n_samples = int(check_range("n_samples", n_samples, 2))
     transition_cap = int(check_range("transition_cap", transition_cap, 0))
     max_step = check_range("max_step", max_step, 0.0, low_open=True, allow_inf=True)
+    limit = WorkLimit(max_steps, time_budget)
     eta = _default_eta(osc) if eta is None else check_range("eta", eta, 0.0, low_open=True)
     rest_speed = eta if rest_speed is None else check_range("rest_speed", rest_speed, 0.0)
     rigid = isinstance(stop, RigidStop)
@@ -493,6 +517,10 @@ def simulate_switch(
         come_to_rest(0.0)
 
     while t < t_end and not at_rest:
+        stopped = limit.reached(steps + rejected)
+        if stopped is not None:
+            status = stopped
+            break
         h = min(h, max_step)
         last = t + h >= t_end
         if last:
@@ -555,6 +583,23 @@ def simulate_switch(
                 log.add(TransitionKind.FAILURE, t, x, v)
                 status = Status.STOP_FAILED
                 break
+
+        # --- the step jumped over the stick band: cut it where it enters the band -------
+        if fr != 0 and friction_state(xn, vn) == -fr:
+            level = vb - fr * eta
+            an = rhs(xn, vn)
+            n_eval += 1
+            s_ev = _root(
+                partial(_hermite, h=h, y0=v, d0=acc, y1=vn - level, d1=an, shift=level),
+                0.0,
+                1.0,
+                v - level,
+                vn - level,
+            )
+            hh, xe, _ = locate(s_ev, h, lambda xx, vv, lv=level: vv - lv, rhs)
+            advance(hh, xe, band_edge(vb, eta, fr))
+            h = h_next
+            continue
 
         # --- a maximum of x inside the step: stored as a point, so x_max has the
         #     integration accuracy ------------------------------------------------------------

@@ -273,3 +273,59 @@ def test_result_from_dense_accepts_plain_arrays():
     )
     assert len(res.t) == 50 and res.x_max == pytest.approx(2 * A, abs=1e-8)
     assert res.n_transitions == 0
+
+
+# --- work limits and slow belts -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("belt_speed", [1e-5, 1e-9])
+def test_slow_belt_finishes_in_few_steps(belt_speed):
+    """Defect: the band |v - x'| <= eta (eta = 1e-4 v) was thinner than the velocity
+    tolerance, so steps jumped over it and the solution chattered between the two slip
+    branches with steps of ~1e-7 (hours for t_end = 100). Entering the band is now located."""
+    from core import Status, simulate
+
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=belt_speed)
+    stop = RigidStop(0.25, 0.7)
+    res = simulate_switch(osc, stop, t_end=100.0, max_steps=10_000)
+    assert res.status is Status.SUCCESS
+    # measured: about 40 steps; the old code took 5e5 steps to reach t = 0.12
+    assert res.stats["steps"] + res.stats["rejected"] < 1_000
+    exact = simulate(osc, stop, t_end=100.0)
+    assert [tr.kind for tr in res.transitions] == [tr.kind for tr in exact.transitions]
+    # the mass sticks at x' = v - eta (eta = 1e-4 v): x(100) is O(eta * t_end) low
+    eta = 1e-4 * belt_speed
+    assert res.x[-1] == pytest.approx(exact.x[-1], abs=2 * eta * 100.0)
+    assert res.v[-1] == pytest.approx(belt_speed, abs=eta)
+
+
+def test_step_limit_returns_the_result_so_far():
+    from core import Status
+
+    res = simulate_switch(SLOW, RigidStop(0.25, 0.7), t_end=50.0, max_steps=30)
+    assert res.status is Status.STEP_LIMIT and not res.success
+    assert res.stats["steps"] + res.stats["rejected"] == 30
+    assert 0.0 < res.t[-1] < 50.0
+    n = len(res.t)
+    assert all(len(a) == n for a in (res.x, res.v, res.mode, res.energy.mechanical))
+    assert np.all(np.diff(res.t) >= 0.0) and np.all(np.isfinite(res.x))
+    assert all(tr.t <= res.t[-1] for tr in res.transitions)
+
+
+def test_time_budget_returns_the_result_so_far():
+    from core import Status
+
+    # a budget far below one step's cost: the solve stops at its first check
+    res = simulate_switch(SLOW, RigidStop(0.25, 0.7), t_end=1e4, time_budget=1e-9)
+    assert res.status is Status.TIME_BUDGET
+    assert res.t[-1] < 1e4
+    assert len(res.t) == len(res.x) == len(res.v)
+
+
+def test_work_limit_input_is_checked():
+    with pytest.raises(ValueError, match="max_steps"):
+        simulate_switch(SLOW, max_steps=2.7)
+    with pytest.raises(ValueError, match="max_steps"):
+        simulate_switch(SLOW, max_steps=0)
+    with pytest.raises(ValueError, match="time_budget"):
+        simulate_switch(SLOW, time_budget=-1.0)
