@@ -31,7 +31,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
+    DenseSolution,
     Energy,
     Mode,
     Result,
@@ -127,87 +129,6 @@ def log_rest_at_stop(
     if t_rest <= t_end:
         log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
     return t_rest
-
-
-def _locate(t: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
-    """Index of the interval ``[t[i], t[i+1]]`` holding each query.
-
-    ``side="right"`` picks the interval that starts at the last of repeated times (after a
-    jump), ``"left"`` the one that ends at the first (before it).
-    """
-    idx = np.searchsorted(t, tq, side=side) - 1
-    return np.clip(idx, 0, len(t) - 2)
-
-
-def hermite_eval(
-    t: np.ndarray,
-    y: np.ndarray,
-    dy: np.ndarray,
-    tq: np.ndarray,
-    side: str = "right",
-) -> np.ndarray:
-    """Piecewise cubic Hermite interpolation of ``y`` (derivative ``dy``) at ``tq``.
-
-    ``side="right"`` takes the state after a jump at a repeated time, ``"left"`` the state
-    before it. Zero-width intervals (jumps) are never interpolated across.
-
-    Examples
-    --------
-    >>> t = np.array([0.0, 1.0]); y = t**3; dy = 3 * t**2
-    >>> float(hermite_eval(t, y, dy, np.array([0.5]))[0])   # exact for a cubic
-    0.125
-    """
-    if len(t) == 1:
-        return np.full(np.shape(tq), y[0], dtype=float)
-    i = _locate(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(h > 0.0, (tq - t0) / h, 0.0)
-    s = np.clip(s, 0.0, 1.0)
-    s2, s3 = s * s, s * s * s
-    # written as y0 + (y1 - y0) * h01 + ...: a constant stays exactly constant
-    h10 = s3 - 2 * s2 + s
-    h01 = -2 * s3 + 3 * s2
-    h11 = s3 - s2
-    return y[i] + h01 * (y[i + 1] - y[i]) + h * (h10 * dy[i] + h11 * dy[i + 1])
-
-
-def hermite_max(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
-    """Largest value of the cubic Hermite interpolant of ``x`` (derivative ``v``).
-
-    Interior maxima are looked for only on intervals where ``v`` falls from positive to
-    non-positive; integrators that insert their maxima as points make this a plain ``max``.
-    """
-    best = float(np.max(x))
-    if len(t) < 2:
-        return best
-    h = np.diff(t)
-    sel = np.flatnonzero((h > 0.0) & (v[:-1] > 0.0) & (v[1:] <= 0.0))
-    if sel.size == 0:
-        return best
-    x0, x1, hh = x[sel], x[sel + 1], h[sel]
-    m0, m1 = hh * v[sel], hh * v[sel + 1]
-    # d/ds of the Hermite cubic: A s^2 + B s + C
-    qa = 6 * x0 + 3 * m0 - 6 * x1 + 3 * m1
-    qb = -6 * x0 - 4 * m0 + 6 * x1 - 2 * m1
-    qc = m0
-    disc = np.maximum(qb * qb - 4 * qa * qc, 0.0)
-    sq = np.sqrt(disc)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r1 = np.where(qa != 0.0, (-qb - sq) / (2 * qa), -qc / qb)
-        r2 = np.where(qa != 0.0, (-qb + sq) / (2 * qa), -qc / qb)
-    for r in (r1, r2):
-        s = np.clip(np.nan_to_num(r, nan=0.0), 0.0, 1.0)
-        s2, s3 = s * s, s * s * s
-        val = (
-            (2 * s3 - 3 * s2 + 1) * x0
-            + (s3 - 2 * s2 + s) * m0
-            + (-2 * s3 + 3 * s2) * x1
-            + (s3 - s2) * m1
-        )
-        best = max(best, float(np.max(val)))
-    return best
 
 
 def _energy_at_samples(
@@ -426,7 +347,10 @@ def result_from_dense(
     x_upper: float | None = None,
     status: Status = Status.SUCCESS,
     method: str,
-    stats: dict | None = None,
+    stats: dict[str, int] | None = None,
+    info: dict[str, object] | None = None,
+    t_eval: np.ndarray | None = None,
+    dense: DenseSolution | None = None,
 ) -> Result:
     """Assemble a :class:`~core.result.Result` from an integrator's dense points.
 
@@ -480,6 +404,15 @@ def result_from_dense(
     status : Status
     method : str
     stats : dict, optional
+        Integer counts (:func:`core.result.make_stats`).
+    info : dict, optional
+        Diagnostics that are not counts (the solver's name, the stick band).
+    t_eval : ndarray, optional
+        Sample exactly at these times (checked by the caller) instead of the uniform grid
+        and the transitions; those beyond the end of an early-stopped solve are dropped.
+    dense : DenseSolution, optional
+        The method's own interpolant: the samples of ``x`` and ``x'`` are taken from it,
+        and it is attached to the result for :meth:`~core.result.Result.evaluate`.
 
     Returns
     -------
@@ -506,18 +439,7 @@ def result_from_dense(
     )
 
     t_stop = min(float(t_end), float(t[-1]))
-    uniform = np.linspace(0.0, t_stop, max(int(n_samples), 2))
-    tr_pts = [tr for tr in log.stored if tr.t <= t_stop]
-    jump_t = np.array([tr.t for tr in tr_pts if tr.kind in IMPACT_KINDS], dtype=float)
-    other_t = np.array([tr.t for tr in tr_pts if tr.kind not in IMPACT_KINDS], dtype=float)
-    right_t = np.concatenate([uniform, other_t, jump_t])
-    # at a repeated time the state before a jump sorts first
-    order_key = np.concatenate([np.ones(len(right_t)), np.zeros(len(jump_t))])
-    all_t = np.concatenate([right_t, jump_t])
-    sides = ["right"] * len(right_t) + ["left"] * len(jump_t)
-    perm = np.lexsort((order_key, all_t))
-    ts = all_t[perm]
-    is_left = np.array(sides)[perm] == "left"
+    ts, is_left = _sample_times(t_stop, n_samples, log, t_eval)
 
     def sample(y: np.ndarray, dy: np.ndarray | None) -> np.ndarray:
         out = np.empty(len(ts))
@@ -525,16 +447,21 @@ def result_from_dense(
             if not np.any(sel):
                 continue
             if dy is None:
-                out[sel] = _linear(t, y, ts[sel], side)
+                out[sel] = linear_eval(t, y, ts[sel], side)
             else:
                 out[sel] = hermite_eval(t, y, dy, ts[sel], side)
         return out
 
-    xs = sample(x, v)
+    if dense is not None:
+        xs, vs = np.empty(len(ts)), np.empty(len(ts))
+        for side, sel in ((1, ~is_left), (-1, is_left)):
+            if np.any(sel):
+                xs[sel], vs[sel] = dense.evaluate(ts[sel], side)
+    else:
+        xs, vs = sample(x, v), sample(v, acc_arr)
     if x_upper is not None:
         # a rigid stop's face: the interpolant may round a few ulps beyond it
         xs = np.minimum(xs, x_upper)
-    vs = sample(v, acc_arr)
     idx = np.where(
         is_left,
         np.clip(np.searchsorted(t, ts, side="left") - 1, 0, max(n - 1, 0)),
@@ -616,16 +543,31 @@ def result_from_dense(
         impulses=impulses,
         method=method,
         stats=dict(stats or {}),
+        info=dict(info or {}),
+        dense=dense,
     )
 
 
-def _linear(t: np.ndarray, y: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
-    """Piecewise linear interpolation that respects jumps (see :func:`hermite_eval`)."""
-    if len(t) == 1:
-        return np.full(np.shape(tq), y[0], dtype=float)
-    i = _locate(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.clip(np.where(h > 0.0, (tq - t0) / h, 0.0), 0.0, 1.0)
-    return y[i] + s * (y[i + 1] - y[i])
+def _sample_times(
+    t_stop: float, n_samples: int, log: TransitionLog, t_eval: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sample times and, for each, whether it is the left limit at a jump.
+
+    ``t_eval`` (up to ``t_stop``) as given; else ``n_samples`` uniform times over
+    ``[0, t_stop]`` merged with the stored transitions, an impact twice (the state before it
+    sorts first).
+    """
+    if t_eval is not None:
+        ts = np.asarray(t_eval, dtype=float)
+        ts = ts[ts <= t_stop]
+        return ts, np.zeros(len(ts), dtype=bool)
+    uniform = np.linspace(0.0, t_stop, max(int(n_samples), 2))
+    tr_pts = [tr for tr in log.stored if tr.t <= t_stop]
+    jump_t = np.array([tr.t for tr in tr_pts if tr.kind in IMPACT_KINDS], dtype=float)
+    other_t = np.array([tr.t for tr in tr_pts if tr.kind not in IMPACT_KINDS], dtype=float)
+    right_t = np.concatenate([uniform, other_t, jump_t])
+    order_key = np.concatenate([np.ones(len(right_t)), np.zeros(len(jump_t))])
+    all_t = np.concatenate([right_t, jump_t])
+    is_left = np.concatenate([np.zeros(len(right_t), bool), np.ones(len(jump_t), bool)])
+    perm = np.lexsort((order_key, all_t))
+    return all_t[perm], is_left[perm]
