@@ -52,7 +52,7 @@ from scipy.optimize import brentq
 
 from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
-from core.numerics.dense_output import PiecewiseDense, check_times, line_piece
+from core.numerics.dense_output import PiecewiseDense, PointTrack, check_times, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import MAX_EVENTS, MAX_STEPS, WorkLimit, check_count
 from core.params import HystereticStop, Oscillator, RigidStop
@@ -99,30 +99,6 @@ class EventOptions:
         check_count("max_events", self.max_events)
 
 
-class _Track:
-    """The dense points of the solution as they are found (see :mod:`core.dense` for the
-    conventions) and its pieces for :class:`~core.numerics.dense_output.PiecewiseDense`."""
-
-    __slots__ = ("t", "x", "v", "acc", "mode", "phi", "dense")
-
-    def __init__(self, x_upper: float | None) -> None:
-        self.t: list[float] = []
-        self.x: list[float] = []
-        self.v: list[float] = []
-        self.acc: list[float] = []
-        self.mode: list[int] = []
-        self.phi: list[float] = []
-        self.dense = PiecewiseDense(x_upper)
-
-    def point(self, t: float, x: float, v: float, acc: float, mode: int, phi: float) -> None:
-        self.t.append(float(t))
-        self.x.append(float(x))
-        self.v.append(float(v))
-        self.acc.append(float(acc))
-        self.mode.append(int(mode))
-        self.phi.append(float(phi))
-
-
 class EventSolver:
     """One solve of the non-smooth model by event location: the state of the motion (time,
     position, velocity, friction state, contact and branch of the contact law), the dense
@@ -152,7 +128,8 @@ class EventSolver:
                 math.sqrt(2.0 * opts.atol * max(a - self.c, 0.0)) if self.rigid else 0.0
             )
         self.log = TransitionLog(transition_cap)
-        self.track = _Track(self.c if self.rigid else None)
+        self.track = PointTrack()
+        self.dense = PiecewiseDense(self.c if self.rigid else None)
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
         self.branch: Branch = FIRST_LOADING
@@ -195,7 +172,7 @@ class EventSolver:
 
     def point(self, t: float, x: float, v: float, acc: float, fr: int) -> None:
         mode = Mode.CONTACT if self.contact else (Mode.STICK if fr == 0 else Mode.SLIP)
-        self.track.point(t, x, v, acc, mode, self.phi(x) if self.soft else 0.0)
+        self.track.add(t, x, v, acc, mode, self.phi(x) if self.soft else 0.0)
 
     # --- the loop --------------------------------------------------------------------------
     def run(self) -> None:
@@ -227,7 +204,7 @@ class EventSolver:
         t_hold = min(max(t_rest, self.t), self.t_end)
         for tt in (self.t, t_hold, self.t_end):
             self.point(tt, self.c, 0.0, 0.0, 0)
-        self.track.dense.add(self.t, self.t_end, line_piece(self.t, self.c, 0.0))
+        self.dense.add(self.t, self.t_end, line_piece(self.t, self.c, 0.0))
         self.at_rest = True
 
     def impact(self, w: float, from_stick: bool) -> None:
@@ -247,7 +224,7 @@ class EventSolver:
         vb = self.osc.v
         if vb <= 0.0:
             self.point(self.t_end, self.x, 0.0, 0.0, 0)
-            self.track.dense.add(self.t, self.t_end, line_piece(self.t, self.x, 0.0))
+            self.dense.add(self.t, self.t_end, line_piece(self.t, self.x, 0.0))
             self.t = self.t_end
         elif self.soft and self.contact:
             self.stick_in_contact()
@@ -259,7 +236,7 @@ class EventSolver:
         first (the points on the way are the caller's)."""
         vb = self.osc.v
         t1 = min(t_e, self.t_end)
-        self.track.dense.add(self.t, t1, line_piece(self.t, self.x, vb))
+        self.dense.add(self.t, t1, line_piece(self.t, self.x, vb))
         if t_e >= self.t_end:
             self.x += vb * (self.t_end - self.t)
             self.t = self.t_end
@@ -357,7 +334,7 @@ class EventSolver:
         self.n_steps += end.steps
         self.n_eval += solver.nfev
         if end.piece is not None:
-            self.track.dense.add(end.t0, end.t, end.piece)
+            self.dense.add(end.t0, end.t, end.piece)
         if end.status is not None:
             self.status = end.status
         self.t, self.x, self.v = end.t, float(end.y[0]), float(end.y[1])
@@ -447,7 +424,7 @@ class EventSolver:
             ),
             info={"solver": self.opts.solver},
             t_eval=t_eval,
-            dense=tr.dense if tr.dense.pieces else None,
+            dense=self.dense if self.dense.pieces else None,
         )
 
 

@@ -156,6 +156,30 @@ class PiecewiseDense:
         return x.reshape(tq.shape), v.reshape(tq.shape)
 
 
+class PointTrack:
+    """The step points of a solution as an integrator finds them: time, position, velocity,
+    acceleration and mode on the interval that starts there, contact force (conventions of
+    :mod:`core.dense`)."""
+
+    __slots__ = ("t", "x", "v", "acc", "mode", "phi")
+
+    def __init__(self) -> None:
+        self.t: list[float] = []
+        self.x: list[float] = []
+        self.v: list[float] = []
+        self.acc: list[float] = []
+        self.mode: list[int] = []
+        self.phi: list[float] = []
+
+    def add(self, t: float, x: float, v: float, acc: float, mode: int, phi: float) -> None:
+        self.t.append(float(t))
+        self.x.append(float(x))
+        self.v.append(float(v))
+        self.acc.append(float(acc))
+        self.mode.append(int(mode))
+        self.phi.append(float(phi))
+
+
 def ode_piece(sol) -> Piece:
     """A piece from a ``scipy.integrate`` dense output (``sol(t)`` of shape ``(2, n)``)."""
 

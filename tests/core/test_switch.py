@@ -13,8 +13,10 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Mode, Oscillator, RigidStop, SteadyKind, TransitionKind
-from core.dense import TransitionLog, hermite_eval, result_from_dense
-from core.switch import rkf45_step, simulate_switch, switch_rhs
+from core.dense import TransitionLog, result_from_dense
+from core.numerics.hermite import hermite_eval
+from core.numerics.rk import rkf45_step
+from core.switch import simulate_switch, switch_rhs
 
 A, B = 0.2, 0.3
 FAST = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)  # v > v* = a: pure slip
@@ -329,3 +331,73 @@ def test_work_limit_input_is_checked():
         simulate_switch(SLOW, max_steps=0)
     with pytest.raises(ValueError, match="time_budget"):
         simulate_switch(SLOW, time_budget=-1.0)
+
+
+# --- stats, t_eval, dense output ----------------------------------------------------------------
+
+IMPACTS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+
+
+def test_stats_are_integer_counts_with_the_shared_keys():
+    from core.result import STATS_KEYS
+
+    res = simulate_switch(SLOW, RigidStop(0.25, 0.7), t_end=20.0)
+    assert tuple(res.stats) == STATS_KEYS
+    assert all(isinstance(v, int) for v in res.stats.values())
+    assert res.stats["events"] == res.n_transitions > 0
+    # 5 new stages per trial step, plus the events' extra evaluations
+    assert res.stats["rhs_evals"] >= 5 * (res.stats["steps"] + res.stats["rejected"])
+    assert res.info["eta"] == pytest.approx(1e-4 * SLOW.v)
+
+
+def test_t_eval_samples_exactly_there():
+    from core import simulate
+
+    t_eval = np.sort(np.random.default_rng(2).uniform(0.0, 30.0, 311))
+    stop = RigidStop(0.3, 1.0)
+    res = simulate_switch(FAST, stop, t_end=30.0, t_eval=t_eval, rtol=1e-10, atol=1e-12)
+    np.testing.assert_array_equal(res.t, t_eval)
+    exact = simulate(FAST, stop, t_end=30.0, t_eval=t_eval)
+    # fast belt, no stick: integration error only; measured 1.8e-8 at rtol 1e-10
+    np.testing.assert_allclose(res.x, exact.x, atol=1e-7)
+    np.testing.assert_allclose(res.v, exact.v, atol=1e-7)
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_switch(FAST, t_end=30.0, t_eval=[1.0, 0.5])
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_switch(FAST, t_end=30.0, t_eval=[-1.0])
+
+
+@pytest.mark.parametrize(
+    "osc,stop",
+    [(FAST, RigidStop(0.3, 1.0)), (FAST, RigidStop(0.25, 0.7)), (SLOW, RigidStop(0.25, 0.7))],
+    ids=["elastic", "grazing", "stick-inelastic"],
+)
+@pytest.mark.parametrize("rtol", [1e-7, 1e-9])
+def test_dense_solution_matches_the_closed_form(osc, stop, rtol):
+    from core import simulate
+
+    eta = 1e-9
+    res = simulate_switch(osc, stop, t_end=40.0, rtol=rtol, atol=rtol * 1e-2, eta=eta)
+    tq = np.linspace(0.0, 40.0, 3001)
+    exact = simulate(osc, stop, t_end=40.0, t_eval=tq)
+    x, v = res.evaluate(tq)
+    # global error of RKF 4(5) advanced at order 4 (tolerance proportionality ~ rtol^0.8):
+    # measured up to 180 rtol over 40 time units; plus the stick band's model error, the
+    # mass sticking at x' = v - eta for at most the whole horizon (40 eta)
+    tol = 1e3 * rtol + 40 * eta
+    np.testing.assert_allclose(x, exact.x, atol=tol)
+    np.testing.assert_allclose(v, exact.v, atol=tol)
+    # the samples are the interpolant's values
+    times, counts = np.unique(res.t, return_counts=True)
+    once = np.isin(res.t, times[counts == 1])
+    xs, vs = res.evaluate(res.t[once], side=1)
+    np.testing.assert_array_equal(xs, res.x[once])
+    np.testing.assert_array_equal(vs, res.v[once])
+    # one-sided limits at each impact: the velocity before and after it (Eq. 8)
+    impacts = [tr for tr in res.transitions if tr.kind in IMPACTS]
+    assert impacts
+    for tr in impacts:
+        assert res.evaluate([tr.t], side=-1)[1][0] == tr.v
+        assert res.evaluate([tr.t], side=1)[1][0] == tr.v_after
+    with pytest.raises(ValueError, match="side"):
+        res.evaluate([1.0], side=0)
