@@ -227,20 +227,9 @@ def steady_from_transitions(
     t_last = tail[-1].t if tail else 0.0
     if not tail or t_end - t_last > 2.0 * math.pi:
         # no transition for more than a full slip circle: nothing will happen any more
-        if final_mode == Mode.STICK and final_v == 0.0:
-            return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
-        if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
-            # impacts died out on a slip circle that touches the stop: grazing (SPEC §3)
-            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
-        if final_mode == Mode.SLIP:
-            return Steady(
-                SteadyKind.PURE_SLIP,
-                period=2.0 * math.pi,
-                x_max=xmax(max(t_last, t_end - 2.0 * math.pi), t_end),
-                t_reached=t_last,
-            )
-        if final_mode == Mode.CONTACT:
-            return Steady(SteadyKind.REST, t_reached=math.nan, x_max=xmax(t_last, t_end))
+        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax)
+        if quiet is not None:
+            return quiet
 
     n = len(tail)
     for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
@@ -273,6 +262,28 @@ def steady_from_transitions(
         kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
         return Steady(kind, impact_speed=0.0, t_reached=math.nan)
     return Steady(SteadyKind.NONE)
+
+
+def _quiet_steady(
+    tail: list[Transition], t_last: float, t_end: float, final_mode: int, final_v: float, xmax
+) -> Steady | None:
+    """The steady state of a motion without transitions over the last full slip circle
+    (from ``t_last`` to ``t_end``), or ``None`` if its final mode does not tell."""
+    if final_mode == Mode.STICK and final_v == 0.0:
+        return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
+    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
+        # impacts died out on a slip circle that touches the stop: grazing (paper §4)
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    if final_mode == Mode.SLIP:
+        return Steady(
+            SteadyKind.PURE_SLIP,
+            period=2.0 * math.pi,
+            x_max=xmax(max(t_last, t_end - 2.0 * math.pi), t_end),
+            t_reached=t_last,
+        )
+    if final_mode == Mode.CONTACT:
+        return Steady(SteadyKind.REST, t_reached=math.nan, x_max=xmax(t_last, t_end))
+    return None
 
 
 def _same(p: Transition, q: Transition, tol: float) -> bool:
@@ -501,30 +512,10 @@ def result_from_dense(
         x_max = hermite_max(t, x, v) if n else math.nan
 
     if steady is None:
-        scale = max(
-            float(np.max(np.abs(x))) if n else 0.0,
-            float(np.max(np.abs(v))) if n else 0.0,
-            abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
-        )
         tol = steady_tol
         if tol is None:
-            tol = max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
-
-        def x_max_between(t0: float, t1: float) -> float:
-            i0 = int(np.searchsorted(t, t0, side="left"))
-            i1 = int(np.searchsorted(t, t1, side="right"))
-            i0 = max(min(i0, n - 1) - 1, 0)
-            i1 = max(i1, i0 + 1)
-            return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
-
-        steady = steady_from_transitions(
-            log.tail,
-            tol=tol,
-            t_end=t_stop,
-            final_mode=int(mode[-1]) if n else int(Mode.SLIP),
-            final_v=float(v[-1]) if n else math.nan,
-            x_max_between=x_max_between,
-        )
+            tol = _default_steady_tol(x, v, belt_speed, rtol)
+        steady = _steady_of(log, t, x, v, mode, tol, t_stop)
 
     return Result(
         t=ts,
@@ -545,6 +536,45 @@ def result_from_dense(
         stats=dict(stats or {}),
         info=dict(info or {}),
         dense=dense,
+    )
+
+
+def _default_steady_tol(x: np.ndarray, v: np.ndarray, belt_speed: float, rtol: float) -> float:
+    """``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale."""
+    scale = max(
+        float(np.max(np.abs(x))) if len(x) else 0.0,
+        float(np.max(np.abs(v))) if len(v) else 0.0,
+        abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
+    )
+    return max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
+
+
+def _steady_of(
+    log: TransitionLog,
+    t: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    mode: np.ndarray,
+    tol: float,
+    t_stop: float,
+) -> Steady:
+    """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
+    n = len(t)
+
+    def x_max_between(t0: float, t1: float) -> float:
+        i0 = int(np.searchsorted(t, t0, side="left"))
+        i1 = int(np.searchsorted(t, t1, side="right"))
+        i0 = max(min(i0, n - 1) - 1, 0)
+        i1 = max(i1, i0 + 1)
+        return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
+
+    return steady_from_transitions(
+        log.tail,
+        tol=tol,
+        t_end=t_stop,
+        final_mode=int(mode[-1]) if n else int(Mode.SLIP),
+        final_v=float(v[-1]) if n else math.nan,
+        x_max_between=x_max_between,
     )
 
 
