@@ -1,5 +1,9 @@
 """Event-driven integration of the non-smooth model with SciPy's Runge-Kutta and BDF solvers.
 
+This module is longer than the project's ~500 lines because it holds one method whole: the
+modes and their events, the solver class whose handlers share one state, and the entry
+point; the stepping loop with event location lives in :mod:`core.numerics.events`.
+
 A second numerical method beside the switch model (:mod:`core.switch`): the non-smooth
 Coulomb model (paper Eqs. 3-6) is integrated mode by mode, each mode a smooth ODE, and every
 mode change is an event located on the solver's own dense output. No stick band, no

@@ -1,5 +1,10 @@
 """The paper's numerical method: the switch model integrated by Runge-Kutta-Fehlberg 4(5).
 
+This module is longer than the project's ~500 lines because it holds one method whole: the
+switch law (Eq. 7), the solver class whose event handlers share one state, and the entry
+point; what other methods share (tableau, step control, Hermite roots, dense output, work
+limits) lives in :mod:`core.numerics`.
+
 Andreaus & Casini integrate the non-smooth oscillator with the switch model of Leine et al.
 (1998) (paper §2.2, Eq. 7, Fig. 1c) and an adaptive Runge-Kutta-Fehlberg 4(5) scheme (paper
 §2.5). The project keeps it as one selectable method, the baseline that the exact and
@@ -189,6 +194,13 @@ class SwitchSolver:
     step size, the dense points and the work counts. :meth:`run` advances it to the
     horizon or a limit; each accepted step goes through the events that may cut it."""
 
+    # slots: fixed attributes, and faster access in the step loop
+    __slots__ = (
+        "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r",
+        "log", "track", "t", "x", "v", "contact", "branch", "rhs", "acc", "fr", "h",
+        "at_rest", "status", "steps", "rejected", "n_eval",
+    )  # fmt: skip
+
     def __init__(
         self,
         osc: Oscillator,
@@ -260,7 +272,13 @@ class SwitchSolver:
         """Store the current state as a dense point (mode of the interval that follows)."""
         mode = Mode.CONTACT if self.contact else (Mode.STICK if self.fr == 0 else Mode.SLIP)
         phi = self.phi_at(self.x) if self.soft else 0.0
-        self.track.add(self.t, self.x, self.v, self.acc, mode, phi)
+        tr = self.track
+        tr.t.append(self.t)
+        tr.x.append(self.x)
+        tr.v.append(self.v)
+        tr.acc.append(self.acc)
+        tr.mode.append(mode)
+        tr.phi.append(phi)
 
     def step_to(self, hh: float) -> tuple[float, float]:
         """The RKF solution a step of ``hh`` from the current state."""
@@ -290,7 +308,8 @@ class SwitchSolver:
         """Move to the end of an accepted (possibly cut) step of length ``hh``; report the
         friction transitions that happened on it (detected, not located: the switch model)
         and store the point."""
-        an = self.eval_rhs(xn, vn)
+        an = self.rhs(xn, vn)
+        self.n_eval += 1
         fr_new = self.friction_state(xn, vn)
         if fr_new != self.fr:
             step = (hh, self.t, self.x, self.v, self.acc, xn, vn, an)
@@ -357,15 +376,20 @@ class SwitchSolver:
             return
         self.steps += 1
         h_next = h if last else self.control.grown(h, err)
-        for cut in (self.cut_at_stop, self.cut_in_contact, self.cut_at_band, self.cut_at_top):
-            if cut(h, xn, vn, h_next):
-                return
-        self.finish_step(h, xn, vn, h_next, last)
+        # the events that may cut the step, each tried only where it can happen
+        contact, fr = self.contact, self.fr
+        cut = (
+            (self.cut_at_stop(h, xn, vn, h_next) if self.stop is not None and not contact else 0)
+            or (self.cut_in_contact(h, xn, vn, h_next) if contact else 0)
+            or (self.cut_at_band(h, xn, vn, h_next) if fr != 0 else 0)
+            or (self.cut_at_top(h, xn, vn, h_next) if self.v > 0.0 >= vn and not contact else 0)
+        )
+        if not cut:
+            self.finish_step(h, xn, vn, h_next, last)
 
     def cut_at_stop(self, h: float, xn: float, vn: float, h_next: float) -> bool:
-        """The step reaches the stop: impact (rigid) or the start of a contact."""
-        if self.stop is None or self.contact:
-            return False
+        """The step reaches the stop: impact (rigid) or the start of a contact (tried off the
+        stop only)."""
         c = self.c
         s_ev = x_crossing(h, self.x, self.v, xn, vn, c)
         if s_ev is None:
@@ -385,10 +409,8 @@ class SwitchSolver:
         return True
 
     def cut_in_contact(self, h: float, xn: float, vn: float, h_next: float) -> bool:
-        """Inside a deformable contact: a reversal of the overlap rate (the law's branch
-        changes there) or the force passing the stop's strength."""
-        if not self.contact:
-            return False
+        """Inside a deformable contact (tried there only): a reversal of the overlap rate
+        (the law's branch changes there) or the force passing the stop's strength."""
         if (vn < 0.0) if self.branch.loading else (vn > 0.0):
             an = self.eval_rhs(xn, vn)
             v, acc = self.v, self.acc
@@ -409,11 +431,14 @@ class SwitchSolver:
         return False
 
     def cut_at_band(self, h: float, xn: float, vn: float, h_next: float) -> bool:
-        """The step jumped over the stick band: cut it where it enters the band."""
-        fr = self.fr
-        if fr == 0 or self.friction_state(xn, vn) != -fr:
+        """The step jumped over the stick band: cut it where it enters the band (tried in
+        slip only)."""
+        fr, vb, eta = self.fr, self.osc.v, self.opts.eta
+        # fr * (vb - x') is the relative velocity seen from the slip direction at the step's
+        # start: beyond -eta the step ended in the other slip, the band skipped
+        if fr * (vb - vn) >= -eta:
             return False
-        level = self.osc.v - fr * self.opts.eta
+        level = vb - fr * eta
         an = self.eval_rhs(xn, vn)
         v, acc = self.v, self.acc
         s_ev = root(
@@ -429,11 +454,9 @@ class SwitchSolver:
         return True
 
     def cut_at_top(self, h: float, xn: float, vn: float, h_next: float) -> bool:
-        """A maximum of ``x`` inside the step: stored as a point, so ``x_max`` has the
-        integration accuracy."""
+        """A maximum of ``x`` inside the step (tried off contact where ``x'`` falls through
+        0): stored as a point, so ``x_max`` has the integration accuracy."""
         v = self.v
-        if not (v > 0.0 and vn <= 0.0) or self.contact:
-            return False
         an = self.eval_rhs(xn, vn)
         s_top = root(partial(hermite, h=h, y0=v, d0=self.acc, y1=vn, d1=an), 0.0, 1.0, v, vn)
         if not 0.0 < s_top < 1.0:
