@@ -7,12 +7,12 @@ into the result every method returns:
 
 * uniform samples over ``[0, t_end]`` (``n_samples`` of them) merged with the stored
   transitions' points, interpolated by cubic Hermite polynomials on each step (position with
-  the velocity as derivative, velocity with the acceleration as derivative, SPEC §2);
+  the velocity as derivative, velocity with the acceleration as derivative, ``docs/physics.md``);
 * the mode at each sample, the energy terms (:class:`~core.result.Energy`), the contact
   force and overlap;
 * the transition list capped at ``transition_cap`` with all transitions counted;
-* the steady state (SPEC §6): a fixed point of the friction-impact map ``P^j`` found on the
-  transition sequence, to a tolerance the caller derives from its own accuracy.
+* the steady state (``docs/physics.md``): a fixed point of the friction-impact map ``P^j``
+  found on the transition sequence, to a tolerance the caller derives from its own accuracy.
 
 Conventions of the dense arrays
 -------------------------------
@@ -119,7 +119,7 @@ def log_rest_at_stop(
 ) -> float:
     """A numerical method stops following the bounces at ``t`` (last approach speed ``w``):
     record the accumulation (for ``0 < r < 1`` with the stop behind the slip centre, after
-    the closed-form remaining time, SPEC §3) and the rest at the stop; return the rest time.
+    the closed-form remaining time, paper §4) and the rest at the stop; return the rest time.
     """
     t_rest = t
     if 0.0 < r < 1.0 and a > c:
@@ -147,7 +147,7 @@ def _energy_at_samples(
     """Friction work, belt work and work done on the stop at the samples (per unit ``k``).
 
     Friction force over ``k`` on the interval after point ``i``: ``f = x'' + x + phi`` (the
-    equation of motion solved for it, SPEC §2 and §4). On slip it is the constant ``s*a``
+    equation of motion solved for it, ``docs/physics.md``). On slip it is the constant ``s*a``
     (``+-b`` in the switch model's transition band), so its work ``f * dx`` is exact; on
     stick it is the spring-plus-contact force, summed by the trapezoid rule in ``x`` (exact
     off the stop, where it is linear in ``x``). A jump (rigid impact) hands its loss of
@@ -194,7 +194,7 @@ def steady_from_transitions(
     final_v: float,
     x_max_between=None,
 ) -> Steady:
-    """The steady state read off the most recent transitions (SPEC §6).
+    """The steady state read off the most recent transitions (``docs/physics.md``).
 
     Parameters
     ----------

@@ -3,7 +3,11 @@
 :class:`SegmentIntegrator` steps a :class:`scipy.integrate.OdeSolver` of a state
 ``y = (x, x')`` until a terminal event, the end of the solver's span or a work limit. At each
 step end the event functions are evaluated; one whose sign changes in its direction is
-located by :func:`scipy.optimize.brentq` on the step's interpolant, as ``solve_ivp`` does.
+located by :func:`scipy.optimize.brentq` on the step's interpolant, as ``solve_ivp`` does,
+except that an event function that is exactly zero at the step's start has its root there
+(``solve_ivp`` hands that bracket to ``brentq``, which fails when an implicit method's
+interpolant does not reproduce the step's start to the last bit: LSODA in a deformable
+contact, after a reversal sets ``x' = 0``).
 Non-terminal events (maxima of ``x``) and the step ends are handed to a callback as points.
 
 Optionally a ``level`` of ``x`` is watched for a crossing that rises above it and falls back
