@@ -536,7 +536,8 @@ def simulate_event(
         default ``sqrt(2 atol (a - clearance))``.
     t_eval : array_like, optional
         Sample exactly at these sorted times in ``[0, t_end]`` (the solver's dense output)
-        instead of ``n_samples`` uniform ones and the transitions.
+        instead of ``n_samples`` uniform ones and the transitions; after an early stop only
+        the times it reached are sampled.
     max_steps : int
         Largest number of solver steps. When it is reached the solve stops with
         ``Status.STEP_LIMIT``; the result covers the time up to that point.

@@ -614,7 +614,8 @@ def simulate_switch(
         (the Zeno guard, see the module docstring); default ``eta``.
     t_eval : array_like, optional
         Sample exactly at these sorted times in ``[0, t_end]`` (the cubic Hermite
-        interpolant of the steps) instead of ``n_samples`` uniform ones and the transitions.
+        interpolant of the steps) instead of ``n_samples`` uniform ones and the transitions;
+        after an early stop only the times it reached are sampled.
     max_steps : int
         Largest number of Runge-Kutta steps tried (accepted and rejected). When it is
         reached the solve stops with ``Status.STEP_LIMIT`` and the result covers the time
