@@ -176,6 +176,18 @@ def test_step_limit_returns_the_result_so_far():
     _consistent(res)
 
 
+@pytest.mark.parametrize("belt_speed", [1e-5, 1e-9])
+def test_slow_belt_finishes_in_few_steps(belt_speed):
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=belt_speed)
+    stop = RigidStop(0.25, 0.7)
+    res = simulate_event(osc, stop, t_end=100.0, max_steps=1_000)
+    exact = simulate(osc, stop, t_end=100.0)
+    assert res.success
+    assert res.sequence() == exact.sequence() == "slip->stick"
+    # stick is closed-form: x(100) to the integration error of the first slip arc
+    assert res.x[-1] == pytest.approx(exact.x[-1], abs=1e-12)
+
+
 def test_time_budget_returns_the_result_so_far():
     from core import Status
 

@@ -312,6 +312,10 @@ def test_step_limit_returns_the_result_so_far():
     assert all(len(a) == n for a in (res.x, res.v, res.mode, res.energy.mechanical))
     assert np.all(np.diff(res.t) >= 0.0) and np.all(np.isfinite(res.x))
     assert all(tr.t <= res.t[-1] for tr in res.transitions)
+    # the dense solution covers the same time, no more
+    assert res.evaluate([res.t[-1]], side=-1)[0][0] == pytest.approx(res.x[-1], abs=1e-15)
+    with pytest.raises(ValueError, match="t must lie"):
+        res.evaluate([0.5 * (res.t[-1] + 50.0)])
 
 
 def test_time_budget_returns_the_result_so_far():
