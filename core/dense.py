@@ -1,5 +1,9 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
+This module is longer than the project's ~500 lines because it still holds a transition log
+and a steady-state search of its own, which belong with the project's one transition log and
+one steady-state detector.
+
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
 their own step points, which are irregular and may be many. This module turns those points
