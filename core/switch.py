@@ -183,6 +183,8 @@ class SwitchOptions:
     rest_speed: float = 1e-5
 
     def __post_init__(self) -> None:
+        check_range("rtol", self.rtol, 0.0, low_open=True)
+        check_range("atol", self.atol, 0.0, low_open=True)
         check_range("eta", self.eta, 0.0, low_open=True)
         check_range("max_step", self.max_step, 0.0, low_open=True, allow_inf=True)
         check_range("rest_speed", self.rest_speed, 0.0)
@@ -648,7 +650,6 @@ def simulate_switch(
     eta = _default_eta(osc) if eta is None else check_range("eta", eta, 0.0, low_open=True)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
-    StepControl(rtol, atol)  # checks rtol and atol before anything runs
     limit = WorkLimit(max_steps, time_budget)
     if t_eval is not None:
         t_eval = check_times("t_eval", t_eval, t_end)
