@@ -30,7 +30,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
-from core.trajectory import PeriodicTail, SegmentTable, evaluate
+from core.trajectory import ExactSolution, PeriodicTail, SegmentTable, evaluate
 
 #: Two transition states closer than this (relative to the problem's length scale) are the
 #: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
@@ -386,6 +386,15 @@ def _assemble(
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
     x_max = table.x_max
     stats: dict[str, float] = {"segments": float(len(table))}
+    dense = ExactSolution(
+        table.arrays(v),
+        v,
+        t_end,
+        stop.clearance if stop is not None else math.inf,
+        tail,
+        seq,
+        table.work,
+    )
     late = np.zeros(len(times), bool)
     if seq is not None:
         late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
@@ -445,4 +454,5 @@ def _assemble(
         impulses=impulses,
         method="exact",
         stats=stats,
+        dense=dense,
     )
