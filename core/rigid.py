@@ -18,7 +18,7 @@ from collections import Counter
 import numpy as np
 
 from core.flight import Motion, Segment, after_event, free_flight, start_motion
-from core.impact_sequence import ImpactSequence, evaluate_sequence, impact_sequence
+from core.impact_sequence import ImpactSequence, impact_sequence
 from core.params import Oscillator, RigidStop
 from core.result import (
     Energy,
@@ -30,7 +30,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
-from core.trajectory import ExactSolution, PeriodicTail, SegmentTable, evaluate
+from core.trajectory import ExactSolution, PeriodicTail, SegmentTable
 
 #: Two transition states closer than this (relative to the problem's length scale) are the
 #: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
@@ -395,38 +395,14 @@ def _assemble(
         seq,
         table.work,
     )
-    late = np.zeros(len(times), bool)
+    # The samples are the solution evaluated on their side of each transition: before an
+    # impact the approach velocity, after it the rebound (docs/physics.md, "Rigid impacts").
+    out = dense.sample(times, side)
     if seq is not None:
-        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
-    early = ~late
-    out = {
-        name: np.empty(len(times), np.int8 if name == "mode" else float)
-        for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
-    }
-    if np.any(early):
-        part = evaluate(table.arrays(v), times[early], side[early], v, tail)
-        for name, values in part.items():
-            out[name][early] = values
-    if seq is not None:
-        if np.any(late):
-            part = evaluate_sequence(seq, times[late], v)
-            base = table.work
-            # table.work already holds the loss of the first impact of the sequence.
-            first_loss = 0.5 * (1.0 - seq.r**2) * seq.w**2
-            offsets = {
-                "friction_work": base[0],
-                "belt_input": base[1],
-                "stop_loss": base[2] - first_loss,
-            }
-            for name, values in part.items():
-                out[name][late] = values + offsets.get(name, 0.0)
         x_max = max(x_max, seq.clearance)
         stats["impacts_evaluated"] = float(len(seq.t_impacts))
         stats["last_impact_speed"] = float(seq.speeds[-1])
     x, xd = out["x"], out["v"]
-    if stop is not None:
-        # Rounding may put a sample a few ulps past the face; the exact solution never is.
-        np.minimum(x, stop.clearance, out=x)
     mechanical = 0.5 * (x * x + xd * xd)
     contact_force = np.where(out["mode"] == Mode.CONTACT, _rest_force(osc, stop), 0.0)
     energy = Energy(

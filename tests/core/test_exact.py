@@ -442,12 +442,20 @@ def test_core_imports_no_ui_library():
         (SLOW, RigidStop(0.28, 0.7)),
         (SLOW, RigidStop(0.25, 1.0)),
         (FAST, RigidStop(0.3, 1.0)),
+        (FAST, RigidStop(0.3, 0.8)),
+        (FAST, RigidStop(0.1, 0.6)),
+        (SLOW, RigidStop(0.25, 0.7)),
     ],
-    ids=["case-a", "case-b-inelastic", "case-b-elastic", "fast-elastic"],
+    ids=[
+        "case-a", "case-b-inelastic", "case-b-elastic", "fast-elastic",
+        "fast-grazing", "zeno", "slow-case-c",
+    ],
 )
 def test_every_impact_is_sampled_on_both_sides(osc, stop):
-    """Regression: in the repeated cycle an impact time, rounded an ulp off its segment's
-    start, was sampled twice on the same side, which drew a chord beside the stop."""
+    """Regressions: in the repeated cycle an impact time, rounded an ulp off its segment's
+    start, was sampled twice on the same side, which drew a chord beside the stop; in an
+    impact sequence (grazing, Zeno, case c) the sample before every impact after the first
+    held the velocity after it (defect 1)."""
     res = simulate(osc, stop, t_end=500.0, transition_cap=100_000)
     impacts = [
         tr for tr in res.transitions
