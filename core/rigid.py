@@ -30,20 +30,18 @@ from core.result import (
     Transition,
     TransitionKind,
 )
+from core.steady import comes_to_rest, pressed_on_stop, rest_force
 from core.trajectory import ExactSolution, PeriodicTail, SegmentTable
 
 #: Two transition states closer than this (relative to the problem's length scale) are the
 #: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
 #: leaves room for the rounding of long transients without merging distinct states.
 FIXED_POINT_RTOL = 1e-11
+#: A cycle must last more than this many ulps of the time it closes at (a shorter one is a
+#: bounce below the resolution of time and cannot be tiled).
+PERIOD_ULPS = 1024
 #: How many earlier transitions of the same kind are compared with each new one.
 FIXED_POINT_LOOKBACK = 64
-#: An impact slower than this (relative to the length scale) ends an accumulation that the
-#: closed form does not cover (still belt). Below ~sqrt(machine epsilon) the speed at the
-#: stop is set by rounding (one ulp of x at a turning point next to the stop gives a speed
-#: of sqrt(2 ulp |x_bar - c|)), so it cannot be resolved; the rest state is then exact to
-#: this speed and the remaining time to ~this speed over |x_bar - c|.
-REST_SPEED = 1e-7
 #: Guard against an endless event loop (never reached by the paper's regimes: their
 #: transients end in a few dozen events); the result then says no steady state was found.
 MAX_EVENTS = 2_000_000
@@ -109,7 +107,7 @@ def simulate_rigid(
     pending_impact = stop is not None and x >= xb and xd > 0.0
     if pending_impact:  # keep the state before an impact at t = 0 for the samples
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, motion.s * a), 0.0, v)
-    if stop is not None and x >= xb and xd == 0.0 and v > 0.0 and a >= xb:
+    if stop is not None and x >= xb and xd == 0.0 and v > 0.0 and pressed_on_stop(osc, xb):
         motion = Motion(Mode.CONTACT)  # starts pressed on the stop
         rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
 
@@ -119,9 +117,9 @@ def simulate_rigid(
             stuck = motion.mode is Mode.STICK
             kind = TransitionKind.STICK_IMPACT if stuck else TransitionKind.IMPACT
             w, after = xd, -r * xd
-            if w == 0.0 or (r < 1.0 and w <= REST_SPEED * scale):
-                # Pressed on the stop, or an accumulation not of the closed-form kind (a
-                # still belt): the impacts left take less than ~w/|x_bar| of time.
+            if comes_to_rest(osc, xb, w):
+                # Pressed on the stop, and the bounces left (an accumulation, or elastic
+                # bounces of a height below rounding) take less than ~w/|a - x_bar| of time.
                 table.add_loss(0.5 * w * w)
                 if w > 0.0:
                     rec.add(TransitionKind.ACCUMULATION, t, xb, w, 0.0)
@@ -131,7 +129,7 @@ def simulate_rigid(
             rec.add(kind, t, xb, w, after)
             table.add_loss(0.5 * (1.0 - r * r) * w * w)
             xd = after
-            if after == 0.0 and v > 0.0 and a >= xb:
+            if after == 0.0 and v > 0.0 and pressed_on_stop(osc, xb):
                 rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
                 motion = Motion(Mode.CONTACT)
             else:
@@ -142,8 +140,9 @@ def simulate_rigid(
                         sequence = impact_sequence(t, w, r, xb, a, t_end, scale)
                         steady = _sequence_steady(sequence, rec, t_end)
                         break
-            if _repeats(states, history, kind, t, x, w, tol, len(table)):
-                tail, steady = _periodic(states, history[kind.value], table, rec, kind, t_end)
+            j = _repeats(states, history, kind, t, x, w, tol, len(table))
+            if j is not None:
+                tail, steady = _periodic(states, j, table, rec, t_end)
                 break
             continue
 
@@ -169,8 +168,9 @@ def simulate_rigid(
         rec.add(ev.kind, t, x, ev.v, ev.v)
         xd = ev.v
         motion = after_event(osc, ev, motion)
-        if _repeats(states, history, ev.kind, t, x, xd, tol, len(table)):
-            tail, steady = _periodic(states, history[ev.kind.value], table, rec, ev.kind, t_end)
+        j = _repeats(states, history, ev.kind, t, x, xd, tol, len(table))
+        if j is not None:
+            tail, steady = _periodic(states, j, table, rec, t_end)
             break
     else:
         raise RuntimeError(
@@ -191,42 +191,42 @@ def _repeats(
     v: float,
     tol: float,
     row: int,
-) -> bool:
-    """Record a transition state; True when it repeats an earlier one (Eq. 20).
+) -> int | None:
+    """Record a transition state; return the index of the earlier state it repeats
+    (Eq. 20), or ``None``.
 
     A repeat must hold to ``tol`` and also to ``FIXED_POINT_RTOL`` of the cycle's own size:
     a sequence converging on a point (an accumulation) has consecutive states that come
-    within any absolute tolerance without ever repeating.
+    within any absolute tolerance without ever repeating. Its period must be resolvable
+    in time (more than :data:`PERIOD_ULPS` ulps of ``t``): a cycle shorter than that
+    cannot be tiled.
     """
     seen = history.setdefault(kind.value, [])
-    found = False
+    shortest = PERIOD_ULPS * math.ulp(max(abs(t), 1.0))
+    best: int | None = None
+    best_gap = math.inf
     for i in seen[-FIXED_POINT_LOOKBACK:]:
-        dx, dv = abs(states[i][1] - x), abs(states[i][2] - v)
-        if dx <= tol and dv <= tol:
+        ti, xi, vi, _ = states[i]
+        dx, dv = abs(xi - x), abs(vi - v)
+        if dx <= tol and dv <= tol and t - ti > shortest and dx + dv < best_gap:
             size = max(abs(st[1] - x) + abs(st[2] - v) for st in states[i:])
             if dx + dv <= FIXED_POINT_RTOL * size:
-                found = True
-                break
+                best, best_gap = i, dx + dv
     states.append((t, x, v, row))
     seen.append(len(states) - 1)
-    return found
+    return best
 
 
 def _periodic(
     states: list[tuple[float, float, float, int]],
-    seen: list[int],
+    j: int,
     table: SegmentTable,
     rec: _Recorder,
-    kind: TransitionKind,
     t_end: float,
 ) -> tuple[PeriodicTail, Steady]:
-    """Close a detected cycle: the steady state and the periodic continuation."""
-    t_now, x_now, v_now, row_now = states[seen[-1]]
-    # The matching earlier state: the closest one in the look-back window.
-    j = min(
-        seen[-FIXED_POINT_LOOKBACK - 1 : -1],
-        key=lambda i: abs(states[i][1] - x_now) + abs(states[i][2] - v_now),
-    )
+    """Close the cycle from ``states[j]`` to the last state: the steady state and the
+    periodic continuation."""
+    t_now, _, _, row_now = states[-1]
     t_then, _, _, row_then = states[j]
     period = t_now - t_then
     cycle = [tr for tr in rec.stored if t_then < tr.t <= t_now]
@@ -327,17 +327,6 @@ def _endless(seg: Segment, t: float) -> Steady:
     return Steady(SteadyKind.EQUILIBRIUM, x_max=seg.x0, t_reached=t)
 
 
-def _rest_force(osc: Oscillator, stop: RigidStop | None) -> float:
-    """Contact force over ``k`` of the mass resting on the stop (SPEC §3): ``a - x_bar``
-    on a moving belt; on a still belt static friction is indeterminate and the least force
-    it allows, ``-x_bar - b``, is reported."""
-    if stop is None:
-        return 0.0
-    if osc.v > 0.0:
-        return max(osc.a - stop.clearance, 0.0)
-    return max(-stop.clearance - osc.b, 0.0)
-
-
 def _sample_times(
     t_end: float, n_samples: int, rec: _Recorder, t_eval: np.ndarray | None
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -404,7 +393,8 @@ def _assemble(
         stats["last_impact_speed"] = float(seq.speeds[-1])
     x, xd = out["x"], out["v"]
     mechanical = 0.5 * (x * x + xd * xd)
-    contact_force = np.where(out["mode"] == Mode.CONTACT, _rest_force(osc, stop), 0.0)
+    pressing = rest_force(osc, stop.clearance) if stop is not None else 0.0
+    contact_force = np.where(out["mode"] == Mode.CONTACT, pressing, 0.0)
     energy = Energy(
         mechanical=mechanical,
         friction_work=out["friction_work"],
