@@ -12,6 +12,7 @@ loop early and keep long horizons cheap:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import Counter
 
@@ -29,6 +30,7 @@ from core.result import (
     SteadyKind,
     Transition,
     TransitionKind,
+    make_stats,
 )
 from core.steady import comes_to_rest, pressed_on_stop, rest_force
 from core.trajectory import ExactSolution, PeriodicTail, SegmentTable
@@ -43,7 +45,8 @@ PERIOD_ULPS = 1024
 #: How many earlier transitions of the same kind are compared with each new one.
 FIXED_POINT_LOOKBACK = 64
 #: Guard against an endless event loop (never reached by the paper's regimes: their
-#: transients end in a few dozen events); the result then says no steady state was found.
+#: transients end in a few dozen events). A solve that reaches it returns the response up
+#: to the last event with ``Status.EVENT_LIMIT`` and no steady state.
 MAX_EVENTS = 2_000_000
 
 
@@ -86,8 +89,13 @@ def simulate_rigid(
     n_samples: int,
     transition_cap: int,
     t_eval: np.ndarray | None = None,
+    max_events: int = MAX_EVENTS,
 ) -> Result:
-    """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``)."""
+    """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``).
+
+    After ``max_events`` events without reaching ``t_end`` or a steady state, the result
+    covers ``[0, t]`` up to the last event and has ``status = Status.EVENT_LIMIT``.
+    """
     xb = stop.clearance if stop is not None else math.inf
     r = stop.restitution if stop is not None else 1.0
     a, v = osc.a, osc.v
@@ -111,7 +119,8 @@ def simulate_rigid(
         motion = Motion(Mode.CONTACT)  # starts pressed on the stop
         rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
 
-    for _ in range(MAX_EVENTS):
+    status = Status.SUCCESS
+    for _ in range(max_events):
         if pending_impact:
             pending_impact = False
             stuck = motion.mode is Mode.STICK
@@ -173,13 +182,14 @@ def simulate_rigid(
             tail, steady = _periodic(states, j, table, rec, t_end)
             break
     else:
-        raise RuntimeError(
-            f"more than {MAX_EVENTS} events before t_end={t_end:g} without a steady state"
-        )
+        status, t_end = Status.EVENT_LIMIT, t  # the response is known up to here
+        if t_eval is not None:
+            t_eval = t_eval[t_eval <= t]
 
-    return _assemble(
+    res = _assemble(
         osc, stop, table, rec, tail, sequence, steady, t_end, x0, v0, n_samples, t_eval
     )
+    return res if status is Status.SUCCESS else dataclasses.replace(res, status=status)
 
 
 def _repeats(
@@ -374,7 +384,7 @@ def _assemble(
     if len(table) == 0:  # the motion starts with an endless impact sequence
         table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
     x_max = table.x_max
-    stats: dict[str, float] = {"segments": float(len(table))}
+    info: dict[str, object] = {}
     dense = ExactSolution(
         table.arrays(v),
         v,
@@ -389,8 +399,8 @@ def _assemble(
     out = dense.sample(times, side)
     if seq is not None:
         x_max = max(x_max, seq.clearance)
-        stats["impacts_evaluated"] = float(len(seq.t_impacts))
-        stats["last_impact_speed"] = float(seq.speeds[-1])
+        info["impacts_evaluated"] = len(seq.t_impacts)
+        info["last_impact_speed"] = float(seq.speeds[-1])
     x, xd = out["x"], out["v"]
     mechanical = 0.5 * (x * x + xd * xd)
     pressing = rest_force(osc, stop.clearance) if stop is not None else 0.0
@@ -419,6 +429,7 @@ def _assemble(
         overlap=np.zeros_like(x),
         impulses=impulses,
         method="exact",
-        stats=stats,
+        stats=make_stats(segments=len(table), events=rec.total),
+        info=info,
         dense=dense,
     )

@@ -109,3 +109,72 @@ def test_pressed_rule_and_rest_force():
     assert rest_force(osc, 0.3) == 0.0
     still = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.0)
     assert rest_force(still, -0.5) == pytest.approx(0.2, rel=1e-15)  # -x_bar - b
+
+
+# -------------------------------------- defect 5: too many events is a status, not an error
+
+
+def test_event_limit_returns_the_response_up_to_there():
+    """rigid raised RuntimeError at its event limit; now it returns what it has."""
+    from core.result import Status
+    from core.rigid import simulate_rigid
+
+    full = simulate(SLOW, RigidStop(0.29, 0.7), t_end=100.0)
+    short = simulate_rigid(
+        SLOW, RigidStop(0.29, 0.7), 100.0, 0.0, 0.0, n_samples=500, transition_cap=100,
+        max_events=5,
+    )
+    assert short.status is Status.EVENT_LIMIT and not short.success
+    assert short.steady.kind is SteadyKind.NONE
+    t_last = short.t[-1]
+    assert 0.0 < t_last < 100.0
+    assert t_last >= short.transitions[-1].t  # the last event may be an impact not yet applied
+    # The part it covers is the full response there.
+    x, v = full.evaluate(short.t[short.t < t_last], 1)
+    np.testing.assert_allclose(short.x[short.t < t_last], x, rtol=0.0, atol=1e-14)
+    assert short.stats["events"] == short.n_transitions <= 5
+
+
+# ---------------------------------------------------------- defect 6: ignored options
+
+
+@pytest.mark.parametrize(
+    ("method", "stop", "option"),
+    [
+        ("exact", None, "rtol"),
+        ("exact", RigidStop(0.3, 0.5), "atol"),
+        ("exact", RigidStop(0.3, 0.5), "eta"),
+        ("event", RigidStop(0.3, 0.5), "eta"),
+        ("exact", "hysteretic", "eta"),
+    ],
+)
+def test_an_option_the_method_does_not_use_is_refused(method, stop, option):
+    from core import HystereticStop
+
+    if stop == "hysteretic":
+        stop = HystereticStop(0.3)
+    with pytest.raises(TypeError, match=option):
+        simulate(SLOW, stop, t_end=10.0, method=method, **{option: 1e-6})
+
+
+@pytest.mark.parametrize("value", [2.7, 2.0, "100", True])
+def test_n_samples_must_be_an_integer(value):
+    with pytest.raises(ValueError, match="n_samples must be an integer"):
+        simulate(SLOW, None, t_end=10.0, n_samples=value)
+
+
+@pytest.mark.parametrize("t_eval", [[0.0, 11.0], [[0.0, 1.0]], [0.0, math.nan]])
+def test_t_eval_is_checked_once_for_every_method(t_eval):
+    for method in ("exact", "event", "switch"):
+        with pytest.raises(ValueError, match="t_eval"):
+            simulate(SLOW, None, t_end=10.0, method=method, t_eval=t_eval)
+
+
+def test_stats_are_integer_counts_and_diagnostics_are_info():
+    from core.result import STATS_KEYS
+
+    res = simulate(Oscillator(0.3, 0.2, 0.5), RigidStop(0.1, 0.6), t_end=50.0)
+    assert tuple(res.stats) == STATS_KEYS
+    assert all(type(v) is int for v in res.stats.values())
+    assert res.stats["events"] == res.n_transitions
+    assert res.info["impacts_evaluated"] > 10
