@@ -15,11 +15,8 @@ import numpy as np
 from core.flight import Segment
 from core.impact_sequence import ImpactSequence, evaluate_sequence
 from core.result import Mode
+from core.steady import fold_times
 
-#: Samples within this fraction of a period of a cycle boundary are put on it (rounding of
-#: the repeated transition times is ~1e-16 of the horizon; 1e-9 of a period moves a sample
-#: by nanoseconds of dimensionless time).
-TILE_SNAP = 1e-9
 #: A time within this many ulps (of the time itself) of a transition is taken to lie on it:
 #: the transition times of a repeated cycle are formed as ``t_i + k*period`` and mapped
 #: back by ``t - k*period``, which rounds by a few ulps of the horizon. 64 ulps leaves a
@@ -135,32 +132,6 @@ class PeriodicTail:
     work_per_period: tuple[float, float, float]
 
 
-def _fold(tail: PeriodicTail, t: np.ndarray, side: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Map times after ``tail.t_from`` into the stored cycle; also return how many whole
-    periods each time was moved by (0 for times before the tail).
-
-    A time on a cycle boundary maps onto the cycle's start exactly (its right limit) or,
-    for ``side = -1``, onto the cycle's end (its left limit), never a rounding error
-    beside them.
-    """
-    late = (t > tail.t_from) | ((t == tail.t_from) & (side >= 0))
-    k = np.floor((t[late] - tail.t_from) / tail.period)
-    shift = t[late] - tail.t_from - k * tail.period
-    snap = TILE_SNAP * tail.period
-    wrap = shift >= tail.period - snap
-    k = np.where(wrap, k + 1.0, k)
-    shift = np.where(wrap | (shift <= snap), 0.0, shift)
-    # Left limit at a boundary: the end of the previous period, where the stored cycle
-    # itself ends (t_from), rather than the transient's arrival at the cycle's start.
-    end = (shift == 0.0) & (side[late] < 0)
-    k = np.where(end, k - 1.0, k)
-    folded = t.copy()
-    folded[late] = np.where(end, tail.t_from, tail.cycle_t0 + shift)
-    n = np.zeros_like(t)
-    n[late] = k + 1.0
-    return folded, n
-
-
 def evaluate(
     table: dict[str, np.ndarray],
     times: np.ndarray,
@@ -181,7 +152,7 @@ def evaluate(
     wb_off = np.zeros_like(t)
     loss_off = np.zeros_like(t)
     if tail is not None:
-        t, n = _fold(tail, t, side)
+        t, n = fold_times(t, side, tail.t_from, tail.cycle_t0, tail.period)
         late = n > 0.0
         dwf, dwb, dloss = tail.work_per_period
         wf_off[late], wb_off[late], loss_off[late] = n[late] * dwf, n[late] * dwb, n[late] * dloss
