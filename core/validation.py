@@ -7,6 +7,9 @@ app can show it to the user unchanged.
 from __future__ import annotations
 
 import math
+import numbers
+
+import numpy as np
 
 
 def check_finite(name: str, value: float) -> float:
@@ -73,3 +76,51 @@ def check_start(x0: float, clearance: float, limit_overlap: float | None = None)
             "x0 must overlap the stop by less than its limit overlap: "
             f"x0 < clearance + limit_overlap = {clearance + limit_overlap:.6g}; got {x0:.6g}"
         )
+
+
+def check_integer(name: str, value: object, low: int, high: int) -> int:
+    """Return ``value`` as ``int`` if it is an integer in ``[low, high]``; a float such as
+    ``2.7`` (or ``2.0``) is refused rather than rounded.
+
+    Examples
+    --------
+    >>> check_integer("n_samples", 2000, 2, 10_000_000)
+    2000
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(
+            f"{name} must be an integer in [{low}, {high}]; got {value!r} "
+            f"({type(value).__name__})"
+        )
+    value = int(value)
+    if not low <= value <= high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high}]; got {value}")
+    return value
+
+
+def check_times(name: str, times: object, t_end: float) -> np.ndarray:
+    """Return ``times`` as a 1-D float array of finite times in ``[0, t_end]``."""
+    try:
+        t = np.asarray(times, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]") from None
+    if t.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]; got {t.ndim}-D")
+    outside = ~np.isfinite(t) | (t < 0.0) | (t > t_end)
+    if np.any(outside):
+        raise ValueError(
+            f"{name} must hold times in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
+        )
+    return t
+
+
+def check_options(method: str, used: tuple[str, ...], given: dict[str, object]) -> None:
+    """Refuse an option the chosen method does not use, naming it (as ``solve_ivp`` warns
+    about extraneous options) instead of dropping it."""
+    for name, value in given.items():
+        if value is not None and name not in used:
+            uses = ", ".join(used) if used else "none of rtol, atol, eta"
+            raise TypeError(
+                f"{name} is not used by method {method!r} here (it uses {uses}); "
+                f"leave {name} unset"
+            )
