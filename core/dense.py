@@ -1,8 +1,9 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
-This module is longer than the project's ~500 lines because it still holds a transition log
-and a steady-state search of its own, which belong with the project's one transition log and
-one steady-state detector.
+The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
+steady-state search on them (:func:`steady_from_transitions`) stays here because it works
+to the tolerance of a numerical method, which the fixed-point detector of
+:mod:`core.steady` does not take.
 
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
@@ -30,7 +31,6 @@ point with the left limit first, so that the velocity interpolant on each side i
 from __future__ import annotations
 
 import math
-from collections import Counter, deque
 from collections.abc import Sequence
 
 import numpy as np
@@ -48,6 +48,7 @@ from core.result import (
     TransitionKind,
 )
 from core.theory import accumulation_time
+from core.transitions import IMPACT_KINDS, TransitionLog
 
 #: How many of the most recent transitions are kept for the steady-state search.
 STEADY_WINDOW = 96
@@ -64,58 +65,18 @@ ASYMPTOTIC_MIN = 6
 STEADY_TOL_PER_RTOL = 1e3
 #: Floor of the relative steady-state tolerance (a few thousand ulps).
 STEADY_TOL_FLOOR = 1e-12
-#: Kinds that end a rigid impact (the velocity jumps at them).
-IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
 
 
-class TransitionLog:
-    """Transitions as an integrator finds them, stored up to a cap but all counted.
+def new_log(cap: int, transitions: Sequence[Transition] = ()) -> TransitionLog:
+    """A :class:`~core.transitions.TransitionLog` that keeps the last :data:`STEADY_WINDOW`
+    transitions for :func:`steady_from_transitions`, holding ``transitions``.
 
-    Keeps the first ``cap`` transitions (for the result), the last :data:`STEADY_WINDOW`
-    (for the steady-state search) and a count per kind, so that memory stays bounded on
-    long horizons.
-
-    Examples
-    --------
-    >>> log = TransitionLog(cap=1)
-    >>> log.add(TransitionKind.SLIP_STICK, 1.0, 0.02, 0.1)
-    >>> log.add(TransitionKind.STICK_SLIP, 2.0, 0.3, 0.1)
-    >>> len(log.stored), log.n, log.counts["stick->slip"]
-    (1, 2, 1)
+    >>> new_log(cap=1).recent.maxlen == STEADY_WINDOW
+    True
     """
-
-    __slots__ = ("cap", "stored", "tail", "counts", "n")
-
-    def __init__(self, cap: int) -> None:
-        self.cap = int(cap)
-        self.stored: list[Transition] = []
-        self.tail: deque[Transition] = deque(maxlen=STEADY_WINDOW)
-        self.counts: Counter[str] = Counter()
-        self.n = 0
-
-    def add(
-        self,
-        kind: TransitionKind,
-        t: float,
-        x: float,
-        v: float,
-        v_after: float | None = None,
-    ) -> None:
-        """Record one transition with the state ``(x, v)`` before it (``v_after`` after)."""
-        after = v if v_after is None else v_after
-        tr = Transition(kind, float(t), float(x), float(v), float(after))
-        if self.n < self.cap:
-            self.stored.append(tr)
-        self.tail.append(tr)
-        self.counts[kind.value] += 1
-        self.n += 1
-
-    @classmethod
-    def from_sequence(cls, transitions: Sequence[Transition], cap: int) -> TransitionLog:
-        log = cls(cap)
-        for tr in transitions:
-            log.add(tr.kind, tr.t, tr.x, tr.v, tr.v_after)
-        return log
+    log = TransitionLog(cap, STEADY_WINDOW)
+    log.extend(transitions)
+    return log
 
 
 def log_rest_at_stop(
@@ -450,7 +411,7 @@ def result_from_dense(
     log = (
         transitions
         if isinstance(transitions, TransitionLog)
-        else TransitionLog.from_sequence(transitions, transition_cap)
+        else new_log(transition_cap, transitions)
     )
 
     t_stop = min(float(t_end), float(t[-1]))
@@ -507,8 +468,7 @@ def result_from_dense(
         )
 
     if impulses is None:
-        imp = [(tr.t, tr.v - tr.v_after) for tr in log.stored if tr.kind in IMPACT_KINDS]
-        impulses = np.array(imp, dtype=float).reshape(-1, 2)
+        impulses = np.array(log.impulses, dtype=float).reshape(-1, 2)
     else:
         impulses = np.asarray(impulses, dtype=float).reshape(-1, 2)
 
@@ -528,7 +488,7 @@ def result_from_dense(
         mode=modes,
         transitions=tuple(log.stored),
         transition_counts=dict(log.counts),
-        n_transitions=log.n,
+        n_transitions=log.total,
         x_max=float(x_max),
         steady=steady,
         status=status,
@@ -573,7 +533,7 @@ def _steady_of(
         return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
 
     return steady_from_transitions(
-        log.tail,
+        log.recent,
         tol=tol,
         t_end=t_stop,
         final_mode=int(mode[-1]) if n else int(Mode.SLIP),

@@ -32,8 +32,9 @@ Modes and the events that end them
   one loading branch).
 
 Impact accumulation (Zeno, paper §4) is handled as in the switch model: a rebound slower
-than ``rest_speed`` while the belt presses the mass on the stop ends the bouncing; the
-remaining arc durations are summed in closed form to give the accumulation time. The default
+than ``rest_speed`` while the mass is pressed on the stop (:func:`core.steady.pressed_on_stop`)
+ends the bouncing; the remaining arc durations are summed in closed form to give the
+accumulation time. The default
 ``rest_speed = sqrt(2 atol (a - clearance))`` keeps the neglected rebounds' height
 ``w^2 / (2 (a - clearance))`` below ``atol``.
 
@@ -54,14 +55,16 @@ import numpy as np
 from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
-from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
+from core.dense import log_rest_at_stop, new_log, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
-from core.numerics.dense_output import PiecewiseDense, PointTrack, check_times, line_piece
+from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
-from core.numerics.limits import MAX_EVENTS, MAX_STEPS, WorkLimit, check_count
+from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
-from core.validation import check_range, check_start
+from core.simulate import MAX_SAMPLES, MAX_TRANSITION_CAP
+from core.steady import pressed_on_stop
+from core.validation import check_integer, check_range, check_start, check_times
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
 #: contact, and LSODA's automatic stiffness switching.
@@ -100,7 +103,7 @@ class EventOptions:
             raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
         if self.rest_speed is not None:
             check_range("rest_speed", self.rest_speed, 0.0)
-        check_count("max_events", self.max_events)
+        check_integer("max_events", self.max_events, 1, COUNT_MAX)
 
 
 class EventSolver:
@@ -124,6 +127,8 @@ class EventSolver:
         self.soft = isinstance(stop, HystereticStop)
         self.c = stop.clearance if stop is not None else math.inf
         self.r = stop.restitution if self.rigid else 1.0
+        # the project's one rule for a mass that may rest at the stop (docs/physics.md)
+        self.pressed = stop is not None and pressed_on_stop(osc, self.c)
         a = osc.a
         if opts.rest_speed is not None:
             self.rest_speed = opts.rest_speed
@@ -131,7 +136,7 @@ class EventSolver:
             self.rest_speed = (
                 math.sqrt(2.0 * opts.atol * max(a - self.c, 0.0)) if self.rigid else 0.0
             )
-        self.log = TransitionLog(transition_cap)
+        self.log = new_log(transition_cap)
         self.track = PointTrack()
         self.dense = PiecewiseDense(self.c if self.rigid else None)
         self.t, self.x, self.v = 0.0, x0, v0
@@ -169,11 +174,6 @@ class EventSolver:
     def acc_of(self, x: float, fr: int) -> float:
         return 0.0 if fr == 0 else self.slip_acc(x, fr)
 
-    def pressed(self) -> bool:
-        """The belt holds the mass on the stop (``a >= clearance``; still belt: ``|c| <= b``)."""
-        osc = self.osc
-        return osc.a >= self.c if osc.v > 0.0 else abs(self.c) <= osc.b
-
     def point(self, t: float, x: float, v: float, acc: float, fr: int) -> None:
         mode = Mode.CONTACT if self.contact else (Mode.STICK if fr == 0 else Mode.SLIP)
         self.track.add(t, x, v, acc, mode, self.phi(x) if self.soft else 0.0)
@@ -184,7 +184,7 @@ class EventSolver:
         self.point(self.t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)
         if self.rigid and self.x >= self.c and self.v > 0.0:
             self.impact(self.v, self.fr == 0)
-        elif self.rigid and self.x >= self.c and self.v == 0.0 and self.pressed():
+        elif self.rigid and self.x >= self.c and self.v == 0.0 and self.pressed:
             self.rest_from(0.0)
         while self.t < self.t_end and not self.at_rest and self.status is Status.SUCCESS:
             if self.n_seg >= self.opts.max_events:
@@ -216,7 +216,7 @@ class EventSolver:
         v_after = -self.r * w
         kind = TransitionKind.STICK_IMPACT if from_stick else TransitionKind.IMPACT
         self.log.add(kind, self.t, self.c, w, v_after)
-        if abs(v_after) <= self.rest_speed and self.pressed():
+        if abs(v_after) <= self.rest_speed and self.pressed:
             self.rest_from(w)
             return
         self.x, self.v = self.c, v_after
@@ -424,7 +424,7 @@ class EventSolver:
                 segments=self.n_seg,
                 steps=self.n_steps,
                 rhs_evals=self.n_eval,
-                events=self.log.n,
+                events=self.log.total,
             ),
             info={"solver": self.opts.solver},
             t_eval=t_eval,
@@ -570,8 +570,8 @@ def simulate_event(
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)
-    n_samples = check_count("n_samples", n_samples, 2)
-    transition_cap = check_count("transition_cap", transition_cap, 0)
+    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
+    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
     opts = EventOptions(rtol, atol, solver, rest_speed, max_steps, time_budget, max_events)
     limit = WorkLimit(max_steps, time_budget)
     if t_eval is not None:

@@ -43,9 +43,8 @@ Impact accumulation (Zeno)
 --------------------------
 For ``0 < r < 1`` and ``clearance < a`` the rebound speeds fall as ``r^h`` and infinitely
 many impacts happen in finite time (paper §4, ``docs/physics.md``). A rebound slower than
-``rest_speed`` (default ``eta``, the model's own velocity resolution) while the belt presses
-the mass on the stop
-(``a >= clearance`` on a moving belt; ``|clearance| <= b`` on a still one) ends the
+``rest_speed`` (default ``eta``, the model's own velocity resolution) while the mass is
+pressed on the stop (:func:`core.steady.pressed_on_stop`, ``a >= clearance``) ends the
 bouncing: the rest of the geometric series of arc durations ``2 atan(r^h w / (a -
 clearance))`` is summed in closed form to give the accumulation time, and from there the
 mass rests on the stop. The number of impacts is thus bounded by ``log(rest_speed/w_0) /
@@ -67,15 +66,17 @@ from functools import partial
 
 import numpy as np
 
-from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
+from core.dense import log_rest_at_stop, new_log, result_from_dense
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
-from core.numerics.dense_output import HermiteDense, PointTrack, check_times
+from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
-from core.numerics.limits import MAX_STEPS, WorkLimit, check_count
+from core.numerics.limits import MAX_STEPS, WorkLimit
 from core.numerics.rk import STAGES_PER_STEP, StepControl, rkf45_step
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
-from core.validation import check_range, check_start
+from core.simulate import MAX_SAMPLES, MAX_TRANSITION_CAP
+from core.steady import pressed_on_stop
+from core.validation import check_integer, check_range, check_start, check_times
 
 #: First trial step (dimensionless time); the controller grows it within a few steps.
 FIRST_STEP = 1e-3
@@ -198,7 +199,7 @@ class SwitchSolver:
 
     # slots: fixed attributes, and faster access in the step loop
     __slots__ = (
-        "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r",
+        "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r", "pressed",
         "log", "track", "t", "x", "v", "contact", "branch", "rhs", "acc", "fr", "h",
         "at_rest", "status", "steps", "rejected", "n_eval",
     )  # fmt: skip
@@ -220,7 +221,9 @@ class SwitchSolver:
         self.soft = isinstance(stop, HystereticStop)
         self.c = stop.clearance if stop is not None else math.inf
         self.r = stop.restitution if self.rigid else 1.0
-        self.log = TransitionLog(transition_cap)
+        # the project's one rule for a mass that may rest at the stop (docs/physics.md)
+        self.pressed = stop is not None and pressed_on_stop(osc, self.c)
+        self.log = new_log(transition_cap)
         self.track = PointTrack()
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
@@ -258,12 +261,6 @@ class SwitchSolver:
         """Follow ``branch`` of the contact law from here on."""
         self.branch = branch
         self.rhs = switch_rhs(self.osc, self.opts.eta, self.stop, branch)
-
-    def rest_pressed(self) -> bool:
-        """The belt holds the mass on the stop (``a >= clearance``; still: ``|c| <= b``)."""
-        if self.osc.v > self.opts.eta:
-            return self.osc.a >= self.c
-        return abs(self.c) <= self.osc.b
 
     def eval_rhs(self, x: float, v: float) -> float:
         self.n_eval += 1
@@ -326,7 +323,7 @@ class SwitchSolver:
         v_after = -self.r * w
         kind = TransitionKind.STICK_IMPACT if from_stick else TransitionKind.IMPACT
         self.log.add(kind, self.t, self.c, w, v_after)
-        if abs(v_after) <= self.opts.rest_speed and self.rest_pressed():
+        if abs(v_after) <= self.opts.rest_speed and self.pressed:
             self.come_to_rest(w)
             return
         self.v = v_after
@@ -350,7 +347,7 @@ class SwitchSolver:
         self.record()
         if self.rigid and self.x >= self.c and self.v > 0.0:
             self.impact(self.fr == 0)
-        elif self.rigid and self.x >= self.c and self.v == 0.0 and self.rest_pressed():
+        elif self.rigid and self.x >= self.c and self.v == 0.0 and self.pressed:
             self.come_to_rest(0.0)
         while self.t < self.t_end and not self.at_rest and self.status is Status.SUCCESS:
             stopped = self.limit.reached(self.steps + self.rejected)
@@ -519,7 +516,7 @@ class SwitchSolver:
                 steps=self.steps,
                 rejected=self.rejected,
                 rhs_evals=self.n_eval,
-                events=self.log.n,
+                events=self.log.total,
             ),
             info={"eta": eta},
             t_eval=t_eval,
@@ -645,8 +642,8 @@ def simulate_switch(
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)
-    n_samples = check_count("n_samples", n_samples, 2)
-    transition_cap = check_count("transition_cap", transition_cap, 0)
+    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
+    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
     eta = _default_eta(osc) if eta is None else check_range("eta", eta, 0.0, low_open=True)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)

@@ -24,26 +24,6 @@ from core.numerics.hermite import hermite_eval
 Piece = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 
-def check_times(name: str, t, t_end: float) -> np.ndarray:
-    """``t`` as a 1-D float array of non-decreasing times in ``[0, t_end]``, else a
-    ``ValueError`` that names ``name``.
-
-    >>> check_times("t_eval", [0.0, 1.0], 2.0)
-    array([0., 1.])
-    """
-    arr = np.asarray(t, dtype=float)
-    if arr.ndim != 1 or arr.size == 0:
-        raise ValueError(f"{name} must be a non-empty 1-D array of times; got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)) or arr[0] < 0.0 or np.any(arr > t_end):
-        raise ValueError(
-            f"{name} must hold times in [0, t_end] = [0, {t_end:g}]; "
-            f"got values in [{np.nanmin(arr):g}, {np.nanmax(arr):g}]"
-        )
-    if np.any(np.diff(arr) < 0.0):
-        raise ValueError(f"{name} must be sorted in increasing order")
-    return arr
-
-
 def _check_side(side: int) -> str:
     if side not in (-1, 1):
         raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")

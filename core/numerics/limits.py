@@ -8,12 +8,11 @@ loops without end nor raises.
 from __future__ import annotations
 
 import math
-import numbers
 import time
 from dataclasses import dataclass, field
 
 from core.result import Status
-from core.validation import check_range
+from core.validation import check_integer, check_range
 
 #: Default limit on the steps of one solve (accepted and rejected): far above what a solve
 #: to ``t_end = 1e4`` at ``rtol = 1e-10`` needs, and a bound of a few tens of seconds on a
@@ -21,19 +20,8 @@ from core.validation import check_range
 MAX_STEPS = 2_000_000
 #: Default limit on the events (transitions and restarts of the integration) of one solve.
 MAX_EVENTS = 1_000_000
-
-
-def check_count(name: str, value, low: int = 1) -> int:
-    """``value`` as an ``int`` if it is a whole number ``>= low``, else a ``ValueError``.
-
-    >>> check_count("max_steps", 10)
-    10
-    """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a whole number; got {type(value).__name__}")
-    if not (math.isfinite(value) and float(value).is_integer()):
-        raise ValueError(f"{name} must be a whole number >= {low}; got {value!r}")
-    return int(check_range(name, int(value), low))
+#: Upper bound of a count option (only so that its error message can state a range).
+COUNT_MAX = 10**15
 
 
 @dataclass
@@ -59,7 +47,7 @@ class WorkLimit:
     deadline: float = field(init=False, default=math.inf)
 
     def __post_init__(self) -> None:
-        self.max_steps = check_count("max_steps", self.max_steps)
+        self.max_steps = check_integer("max_steps", self.max_steps, 1, COUNT_MAX)
         if self.time_budget is not None:
             self.time_budget = check_range(
                 "time_budget", self.time_budget, 0.0, low_open=True, allow_inf=True

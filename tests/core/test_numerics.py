@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import core.numerics
-from core.numerics.dense_output import HermiteDense, PiecewiseDense, check_times, line_piece
+from core.numerics.dense_output import HermiteDense, PiecewiseDense, line_piece
 from core.numerics.hermite import hermite, hermite_max, root, x_crossing
-from core.numerics.limits import WorkLimit, check_count
+from core.numerics.limits import WorkLimit
 from core.numerics.rk import StepControl, rkf45_step
 from core.result import Status
 
@@ -90,13 +90,6 @@ def test_piecewise_dense_picks_the_piece_of_each_side():
     assert d.t_last == 3.0
 
 
-def test_check_times_names_the_parameter():
-    np.testing.assert_array_equal(check_times("t_eval", (0.0, 2.0), 2.0), [0.0, 2.0])
-    for bad in ([], [0.0, math.nan], [0.0, 3.0], [1.0, 0.0], [[0.0]]):
-        with pytest.raises(ValueError, match="t_eval"):
-            check_times("t_eval", bad, 2.0)
-
-
 def test_work_limit_counts_steps_and_time():
     limit = WorkLimit(max_steps=3)
     assert [limit.reached(n) for n in range(4)] == [None, None, None, Status.STEP_LIMIT]
@@ -107,8 +100,7 @@ def test_work_limit_counts_steps_and_time():
     assert spent.reached(0) is Status.TIME_BUDGET
     with pytest.raises(ValueError, match="max_steps"):
         WorkLimit(max_steps=2.5)
-    with pytest.raises(TypeError, match="max_steps"):
+    with pytest.raises(ValueError, match="max_steps"):
         WorkLimit(max_steps="10")
     with pytest.raises(ValueError, match="time_budget"):
         WorkLimit(time_budget=0.0)
-    assert check_count("n", 4.0) == 4
