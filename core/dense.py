@@ -35,7 +35,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from core.hysteresis import stored_energy
+from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
+from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import (
     DenseSolution,
     Energy,
@@ -499,6 +502,51 @@ def result_from_dense(
         method=method,
         stats=dict(stats or {}),
         info=dict(info or {}),
+        dense=dense,
+    )
+
+
+def result_from_track(
+    track: PointTrack,
+    log: TransitionLog,
+    osc: Oscillator,
+    stop: RigidStop | HystereticStop | None,
+    *,
+    t_end: float,
+    n_samples: int,
+    rtol: float,
+    status: Status,
+    method: str,
+    stats: dict[str, int],
+    info: dict[str, object],
+    t_eval: np.ndarray | None,
+    dense: DenseSolution | None,
+) -> Result:
+    """:func:`result_from_dense` for an integrator's :class:`PointTrack` on a scene: the
+    contact force, overlap and stored energy of a deformable stop, the face of a rigid one."""
+    soft = isinstance(stop, HystereticStop)
+    c = stop.clearance if stop is not None else math.inf
+    return result_from_dense(
+        track.t,
+        track.x,
+        track.v,
+        track.mode,
+        log,
+        t_end=t_end,
+        n_samples=n_samples,
+        transition_cap=log.cap,
+        acc=track.acc,
+        contact_force=track.phi if soft else None,
+        overlap=[xx - c for xx in track.x] if soft else None,
+        stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
+        rtol=rtol,
+        belt_speed=osc.v,
+        x_upper=c if isinstance(stop, RigidStop) else None,
+        status=status,
+        method=method,
+        stats=stats,
+        info=info,
+        t_eval=t_eval,
         dense=dense,
     )
 

@@ -55,8 +55,8 @@ import numpy as np
 from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
-from core.dense import log_rest_at_stop, new_log, result_from_dense
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
+from core.dense import log_rest_at_stop, new_log, result_from_track
+from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
@@ -400,32 +400,20 @@ class EventSolver:
 
     # --- the result ---------------------------------------------------------------------------
     def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
-        tr, stop = self.track, self.stop
-        soft = self.soft
-        return result_from_dense(
-            tr.t,
-            tr.x,
-            tr.v,
-            tr.mode,
+        stats = make_stats(
+            segments=self.n_seg, steps=self.n_steps, rhs_evals=self.n_eval, events=self.log.total
+        )
+        return result_from_track(
+            self.track,
             self.log,
+            self.osc,
+            self.stop,
             t_end=self.t_end,
             n_samples=n_samples,
-            transition_cap=self.log.cap,
-            acc=tr.acc,
-            contact_force=tr.phi if soft else None,
-            overlap=[xx - self.c for xx in tr.x] if soft else None,
-            stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
             rtol=self.opts.rtol,
-            belt_speed=self.osc.v,
-            x_upper=self.c if self.rigid else None,
             status=self.status,
             method="event",
-            stats=make_stats(
-                segments=self.n_seg,
-                steps=self.n_steps,
-                rhs_evals=self.n_eval,
-                events=self.log.total,
-            ),
+            stats=stats,
             info={"solver": self.opts.solver},
             t_eval=t_eval,
             dense=self.dense if self.dense.pieces else None,

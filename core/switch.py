@@ -66,8 +66,8 @@ from functools import partial
 
 import numpy as np
 
-from core.dense import log_rest_at_stop, new_log, result_from_dense
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, stored_energy
+from core.dense import log_rest_at_stop, new_log, result_from_track
+from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import MAX_STEPS, WorkLimit
@@ -490,37 +490,29 @@ class SwitchSolver:
 
     # --- the result ---------------------------------------------------------------------------
     def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
-        tr, stop, soft = self.track, self.stop, self.soft
-        eta, vb = self.opts.eta, self.osc.v
-        x_upper = self.c if self.rigid else None
-        return result_from_dense(
-            tr.t,
-            tr.x,
-            tr.v,
-            tr.mode,
+        tr, eta, vb = self.track, self.opts.eta, self.osc.v
+        stats = make_stats(
+            segments=1,
+            steps=self.steps,
+            rejected=self.rejected,
+            rhs_evals=self.n_eval,
+            events=self.log.total,
+        )
+        return result_from_track(
+            tr,
             self.log,
+            self.osc,
+            self.stop,
             t_end=self.t_end,
             n_samples=n_samples,
-            transition_cap=self.log.cap,
-            acc=tr.acc,
-            contact_force=tr.phi if soft else None,
-            overlap=[xx - self.c for xx in tr.x] if soft else None,
-            stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
+            # the steady-state search allows for the stick band's model error as well
             rtol=max(self.opts.rtol, eta / max(vb, eta)),
-            belt_speed=vb,
-            x_upper=x_upper,
             status=self.status,
             method="switch",
-            stats=make_stats(
-                segments=1,
-                steps=self.steps,
-                rejected=self.rejected,
-                rhs_evals=self.n_eval,
-                events=self.log.total,
-            ),
+            stats=stats,
             info={"eta": eta},
             t_eval=t_eval,
-            dense=HermiteDense(tr.t, tr.x, tr.v, tr.acc, x_upper),
+            dense=HermiteDense(tr.t, tr.x, tr.v, tr.acc, self.c if self.rigid else None),
         )
 
 

@@ -123,6 +123,19 @@ def locate_interval(t: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
     return np.clip(idx, 0, len(t) - 2)
 
 
+def _fraction(
+    t: np.ndarray, tq: np.ndarray, side: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Interval index, fraction ``s`` in ``[0, 1]`` and length of each query's interval
+    (``s = 0`` on a zero-width interval, a jump)."""
+    i = locate_interval(t, tq, side)
+    t0 = t[i]
+    h = t[i + 1] - t0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.clip(np.where(h > 0.0, (tq - t0) / h, 0.0), 0.0, 1.0)
+    return i, s, h
+
+
 def hermite_eval(
     t: np.ndarray,
     y: np.ndarray,
@@ -143,12 +156,7 @@ def hermite_eval(
     """
     if len(t) == 1:
         return np.full(np.shape(tq), y[0], dtype=float)
-    i = locate_interval(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(h > 0.0, (tq - t0) / h, 0.0)
-    s = np.clip(s, 0.0, 1.0)
+    i, s, h = _fraction(t, tq, side)
     s2, s3 = s * s, s * s * s
     # written as y0 + (y1 - y0) * h01 + ...: a constant stays exactly constant
     h10 = s3 - 2 * s2 + s
@@ -161,11 +169,7 @@ def linear_eval(t: np.ndarray, y: np.ndarray, tq: np.ndarray, side: str) -> np.n
     """Piecewise linear interpolation that respects jumps (see :func:`hermite_eval`)."""
     if len(t) == 1:
         return np.full(np.shape(tq), y[0], dtype=float)
-    i = locate_interval(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.clip(np.where(h > 0.0, (tq - t0) / h, 0.0), 0.0, 1.0)
+    i, s, _ = _fraction(t, tq, side)
     return y[i] + s * (y[i + 1] - y[i])
 
 
