@@ -8,6 +8,8 @@ import math
 import numpy as np
 from scipy.integrate import quad
 
+from core.validation import check_range
+
 #: ``accumulation_time``: scaled speeds ``y = w/d`` at or below this are summed by the
 #: power series of ``atan`` (which converges like ``y^2`` per term).
 SERIES_Y_LOW = 0.5
@@ -30,8 +32,9 @@ def accumulation_time(w0: float, r: float, d: float) -> float:
 
     With the stop at distance ``d = a - x_bar > 0`` behind the slip centre, a rebound at
     speed ``w`` is followed by an arc about ``(a, 0)`` that returns to the stop after
-    ``2 atan(w / d)`` (SPEC §3); rebound speeds fall as ``w_h = r^h w0``. The infinitely many
-    impacts therefore end after this finite time, and the mass then rests on the stop.
+    ``2 atan(w / d)`` (docs/physics.md, "Zeno and grazing sums"); rebound speeds fall as
+    ``w_h = r^h w0``. The infinitely many impacts therefore end after this finite time, and
+    the mass then rests on the stop.
 
     The sum is evaluated in three bands of the scaled speed ``y_h = r^h w0 / d``, so that its
     cost stays bounded for ``r`` near 1 where the plain sum needs ``~1/(1 - r)`` terms per
@@ -67,16 +70,10 @@ def accumulation_time(w0: float, r: float, d: float) -> float:
     >>> math.isfinite(accumulation_time(0.3, 0.999999, 0.01))
     True
     """
-    w0, r, d = float(w0), float(r), float(d)
-    if not (math.isfinite(w0) and w0 >= 0.0):
-        raise ValueError(f"w0 must be a finite speed >= 0; got {w0!r}")
-    if not 0.0 <= r <= 1.0:
-        raise ValueError(f"r must lie in [0, 1]; got {r!r}")
-    if not (math.isfinite(d) and d > 0.0):
-        raise ValueError(
-            "d = a - x_bar must be positive (impacts accumulate only when the stop lies "
-            f"behind the slip centre); got {d!r}"
-        )
+    w0 = check_range("w0", w0, 0.0)
+    r = check_range("r", r, 0.0, 1.0)
+    # Impacts accumulate only when the stop lies behind the slip centre.
+    d = check_range("d = a - x_bar", d, 0.0, low_open=True)
     if w0 == 0.0:
         return 0.0
     if r == 1.0:
