@@ -12,8 +12,10 @@ from core.rigid import simulate_rigid
 from core.validation import (
     check_integer,
     check_options,
+    check_oscillator,
     check_range,
     check_start,
+    check_stop,
     check_times,
 )
 
@@ -84,12 +86,8 @@ def simulate(
     >>> round(res.steady.period, 12) == round(2 * math.acos(1 - 0.3 / 0.2), 12)
     True
     """
-    if not isinstance(osc, Oscillator):
-        raise TypeError(f"osc must be an Oscillator; got {type(osc).__name__}")
-    if stop is not None and not isinstance(stop, (RigidStop, HystereticStop)):
-        raise TypeError(
-            f"stop must be None, a RigidStop or a HystereticStop; got {type(stop).__name__}"
-        )
+    check_oscillator(osc)
+    check_stop(stop)
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)

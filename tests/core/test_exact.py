@@ -1,8 +1,9 @@
 """The exact solver (no stop, rigid stop) against closed forms, a second method and invariants.
 
 References used here are independent of the solver: the paper's closed-form results
-(SPEC §7), a ``solve_ivp`` integration of the non-smooth model written in this file, and the
-invariants of the motion (energy balance, no penetration, Newton's restitution).
+(docs/physics.md, "Closed-form results"), a ``solve_ivp`` integration of the non-smooth
+model written in this file, and the invariants of the motion (energy balance, no
+penetration, Newton's restitution).
 """
 
 from __future__ import annotations
@@ -160,7 +161,7 @@ def test_zeno_accumulation_time_is_the_series_sum_then_rest():
     late = res.t > t_acc_series
     np.testing.assert_array_equal(res.x[late], x_bar)
     np.testing.assert_array_equal(res.v[late], 0.0)
-    # Pressed by the belt with force k (a - x_bar) (SPEC §3).
+    # Pressed by the belt with force k (a - x_bar) (docs/physics.md, "Rest at the stop").
     np.testing.assert_allclose(res.contact_force[late], a - x_bar, rtol=1e-15)
 
 
