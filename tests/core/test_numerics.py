@@ -3,28 +3,16 @@ roots, step control, dense solutions, work limits."""
 
 from __future__ import annotations
 
-import doctest
-import importlib
 import math
-import pkgutil
 
 import numpy as np
 import pytest
 
-import core.numerics
 from core.numerics.dense_output import HermiteDense, PiecewiseDense, line_piece
 from core.numerics.hermite import hermite, hermite_max, root, x_crossing
 from core.numerics.limits import WorkLimit
 from core.numerics.rk import StepControl, rkf45_step
 from core.result import Status
-
-MODULES = sorted(m.name for m in pkgutil.iter_modules(core.numerics.__path__, "core.numerics."))
-
-
-@pytest.mark.parametrize("name", MODULES)
-def test_docstring_examples(name):
-    failures, _ = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
-    assert failures == 0
 
 
 def test_hermite_is_exact_for_cubics_and_root_finds_its_zero():
