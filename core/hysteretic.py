@@ -51,7 +51,7 @@ integrated states, so the balance ``mechanical - mechanical[0] = friction_work -
 from __future__ import annotations
 
 import math
-from collections import Counter
+from collections import Counter, deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -68,6 +68,7 @@ from core.hysteresis import (
     force_and_slope,
     force_on_branches,
     reverse,
+    stored_energy,
     stored_energy_many,
 )
 from core.params import HystereticStop, Oscillator
@@ -122,6 +123,11 @@ FIXED_POINT_RTOL = 1e-10
 FIXED_POINT_LOOKBACK = 64
 #: Guard against an endless event loop; the result then says no steady state was found.
 MAX_EVENTS = 2_000_000
+#: Tolerance of the equilibrium on the stop (relative to the length scale): the rest force
+#: then equals ``a - x`` to ~1e-15 relative, far inside the 1e-9 promised.
+EQUILIBRIUM_XTOL = 1e-16
+#: Relative tolerance of brentq's roots (its smallest allowed value).
+ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Root tolerance of event times on the step's interpolant (relative to the step).
 EVENT_XTOL = 1e-14
 #: Points of the grid on which a step's interpolant is scanned for the first sign change
@@ -129,12 +135,21 @@ EVENT_XTOL = 1e-14
 EVENT_GRID = 16
 #: Halvings towards the step's start when it lies on the event's boundary.
 EVENT_HALVINGS = 60
-#: Overlap reversals of a sustained contact whose amplitude falls below this fraction of
-#: the length scale are the limit of rest at the stop: the mass is pressed on the stop. The
-#: rest state then differs from the motion by less than this (the app's "standard" level);
-#: the oscillation of Fig. 11 decays only like 1/(number of reversals), so 1e-9 would cost
-#: ~300x more reversals for no visible change.
-REST_AMPLITUDE_RTOL = 1e-7
+#: Overlap reversals of a sustained contact whose amplitude falls below this multiple of
+#: ``rtol`` (times the length scale; ``atol`` at least) are the limit of rest at the stop:
+#: the mass is pressed on the stop, and rest is declared at the equilibrium. The rest state
+#: then differs from the motion by less than ``10 rtol``, inside the error the app states
+#: for each accuracy preset (``~100 rtol``, app/solver.py).
+REST_AMPLITUDE_PER_RTOL = 10.0
+#: A pressed oscillation on the stop is handed to its reduced model (:meth:`_Solver.
+#: decay_model`) once its swing is below this multiple of the rest amplitude: the model's
+#: error in the state is at most the amplitude then, ``REDUCE_PER_REST * 10 rtol / 2``,
+#: inside the error the app states for its presets (``~100 rtol``).
+REDUCE_PER_REST = 8.0
+#: Swings whose decay rate is fitted (the last ``DECAY_FIT + 1`` swings).
+DECAY_FIT = 6
+#: Largest relative spread of the fitted rates for the decay to count as regular.
+DECAY_SPREAD = 0.05
 #: Transitions inspected for the asymptotic steady state when no fixed point is found.
 STEADY_TAIL = 64
 #: Samples added on each branch of a contact (from its start, a reversal of the overlap
@@ -155,7 +170,7 @@ ARC_NEWTON_MAX = 60
 #: Newton iterations when a sample's time is mapped to the arc's angle.
 ARC_SAMPLE_NEWTON = 8
 
-_HERMITE, _LINE, _REST, _ARC = 0, 1, 2, 3
+_HERMITE, _LINE, _REST, _ARC, _OSC = 0, 1, 2, 3, 4
 
 # Gauss-Kronrod 7-15 (QUADPACK): nodes on [-1, 1], Kronrod weights, Gauss weights (zero off
 # the Gauss nodes, which are the odd entries).
@@ -221,18 +236,25 @@ def _exp_mean_arr(z: np.ndarray) -> np.ndarray:
 
 @dataclass
 class _Log:
-    """Transitions: the first ``cap`` stored, all counted."""
+    """Transitions: the first ``cap`` stored, all counted, the latest ``STEADY_TAIL`` kept.
+
+    The steady state is read off the latest transitions, which lie past the cap in a long
+    response: reading it off the stored ones labelled the state at the cap's time.
+    """
 
     cap: int
     stored: list[Transition] = field(default_factory=list)
     counts: Counter = field(default_factory=Counter)
     total: int = 0
+    recent: deque = field(default_factory=lambda: deque(maxlen=STEADY_TAIL))
 
     def add(self, kind: TransitionKind, t: float, x: float, v: float, v_after: float) -> None:
         self.total += 1
         self.counts[kind.value] += 1
+        tr = Transition(kind, t, x, v, v_after)
+        self.recent.append(tr)
         if len(self.stored) < self.cap:
-            self.stored.append(Transition(kind, t, x, v, v_after))
+            self.stored.append(tr)
 
 
 @dataclass
@@ -269,6 +291,23 @@ class _State:
     x: float
     v: float
     work: tuple[float, float, float]  # friction work, belt input, work done on the stop
+
+
+def _decay(data, tau):
+    """Position and velocity of the reduced oscillation (row data of :data:`_OSC`) at
+    ``tau`` after its start: ``x_eq + A(tau) cos(pi tau / T)``, ``A`` geometric or ``1/n``."""
+    x_eq, amp0, t_half, geometric, rate = data[:5]
+    n = np.asarray(tau, dtype=float) / t_half
+    if geometric:
+        amp = amp0 * rate**n
+        damp = amp * math.log(rate) / t_half
+    else:
+        den = 1.0 + rate * abs(amp0) * n
+        amp = amp0 / den
+        damp = -amp0 * abs(amp0) * rate / t_half / den**2
+    w = math.pi / t_half
+    c, sn = np.cos(w * n * t_half), np.sin(w * n * t_half)
+    return x_eq + amp * c, damp * c - amp * w * sn, amp
 
 
 def _hermite_coeffs(x0, u0, a0, x1, u1, a1, h):
@@ -340,6 +379,8 @@ class _Solver:
         self.steady: Steady | None = None
         self.tail: tuple[float, float, float, tuple[float, float, float]] | None = None
         self.history: dict[str, list[tuple[float, float, float, float, int]]] = {}
+        self.reduced_error = 0.0  # bound of the reduced models' error in the state
+        self.rest_force = math.nan
 
     # --- free flight ---------------------------------------------------------------------
 
@@ -554,7 +595,7 @@ class _Solver:
         self.new_branch(branch, 0.0, st.work[2])
         d_branch0 = 0.0
         s = 1 if st.v < self.vb else -1
-        reversal_x: list[float] = []
+        reversal_x: list[tuple[float, float]] = []  # (t, x) of this contact's reversals
         while True:
             if stick:
                 outcome = self.stick_in_contact(st, branch)
@@ -787,7 +828,8 @@ class _Solver:
         return "limit"
 
     def reversal(
-        self, st: _State, branch: Branch, phi: float, reversal_x: list[float], s: int
+        self, st: _State, branch: Branch, phi: float, reversal_x: list[tuple[float, float]],
+        s: int,
     ) -> tuple[Branch, str | None]:
         """The overlap rate changes sign at ``st``: the new branch starts from the stored
         reversal point (Eq. 13). Returns it, and ``"periodic"`` or ``"rest"`` when the
@@ -798,19 +840,133 @@ class _Solver:
         self.record(TransitionKind.REVERSAL, st, 0.0, phi=phi)
         if self.steady is not None:
             return branch, "periodic"
-        reversal_x.append(st.x)
+        reversal_x.append((st.t, st.x))
         if self.settled(reversal_x):
             return branch, self.rest_at_stop(st, branch, s)
+        model = self.decay_model(st, branch, reversal_x, s)
+        if model is not None:
+            return branch, self.oscillate(st, branch, s, model)
         return branch, None
 
-    def settled(self, reversal_x: list[float]) -> bool:
+    def settled(self, reversal_x: list[tuple[float, float]]) -> bool:
         if len(reversal_x) < 4:
             return False
-        amplitude = max(reversal_x[-4:]) - min(reversal_x[-4:])
-        return amplitude <= REST_AMPLITUDE_RTOL * self.scale()
+        last = [x for _, x in reversal_x[-4:]]
+        return max(last) - min(last) <= self.rest_amplitude()
+
+    def decay_model(self, st: _State, branch: Branch, reversal_x, s: int):
+        """The reduced model of a small oscillation about the equilibrium on the stop, or
+        ``None`` while the oscillation is too large or its decay not yet regular.
+
+        The swings ``p_k = |x_k - x_{k-1}|`` between reversals of a pressed mass shrink
+        either geometrically (``p_{k+1} / p_k`` constant: loops of a law that is linear
+        at small amplitude) or like ``1/k`` (``1/p_{k+1} - 1/p_k`` constant: the loss per
+        loop of the exponential transition curves grows like the amplitude cubed). The
+        model whose rate is the steadier over the last swings is taken; the amplitude then
+        follows it, the phase advances by ``pi`` per measured half period.
+        """
+        if not (self.vb > 0.0 and s > 0 and self.xb < self.a) or len(reversal_x) < DECAY_FIT + 2:
+            return None
+        ts, xs = zip(*reversal_x[-(DECAY_FIT + 2):], strict=True)
+        swings = np.abs(np.diff(xs))
+        if swings[-1] > REDUCE_PER_REST * self.rest_amplitude() or not np.all(
+            np.diff(swings) < 0.0
+        ):
+            return None
+        ratio = swings[1:] / swings[:-1]
+        inverse = 1.0 / swings[1:] - 1.0 / swings[:-1]
+        spread_q = np.std(ratio) / np.mean(ratio)
+        spread_d = np.std(inverse) / np.mean(inverse)
+        geometric = spread_q <= spread_d
+        if min(spread_q, spread_d) > DECAY_SPREAD:
+            return None
+        x_eq = self.equilibrium(branch, s)
+        if x_eq is None:
+            return None
+        t_half = float(np.mean(np.diff(ts[-3:])))
+        rate = float(ratio[-1] if geometric else inverse[-1])
+        amp = 0.5 * float(swings[-1])
+        if math.pi / t_half * amp >= self.vb:  # the oscillation would reach the belt speed
+            return None
+        return x_eq, amp, t_half, geometric, rate
+
+    def rest_amplitude(self) -> float:
+        """Amplitude of the overlap oscillation below which the mass rests on the stop."""
+        return REST_AMPLITUDE_PER_RTOL * max(self.rtol * self.scale(), self.atol)
+
+    def equilibrium(self, branch: Branch, s: int) -> float | None:
+        """Position on ``branch`` where the stop holds the mass against friction,
+        ``x + phi(x - clearance) = s a`` (paper Eq. 14 with ``x' = x'' = 0``); ``None`` if
+        friction pushes the mass away from the stop. The left side grows with ``x`` on every
+        branch, so the root is unique."""
+        xb, stop, sa = self.xb, self.stop, s * self.a
+
+        def excess(x: float) -> float:
+            return x + force_and_slope(x - xb, branch, stop)[0] - sa
+
+        x_hi = xb + self.d_max
+        if not (excess(xb) < 0.0 < excess(x_hi)):
+            return None
+        return brentq(excess, xb, x_hi, xtol=EQUILIBRIUM_XTOL * self.scale(), rtol=ROOT_RTOL)
+
+    def oscillate(self, st: _State, branch: Branch, s: int, model) -> str:
+        """Advance a small pressed oscillation by its reduced model (:meth:`decay_model`)
+        until its amplitude is below the rest amplitude, then rest at the equilibrium.
+
+        Energy: friction and belt work follow the model's motion; the stop takes the rest
+        of the balance, and its loss grows by the oscillator's energy ``omega^2 A^2 / 2``
+        as the amplitude decays (``omega = pi / T``), so ``stop_loss`` never falls.
+        """
+        x_eq, amp, t_half, geometric, rate = model
+        self.record(TransitionKind.REDUCED, st, 0.0)
+        amp0 = math.copysign(amp, st.x - x_eq)
+        target = 0.5 * self.rest_amplitude()
+        if geometric:
+            halves = math.log(target / amp) / math.log(rate)
+        else:
+            halves = (1.0 / target - 1.0 / amp) / rate
+        tau_rest = math.ceil(max(halves, 1.0)) * t_half
+        t1 = min(st.t + tau_rest, self.t_end)
+        x_s, m_s = st.x, 0.5 * st.x * st.x
+        loss_s = st.work[2] - stored_energy(st.x - self.xb, branch.phi_r, self.stop)
+        data = (x_eq, amp0, t_half, geometric, rate, x_s, m_s, loss_s)
+        if not self.contact.kind or self.timeline[-1][1] != 1:
+            self.timeline.append((st.t, 1, len(self.contact.kind)))
+        sa = s * self.a
+        self.contact.add(_OSC, st.t, t1, data, sa, st.work)
+        x1, v1, _ = _decay(data, t1 - st.t)
+        x1, v1 = float(x1), float(v1)
+        wf, wb, ws = st.work
+        dwf = sa * (x1 - x_s)
+        dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
+        st.work = (wf + dwf, wb + sa * self.vb * (t1 - st.t), ws + dwf - dm)
+        st.t, st.x, st.v = t1, x1, v1
+        self.reduced_error = max(self.reduced_error, 2.0 * amp)
+        if t1 >= self.t_end:
+            return "horizon"
+        return self.rest_at_stop(st, branch, s)
 
     def rest_at_stop(self, st: _State, branch: Branch, s: int) -> str:
-        """The reversals have shrunk to nothing: the mass rests pressed on the stop."""
+        """The reversals have shrunk to nothing: the mass rests pressed on the stop, at the
+        equilibrium on the current branch (the centre of the vanished oscillation).
+
+        ``st`` is a reversal (``x' = 0``). Moving the state to the equilibrium, friction
+        does ``s a (x_eq - x)`` and the mechanical energy changes by
+        ``(x_eq^2 - x^2) / 2``; the difference is the work the vanished oscillation did on
+        the stop (its energy, dissipated by the ever smaller loops), so the balance closes.
+        The law's state at rest is the reversal point ``(delta_eq, phi_eq)``.
+        """
+        x_eq = self.equilibrium(branch, s)
+        if x_eq is not None:
+            sa = s * self.a
+            wf, wb, ws = st.work
+            dx = x_eq - st.x
+            dm = 0.5 * (x_eq * x_eq - st.x * st.x - st.v * st.v)
+            st.work = (wf + sa * dx, wb, ws + sa * dx - dm)
+            st.x, st.v = x_eq, 0.0
+            d_eq = x_eq - self.xb
+            branch = Branch(False, d_eq, force_and_slope(d_eq, branch, self.stop)[0])
+            self.new_branch(branch, d_eq, st.work[2])
         self.record(TransitionKind.REST, st, 0.0)
         if not self.contact.kind or self.timeline[-1][1] != 1:
             self.timeline.append((st.t, 1, len(self.contact.kind)))
@@ -824,6 +980,11 @@ class _Solver:
         self.rest_force = phi
         st.t = self.t_end
         return "rest"
+
+    def pressed(self) -> bool:
+        """The belt presses the mass on the stop: the slip equilibrium ``x = a`` lies
+        beyond the stop's face (``x_bar < a``, belt moving towards the stop)."""
+        return self.vb > 0.0 and self.xb < self.a
 
     def scale(self) -> float:
         return max(self.a, self.b, self.vb, abs(self.xb), self.d_lim, 1e-300)
@@ -1016,8 +1177,10 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples) -> Result:
         "effective_restitution": restitution[-1] if restitution else math.nan,
         "effective_restitution_first": restitution[0] if restitution else math.nan,
     }
-    if hasattr(sv, "rest_force"):
+    if not math.isnan(sv.rest_force):
         stats["rest_force"] = sv.rest_force
+    if sv.reduced_error > 0.0:
+        stats["reduced_error"] = sv.reduced_error
     x_max = sv.x_max
     if sv.table.t0:
         x_max = max(x_max, sv.table.x_max)
@@ -1144,9 +1307,23 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         kinds = np.array(c.kind, dtype=np.int8)[rows]
         branch_rows = np.array(c.branch, dtype=int)[rows]
         is_arc = kinds == _ARC
+        is_osc = kinds == _OSC
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
-        for j, r in zip(idx[~is_arc], rows[~is_arc], strict=True):
+        osc_stored: dict[int, float] = {}
+        for j, r in zip(idx[is_osc], rows[is_osc], strict=True):
+            data, tau = c.data[r], t[j] - c.t0[r]
+            xj, uj, amp = (float(q) for q in _decay(data, tau))
+            x_s, m_s, loss_s = data[5:]
+            wf, wb, ws = c.work0[r]
+            dwf = c.friction[r] * (xj - x_s)
+            x[j], xd[j] = xj, uj
+            work[j] = (wf + dwf, wb + c.friction[r] * sv.vb * tau,
+                       ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s))
+            w2 = (math.pi / data[2]) ** 2
+            osc_stored[j] = work[j, 2] - (loss_s + 0.5 * w2 * (data[1] ** 2 - amp * amp))
+        plain = ~is_arc & ~is_osc
+        for j, r in zip(idx[plain], rows[plain], strict=True):
             kind = c.kind[r]
             tau = t[j] - c.t0[r]
             wf, wb, ws = c.work0[r]
@@ -1179,21 +1356,32 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         p_r = np.array([brs[i].phi_r for i in branch_rows])
         phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop)
         primitives: dict[int, BranchPrimitive] = {}
-        for k in np.nonzero(~is_arc)[0]:
-            j = idx[k]
+
+        def primitive(bi: int) -> BranchPrimitive:
+            # Unloading branches from 0: their integral up to delta is the stored energy.
+            if bi not in primitives:
+                d0 = c.branch_start[bi][0]
+                sel = delta[branch_rows == bi]
+                lo = 0.0 if not brs[bi].loading else min(d0, float(sel.min()))
+                hi = max(d0, float(sel.max()), brs[bi].delta_r)
+                primitives[bi] = BranchPrimitive(brs[bi], stop, lo, hi)
+            return primitives[bi]
+
+        for k in np.nonzero(plain)[0]:
             bi = branch_rows[k]
             d0, w0 = c.branch_start[bi]
-            dj = max(delta[k], 0.0)
-            if bi not in primitives:
-                sel = delta[branch_rows == bi]
-                lo = min(d0, float(sel.min()), 0.0 if not brs[bi].loading else d0)
-                hi = max(d0, float(sel.max()))
-                if not brs[bi].loading:
-                    lo = 0.0
-                primitives[bi] = BranchPrimitive(brs[bi], stop, lo, hi)
-            prim = primitives[bi]
-            work[j, 2] = w0 + prim(dj) - prim(d0)
+            prim = primitive(bi)
+            work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
+        # The energy the stop gives back on unloading from the law's current state: while
+        # loading, a new unloading branch would start here (Eq. 12); while unloading, the
+        # current branch goes on (not a fresh one from (delta, phi): they differ where the
+        # branch has been clipped onto the compression envelope).
         stored[idx] = stored_energy_many(delta, phi[idx], stop)
+        for k in np.nonzero(~loading & (delta > 0.0) & ~is_osc)[0]:
+            prim = primitive(branch_rows[k])
+            stored[idx[k]] = prim(delta[k]) - prim(0.0)
+        for j, value in osc_stored.items():
+            stored[j] = value
     return x, xd, mode, phi, x - stop.clearance, work, stored
 
 
@@ -1248,6 +1436,8 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     """Steady state read off the last transitions when no fixed point was found."""
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
+    if sv.pressed():
+        return _pressed_steady(list(sv.log.recent))
     endless = getattr(sv, "endless", None)
     if endless is not None:
         if endless.mode is Mode.SLIP:
@@ -1260,7 +1450,7 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
                     t_reached=endless.t0,
                 )
         return Steady(SteadyKind.EQUILIBRIUM, x_max=endless.x0, t_reached=endless.t0)
-    tail = sv.log.stored[-STEADY_TAIL:]
+    tail = list(sv.log.recent)
     return steady_from_transitions(
         tail,
         tol=FIXED_POINT_RTOL * sv.scale(),
@@ -1268,3 +1458,33 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
         final_mode=int(mode[-1]) if len(mode) else 0,
         final_v=float(xd[-1]) if len(xd) else 0.0,
     )
+
+
+def _pressed_steady(tail: list[Transition]) -> Steady:
+    """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
+    latest transitions when no fixed point was found.
+
+    No slip circle misses or grazes the stop then (the circles about ``(a, 0)`` all cross
+    it), so neither pure slip nor grazing can be the limit: the motion ends at rest on the
+    stop, or goes on as a train of contacts, or as an oscillation on the stop. A train is
+    labelled with the measured ratio of successive approach speeds; a sustained oscillation
+    whose swings shrink is rest approached, with the measured ratio of successive swings.
+    """
+    speeds = [tr.v for tr in tail if tr.kind is TransitionKind.CONTACT]
+    if len(speeds) >= 2 and any(tr.kind is TransitionKind.SEPARATION for tr in tail[-4:]):
+        ratio = float(np.median(np.array(speeds[1:]) / np.array(speeds[:-1])))
+        return Steady(
+            SteadyKind.CONTACT_TRAIN,
+            impact_speed=speeds[-1],
+            decay_rate=ratio,
+            x_max=max(tr.x for tr in tail),
+        )
+    xs = [tr.x for tr in tail if tr.kind is TransitionKind.REVERSAL]
+    swings = np.abs(np.diff(xs))
+    if len(swings) >= 4 and np.all(swings[-4:] > 0.0):
+        ratio = float(np.median(swings[-4:][1:] / swings[-4:][:-1]))
+        if ratio < 1.0:
+            return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0, decay_rate=ratio)
+    if tail and tail[-1].kind is TransitionKind.REDUCED:
+        return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
+    return Steady(SteadyKind.NONE)
