@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, RigidStop, Status, TransitionKind, simulate
+from core.result import STATS_KEYS
 from core.hysteretic import effective_restitutions, simulate_hysteretic
 
 #: The paper scenes' friction pair and slow belt (app/scenes.py): a = 0.2, b = 0.3, v = 0.07.
@@ -180,7 +181,10 @@ def test_through_simulate_and_result_fields():
     assert res.method == "exact"
     assert res.impulses.shape == (0, 2)
     assert len(res.contact_force) == len(res.t) == len(res.overlap)
-    assert {"n_contacts", "rhs_evals", "effective_restitution"} <= set(res.stats)
+    assert set(res.stats) == set(STATS_KEYS)
+    assert all(isinstance(v, int) for v in res.stats.values())
+    assert res.stats["events"] == res.n_transitions
+    assert {"n_contacts", "effective_restitution", "law"} <= set(res.info)
 
 
 @pytest.mark.slow
@@ -222,8 +226,8 @@ def test_semi_analytic_arcs_match_step_by_step(stop_kw, clearance):
     assert _balance(fast) < BALANCE_ATOL
     counts = ref.transition_counts
     if counts.get("reversal", 0) > 10 * counts["contact"]:  # sustained: arcs carry it
-        assert fast.stats["arcs"] > 100
-        assert fast.stats["rhs_evals"] < 0.1 * ref.stats["rhs_evals"]
+        assert fast.info["arcs"] > 100
+        assert fast.info["contact_rhs_evals"] < 0.1 * ref.info["contact_rhs_evals"]
 
 
 def test_stored_energy_many_matches_scalar():
