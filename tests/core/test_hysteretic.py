@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, RigidStop, Status, TransitionKind, simulate
-from core.result import STATS_KEYS
 from core.hysteretic import effective_restitutions, simulate_hysteretic
+from core.result import STATS_KEYS
 
 #: The paper scenes' friction pair and slow belt (app/scenes.py): a = 0.2, b = 0.3, v = 0.07.
 SLOW = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
