@@ -877,8 +877,13 @@ class _Solver:
         if 2.0 * amps[-1] > tol or 2.0 * math.pi / period * amps[-1] >= self.vb:
             return None
         x_c = 0.5 * (xs[-1] + xs[-2])
+        xa = np.asarray(xs)
+        centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+        kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
         model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
-                            decay)
+                            decay, kappa)
+        if model.error_bound > tol:
+            return None
         return self.oscillate(st, branch, s, model)
 
     def rest_amplitude(self) -> float:
@@ -957,12 +962,14 @@ class _Solver:
         dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
         st.work = (wf + dwf, wb + sa * self.vb * (t1 - st.t), ws + dwf - dm)
         st.t, st.x, st.v = t1, x1, v1
-        self.reduced_error = max(self.reduced_error, 2.0 * model.amp0)
+        self.reduced_error = max(self.reduced_error, model.error_bound)
         if t1 >= self.t_end:
             return "horizon"
-        return self.rest_at_stop(st, branch, s)
+        return self.rest_at_stop(st, branch, s, x_rest=model.centre(0.0))
 
-    def rest_at_stop(self, st: _State, branch: Branch, s: int) -> str:
+    def rest_at_stop(
+        self, st: _State, branch: Branch, s: int, x_rest: float | None = None
+    ) -> str:
         """The reversals have shrunk to nothing: the mass rests pressed on the stop, at the
         equilibrium on the current branch (the centre of the vanished oscillation).
 
@@ -972,7 +979,7 @@ class _Solver:
         the stop (its energy, dissipated by the ever smaller loops), so the balance closes.
         The law's state at rest is the reversal point ``(delta_eq, phi_eq)``.
         """
-        x_eq = self.equilibrium(branch, s)
+        x_eq = self.equilibrium(branch, s) if x_rest is None else x_rest
         if x_eq is not None:
             sa = s * self.a
             wf, wb, ws = st.work
@@ -981,7 +988,10 @@ class _Solver:
             st.work = (wf + sa * dx, wb, ws + sa * dx - dm)
             st.x, st.v = x_eq, 0.0
             d_eq = x_eq - self.xb
-            branch = Branch(False, d_eq, force_and_slope(d_eq, branch, self.stop)[0])
+            phi_eq = force_and_slope(d_eq, branch, self.stop)[0]
+            if x_rest is not None:  # the law's state where the shrinking loops end
+                phi_eq = sa - x_eq
+            branch = Branch(False, d_eq, phi_eq)
             self.new_branch(branch, d_eq, st.work[2])
         self.record(TransitionKind.REST, st, 0.0)
         if not self.contact.kind or self.timeline[-1][1] != 1:
