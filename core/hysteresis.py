@@ -42,6 +42,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from core.params import HystereticStop
@@ -56,6 +57,11 @@ SERIES_TERMS = 24
 ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Absolute tolerance of those roots, relative to ``D``.
 ROOT_XTOL_REL = 1e-15
+#: Relative tolerance of the quadrature of the passive law's work (its curves have kinks
+#: where they meet an envelope; the quadrature splits at the known ones and adapts).
+PASSIVE_QUAD_RTOL = 1e-12
+#: Points of the grid on which the passive law's kinks are looked for in one branch's work.
+PASSIVE_KINK_GRID = 32
 #: Cap of an exponent when a branch is evaluated behind its reversal point (an event
 #: locator may probe there): ``exp(700)`` is finite, and the clip to the envelopes takes over.
 EXP_CAP = 700.0
@@ -146,6 +152,84 @@ def _raw(delta, branch: Branch, stop: HystereticStop):
     return phi_expansion(delta, stop) + gap0 * decay, gap0 * decay * stop.beta_e / d_lim
 
 
+#: A state within this relative distance of ``phi_C`` lies on the compression envelope
+#: (the passive law's rules depend on it; states on it are reached by clipping, exactly).
+ON_ENVELOPE_RTOL = 1e-9
+
+
+def leaving_overlap(stop: HystereticStop) -> float:
+    """Overlap ``s+`` above which unloading from ``phi_C`` keeps to ``phi_C``.
+
+    From a point of the compression envelope the unloading curve (Eq. 13) leaves it going
+    down only where ``beta_e s (D - s) > D^2``, i.e. between ``s-`` and
+    ``s+ = D (1 + sqrt(1 - 4/beta_e)) / 2``; ``D`` (never reached) when ``beta_e <= 4``.
+    """
+    d_lim, beta = stop.limit_overlap, stop.beta_e
+    if beta <= 4.0:
+        return d_lim
+    return 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
+
+
+def _passive_curve(delta: float, d_a: float, p_a: float, stop: HystereticStop):
+    """The passive law's curve through ``(d_a, p_a)``: the unloading exponential of Eq. 13
+    through that point, clipped to the envelopes, and on ``phi_C`` above ``s+`` if it
+    reaches ``phi_C`` there (see :func:`passive_force_and_slope`)."""
+    d_lim = stop.limit_overlap
+    gap = d_lim - delta
+    hyper = d_lim * delta / gap
+    hyper_slope = (d_lim / gap) ** 2
+    upper, lower = stop.k_c0 * hyper, stop.k_e0 * hyper
+    s_plus = leaving_overlap(stop)
+    rate = stop.beta_e / d_lim
+    c = p_a - stop.k_e0 * d_lim * d_a / (d_lim - d_a)
+    if delta >= s_plus and s_plus < d_lim:
+        raw_sp = stop.k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
+            min(rate * (s_plus - d_a), EXP_CAP))
+        if raw_sp >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL):
+            return upper, stop.k_c0 * hyper_slope
+    decay = c * math.exp(min(rate * (delta - d_a), EXP_CAP))
+    raw = lower + decay
+    if raw > upper:
+        return upper, stop.k_c0 * hyper_slope
+    if raw < lower:
+        return lower, stop.k_e0 * hyper_slope
+    return raw, stop.k_e0 * hyper_slope + decay * rate
+
+
+def passive_force_and_slope(
+    delta: float, branch: Branch, stop: HystereticStop
+) -> tuple[float, float]:
+    """``(phi, d phi / d delta)`` of the passive reading of Eqs. 12-13 (docs/contact-law.md).
+
+    * Loading from a point of ``phi_C`` (a new contact, or a reversal on the envelope)
+      follows ``phi_C``; loading from a point inside the band retraces the unloading curve
+      through it (unloading and reloading inside the band are elastic, as in plasticity).
+    * Unloading follows the exponential of Eq. 13 through the reversal point towards
+      ``phi_E``, clipped to the envelopes; from a point of ``phi_C`` above ``s+``
+      (:func:`leaving_overlap`) it keeps to ``phi_C`` down to ``s+`` and leaves there, as
+      the incremental form of Eq. 13 does (the paper's reading restarts the exponent at
+      the reversal, which leaves the envelope lower the higher the reversal).
+
+    The energy the stop would give back from any state then never grows faster than the
+    work done on it, so its loss never falls and no closed overlap program returns energy.
+    """
+    d_lim = stop.limit_overlap
+    if delta <= 0.0:
+        return 0.0, 0.0
+    if delta >= d_lim:
+        return math.inf, math.inf
+    d_r, p_r = branch.delta_r, branch.phi_r
+    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
+        1.0 - ON_ENVELOPE_RTOL)
+    if branch.loading and on_c:
+        gap = d_lim - delta
+        return stop.k_c0 * d_lim * delta / gap, stop.k_c0 * (d_lim / gap) ** 2
+    s_plus = leaving_overlap(stop)
+    if not branch.loading and on_c and d_r > s_plus:
+        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    return _passive_curve(delta, d_r, p_r, stop)
+
+
 def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple[float, float]:
     """Scalar ``(phi, d phi / d delta)`` on ``branch``: the fast path of the contact solver.
 
@@ -153,6 +237,8 @@ def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple
     with :mod:`math` because the integrator calls it at every stage: about 1 us per call
     against ~30 us for the array versions on a scalar.
     """
+    if stop.law == "passive":
+        return passive_force_and_slope(delta, branch, stop)
     d_lim = stop.limit_overlap
     if delta <= 0.0:
         return 0.0, 0.0
@@ -205,6 +291,8 @@ def contact_force(delta, branch: Branch, stop: HystereticStop):
     >>> float(contact_force(0.025, FIRST_LOADING, stop))   # first loading: on phi_C
     50.0
     """
+    if stop.law == "passive":
+        return _passive_many(delta, branch, stop, 0)
     delta_arr = np.asarray(delta, dtype=float)
     inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
     d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
@@ -223,6 +311,8 @@ def dphi_ddelta(delta, branch: Branch, stop: HystereticStop):
     ``delta <= 0``, ``inf`` for ``delta >= D``. Used by implicit integrators and by the
     event location of the contact solver.
     """
+    if stop.law == "passive":
+        return _passive_many(delta, branch, stop, 1)
     delta_arr = np.asarray(delta, dtype=float)
     inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
     d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
@@ -238,6 +328,14 @@ def dphi_ddelta(delta, branch: Branch, stop: HystereticStop):
             slope_raw = slope_e + raw_exp_slope
         slope = np.where(raw > upper, slope_c, np.where(raw < lower, slope_e, slope_raw))
     out = np.where(inside, slope, np.where(delta_arr <= 0.0, 0.0, np.inf))
+    return out[()] if out.ndim == 0 else out
+
+
+def _passive_many(delta, branch: Branch, stop: HystereticStop, which: int):
+    """Force (``which = 0``) or slope (``1``) of the passive law for an array of overlaps."""
+    arr = np.asarray(delta, dtype=float)
+    out = np.array([passive_force_and_slope(float(d), branch, stop)[which] for d in arr.ravel()])
+    out = out.reshape(arr.shape)
     return out[()] if out.ndim == 0 else out
 
 
@@ -383,6 +481,8 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
         return 0.0
     if hi >= stop.limit_overlap:
         return math.inf
+    if stop.law == "passive":
+        return _passive_work(lo, hi, branch, stop)
     points = [lo, *_clip_breaks(lo, hi, branch, stop), hi]
     total = 0.0
     for p, q in zip(points[:-1], points[1:], strict=False):
@@ -390,6 +490,39 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
         total += _piece_antiderivative(q, branch, stop, which) - _piece_antiderivative(
             p, branch, stop, which
         )
+    return total
+
+
+def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> float:
+    """``int_lo^hi phi`` on a branch of the passive law, by adaptive quadrature split at
+    ``s+`` and the reversal point (kinks of the integrand); relative error ~1e-13."""
+    marks = {lo, hi, *(p for p in (leaving_overlap(stop), branch.delta_r) if lo < p < hi)}
+    # Kinks where the curve meets an envelope: located on a grid, then bisected.
+    d_lim = stop.limit_overlap
+
+    def piece(d: float) -> int:
+        phi, _ = passive_force_and_slope(d, branch, stop)
+        hyper = d_lim * d / (d_lim - d)
+        return 1 if phi >= stop.k_c0 * hyper else (-1 if phi <= stop.k_e0 * hyper else 0)
+
+    grid = np.linspace(lo, hi, PASSIVE_KINK_GRID + 1)
+    kinds = [piece(float(d)) for d in grid]
+    for a, b, ka, kb in zip(grid[:-1], grid[1:], kinds[:-1], kinds[1:], strict=True):
+        if ka != kb:
+            a, b = float(a), float(b)
+            for _ in range(64):
+                mid = 0.5 * (a + b)
+                if piece(mid) == ka:
+                    a = mid
+                else:
+                    b = mid
+            marks.add(0.5 * (a + b))
+    marks = sorted(marks)
+    total = 0.0
+    for p, q in zip(marks[:-1], marks[1:], strict=True):
+        value, _ = quad(lambda s: passive_force_and_slope(s, branch, stop)[0], p, q,
+                        epsabs=0.0, epsrel=PASSIVE_QUAD_RTOL, limit=200)
+        total += value
     return total
 
 
@@ -415,6 +548,12 @@ def force_on_branches(delta, loading, delta_r, phi_r, stop: HystereticStop) -> n
     loading = np.asarray(loading, dtype=bool)
     delta_r = np.asarray(delta_r, dtype=float)
     phi_r = np.asarray(phi_r, dtype=float)
+    if stop.law == "passive":
+        b = np.broadcast_arrays(delta, loading, delta_r, phi_r)
+        return np.array([passive_force_and_slope(float(d), Branch(bool(ld), float(r), float(p)),
+                                                 stop)[0]
+                         for d, ld, r, p in zip(*(x.ravel() for x in b), strict=True)]
+                        ).reshape(b[0].shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)
     d = np.where(inside, delta, 0.5 * d_lim)
@@ -438,6 +577,9 @@ class BranchPrimitive:
     def __init__(self, branch: Branch, stop: HystereticStop, lo: float, hi: float) -> None:
         self.branch, self.stop = branch, stop
         lo, hi = max(lo, 0.0), max(hi, 0.0)
+        self.lo = lo
+        if stop.law == "passive":
+            return
         points = [lo, *(_clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
         self.points = points
         self.which = []
@@ -455,6 +597,8 @@ class BranchPrimitive:
 
     def __call__(self, delta: float) -> float:
         delta = max(delta, 0.0)
+        if self.stop.law == "passive":
+            return branch_work(self.lo, delta, self.branch, self.stop)
         k = 0
         while k + 1 < len(self.which) and delta > self.points[k + 1]:
             k += 1
@@ -488,6 +632,10 @@ def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
     """
     delta = np.asarray(delta, dtype=float)
     phi = np.asarray(phi, dtype=float)
+    if stop.law == "passive":
+        return np.array([stored_energy(float(d), float(p), stop)
+                         for d, p in zip(delta.ravel(), phi.ravel(), strict=True)]
+                        ).reshape(delta.shape)
     out = np.zeros(delta.shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)

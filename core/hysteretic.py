@@ -384,6 +384,13 @@ class _Solver:
         """``x'' = -x + s a - phi(x - clearance)`` on one branch, as a fast closure (the
         law of :func:`core.hysteresis.force_and_slope` with the branch constants bound)."""
         stop = self.stop
+        if stop.law == "passive":
+            xb_, sa_ = self.xb, s * self.a
+
+            def acc_passive(x: float) -> float:
+                return sa_ - x - force_and_slope(x - xb_, branch, stop)[0]
+
+            return acc_passive
         xb, d_lim, sa = self.xb, self.d_lim, s * self.a
         kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
         r = branch.delta_r
@@ -1115,7 +1122,7 @@ def simulate_hysteretic(
     ('success', True)
     """
     sv = _Solver(osc, stop, t_end, rtol, atol, transition_cap)
-    sv.use_arcs = arcs
+    sv.use_arcs = arcs and stop.law == "paper"  # the arcs' closed forms are the paper's
     sv.use_reduced = reduce
     xb = stop.clearance
     st = _State(0.0, x0, v0, (0.0, 0.0, 0.0))
