@@ -1106,10 +1106,13 @@ def simulate_hysteretic(
     -------
     Result
         ``contact_force`` (``phi/k``) and ``overlap`` at the samples; the transitions include
-        ``contact``, ``separation`` and ``reversal``. ``stats`` holds ``n_contacts``,
-        ``rhs_evals`` and the effective restitution (rebound over approach speed) of the
-        first and the last contact (``effective_restitution_first``,
-        ``effective_restitution``); :func:`effective_restitutions` lists all.
+        ``contact``, ``separation``, ``reversal`` and ``reduced`` (the switch into a
+        reduced model). ``stats`` holds the counts of :func:`core.result.make_stats`;
+        ``info`` holds ``n_contacts``, the effective restitution (rebound over approach
+        speed) of the first and the last contact (``effective_restitution_first``,
+        ``effective_restitution``; :func:`effective_restitutions` lists all), ``law``, and
+        when they apply ``rest_force`` (``phi/k`` at rest) and ``reduced_error`` (bound of
+        a reduced model's error in the position).
 
     Examples
     --------
@@ -1118,7 +1121,7 @@ def simulate_hysteretic(
     >>> stop = HystereticStop(clearance=0.24, k_c0=400.0, k_e0=36.0, limit_overlap=0.02,
     ...                       beta_c=40.0, beta_e=40.0)
     >>> res = simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0)
-    >>> res.status.value, res.stats["n_contacts"] > 0
+    >>> res.status.value, res.info["n_contacts"] > 0
     ('success', True)
     """
     sv = _Solver(osc, stop, t_end, rtol, atol, transition_cap)
