@@ -104,7 +104,7 @@ def row(cell, args) -> str:
     t100, res = timed(stop, HORIZONS[0], args.repeat)
     t1e4, _ = timed(stop, HORIZONS[1], max(1, args.repeat // 3))
     red = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
-    err_bound = res.stats.get("reduced_error", 0.0) / scale
+    err_bound = res.info.get("reduced_error", 0.0) / scale
     cols = [f"{k_c0:>7.0e} {beta:>6g} {d:>6g}", f"{1e3 * t100:>8.1f}", f"{1e3 * t1e4:>8.1f}",
             f"{res.steady.kind.value:>13}", f"{red[0] if red else math.nan:>8.3g}",
             f"{err_bound:>8.1e}", f"{balance(res):>8.1e}"]

@@ -123,7 +123,8 @@ LIMIT_MARGIN = 1e-6
 FIXED_POINT_RTOL = 1e-10
 #: Earlier transitions of the same kind compared with each new one.
 FIXED_POINT_LOOKBACK = 64
-#: Guard against an endless event loop; the result then says no steady state was found.
+#: Default limit on the number of transitions (a guard against an endless event loop);
+#: past it the result ends there with ``Status.EVENT_LIMIT``.
 MAX_EVENTS = 2_000_000
 #: Tolerance of the equilibrium on the stop (relative to the length scale): the rest force
 #: then equals ``a - x`` to ~1e-15 relative, far inside the 1e-9 promised.
@@ -358,6 +359,7 @@ class _Solver:
         self.arcs = 0
         self.use_arcs = True
         self.use_reduced = True
+        self.max_events = MAX_EVENTS
         self.restitution: list[float] = []
         self.x_max = -math.inf
         self.t_stop = t_end  # end of the computed motion (earlier on failure)
@@ -608,6 +610,8 @@ class _Solver:
                     d_branch0 = st.x - xb
                     if ended:
                         return ended
+                    if self.status is not Status.SUCCESS:
+                        return "failed"
                     continue
             outcome, s_new = self.slip_in_contact(st, s, branch)
             delta = st.x - xb
@@ -624,6 +628,8 @@ class _Solver:
                 d_branch0 = delta
                 if ended:
                     return ended
+                if self.status is not Status.SUCCESS:
+                    return "failed"
                 continue
             if outcome == "friction":
                 phi, _ = force_and_slope(delta, branch, stop)
@@ -1026,6 +1032,8 @@ class _Solver:
 
     def record(self, kind: TransitionKind, st: _State, v_after: float, phi: float = 0.0):
         self.log.add(kind, st.t, st.x, st.v, v_after)
+        if self.log.total >= self.max_events and self.status is Status.SUCCESS:
+            self.status = Status.EVENT_LIMIT
         # Reversals inside a sustained contact are not compared: a cycle made only of them
         # is integrated to ~1e-8 and never passes the fixed-point test, and comparing each
         # of the thousands of reversals of a long contact costs a third of the solve. A
@@ -1075,6 +1083,8 @@ def simulate_hysteretic(
     atol: float = 1e-12,
     arcs: bool = True,
     reduce: bool = True,
+    t_eval=None,
+    max_events: int = MAX_EVENTS,
 ) -> Result:
     """Response with a hysteretic stop: exact free flight and integrated contact phases.
 
@@ -1097,6 +1107,12 @@ def simulate_hysteretic(
         Take the slip between two reversals of a contact semi-analytically where that is
         exact (:meth:`_Solver.arc`); ``False`` integrates every contact step by step (the
         reference of the tests and ``benchmarks/hysteretic_speed.py``).
+    t_eval : array_like, optional
+        Sample times (1-D, increasing, in ``[0, t_end]``) instead of ``n_samples`` uniform
+        ones and the transition points.
+    max_events : int
+        Limit on the number of transitions; past it the result ends there with
+        ``Status.EVENT_LIMIT``.
     reduce : bool
         Advance the small motion of a mass pressed on the stop by a reduced model
         (:mod:`core.hysteretic_reduced`) once it is below the tolerance; ``False`` follows
@@ -1124,13 +1140,20 @@ def simulate_hysteretic(
     >>> res.status.value, res.info["n_contacts"] > 0
     ('success', True)
     """
+    if t_eval is not None:
+        t_eval = np.asarray(t_eval, dtype=float)
+        if t_eval.ndim != 1 or np.any(t_eval < 0.0) or np.any(t_eval > t_end) or np.any(
+            np.diff(t_eval) < 0.0
+        ):
+            raise ValueError("t_eval must be a 1-D increasing array of times in [0, t_end]")
     sv = _Solver(osc, stop, t_end, rtol, atol, transition_cap)
+    sv.max_events = max_events
     sv.use_arcs = arcs and stop.law == "paper"  # the arcs' closed forms are the paper's
     sv.use_reduced = reduce
     xb = stop.clearance
     st = _State(0.0, x0, v0, (0.0, 0.0, 0.0))
     motion = start_motion(osc, x0, v0)
-    for _ in range(MAX_EVENTS):
+    for _ in range(max_events):
         if st.t >= t_end or sv.steady is not None or sv.status is not Status.SUCCESS:
             break
         into_stop = st.x >= xb and (
@@ -1158,7 +1181,9 @@ def simulate_hysteretic(
             continue
         sv.record(ev.kind, st, ev.v)
         motion = after_event(osc, ev, motion)
-    return _assemble(sv, osc, stop, t_end, x0, v0, n_samples)
+    else:
+        sv.status = Status.EVENT_LIMIT
+    return _assemble(sv, osc, stop, t_end, x0, v0, n_samples, t_eval)
 
 
 def effective_restitutions(res: Result) -> np.ndarray:
@@ -1178,29 +1203,58 @@ def effective_restitutions(res: Result) -> np.ndarray:
     return np.array(out, dtype=float)
 
 
-def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples) -> Result:
-    """Samples on the free segments and the contact rows, energy terms, steady state."""
-    t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
-    marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop]
-    times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
-                                      _contact_samples(sv, t_stop, t_end))))
-    times = times[times <= t_stop]
-    # Periodic continuation: map late samples into the detected cycle.
+def _continued(sv: _Solver, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Times mapped into the detected cycle (periodic continuation) and the work the
+    repeated cycles add; the identity and zeros without a cycle."""
     shift_work = np.zeros((len(times), 3))
-    t_eval = times.copy()
+    t_eval = np.array(times, dtype=float)
     if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
         t_then, t_now = sv.tail_start
         period = t_now - t_then
-        late = times > t_now
-        k = np.floor((times[late] - t_then) / period)
-        t_eval[late] = times[late] - k * period
+        late = t_eval > t_now
+        k = np.floor((t_eval[late] - t_then) / period)
+        t_eval[late] = t_eval[late] - k * period
         per = _work_at(sv, np.array([t_now, t_then]))
         shift_work[late] = k[:, None] * (per[0] - per[1])[None, :]
         # Each repeated cycle returns to the same state, so the stop takes exactly the
         # friction work of the cycle: a cycle that is a fixed point only to a tolerance
         # (a reduced model's) would otherwise add its energy drift once per cycle.
         shift_work[late, 2] = shift_work[late, 0]
-        _replicate(sv, t_then, t_now, period, t_end)
+    return t_eval, shift_work
+
+
+class HystereticDense:
+    """The solution as a function of time (:attr:`core.result.Result.dense`): exact free
+    flight, the contact rows' quintic Hermite steps, arcs, lines and reduced models, and
+    the periodic continuation. Position and velocity are continuous at a deformable stop,
+    so ``side`` makes no difference."""
+
+    def __init__(self, sv: _Solver, t_stop: float) -> None:
+        self._sv, self._t_stop = sv, t_stop
+
+    def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if np.any(t < 0.0) or np.any(t > self._t_stop):
+            raise ValueError(f"t must lie in [0, {self._t_stop:g}] (the computed motion)")
+        t_eval, _ = _continued(self._sv, t)
+        x, xd, *_ = _evaluate(self._sv, t_eval, self._sv.stop)
+        return x, xd
+
+
+def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
+    """Samples on the free segments and the contact rows, energy terms, steady state."""
+    t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
+    if t_eval is None:
+        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop]
+        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
+                                          _contact_samples(sv, t_stop, t_end))))
+    else:
+        times = np.asarray(t_eval, dtype=float)
+    times = times[times <= t_stop]
+    if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
+        t_then, t_now = sv.tail_start
+        _replicate(sv, t_then, t_now, t_now - t_then, t_end)
+    t_eval, shift_work = _continued(sv, times)
     x, xd, mode, phi, delta, work, stored = _evaluate(sv, t_eval, stop)
     work = work + shift_work
     mechanical = 0.5 * (x * x + xd * xd)
@@ -1256,6 +1310,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples) -> Result:
         method="exact",
         stats=stats,
         info=info,
+        dense=HystereticDense(sv, t_stop),
     )
 
 

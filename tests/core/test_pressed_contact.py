@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from core import HystereticStop, Oscillator, SteadyKind, TransitionKind, simulate
+from core import HystereticStop, Oscillator, Status, SteadyKind, TransitionKind, simulate
 from core.hysteretic import simulate_hysteretic
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
@@ -123,3 +123,31 @@ def test_reduced_oscillation_against_the_full_model():
     assert abs(fast.x_max - full.x_max) <= 1e-12
     assert _balance(fast) < 1e-8
     assert np.diff(fast.energy.stop_loss[fast.t >= switch[0].t]).min() >= -1e-15
+
+
+def test_too_many_events_is_an_event_limit():
+    """Past max_events the solve ends with Status.EVENT_LIMIT and the result up to there
+    (it returned SUCCESS)."""
+    stop = HystereticStop(FACE, 1e6, 5e5, limit_overlap=1e-3, beta_c=1000.0, beta_e=1000.0)
+    res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, max_events=200, reduce=False)
+    assert res.status is Status.EVENT_LIMIT and not res.success
+    assert res.n_transitions == 200
+    assert res.t[-1] < 100.0 and res.t[-1] >= res.transitions[-1].t
+    assert np.all(np.isfinite(res.x))
+
+
+def test_t_eval_and_dense_evaluation():
+    """Samples at the given times equal the dense solution there and the default samples
+    where those fall (the same interpolants)."""
+    stop = HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    osc = Oscillator(0.3, 0.2, 0.07)
+    res = simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0)
+    times = res.t[::7]
+    at = simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0, t_eval=times)
+    assert np.array_equal(at.t, times)
+    assert np.allclose(at.x, res.x[::7], rtol=0.0, atol=1e-15)
+    x, v = res.evaluate(times)
+    assert np.allclose(x, res.x[::7], rtol=0.0, atol=1e-15)
+    assert np.allclose(v, res.v[::7], rtol=0.0, atol=1e-15)
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0, t_eval=[1.0, 90.0])
