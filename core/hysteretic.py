@@ -850,8 +850,24 @@ class _Solver:
         if len(reversal_x) == 1 and self.train and math.isnan(self.train[-1][2]):
             self.train[-1] = (*self.train[-1][:2], st.x, self.train[-1][3])
         if self.settled(reversal_x):
-            return branch, self.rest_at_stop(st, branch, s)
+            return branch, self.rest_at_stop(st, branch, s, self.creep_end(reversal_x, s))
         return branch, self.reduce_oscillation(st, branch, reversal_x, s)
+
+    def creep_end(self, reversal_x, s: int) -> float | None:
+        """Where the centre of a settled pressed oscillation ends once its last amplitude
+        is gone: the centre creeps ``kappa`` times the amplitude lost
+        (:mod:`core.hysteretic_reduced`); ``None`` if it cannot be measured (then rest is
+        at the equilibrium on the current branch)."""
+        if not (self.pressed() and s > 0) or len(reversal_x) < 2 * DECAY_FIT + 1:
+            return None
+        xa = np.array([x for _, x, _ in reversal_x[-(2 * DECAY_FIT + 1):]])
+        swings = np.abs(np.diff(xa))
+        amps = 0.25 * (swings[0::2] + swings[1::2])
+        if not np.all(np.diff(amps) < 0.0):
+            return None
+        centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+        kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+        return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * float(swings[-1])
 
     def settled(self, reversal_x: list[tuple[float, float]]) -> bool:
         if len(reversal_x) < 4:
