@@ -1,4 +1,8 @@
-"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13, SPEC §4), in one place.
+"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13), in one place.
+
+Two readings of the transition curves, chosen by ``HystereticStop.law`` and compared in
+docs/contact-law.md: ``"paper"`` (below; reproduces the paper's Fig. 2b, returns energy on
+some overlap programs) and ``"passive"`` (:func:`passive_force_and_slope`).
 
 Overlap ``delta = x - clearance`` (a length, ``> 0`` in contact), limit overlap
 ``D = stop.limit_overlap``. Forces are contact forces over the spring stiffness ``k``
@@ -9,8 +13,8 @@ Envelopes (paper Eq. 11), hyperbolas through the origin with the asymptote ``del
     phi_C(delta) = k_c0 * D * delta / (D - delta)     compression
     phi_E(delta) = k_e0 * D * delta / (D - delta)     expansion, k_e0 <= k_c0
 
-Transition curves (the project's reading of paper Eqs. 12-13, SPEC §4). At each reversal of
-the overlap rate the point ``(delta_r, phi_r)`` is stored, and the force approaches the
+Transition curves (paper Eqs. 12-13, the ``"paper"`` reading). At each reversal of the
+overlap rate the point ``(delta_r, phi_r)`` is stored, and the force approaches the
 envelope of the new direction exponentially in the overlap travelled since the reversal::
 
     unloading: phi = phi_E(delta) + (phi_r - phi_E(delta_r)) * exp(-beta_e (delta_r - delta) / D)
@@ -141,7 +145,7 @@ def _envelope_slope(delta, stiffness: float, d_lim: float):
 
 
 def _raw(delta, branch: Branch, stop: HystereticStop):
-    """Unclipped transition curve of ``branch`` (paper Eq. 13 in the SPEC §4 reading)."""
+    """Unclipped transition curve of ``branch`` (paper Eq. 13, the "paper" reading)."""
     d_lim = stop.limit_overlap
     if branch.loading:
         gap0 = float(phi_compression(branch.delta_r, stop)) - branch.phi_r

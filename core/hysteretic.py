@@ -1108,7 +1108,7 @@ def simulate_hysteretic(
     ----------
     osc : Oscillator
     stop : HystereticStop
-        The deformable stop (paper Eqs. 9-13, SPEC §4).
+        The deformable stop (paper Eqs. 9-13, docs/contact-law.md).
     t_end : float
         Horizon (dimensionless time), ``> 0``.
     x0, v0 : float
@@ -1205,7 +1205,7 @@ def simulate_hysteretic(
 def effective_restitutions(res: Result) -> np.ndarray:
     """Rebound speed over approach speed of each stored contact that separated.
 
-    The measured restitution of the deformable stop (SPEC §4), to compare with the
+    The measured restitution of the deformable stop (docs/contact-law.md), to compare with the
     equivalent rigid stop's ``sqrt(k_e0/k_c0)`` (paper Eq. 16).
     """
     out = []
