@@ -28,9 +28,16 @@ the amplitude it loses). The model's error in the state is bounded by
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+
+from core.hysteresis import Branch, stored_energy
+from core.hysteretic_base import _OSC, _State
+from core.result import TransitionKind
+
+if TYPE_CHECKING:
+    from core.hysteretic import _Solver
 
 #: Amplitudes (one per cycle) the decay law is fitted to.
 DECAY_FIT = 6
@@ -38,6 +45,13 @@ DECAY_FIT = 6
 DECAY_SPREAD = 0.05
 
 GEOMETRIC, INVERSE, LIMIT = 0, 1, 2
+#: Extent of a pressed motion, as a multiple of ``rtol`` (times the length scale), below
+#: which a reduced model takes over: its error in the state is at most that extent, half
+#: the error the app states for each accuracy preset (``~100 rtol``, app/solver.py).
+REDUCE_PER_RTOL = 50.0
+#: ... and at least this fraction of the length scale, a thousandth of a pixel of a plot
+#: 1000 pixels high: below it the motion is rest to the eye whatever the preset.
+PAGE_RESOLUTION = 1e-6
 
 
 class Decay(NamedTuple):
@@ -157,3 +171,126 @@ class Oscillation(NamedTuple):
         """Energy of the linear oscillator of this cycle at amplitude ``amp``."""
         w = 2.0 * math.pi / self.period
         return 0.5 * w * w * amp * amp
+
+
+def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: int):
+    """Hand a small pressed oscillation to a reduced model (:mod:`core.hysteretic_reduced`),
+    or return ``None`` while it is too large or its decay not yet regular.
+
+    One cycle is two reversals; its amplitude is a quarter of its two swings. Loops that
+    tend to a limit amplitude (they turn elastic) are a fixed point of the loop map once
+    the amplitude is within the tolerance of its limit: the last cycle is then repeated.
+    Loops that die out follow the fitted decay until the rest amplitude.
+    """
+    if not (sv.use_reduced and sv.pressed() and s > 0) or len(
+        reversal_x
+    ) < 2 * DECAY_FIT + 1:
+        return None
+    ts, xs, ns = zip(*reversal_x[-(2 * DECAY_FIT + 1):], strict=True)
+    swings = np.abs(np.diff(xs))
+    amps = 0.25 * (swings[0::2] + swings[1::2])
+    decay = fit_decay(amps)
+    if decay is None:
+        return None
+    period = ts[-1] - ts[-3]
+    tol = reduce_extent(sv)
+    if decay.law == LIMIT and decay.limit > 0.5 * sv.rest_amplitude():
+        if amps[-1] - decay.limit > tol:
+            return None
+        sv.periodic(ts[-3], ns[-3], st)
+        sv.record(TransitionKind.REDUCED, st, 0.0)
+        sv.reduced_error = max(sv.reduced_error, 2.0 * (amps[-1] - decay.limit))
+        return "periodic"
+    if 2.0 * amps[-1] > tol or 2.0 * math.pi / period * amps[-1] >= sv.vb:
+        return None
+    x_c = 0.5 * (xs[-1] + xs[-2])
+    xa = np.asarray(xs)
+    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+    model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
+                        decay, kappa)
+    if model.error_bound > tol:
+        return None
+    return oscillate(sv, st, branch, s, model)
+
+
+def reduce_extent(sv: _Solver) -> float:
+    """Extent of a pressed motion (and drift from a limit cycle) below which a reduced
+    model takes over: :data:`REDUCE_PER_RTOL` ``rtol``, at least :data:`PAGE_RESOLUTION`
+    (times the length scale)."""
+    return max(REDUCE_PER_RTOL * sv.rtol, PAGE_RESOLUTION) * sv.scale()
+
+
+def creep_end(sv: _Solver, reversal_x, s: int) -> float | None:
+    """Where the centre of a settled pressed oscillation ends once its last amplitude
+    is gone: the centre creeps ``kappa`` times the amplitude lost
+    (:mod:`core.hysteretic_reduced`); ``None`` if it cannot be measured (then rest is
+    at the equilibrium on the current branch)."""
+    if not (sv.pressed() and s > 0) or len(reversal_x) < 2 * DECAY_FIT + 1:
+        return None
+    xa = np.array([x for _, x, _ in reversal_x[-(2 * DECAY_FIT + 1):]])
+    swings = np.abs(np.diff(xa))
+    amps = 0.25 * (swings[0::2] + swings[1::2])
+    if not np.all(np.diff(amps) < 0.0):
+        return None
+    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+    return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * float(swings[-1])
+
+
+def reduce_train(sv: _Solver, st: _State, train: list) -> str | None:
+    """A train of contacts of a pressed mass whose amplitude tends to a limit (contacts
+    that turn elastic): once the amplitude is within the tolerance of its limit, the
+    contact-to-contact map is at its fixed point and the last cycle is repeated.
+
+    ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of this
+    response's contacts; a cycle's amplitude is half the distance from the top of the
+    flight before the contact, ``a - sqrt((a - x_bar)^2 + w^2)``, to the contact's peak.
+    """
+    if not (sv.use_reduced and sv.pressed()) or len(train) < DECAY_FIT + 2:
+        return None
+    done = train[-(DECAY_FIT + 1):-1]
+    if any(math.isnan(peak) for _, _, peak, _ in done):
+        return None
+    gap = sv.a - sv.xb
+    amps = [0.5 * (peak - (sv.a - math.hypot(gap, w))) for _, w, peak, _ in done]
+    decay = fit_decay(amps)
+    if decay is None or decay.law != LIMIT or amps[-1] - decay.limit > reduce_extent(sv):
+        return None
+    t_then, _, _, n_then = train[-2]
+    sv.periodic(t_then, n_then, st)
+    if sv.steady is None:
+        return None
+    sv.record(TransitionKind.REDUCED, st, st.v)
+    sv.reduced_error = max(sv.reduced_error, 2.0 * (amps[-1] - decay.limit))
+    return "periodic"
+
+
+def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillation) -> str:
+    """Advance a small pressed oscillation by its reduced model until its amplitude is
+    below the rest amplitude, then rest at the equilibrium.
+
+    Energy: friction and belt work follow the model's motion; the stop takes the rest
+    of the balance, and its loss grows by the oscillator's energy ``omega^2 A^2 / 2``
+    as the amplitude decays, so ``stop_loss`` never falls.
+    """
+    sv.record(TransitionKind.REDUCED, st, st.v)
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
+    tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
+    t1 = min(st.t + tau_rest, sv.t_end)
+    x_s, m_s = st.x, 0.5 * (st.x * st.x + st.v * st.v)
+    loss_s = st.work[2] - stored_energy(st.x - sv.xb, branch.phi_r, sv.stop)
+    if not sv.contact.kind or sv.timeline[-1][1] != 1:
+        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
+    sa = s * sv.a
+    sv.contact.add(_OSC, st.t, t1, (model, x_s, m_s, loss_s), sa, st.work)
+    x1, v1, _ = (float(q) for q in model.state(t1 - st.t))
+    wf, wb, ws = st.work
+    dwf = sa * (x1 - x_s)
+    dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
+    st.work = (wf + dwf, wb + sa * sv.vb * (t1 - st.t), ws + dwf - dm)
+    st.t, st.x, st.v = t1, x1, v1
+    sv.reduced_error = max(sv.reduced_error, model.error_bound)
+    if t1 >= sv.t_end:
+        return "horizon"
+    return sv.rest_at_stop(st, branch, s, x_rest=model.centre(0.0))

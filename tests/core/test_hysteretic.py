@@ -261,7 +261,7 @@ def test_every_contact_is_sampled_densely():
     is its true peak: compared with a dense evaluation of the same solve (20 000 uniform
     samples) within 2 % (16 samples over a half-sine-like branch pair: the nearest lies
     within pi / 34 of the crest, 1 - cos(pi / 34) ~ 0.43 % below it)."""
-    from core.hysteretic import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
+    from core.hysteretic_samples import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
 
     stop = HystereticStop(0.24, **SCENE_STOP)
     res = simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0, n_samples=1600)
