@@ -263,13 +263,8 @@ class _Solver:
         ``"horizon"``.
         """
         stop, xb = self.stop, self.xb
-        self.n_contacts += 1
         w_in = st.v
-        self.record(TransitionKind.CONTACT, st, st.v)
-        if self.steady is not None:
-            return "periodic"
-        self.train.append((st.t, st.v, math.nan, self.log.total))
-        if reduce_train(self, st, self.train) is not None:
+        if self.start_contact(st):
             return "periodic"
         branch = FIRST_LOADING
         self.new_branch(branch, 0.0, st.work[2])
@@ -313,23 +308,41 @@ class _Solver:
                     return "failed"
                 continue
             if outcome == "friction":
-                phi, _ = force_and_slope(delta, branch, stop)
-                if abs(st.x + phi) <= self.b and self.vb > 0.0:
-                    st.v = self.vb
-                    self.record(TransitionKind.SLIP_STICK, st, st.v)
-                    stick = True
-                    if not branch.loading:  # x' = v > 0: the overlap grows again
-                        self.close_branch(branch, d_branch0, delta, st)
-                        branch = reverse(delta, phi, branch)
-                        d_branch0 = delta
-                        self.new_branch(branch, delta, st.work[2])
-                else:
-                    self.record(TransitionKind.SIGN_CHANGE, st, st.v)
-                    s = s_new
+                stick, s, branch, d_branch0 = self.belt_speed_reached(
+                    st, s, s_new, branch, d_branch0)
                 continue
             if outcome in ("failed", "limit", "horizon"):
                 self.close_branch(branch, d_branch0, delta, st)
                 return outcome
+
+    def start_contact(self, st: _State) -> bool:
+        """Record a contact's start; ``True`` if the motion is periodic from here (a fixed
+        point of the friction-impact map, or of a pressed train's contact-to-contact map)."""
+        self.n_contacts += 1
+        self.record(TransitionKind.CONTACT, st, st.v)
+        if self.steady is not None:
+            return True
+        self.train.append((st.t, st.v, math.nan, self.log.total))
+        return reduce_train(self, st, self.train) is not None
+
+    def belt_speed_reached(self, st: _State, s: int, s_new: int, branch: Branch,
+                           d_branch0: float):
+        """The mass reaches the belt speed inside contact: it sticks if static friction
+        holds the stop's force, ``|x + phi| <= b``, else friction changes sign. Returns
+        ``(stick, s, branch, start overlap of the branch)``."""
+        delta = st.x - self.xb
+        phi, _ = force_and_slope(delta, branch, self.stop)
+        if not (abs(st.x + phi) <= self.b and self.vb > 0.0):
+            self.record(TransitionKind.SIGN_CHANGE, st, st.v)
+            return False, s_new, branch, d_branch0
+        st.v = self.vb
+        self.record(TransitionKind.SLIP_STICK, st, st.v)
+        if not branch.loading:  # x' = v > 0: the overlap grows again
+            self.close_branch(branch, d_branch0, delta, st)
+            branch = reverse(delta, phi, branch)
+            d_branch0 = delta
+            self.new_branch(branch, delta, st.work[2])
+        return True, s, branch, d_branch0
 
     def slip_in_contact(self, st: _State, s: int, branch: Branch) -> tuple[str, int]:
         """Dormand-Prince 5(4) steps until an event; ``st`` is left at the event."""
@@ -343,7 +356,6 @@ class _Solver:
         omega = math.sqrt(1.0 + max(slope, 0.0))
         h = FIRST_STEP_FRACTION * 2.0 * math.pi / omega
         h_min = MIN_STEP_FRACTION * 2.0 * math.pi / omega
-        strength = stop.strength
         while True:
             h = min(h, self.t_end - t)
             if h <= 0.0:
@@ -389,46 +401,7 @@ class _Solver:
                     return "failed", s
                 continue
             coeffs = _hermite_coeffs(x, u, a0, x1, u1, a1, h)
-            # Events: which condition is violated at the step's end, then its first root.
-            # Each g is positive inside the current mode.
-            found: list[tuple[float, str]] = []
-            if x1 < xb:
-                found.append(
-                    (_first_exit(lambda th, c=coeffs, hh=h: _poly(c, th) - xb), "separated")
-                )
-            if (u1 < 0.0) if branch.loading else (u1 > 0.0):
-                sign = 1.0 if branch.loading else -1.0
-                found.append(
-                    (
-                        _first_exit(lambda th, c=coeffs, hh=h, sign=sign: sign * _dpoly(c, th)),
-                        "reversal",
-                    )
-                )
-            if (u1 > vb) if s > 0 else (u1 < vb):
-                found.append(
-                    (
-                        _first_exit(lambda th, c=coeffs, hh=h: s * (vb - _dpoly(c, th) / hh)),
-                        "friction",
-                    )
-                )
-            if x1 - xb > self.d_max:
-                found.append(
-                    (
-                        _first_exit(lambda th, c=coeffs, hh=h: xb + self.d_max - _poly(c, th)),
-                        "limit",
-                    )
-                )
-            if math.isfinite(strength) and force_and_slope(x1 - xb, branch, stop)[0] > strength:
-                found.append(
-                    (
-                        _first_exit(
-                            lambda th, c=coeffs, hh=h: (
-                                strength - force_and_slope(_poly(c, th) - xb, branch, stop)[0]
-                            )
-                        ),
-                        "failed",
-                    )
-                )
+            found = self.step_events(coeffs, h, x1, u1, s, branch)
             if found:
                 self.rhs_evals += n_evals
                 th, name = min(found)
@@ -457,6 +430,29 @@ class _Solver:
             st.t, st.x, st.v = t, x, u
             self.x_max = max(self.x_max, x)
             h *= min(MAX_FACTOR, SAFETY * err**-0.2) if err > 0.0 else MAX_FACTOR
+
+    def step_events(self, coeffs, h: float, x1: float, u1: float, s: int, branch: Branch):
+        """Events of one step: which condition is violated at the step's end, then its
+        first root on the step's interpolant, as ``(theta, name)``. Each ``g`` is positive
+        inside the current mode."""
+        stop, xb, vb, strength = self.stop, self.xb, self.vb, self.stop.strength
+        found: list[tuple[float, str]] = []
+        if x1 < xb:
+            found.append((_first_exit(lambda th: _poly(coeffs, th) - xb), "separated"))
+        if (u1 < 0.0) if branch.loading else (u1 > 0.0):
+            sign = 1.0 if branch.loading else -1.0
+            found.append((_first_exit(lambda th: sign * _dpoly(coeffs, th)), "reversal"))
+        if (u1 > vb) if s > 0 else (u1 < vb):
+            found.append((_first_exit(lambda th: s * (vb - _dpoly(coeffs, th) / h)), "friction"))
+        if x1 - xb > self.d_max:
+            found.append(
+                (_first_exit(lambda th: xb + self.d_max - _poly(coeffs, th)), "limit")
+            )
+        if math.isfinite(strength) and force_and_slope(x1 - xb, branch, stop)[0] > strength:
+            found.append((_first_exit(
+                lambda th: strength - force_and_slope(_poly(coeffs, th) - xb, branch, stop)[0]
+            ), "failed"))
+        return found
 
     def add_step(self, t0, t1, coeffs, h, s, st: _State) -> None:
         """Store one step (cut at ``t1``) and advance the friction and belt work."""

@@ -143,10 +143,7 @@ def arc(sv: _Solver, st: _State, s: int, branch: Branch):
     stop = sv.stop
     gap = d_lim - dr
     hyper_r = dr / gap
-    if up:  # c = phi_C(d_r) - phi_r in [0, phi_C - phi_E]: never clipped going up
-        if not (-(stop.k_c0 - stop.k_e0) * d_lim * hyper_r <= cc <= 0.0):
-            return None
-    elif cc < 0.0:
+    if not _on_transition_curve(up, cc, (stop.k_c0 - stop.k_e0) * d_lim * hyper_r):
         return None
     sa = s * sv.a
     lim_mean = kk * hyper_r
@@ -157,81 +154,33 @@ def arc(sv: _Solver, st: _State, s: int, branch: Branch):
         return (x_r - sa + lim_mean) + 0.5 * d + kg * log_m1(d / gap) + cc * exp_mean(lam * d)
 
     q0 = x_r - sa + lim_mean + cc
-    if (q0 >= 0.0) if up else (q0 <= 0.0):
-        return None
     slope0 = 1.0 + kg / gap + cc * lam
-    if slope0 <= 0.0:
+    if ((q0 >= 0.0) if up else (q0 <= 0.0)) or slope0 <= 0.0:
         return None
-    # Newton on the increasing Q, safeguarded by the bracket [neg, pos].
-    if up:
-        neg, pos = 0.0, sv.d_max - dr
-    else:
-        neg, pos = -dr, 0.0
-    d = -2.0 * q0 / slope0
-    if not min(neg, pos) < d < max(neg, pos):
-        d = 0.5 * (neg + pos)
-    n_evals = 0
-    for _ in range(ARC_NEWTON_MAX):
-        qd = q(d)
+
+    def net_force(d: float) -> float:  # V'(x_r + d): the net force at the end point
         de = dr + d
-        vp = x_r + d - sa + kk * de / (d_lim - de) + cc * exp(lam * d)
-        n_evals += 2
-        if qd < 0.0:
-            neg = d
-        else:
-            pos = d
-        dq = (vp - qd) / d
-        d_new = d - qd / dq if dq > 0.0 else 0.5 * (neg + pos)
-        if not min(neg, pos) < d_new < max(neg, pos):
-            d_new = 0.5 * (neg + pos)
-        if abs(d_new - d) <= 1e-9 * abs(d):  # quadratic convergence: d_new to ~1e-18
-            d = d_new
-            break
-        d = d_new
-    else:
+        return x_r + d - sa + kk * de / (d_lim - de) + cc * exp(lam * d)
+
+    bracket = (0.0, sv.d_max - dr) if up else (-dr, 0.0)
+    root = _mean_force_root(q, net_force, bracket, -2.0 * q0 / slope0)
+    if root is None:
         return None
+    d, n_evals = root
     d_n = dr + d
     if not (0.0 < d_n < sv.d_max) or abs(q(d)) > 1e-9 * abs(q0):
         return None  # separation, the limit overlap, or no clean root: integrate
     phi_n = kk * d_n / (d_lim - d_n) + cc * exp(lam * d)
     if phi_n > stop.strength:
         return None
-    if not up and stop.k_c0 > stop.k_e0 and cc > 0.0:
-        # Unloading: clipped to phi_C where (k_c0 - k_e0) D d/(D-d) < C exp(lam (d - d_r)).
-        # The log of the left side over the right has its minima at the ends or at d_+.
-        kr = (stop.k_c0 - stop.k_e0) * d_lim
-        checks = [d_n]
-        beta = stop.beta_e
-        if beta > 4.0:
-            d_plus = 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
-            if d_n < d_plus < dr:
-                checks.append(d_plus)
-        for p in checks:
-            if kr * p / (d_lim - p) < cc * exp(lam * (p - dr)):
-                return None
-    u2_max = 2.0 * abs(q0) * abs(d)
-    vb = sv.vb
-    if up:
-        ok = (s > 0 and vb * abs(vb) > u2_max) or (s < 0 and vb <= 0.0)
-    else:
-        ok = (s > 0 and vb >= 0.0) or (s < 0 and vb < 0.0 and vb * vb > u2_max)
-    if not ok:
+    if not up and _clipped(stop, d_n, dr, cc, lam):
         return None
-    # Duration: K15 and G7 over theta in [0, pi].
-    t_k = t_g = 0.0
-    ad = abs(d)
-    for c2, s2, wk, wg in zip(_ARC_COS, _ARC_SIN2, _GK_WK, _GK_WG, strict=True):
-        den = -2.0 * d * q(d * s2)
-        if not den > 0.0:
-            return None
-        g = ad * c2 / math.sqrt(den)
-        t_k += wk * g
-        t_g += wg * g
-    n_evals += 15
-    sv.arc_evals += n_evals
-    t_k *= 0.5 * math.pi
-    t_g *= 0.5 * math.pi
-    if not abs(t_k - t_g) <= ARC_QUAD_RTOL * t_k:
+    vb = sv.vb
+    if not _below_belt_speed(up, s, vb, 2.0 * abs(q0) * abs(d)):
+        return None
+    t_k = _duration(d, q)
+    sv.arc_evals += n_evals + 15
+    if t_k is None:
         return None
     t1 = st.t + t_k
     if t1 >= sv.t_end:
@@ -246,6 +195,78 @@ def arc(sv: _Solver, st: _State, s: int, branch: Branch):
     sv.x_max = max(sv.x_max, st.x)
     sv.arcs += 1
     return phi_n
+
+
+def _on_transition_curve(up: bool, cc: float, band: float) -> bool:
+    """Whether the branch starts on its transition curve: going up ``c = phi_C(d_r) - phi_r``
+    lies in ``[0, phi_C - phi_E]`` (``band``) and is never clipped; going down ``C >= 0``."""
+    return -band <= cc <= 0.0 if up else cc >= 0.0
+
+
+def _mean_force_root(q, net_force, bracket, guess):
+    """Root ``d != 0`` of the increasing mean net force ``Q`` in ``bracket``: Newton with the
+    slope ``(V'(x_r + d) - Q(d)) / d``, safeguarded by bisection. Returns ``(d, evals)`` or
+    ``None`` if it does not converge."""
+    neg, pos = bracket
+    d = guess if min(neg, pos) < guess < max(neg, pos) else 0.5 * (neg + pos)
+    for k in range(ARC_NEWTON_MAX):
+        qd = q(d)
+        if qd < 0.0:
+            neg = d
+        else:
+            pos = d
+        dq = (net_force(d) - qd) / d
+        d_new = d - qd / dq if dq > 0.0 else 0.5 * (neg + pos)
+        if not min(neg, pos) < d_new < max(neg, pos):
+            d_new = 0.5 * (neg + pos)
+        if abs(d_new - d) <= 1e-9 * abs(d):  # quadratic convergence: d_new to ~1e-18
+            return d_new, 2 * (k + 1)
+        d = d_new
+    return None
+
+
+def _clipped(stop, d_n: float, dr: float, cc: float, lam: float) -> bool:
+    """Whether an unloading arc from ``dr`` to ``d_n`` meets the clip to ``phi_C``: where
+    ``(k_c0 - k_e0) D d/(D-d) < C exp(lam (d - d_r))``. The log of the left side over the
+    right has its minima at the ends or at ``d_+``."""
+    if not (stop.k_c0 > stop.k_e0 and cc > 0.0):
+        return False
+    d_lim = stop.limit_overlap
+    kr = (stop.k_c0 - stop.k_e0) * d_lim
+    checks = [d_n]
+    beta = stop.beta_e
+    if beta > 4.0:
+        d_plus = 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
+        if d_n < d_plus < dr:
+            checks.append(d_plus)
+    return any(kr * p / (d_lim - p) < cc * math.exp(lam * (p - dr)) for p in checks)
+
+
+def _below_belt_speed(up: bool, s: int, vb: float, u2_max: float) -> bool:
+    """No stick/slip change on the arc: the speed bound ``u^2 <= u2_max`` stays on one side
+    of the belt speed for the friction sign ``s``."""
+    if up:
+        return (s > 0 and vb * abs(vb) > u2_max) or (s < 0 and vb <= 0.0)
+    return (s > 0 and vb >= 0.0) or (s < 0 and vb < 0.0 and vb * vb > u2_max)
+
+
+def _duration(d: float, q) -> float | None:
+    """Duration of the arc: K15 over ``theta`` in ``[0, pi]``, or ``None`` where G7 disagrees
+    by more than :data:`ARC_QUAD_RTOL` (or the integrand is not real)."""
+    t_k = t_g = 0.0
+    ad = abs(d)
+    for c2, s2, wk, wg in zip(_ARC_COS, _ARC_SIN2, _GK_WK, _GK_WG, strict=True):
+        den = -2.0 * d * q(d * s2)
+        if not den > 0.0:
+            return None
+        g = ad * c2 / math.sqrt(den)
+        t_k += wk * g
+        t_g += wg * g
+    t_k *= 0.5 * math.pi
+    t_g *= 0.5 * math.pi
+    if not abs(t_k - t_g) <= ARC_QUAD_RTOL * t_k:
+        return None
+    return t_k
 
 
 def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
