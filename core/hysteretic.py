@@ -108,11 +108,11 @@ from core.hysteretic_base import (
     MIN_FACTOR,
     MIN_STEP_FRACTION,
     SAFETY,
+    STEADY_TAIL,
     _Contact,
     _dpoly,
     _first_exit,
     _hermite_coeffs,
-    _Log,
     _poly,
     _State,
 )
@@ -127,7 +127,9 @@ from core.result import (
     SteadyKind,
     TransitionKind,
 )
+from core.steady import pressed_on_stop
 from core.trajectory import SegmentTable
+from core.transitions import TransitionLog
 
 #: The overlap is not allowed beyond ``(1 - LIMIT_MARGIN) D``: the envelopes' asymptote is
 #: never crossed (the force there is ``k_c0 D / LIMIT_MARGIN``, the tangent stiffness
@@ -173,7 +175,7 @@ class _Solver:
         self.table = SegmentTable()
         self.contact = _Contact()
         self.timeline: list[tuple[float, int, int]] = []  # (t0, 0 free / 1 contact, row)
-        self.log = _Log(cap)
+        self.log = TransitionLog(cap, window=STEADY_TAIL)
         self.status = Status.SUCCESS
         self.rhs_evals = 0
         self.steps = 0
@@ -596,9 +598,10 @@ class _Solver:
         return "rest"
 
     def pressed(self) -> bool:
-        """The belt presses the mass on the stop: the slip equilibrium ``x = a`` lies
-        beyond the stop's face (``x_bar < a``, belt moving towards the stop)."""
-        return self.vb > 0.0 and self.xb < self.a
+        """The belt presses the mass on the stop (the one rule of
+        :func:`core.steady.pressed_on_stop`, ``x_bar <= a``, with the belt moving towards
+        the stop so that kinetic friction ``+a`` acts on a mass at rest there)."""
+        return self.vb > 0.0 and pressed_on_stop(self.osc, self.xb)
 
     def scale(self) -> float:
         return max(self.a, self.b, self.vb, abs(self.xb), self.d_lim, 1e-300)

@@ -4,17 +4,12 @@ densely, event location on a step, the transition log."""
 
 from __future__ import annotations
 
-from collections import Counter, deque
 from dataclasses import dataclass, field
 
 from scipy.optimize import brentq
 
 from core.hysteresis import (
     Branch,
-)
-from core.result import (
-    Transition,
-    TransitionKind,
 )
 
 # Dormand-Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Norsett & Wanner, Table II.5.2).
@@ -89,29 +84,6 @@ STEADY_TAIL = 64
 
 
 _HERMITE, _LINE, _REST, _ARC, _OSC = 0, 1, 2, 3, 4
-
-
-@dataclass
-class _Log:
-    """Transitions: the first ``cap`` stored, all counted, the latest ``STEADY_TAIL`` kept.
-
-    The steady state is read off the latest transitions, which lie past the cap in a long
-    response: reading it off the stored ones labelled the state at the cap's time.
-    """
-
-    cap: int
-    stored: list[Transition] = field(default_factory=list)
-    counts: Counter = field(default_factory=Counter)
-    total: int = 0
-    recent: deque = field(default_factory=lambda: deque(maxlen=STEADY_TAIL))
-
-    def add(self, kind: TransitionKind, t: float, x: float, v: float, v_after: float) -> None:
-        self.total += 1
-        self.counts[kind.value] += 1
-        tr = Transition(kind, t, x, v, v_after)
-        self.recent.append(tr)
-        if len(self.stored) < self.cap:
-            self.stored.append(tr)
 
 
 @dataclass
