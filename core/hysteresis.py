@@ -42,11 +42,12 @@ the hyperbola and the exponential, split where the clip to an envelope switches 
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from core.params import HystereticStop
@@ -61,11 +62,6 @@ SERIES_TERMS = 24
 ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Absolute tolerance of those roots, relative to ``D``.
 ROOT_XTOL_REL = 1e-15
-#: Relative tolerance of the quadrature of the passive law's work (its curves have kinks
-#: where they meet an envelope; the quadrature splits at the known ones and adapts).
-PASSIVE_QUAD_RTOL = 1e-12
-#: Points of the grid on which the passive law's kinks are looked for in one branch's work.
-PASSIVE_KINK_GRID = 32
 #: Cap of an exponent when a branch is evaluated behind its reversal point (an event
 #: locator may probe there): ``exp(700)`` is finite, and the clip to the envelopes takes over.
 EXP_CAP = 700.0
@@ -448,12 +444,14 @@ def _piece_antiderivative(s: float, branch: Branch, stop: HystereticStop, which:
         c = stop.k_c0 * d_lim * r / (d_lim - r) - branch.phi_r
         beta = stop.beta_c
         return _envelope_energy(s, stop.k_c0, d_lim) + c * d_lim / beta * math.exp(
-            -beta * (s - branch.delta_r) / d_lim
+            min(-beta * (s - branch.delta_r) / d_lim, EXP_CAP)
         )
     c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
     beta = stop.beta_e
+    # Capped: the passive law integrates these curves above their anchor too, where a
+    # curve with C = 0 (on phi_E) would overflow to 0 * inf.
     return _envelope_energy(s, stop.k_e0, d_lim) + c * d_lim / beta * math.exp(
-        -beta * (branch.delta_r - s) / d_lim
+        min(-beta * (branch.delta_r - s) / d_lim, EXP_CAP)
     )
 
 
@@ -498,36 +496,34 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
 
 
 def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> float:
-    """``int_lo^hi phi`` on a branch of the passive law, by adaptive quadrature split at
-    ``s+`` and the reversal point (kinks of the integrand); relative error ~1e-13."""
-    marks = {lo, hi, *(p for p in (leaving_overlap(stop), branch.delta_r) if lo < p < hi)}
-    # Kinks where the curve meets an envelope: located on a grid, then bisected.
+    """``int_lo^hi phi`` on a branch of the passive law, in closed form: its curves are
+    ``phi_C``, or the paper's clipped unloading curve through an anchor point (below ``s+``
+    when it is on ``phi_C`` there, with ``phi_C`` above)."""
     d_lim = stop.limit_overlap
+    d_r, p_r = branch.delta_r, branch.phi_r
+    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
+        1.0 - ON_ENVELOPE_RTOL)
+    if branch.loading and on_c:
+        return _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(lo, stop.k_c0, d_lim)
+    s_plus = leaving_overlap(stop)
+    if not branch.loading and on_c and d_r > s_plus:
+        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    curve, paper = Branch(False, d_r, p_r), _paper_reading(stop)
+    capped = s_plus < d_lim and hi > s_plus and passive_force_and_slope(
+        s_plus * (1.0 + 1e-12), Branch(False, d_r, p_r), stop
+    )[0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    if not capped:
+        return branch_work(lo, hi, curve, paper)
+    below = branch_work(lo, min(hi, s_plus), curve, paper) if lo < s_plus else 0.0
+    top = max(lo, s_plus)
+    return below + _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(top, stop.k_c0, d_lim)
 
-    def piece(d: float) -> int:
-        phi, _ = passive_force_and_slope(d, branch, stop)
-        hyper = d_lim * d / (d_lim - d)
-        return 1 if phi >= stop.k_c0 * hyper else (-1 if phi <= stop.k_e0 * hyper else 0)
 
-    grid = np.linspace(lo, hi, PASSIVE_KINK_GRID + 1)
-    kinds = [piece(float(d)) for d in grid]
-    for a, b, ka, kb in zip(grid[:-1], grid[1:], kinds[:-1], kinds[1:], strict=True):
-        if ka != kb:
-            a, b = float(a), float(b)
-            for _ in range(64):
-                mid = 0.5 * (a + b)
-                if piece(mid) == ka:
-                    a = mid
-                else:
-                    b = mid
-            marks.add(0.5 * (a + b))
-    marks = sorted(marks)
-    total = 0.0
-    for p, q in zip(marks[:-1], marks[1:], strict=True):
-        value, _ = quad(lambda s: passive_force_and_slope(s, branch, stop)[0], p, q,
-                        epsabs=0.0, epsrel=PASSIVE_QUAD_RTOL, limit=200)
-        total += value
-    return total
+@functools.lru_cache(maxsize=64)
+def _paper_reading(stop: HystereticStop) -> HystereticStop:
+    """The same stop with the paper's reading (the passive law's curves below ``s+`` are
+    its clipped unloading curves)."""
+    return dataclasses.replace(stop, law="paper")
 
 
 def stored_energy(delta: float, phi: float, stop: HystereticStop) -> float:
