@@ -1,33 +1,65 @@
-"""Speed of the default hysteretic solve on the paper's slow-belt scenes (issue 3).
+"""Speed and error of the deformable-stop solve over a grid of stops that press the mass.
 
-Scenes "10" and "11" of app/scenes.py (mu_s = 0.3, mu_k = 0.2, v = 0.07; HystereticStop with
-k_c0 = 400, k_e0 = 36, limit_overlap = 0.01, beta_c = beta_e = 300; clearance 0.24 and 0.15),
-2,000 samples, from rest at the origin. For each horizon: median wall time, contact-phase
-right-hand-side evaluations (Dormand-Prince stages), semi-analytic arcs, contacts, and the
-largest residual of the energy balance over the samples. ``--legacy`` adds the rows of the
-step-by-step contact integration (``arcs=False``) for comparison.
+``Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)`` (a = 0.6) against
+``HystereticStop(clearance=0.42, k_c0, k_e0=k_c0/2, limit_overlap=D, beta_c=beta_e=beta)``
+(x_bar = 0.42 < a: the belt presses the mass on the stop), from rest at the origin, for
+k_c0 in {1e2 ... 1e6}, beta in {1, 10, 100, 1000}, D in {1e-3 ... 1} (80 cells). Each cell
+is solved as the app's "standard" preset does (``core.simulate``, rtol 1e-8, atol 1e-11,
+1,600 samples) at ``t_end = 100`` and ``t_end = 1e4``; the table gives the median wall time
+of each and, at ``t_end = 100``, the errors against a reference solve that follows every
+loop and contact (``reduce=False``) at rtol 1e-11, atol 1e-14:
 
-    .venv/bin/python benchmarks/hysteretic_speed.py [--legacy] [--repeat N]
+* ``state``: ``max(|dx|, |dx'|)`` at ``t_end`` over the length scale ``max(a, b, v)``;
+* ``x_max``: difference of the maximum displacement over the same scale;
+* ``rest``: difference of the time of rest (``-`` if neither rests; ``n/a`` if only one
+  does, with the reference's time of rest being the time from which its loops stay below
+  the candidate's rest amplitude).
+
+Also: the steady state's label, the time of the switch into a reduced model (``-`` if
+none), the reduced model's stated error bound (``Result.stats['reduced_error']`` over the
+scale) and whether the energy balance closes.
+
+    PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
+        [--no-reference] [--cells k_c0,beta,D ...]
+
+``--quick`` runs 8 cells (the corners and the worst cells of the old solver).
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
+import itertools
+import math
+import platform
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+import scipy
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from core import HystereticStop, Oscillator  # noqa: E402
+from core import HystereticStop, Oscillator, TransitionKind, simulate  # noqa: E402
 from core.hysteretic import simulate_hysteretic  # noqa: E402
 
-SLOW = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
-STOP = dict(k_c0=400.0, k_e0=36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
-SCENES = {"10": 0.24, "11": 0.15}
-HORIZONS = (80.0, 100.0, 1e3, 1e4)
+OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
+CLEARANCE = 0.42
+K_C0 = (1e2, 1e3, 1e4, 1e5, 1e6)
+BETA = (1.0, 10.0, 100.0, 1000.0)
+D = (1e-3, 1e-2, 1e-1, 1.0)
+#: The app's "standard" accuracy preset (app/solver.py) and its stated relative error.
+PRESET = {"rtol": 1e-8, "atol": 1e-11, "n_samples": 1600}
+STATED_ERROR = 1e-6
+REFERENCE = {"rtol": 1e-11, "atol": 1e-14}
+HORIZONS = (100.0, 1e4)
+QUICK = [(1e6, 1000.0, 1e-3), (1e6, 1000.0, 1e-2), (1e5, 1000.0, 1e-3), (1e2, 1.0, 1.0),
+         (1e4, 100.0, 1e-2), (1e3, 10.0, 1e-1), (1e6, 1.0, 1e-3), (1e2, 1000.0, 1e-3)]
+
+
+def stop_of(k_c0: float, beta: float, d: float) -> HystereticStop:
+    return HystereticStop(CLEARANCE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
 
 
 def balance(res) -> float:
@@ -36,33 +68,92 @@ def balance(res) -> float:
     return float(np.abs(lhs - (e.friction_work - e.stop_loss - e.stop_stored)).max())
 
 
+def rest_time(res) -> float:
+    for tr in reversed(res.transitions):
+        if tr.kind is TransitionKind.REST:
+            return tr.t
+    return math.nan
+
+
+def reference_rest_time(ref, amplitude: float) -> float:
+    """First reversal from which the reference's loops stay below ``amplitude``."""
+    rev = [tr for tr in ref.transitions if tr.kind is TransitionKind.REVERSAL]
+    if rest_time(ref) == rest_time(ref) or len(rev) < 4:
+        return rest_time(ref)
+    xs = np.array([tr.x for tr in rev])
+    big = np.nonzero(np.abs(np.diff(xs)) > amplitude)[0]
+    if len(big) == 0:
+        return rev[0].t
+    k = big[-1] + 1
+    return rev[k].t if k < len(rev) - 3 else math.nan
+
+
+def timed(stop, t_end: float, repeat: int):
+    times, res = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        res = simulate(OSC, stop, t_end, 0.0, 0.0, **PRESET)
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)), res
+
+
+def row(cell, args) -> str:
+    k_c0, beta, d = cell
+    stop = stop_of(k_c0, beta, d)
+    scale = max(OSC.a, OSC.b, OSC.v)
+    t100, res = timed(stop, HORIZONS[0], args.repeat)
+    t1e4, _ = timed(stop, HORIZONS[1], max(1, args.repeat // 3))
+    red = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
+    err_bound = res.info.get("reduced_error", 0.0) / scale
+    cols = [f"{k_c0:>7.0e} {beta:>6g} {d:>6g}", f"{1e3 * t100:>8.1f}", f"{1e3 * t1e4:>8.1f}",
+            f"{res.steady.kind.value:>13}", f"{red[0] if red else math.nan:>8.3g}",
+            f"{err_bound:>8.1e}", f"{balance(res):>8.1e}"]
+    if args.no_reference:
+        return " ".join(cols)
+    ref = simulate_hysteretic(OSC, stop, HORIZONS[0], 0.0, 0.0, reduce=False,
+                              n_samples=PRESET["n_samples"], transition_cap=2_000_000,
+                              **REFERENCE)
+    state = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
+    xmax = abs(res.x_max - ref.x_max) / scale
+    t_rest = rest_time(res)
+    amplitude = 10.0 * PRESET["rtol"] * scale
+    t_ref = reference_rest_time(ref, amplitude)
+    if math.isnan(t_rest) and math.isnan(t_ref):
+        rest = "-"
+    elif math.isnan(t_rest) or math.isnan(t_ref):
+        rest = "n/a"
+    else:
+        rest = f"{abs(t_rest - t_ref):.1e}"
+    cols += [f"{state:>8.1e}", f"{xmax:>8.1e}", f"{rest:>8}",
+             f"{ref.steady.kind.value:>13}"]
+    return " ".join(cols)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--legacy", action="store_true", help="also time arcs=False")
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--quick", action="store_true", help="8 cells instead of 80")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--no-reference", action="store_true", help="skip the error columns")
+    parser.add_argument("--cells", nargs="*", default=None, help="k_c0,beta,D triples")
     args = parser.parse_args()
-    variants = [True, False] if args.legacy else [True]
-    print(
-        f"{'scene':>5} {'path':>7} {'t_end':>7} {'median ms':>10} {'rhs evals':>10} "
-        f"{'arcs':>7} {'contacts':>8} {'reversals':>9} {'steady':>9} {'energy resid':>12}"
-    )
-    for key, xb in SCENES.items():
-        stop = HystereticStop(xb, **STOP)
-        for t_end in HORIZONS:
-            for arcs in variants:
-                times = []
-                for _ in range(args.repeat if t_end <= 1e3 else max(1, args.repeat // 2)):
-                    t0 = time.perf_counter()
-                    res = simulate_hysteretic(SLOW, stop, t_end, 0.0, 0.0, arcs=arcs)
-                    times.append(time.perf_counter() - t0)
-                st = res.stats
-                print(
-                    f"{key:>5} {'arcs' if arcs else 'steps':>7} {t_end:>7g} "
-                    f"{1e3 * float(np.median(times)):>10.1f} {st['rhs_evals']:>10.0f} "
-                    f"{st.get('arcs', 0.0):>7.0f} {st['n_contacts']:>8.0f} "
-                    f"{res.transition_counts.get('reversal', 0):>9d} "
-                    f"{res.steady.kind.value:>9} {balance(res):>12.2e}"
-                )
+    if args.cells:
+        cells = [tuple(float(v) for v in c.split(",")) for c in args.cells]
+    elif args.quick:
+        cells = QUICK
+    else:
+        cells = list(itertools.product(K_C0, BETA, D))
+    print(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+          f"{platform.node()}, {platform.processor() or platform.machine()}, "
+          f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}")
+    print(f"# preset rtol {PRESET['rtol']:g} atol {PRESET['atol']:g} (stated error "
+          f"{STATED_ERROR:g}); reference rtol {REFERENCE['rtol']:g}, reduce=False")
+    head = (f"{'k_c0':>7} {'beta':>6} {'D':>6} {'ms t100':>8} {'ms t1e4':>8} {'steady':>13} "
+            f"{'reduced':>8} {'bound':>8} {'balance':>8}")
+    if not args.no_reference:
+        head += f" {'state':>8} {'x_max':>8} {'rest':>8} {'ref steady':>13}"
+    print(head)
+    for cell in cells:
+        print(row(cell, args), flush=True)
 
 
 if __name__ == "__main__":

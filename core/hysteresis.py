@@ -1,4 +1,8 @@
-"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13, SPEC §4), in one place.
+"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13), in one place.
+
+Two readings of the transition curves, chosen by ``HystereticStop.law`` and compared in
+docs/contact-law.md: ``"paper"`` (below; reproduces the paper's Fig. 2b, returns energy on
+some overlap programs) and ``"passive"`` (:func:`passive_force_and_slope`).
 
 Overlap ``delta = x - clearance`` (a length, ``> 0`` in contact), limit overlap
 ``D = stop.limit_overlap``. Forces are contact forces over the spring stiffness ``k``
@@ -9,8 +13,8 @@ Envelopes (paper Eq. 11), hyperbolas through the origin with the asymptote ``del
     phi_C(delta) = k_c0 * D * delta / (D - delta)     compression
     phi_E(delta) = k_e0 * D * delta / (D - delta)     expansion, k_e0 <= k_c0
 
-Transition curves (the project's reading of paper Eqs. 12-13, SPEC §4). At each reversal of
-the overlap rate the point ``(delta_r, phi_r)`` is stored, and the force approaches the
+Transition curves (paper Eqs. 12-13, the ``"paper"`` reading). At each reversal of the
+overlap rate the point ``(delta_r, phi_r)`` is stored, and the force approaches the
 envelope of the new direction exponentially in the overlap travelled since the reversal::
 
     unloading: phi = phi_E(delta) + (phi_r - phi_E(delta_r)) * exp(-beta_e (delta_r - delta) / D)
@@ -38,6 +42,8 @@ the hyperbola and the exponential, split where the clip to an envelope switches 
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -135,7 +141,7 @@ def _envelope_slope(delta, stiffness: float, d_lim: float):
 
 
 def _raw(delta, branch: Branch, stop: HystereticStop):
-    """Unclipped transition curve of ``branch`` (paper Eq. 13 in the SPEC §4 reading)."""
+    """Unclipped transition curve of ``branch`` (paper Eq. 13, the "paper" reading)."""
     d_lim = stop.limit_overlap
     if branch.loading:
         gap0 = float(phi_compression(branch.delta_r, stop)) - branch.phi_r
@@ -146,6 +152,84 @@ def _raw(delta, branch: Branch, stop: HystereticStop):
     return phi_expansion(delta, stop) + gap0 * decay, gap0 * decay * stop.beta_e / d_lim
 
 
+#: A state within this relative distance of ``phi_C`` lies on the compression envelope
+#: (the passive law's rules depend on it; states on it are reached by clipping, exactly).
+ON_ENVELOPE_RTOL = 1e-9
+
+
+def leaving_overlap(stop: HystereticStop) -> float:
+    """Overlap ``s+`` above which unloading from ``phi_C`` keeps to ``phi_C``.
+
+    From a point of the compression envelope the unloading curve (Eq. 13) leaves it going
+    down only where ``beta_e s (D - s) > D^2``, i.e. between ``s-`` and
+    ``s+ = D (1 + sqrt(1 - 4/beta_e)) / 2``; ``D`` (never reached) when ``beta_e <= 4``.
+    """
+    d_lim, beta = stop.limit_overlap, stop.beta_e
+    if beta <= 4.0:
+        return d_lim
+    return 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
+
+
+def _passive_curve(delta: float, d_a: float, p_a: float, stop: HystereticStop):
+    """The passive law's curve through ``(d_a, p_a)``: the unloading exponential of Eq. 13
+    through that point, clipped to the envelopes, and on ``phi_C`` above ``s+`` if it
+    reaches ``phi_C`` there (see :func:`passive_force_and_slope`)."""
+    d_lim = stop.limit_overlap
+    gap = d_lim - delta
+    hyper = d_lim * delta / gap
+    hyper_slope = (d_lim / gap) ** 2
+    upper, lower = stop.k_c0 * hyper, stop.k_e0 * hyper
+    s_plus = leaving_overlap(stop)
+    rate = stop.beta_e / d_lim
+    c = p_a - stop.k_e0 * d_lim * d_a / (d_lim - d_a)
+    if delta >= s_plus and s_plus < d_lim:
+        raw_sp = stop.k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
+            min(rate * (s_plus - d_a), EXP_CAP))
+        if raw_sp >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL):
+            return upper, stop.k_c0 * hyper_slope
+    decay = c * math.exp(min(rate * (delta - d_a), EXP_CAP))
+    raw = lower + decay
+    if raw > upper:
+        return upper, stop.k_c0 * hyper_slope
+    if raw < lower:
+        return lower, stop.k_e0 * hyper_slope
+    return raw, stop.k_e0 * hyper_slope + decay * rate
+
+
+def passive_force_and_slope(
+    delta: float, branch: Branch, stop: HystereticStop
+) -> tuple[float, float]:
+    """``(phi, d phi / d delta)`` of the passive reading of Eqs. 12-13 (docs/contact-law.md).
+
+    * Loading from a point of ``phi_C`` (a new contact, or a reversal on the envelope)
+      follows ``phi_C``; loading from a point inside the band retraces the unloading curve
+      through it (unloading and reloading inside the band are elastic, as in plasticity).
+    * Unloading follows the exponential of Eq. 13 through the reversal point towards
+      ``phi_E``, clipped to the envelopes; from a point of ``phi_C`` above ``s+``
+      (:func:`leaving_overlap`) it keeps to ``phi_C`` down to ``s+`` and leaves there, as
+      the incremental form of Eq. 13 does (the paper's reading restarts the exponent at
+      the reversal, which leaves the envelope lower the higher the reversal).
+
+    The energy the stop would give back from any state then never grows faster than the
+    work done on it, so its loss never falls and no closed overlap program returns energy.
+    """
+    d_lim = stop.limit_overlap
+    if delta <= 0.0:
+        return 0.0, 0.0
+    if delta >= d_lim:
+        return math.inf, math.inf
+    d_r, p_r = branch.delta_r, branch.phi_r
+    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
+        1.0 - ON_ENVELOPE_RTOL)
+    if branch.loading and on_c:
+        gap = d_lim - delta
+        return stop.k_c0 * d_lim * delta / gap, stop.k_c0 * (d_lim / gap) ** 2
+    s_plus = leaving_overlap(stop)
+    if not branch.loading and on_c and d_r > s_plus:
+        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    return _passive_curve(delta, d_r, p_r, stop)
+
+
 def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple[float, float]:
     """Scalar ``(phi, d phi / d delta)`` on ``branch``: the fast path of the contact solver.
 
@@ -153,6 +237,8 @@ def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple
     with :mod:`math` because the integrator calls it at every stage: about 1 us per call
     against ~30 us for the array versions on a scalar.
     """
+    if stop.law == "passive":
+        return passive_force_and_slope(delta, branch, stop)
     d_lim = stop.limit_overlap
     if delta <= 0.0:
         return 0.0, 0.0
@@ -205,6 +291,8 @@ def contact_force(delta, branch: Branch, stop: HystereticStop):
     >>> float(contact_force(0.025, FIRST_LOADING, stop))   # first loading: on phi_C
     50.0
     """
+    if stop.law == "passive":
+        return _passive_many(delta, branch, stop, 0)
     delta_arr = np.asarray(delta, dtype=float)
     inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
     d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
@@ -223,6 +311,8 @@ def dphi_ddelta(delta, branch: Branch, stop: HystereticStop):
     ``delta <= 0``, ``inf`` for ``delta >= D``. Used by implicit integrators and by the
     event location of the contact solver.
     """
+    if stop.law == "passive":
+        return _passive_many(delta, branch, stop, 1)
     delta_arr = np.asarray(delta, dtype=float)
     inside = (delta_arr > 0.0) & (delta_arr < stop.limit_overlap)
     d = np.where(inside, delta_arr, 0.5 * stop.limit_overlap)
@@ -238,6 +328,14 @@ def dphi_ddelta(delta, branch: Branch, stop: HystereticStop):
             slope_raw = slope_e + raw_exp_slope
         slope = np.where(raw > upper, slope_c, np.where(raw < lower, slope_e, slope_raw))
     out = np.where(inside, slope, np.where(delta_arr <= 0.0, 0.0, np.inf))
+    return out[()] if out.ndim == 0 else out
+
+
+def _passive_many(delta, branch: Branch, stop: HystereticStop, which: int):
+    """Force (``which = 0``) or slope (``1``) of the passive law for an array of overlaps."""
+    arr = np.asarray(delta, dtype=float)
+    out = np.array([passive_force_and_slope(float(d), branch, stop)[which] for d in arr.ravel()])
+    out = out.reshape(arr.shape)
     return out[()] if out.ndim == 0 else out
 
 
@@ -346,12 +444,14 @@ def _piece_antiderivative(s: float, branch: Branch, stop: HystereticStop, which:
         c = stop.k_c0 * d_lim * r / (d_lim - r) - branch.phi_r
         beta = stop.beta_c
         return _envelope_energy(s, stop.k_c0, d_lim) + c * d_lim / beta * math.exp(
-            -beta * (s - branch.delta_r) / d_lim
+            min(-beta * (s - branch.delta_r) / d_lim, EXP_CAP)
         )
     c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
     beta = stop.beta_e
+    # Capped: the passive law integrates these curves above their anchor too, where a
+    # curve with C = 0 (on phi_E) would overflow to 0 * inf.
     return _envelope_energy(s, stop.k_e0, d_lim) + c * d_lim / beta * math.exp(
-        -beta * (branch.delta_r - s) / d_lim
+        min(-beta * (branch.delta_r - s) / d_lim, EXP_CAP)
     )
 
 
@@ -383,6 +483,8 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
         return 0.0
     if hi >= stop.limit_overlap:
         return math.inf
+    if stop.law == "passive":
+        return _passive_work(lo, hi, branch, stop)
     points = [lo, *_clip_breaks(lo, hi, branch, stop), hi]
     total = 0.0
     for p, q in zip(points[:-1], points[1:], strict=False):
@@ -391,6 +493,37 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
             p, branch, stop, which
         )
     return total
+
+
+def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> float:
+    """``int_lo^hi phi`` on a branch of the passive law, in closed form: its curves are
+    ``phi_C``, or the paper's clipped unloading curve through an anchor point (below ``s+``
+    when it is on ``phi_C`` there, with ``phi_C`` above)."""
+    d_lim = stop.limit_overlap
+    d_r, p_r = branch.delta_r, branch.phi_r
+    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
+        1.0 - ON_ENVELOPE_RTOL)
+    if branch.loading and on_c:
+        return _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(lo, stop.k_c0, d_lim)
+    s_plus = leaving_overlap(stop)
+    if not branch.loading and on_c and d_r > s_plus:
+        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    curve, paper = Branch(False, d_r, p_r), _paper_reading(stop)
+    capped = s_plus < d_lim and hi > s_plus and passive_force_and_slope(
+        s_plus * (1.0 + 1e-12), Branch(False, d_r, p_r), stop
+    )[0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    if not capped:
+        return branch_work(lo, hi, curve, paper)
+    below = branch_work(lo, min(hi, s_plus), curve, paper) if lo < s_plus else 0.0
+    top = max(lo, s_plus)
+    return below + _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(top, stop.k_c0, d_lim)
+
+
+@functools.lru_cache(maxsize=64)
+def _paper_reading(stop: HystereticStop) -> HystereticStop:
+    """The same stop with the paper's reading (the passive law's curves below ``s+`` are
+    its clipped unloading curves)."""
+    return dataclasses.replace(stop, law="paper")
 
 
 def stored_energy(delta: float, phi: float, stop: HystereticStop) -> float:
@@ -415,6 +548,12 @@ def force_on_branches(delta, loading, delta_r, phi_r, stop: HystereticStop) -> n
     loading = np.asarray(loading, dtype=bool)
     delta_r = np.asarray(delta_r, dtype=float)
     phi_r = np.asarray(phi_r, dtype=float)
+    if stop.law == "passive":
+        b = np.broadcast_arrays(delta, loading, delta_r, phi_r)
+        return np.array([passive_force_and_slope(float(d), Branch(bool(ld), float(r), float(p)),
+                                                 stop)[0]
+                         for d, ld, r, p in zip(*(x.ravel() for x in b), strict=True)]
+                        ).reshape(b[0].shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)
     d = np.where(inside, delta, 0.5 * d_lim)
@@ -438,6 +577,9 @@ class BranchPrimitive:
     def __init__(self, branch: Branch, stop: HystereticStop, lo: float, hi: float) -> None:
         self.branch, self.stop = branch, stop
         lo, hi = max(lo, 0.0), max(hi, 0.0)
+        self.lo = lo
+        if stop.law == "passive":
+            return
         points = [lo, *(_clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
         self.points = points
         self.which = []
@@ -455,6 +597,8 @@ class BranchPrimitive:
 
     def __call__(self, delta: float) -> float:
         delta = max(delta, 0.0)
+        if self.stop.law == "passive":
+            return branch_work(self.lo, delta, self.branch, self.stop)
         k = 0
         while k + 1 < len(self.which) and delta > self.points[k + 1]:
             k += 1
@@ -488,6 +632,10 @@ def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
     """
     delta = np.asarray(delta, dtype=float)
     phi = np.asarray(phi, dtype=float)
+    if stop.law == "passive":
+        return np.array([stored_energy(float(d), float(p), stop)
+                         for d, p in zip(delta.ravel(), phi.ravel(), strict=True)]
+                        ).reshape(delta.shape)
     out = np.zeros(delta.shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)

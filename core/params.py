@@ -125,6 +125,10 @@ class RigidStop:
         )
 
 
+#: Readings of the hysteretic contact law (:attr:`HystereticStop.law`).
+CONTACT_LAWS = ("paper", "passive")
+
+
 @dataclass(frozen=True)
 class HystereticStop:
     """Deformable stop with the hysteretic contact law of docs/physics.md, "The deformable stop"
@@ -143,6 +147,10 @@ class HystereticStop:
         Rates of approach to the compression / expansion envelope, ``0 < beta_c <= beta_e``.
     strength : float
         Compressive strength ``phi_u`` over ``k`` (a length); ``inf`` for none.
+    law : str
+        Reading of the transition curves (paper Eqs. 12-13, docs/contact-law.md): ``"paper"``
+        (reproduces the paper's Fig. 2b; returns energy on some overlap programs) or
+        ``"passive"`` (no closed overlap program returns energy).
     """
 
     clearance: float
@@ -152,8 +160,13 @@ class HystereticStop:
     beta_c: float = 5.0
     beta_e: float = 5.0
     strength: float = math.inf
+    law: str = "paper"
 
     def __post_init__(self) -> None:
+        if self.law not in CONTACT_LAWS:
+            raise ValueError(
+                f"law must be one of {', '.join(map(repr, CONTACT_LAWS))}; got {self.law!r}"
+            )
         object.__setattr__(self, "clearance", check_range("clearance", self.clearance))
         k_c0 = check_range("k_c0", self.k_c0, 0.0, low_open=True)
         object.__setattr__(self, "k_c0", k_c0)
@@ -191,6 +204,7 @@ class HystereticStop:
         beta_c: float = 5.0,
         beta_e: float = 5.0,
         strength: float = math.inf,
+        law: str = "paper",
     ) -> HystereticStop:
         """Build from SI values: spring ``k`` [N/m], stiffnesses ``k_c0, k_e0`` [N/m],
         lengths [m], ``strength`` [N]."""
@@ -203,4 +217,5 @@ class HystereticStop:
             beta_c=beta_c,
             beta_e=beta_e,
             strength=strength / k if math.isfinite(strength) else math.inf,
+            law=law,
         )

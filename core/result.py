@@ -35,6 +35,7 @@ class TransitionKind(str, enum.Enum):
     SEPARATION = "separation"  # end of a deformable contact
     REVERSAL = "reversal"  # overlap rate changes sign inside a deformable contact
     FAILURE = "failure"  # contact force exceeded the stop's strength
+    REDUCED = "reduced"  # from here a reduced model advances the motion (stated error in info)
 
     def __str__(self) -> str:
         return self.value
@@ -65,6 +66,7 @@ class SteadyKind(str, enum.Enum):
     REST = "rest"  # mass pressed on the stop for good
     EQUILIBRIUM = "equilibrium"  # mass at rest away from the stop
     PURE_SLIP = "pure_slip"  # a slip circle that never sticks nor impacts
+    CONTACT_TRAIN = "contact_train"  # contacts of shrinking amplitude (deformable stop)
     NONE = "none"  # nothing found within the horizon
 
     def __str__(self) -> str:
@@ -90,6 +92,9 @@ class Steady:
     t_reached : float
         Time from which the steady state holds (or the accumulation time); ``nan`` if the
         state is only approached asymptotically.
+    decay_rate : float
+        Contact train: measured ratio of successive contacts' approach speeds (``< 1``
+        shrinking); ``nan`` otherwise.
     """
 
     kind: SteadyKind
@@ -99,6 +104,7 @@ class Steady:
     x_max: float = math.nan
     impact_speed: float = math.nan
     t_reached: float = math.nan
+    decay_rate: float = math.nan
 
     def describe(self, time_scale: float = 1.0, time_unit: str = "") -> str:
         """One line in words, for the readout; times are shown multiplied by
@@ -118,6 +124,11 @@ class Steady:
             return f"rest at the stop (from t = {self.t_reached * time_scale:.6g}{time_unit})"
         if self.kind is SteadyKind.EQUILIBRIUM:
             return "equilibrium: the mass stays at rest"
+        if self.kind is SteadyKind.CONTACT_TRAIN:
+            return (
+                "contacts of shrinking amplitude on the stop, approach speed x "
+                f"{self.decay_rate:.6g} per contact"
+            )
         if self.kind is SteadyKind.PURE_SLIP:
             return f"pure slip on a circle, period {self.period * time_scale:.6g}{time_unit}"
         return "no steady state found within the horizon"

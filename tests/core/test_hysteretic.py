@@ -9,6 +9,7 @@ import pytest
 
 from core import HystereticStop, Oscillator, RigidStop, Status, TransitionKind, simulate
 from core.hysteretic import effective_restitutions, simulate_hysteretic
+from core.result import STATS_KEYS
 
 #: The paper scenes' friction pair and slow belt (app/scenes.py): a = 0.2, b = 0.3, v = 0.07.
 SLOW = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
@@ -179,7 +180,10 @@ def test_through_simulate_and_result_fields():
     assert res.method == "exact"
     assert res.impulses.shape == (0, 2)
     assert len(res.contact_force) == len(res.t) == len(res.overlap)
-    assert {"n_contacts", "rhs_evals", "effective_restitution"} <= set(res.stats)
+    assert set(res.stats) == set(STATS_KEYS)
+    assert all(isinstance(v, int) for v in res.stats.values())
+    assert res.stats["events"] == res.n_transitions
+    assert {"n_contacts", "effective_restitution", "law"} <= set(res.info)
 
 
 #: The app's scene stop (app/scenes.py, Figs. 10-11): sharp transition, beta * overlap / D ~ 90.
@@ -208,8 +212,8 @@ def test_semi_analytic_arcs_match_step_by_step(stop_kw, clearance):
     assert _balance(fast) < BALANCE_ATOL
     counts = ref.transition_counts
     if counts.get("reversal", 0) > 10 * counts["contact"]:  # sustained: arcs carry it
-        assert fast.stats["arcs"] > 100
-        assert fast.stats["rhs_evals"] < 0.1 * ref.stats["rhs_evals"]
+        assert fast.info["arcs"] > 100
+        assert fast.info["contact_rhs_evals"] < 0.1 * ref.info["contact_rhs_evals"]
 
 
 def test_stored_energy_many_matches_scalar():
@@ -243,7 +247,7 @@ def test_every_contact_is_sampled_densely():
     is its true peak: compared with a dense evaluation of the same solve (20 000 uniform
     samples) within 2 % (16 samples over a half-sine-like branch pair: the nearest lies
     within pi / 34 of the crest, 1 - cos(pi / 34) ~ 0.43 % below it)."""
-    from core.hysteretic import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
+    from core.hysteretic_samples import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
 
     stop = HystereticStop(0.24, **SCENE_STOP)
     res = simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0, n_samples=1600)

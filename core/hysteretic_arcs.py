@@ -1,0 +1,316 @@
+"""Semi-analytic slip arcs inside a sustained contact (paper law): from one reversal of the
+overlap rate to the next, the motion conserves an energy, so the next reversal is a root and
+the duration a smooth quadrature (Gauss-Kronrod 7-15), instead of step by step."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from core.hysteresis import (
+    Branch,
+)
+from core.hysteretic_base import _ARC, _State
+
+if TYPE_CHECKING:
+    from core.hysteretic import _Solver
+
+
+#: Semi-analytic arcs: the G7 and K15 estimates of an arc's duration must agree to this
+#: fraction of it (K15 is then good to ~1e-10 relative: its error falls like the square of
+#: G7's for analytic integrands), else the arc is integrated step by step.
+ARC_QUAD_RTOL = 1e-6
+
+
+#: Newton iterations of an arc's end point (3-5 are typical; bisection safeguards).
+ARC_NEWTON_MAX = 60
+
+
+#: Newton iterations when a sample's time is mapped to the arc's angle.
+ARC_SAMPLE_NEWTON = 8
+
+
+# Gauss-Kronrod 7-15 (QUADPACK): nodes on [-1, 1], Kronrod weights, Gauss weights (zero off
+# the Gauss nodes, which are the odd entries).
+_GK_X = (
+    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+    0.586087235467691130294144838258730, 0.405845151377397166906606412076961,
+    0.207784955007898467600689403773245, 0.0,
+    -0.207784955007898467600689403773245, -0.405845151377397166906606412076961,
+    -0.586087235467691130294144838258730, -0.741531185599394439863864773280788,
+    -0.864864423359769072789712788640926, -0.949107912342758524526189684047851,
+    -0.991455371120812639206854697526329,
+)  # fmt: skip
+
+
+_GK_WK = (
+    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+    0.204432940075298892414161999234649, 0.209482141084727828012999174891714,
+    0.204432940075298892414161999234649, 0.190350578064785409913256402421014,
+    0.169004726639267902826583426598550, 0.140653259715525918745189590510238,
+    0.104790010322250183839876322541518, 0.063092092629978553290700663189204,
+    0.022935322010529224963732008058970,
+)  # fmt: skip
+
+
+_GK_WG = (
+    0.0, 0.129484966168869693270611432679082, 0.0, 0.279705391489276667901467771423780,
+    0.0, 0.381830050505118944950369775488975, 0.0, 0.417959183673469387755102040816327,
+    0.0, 0.381830050505118944950369775488975, 0.0, 0.279705391489276667901467771423780,
+    0.0, 0.129484966168869693270611432679082, 0.0,
+)  # fmt: skip
+
+
+#: Angles of the K15 nodes on ``[0, pi]`` and ``cos(theta/2)``, ``sin(theta/2)^2`` there.
+_ARC_TH = tuple(0.5 * math.pi * (1.0 + xi) for xi in _GK_X)
+
+
+_ARC_COS = tuple(math.cos(0.5 * th) for th in _ARC_TH)
+
+
+_ARC_SIN2 = tuple(math.sin(0.5 * th) ** 2 for th in _ARC_TH)
+
+
+def _log_mean_m1(w: float) -> float:
+    """``L(w) - 1`` with ``L(w) = -log(1 - w) / w`` (mean of ``1/(1 - w s)`` over ``[0, 1]``),
+    by its series where the closed form cancels."""
+    if abs(w) < 1e-3:
+        return w * (0.5 + w * (1.0 / 3.0 + w * (0.25 + w * (0.2 + w / 6.0))))
+    return -math.log1p(-w) / w - 1.0
+
+
+def _exp_mean(z: float) -> float:
+    """``(exp(z) - 1) / z``, the mean of ``exp(z s)`` over ``[0, 1]``."""
+    return math.expm1(z) / z if z != 0.0 else 1.0
+
+
+def _log_mean_m1_arr(w: np.ndarray) -> np.ndarray:
+    small = np.abs(w) < 1e-3
+    ws = np.where(small, 0.5, w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        direct = -np.log1p(-ws) / ws - 1.0
+    series = w * (0.5 + w * (1.0 / 3.0 + w * (0.25 + w * (0.2 + w / 6.0))))
+    return np.where(small, series, direct)
+
+
+def _exp_mean_arr(z: np.ndarray) -> np.ndarray:
+    zero = z == 0.0
+    zs = np.where(zero, 1.0, z)
+    return np.where(zero, 1.0, np.expm1(zs) / zs)
+
+
+def branch_constants(sv: _Solver, branch: Branch) -> tuple[float, float, float]:
+    """``(K, C, lam)`` of the unclipped curve ``phi = K d/(D - d) + C exp(lam (d - d_r))``."""
+    stop, d_lim = sv.stop, sv.d_lim
+    r = branch.delta_r
+    if branch.loading:
+        kc = stop.k_c0 * d_lim
+        return kc, branch.phi_r - kc * r / (d_lim - r), -stop.beta_c / d_lim
+    ke = stop.k_e0 * d_lim
+    return ke, branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
+
+
+def arc(sv: _Solver, st: _State, s: int, branch: Branch):
+    """Semi-analytic slip from a reversal to the next one, or ``None`` (integrate it).
+
+    In slip with a fixed friction sign and on one branch the motion conserves
+    ``u^2/2 + V(x)``, ``V(x) = x^2/2 - s a x + int phi``, and ``V`` is convex (``phi`` grows
+    with the overlap on every branch). From a reversal ``x_r`` (``u = 0``) the next one is
+    the other root of ``V(x) = V(x_r)``: with ``d = x - x_r`` the root of the mean net
+    force ``Q(d) = (V(x_r + d) - V(x_r)) / d``, written without cancellation (``log1p``,
+    ``expm1`` and series; the force is ``~1e-3`` of its terms in a sustained contact).
+    The duration is ``int dx / |u|`` with ``x = x_r + d sin^2(theta/2)``, which removes
+    both ``1/sqrt`` end points: ``dt/dtheta = |d| cos(theta/2) / sqrt(-2 d Q)`` is smooth,
+    and Gauss-Kronrod 7-15 gives it with an error estimate.
+
+    Taken only when it is exactly the motion: the branch stays on its transition curve
+    (no clip to an envelope), no separation, no limit overlap or failure, no
+    stick/slip change (the speed bound ``u^2 <= 2 |Q(0)| |d|`` from convexity stays on
+    one side of the belt speed), the arc ends before ``t_end``, and the quadrature's
+    estimate is within ``ARC_QUAD_RTOL``. Returns the force at the new reversal.
+    """
+    d_lim, xb = sv.d_lim, sv.xb
+    x_r, dr = st.x, st.x - xb
+    if dr <= 0.0 or dr >= sv.d_max:
+        return None
+    up = branch.loading
+    kk, cc, lam = branch_constants(sv, branch)
+    stop = sv.stop
+    gap = d_lim - dr
+    hyper_r = dr / gap
+    if not _on_transition_curve(up, cc, (stop.k_c0 - stop.k_e0) * d_lim * hyper_r):
+        return None
+    sa = s * sv.a
+    lim_mean = kk * hyper_r
+    kg = kk * d_lim / gap
+    log_m1, exp_mean, exp = _log_mean_m1, _exp_mean, math.exp
+
+    def q(d: float) -> float:
+        return (x_r - sa + lim_mean) + 0.5 * d + kg * log_m1(d / gap) + cc * exp_mean(lam * d)
+
+    q0 = x_r - sa + lim_mean + cc
+    slope0 = 1.0 + kg / gap + cc * lam
+    if ((q0 >= 0.0) if up else (q0 <= 0.0)) or slope0 <= 0.0:
+        return None
+
+    def net_force(d: float) -> float:  # V'(x_r + d): the net force at the end point
+        de = dr + d
+        return x_r + d - sa + kk * de / (d_lim - de) + cc * exp(lam * d)
+
+    bracket = (0.0, sv.d_max - dr) if up else (-dr, 0.0)
+    root = _mean_force_root(q, net_force, bracket, -2.0 * q0 / slope0)
+    if root is None:
+        return None
+    d, n_evals = root
+    d_n = dr + d
+    if not (0.0 < d_n < sv.d_max) or abs(q(d)) > 1e-9 * abs(q0):
+        return None  # separation, the limit overlap, or no clean root: integrate
+    phi_n = kk * d_n / (d_lim - d_n) + cc * exp(lam * d)
+    if phi_n > stop.strength:
+        return None
+    if not up and _clipped(stop, d_n, dr, cc, lam):
+        return None
+    vb = sv.vb
+    if not _below_belt_speed(up, s, vb, 2.0 * abs(q0) * abs(d)):
+        return None
+    t_k = _duration(d, q)
+    sv.arc_evals += n_evals + 15
+    if t_k is None:
+        return None
+    t1 = st.t + t_k
+    if t1 >= sv.t_end:
+        return None
+    mean_phi = lim_mean + kg * log_m1(d / gap) + cc * exp_mean(lam * d)
+    if not sv.contact.kind or sv.timeline[-1][1] != 1:
+        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
+    sv.contact.add(_ARC, st.t, t1, (x_r, d, t_k, kk, cc, lam, dr), sa, st.work)
+    wf, wb, ws = st.work
+    st.work = (wf + sa * d, wb + sa * vb * t_k, ws + d * mean_phi)
+    st.t, st.x, st.v = t1, x_r + d, 0.0
+    sv.x_max = max(sv.x_max, st.x)
+    sv.arcs += 1
+    return phi_n
+
+
+def _on_transition_curve(up: bool, cc: float, band: float) -> bool:
+    """Whether the branch starts on its transition curve: going up ``c = phi_C(d_r) - phi_r``
+    lies in ``[0, phi_C - phi_E]`` (``band``) and is never clipped; going down ``C >= 0``."""
+    return -band <= cc <= 0.0 if up else cc >= 0.0
+
+
+def _mean_force_root(q, net_force, bracket, guess):
+    """Root ``d != 0`` of the increasing mean net force ``Q`` in ``bracket``: Newton with the
+    slope ``(V'(x_r + d) - Q(d)) / d``, safeguarded by bisection. Returns ``(d, evals)`` or
+    ``None`` if it does not converge."""
+    neg, pos = bracket
+    d = guess if min(neg, pos) < guess < max(neg, pos) else 0.5 * (neg + pos)
+    for k in range(ARC_NEWTON_MAX):
+        qd = q(d)
+        if qd < 0.0:
+            neg = d
+        else:
+            pos = d
+        dq = (net_force(d) - qd) / d
+        d_new = d - qd / dq if dq > 0.0 else 0.5 * (neg + pos)
+        if not min(neg, pos) < d_new < max(neg, pos):
+            d_new = 0.5 * (neg + pos)
+        if abs(d_new - d) <= 1e-9 * abs(d):  # quadratic convergence: d_new to ~1e-18
+            return d_new, 2 * (k + 1)
+        d = d_new
+    return None
+
+
+def _clipped(stop, d_n: float, dr: float, cc: float, lam: float) -> bool:
+    """Whether an unloading arc from ``dr`` to ``d_n`` meets the clip to ``phi_C``: where
+    ``(k_c0 - k_e0) D d/(D-d) < C exp(lam (d - d_r))``. The log of the left side over the
+    right has its minima at the ends or at ``d_+``."""
+    if not (stop.k_c0 > stop.k_e0 and cc > 0.0):
+        return False
+    d_lim = stop.limit_overlap
+    kr = (stop.k_c0 - stop.k_e0) * d_lim
+    checks = [d_n]
+    beta = stop.beta_e
+    if beta > 4.0:
+        d_plus = 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
+        if d_n < d_plus < dr:
+            checks.append(d_plus)
+    return any(kr * p / (d_lim - p) < cc * math.exp(lam * (p - dr)) for p in checks)
+
+
+def _below_belt_speed(up: bool, s: int, vb: float, u2_max: float) -> bool:
+    """No stick/slip change on the arc: the speed bound ``u^2 <= u2_max`` stays on one side
+    of the belt speed for the friction sign ``s``."""
+    if up:
+        return (s > 0 and vb * abs(vb) > u2_max) or (s < 0 and vb <= 0.0)
+    return (s > 0 and vb >= 0.0) or (s < 0 and vb < 0.0 and vb * vb > u2_max)
+
+
+def _duration(d: float, q) -> float | None:
+    """Duration of the arc: K15 over ``theta`` in ``[0, pi]``, or ``None`` where G7 disagrees
+    by more than :data:`ARC_QUAD_RTOL` (or the integrand is not real)."""
+    t_k = t_g = 0.0
+    ad = abs(d)
+    for c2, s2, wk, wg in zip(_ARC_COS, _ARC_SIN2, _GK_WK, _GK_WG, strict=True):
+        den = -2.0 * d * q(d * s2)
+        if not den > 0.0:
+            return None
+        g = ad * c2 / math.sqrt(den)
+        t_k += wk * g
+        t_g += wg * g
+    t_k *= 0.5 * math.pi
+    t_g *= 0.5 * math.pi
+    if not abs(t_k - t_g) <= ARC_QUAD_RTOL * t_k:
+        return None
+    return t_k
+
+
+def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
+    """Samples inside semi-analytic arcs (:meth:`_Solver.arc`), vectorised.
+
+    The angle ``theta`` of each sample solves ``t(theta) = tau`` (Newton; ``t(theta)`` by
+    15-point Gauss-Kronrod on ``[0, theta]``); position from ``x = x_r + d sin^2(theta/2)``,
+    speed from the energy, ``u^2 = -2 e Q(e)``, so the energy balance holds at the samples
+    to rounding whatever the error of the time.
+    """
+    c = sv.contact
+    data = np.array([c.data[r] for r in rows], dtype=float)
+    x_r, d, period, kk, cc, lam, dr = data.T
+    sa = np.array([c.friction[r] for r in rows])
+    w0 = np.array([c.work0[r] for r in rows])
+    tau = t[idx] - np.array([c.t0[r] for r in rows])
+    d_lim = sv.d_lim
+    gap = d_lim - dr
+    base = x_r - sa + kk * dr / gap
+    kg = kk * d_lim / gap
+
+    def mean_phi(e):
+        return kk * dr / gap + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
+
+    def rate(th):  # dt/dtheta
+        e = d * np.sin(0.5 * th) ** 2
+        q = base + 0.5 * e + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
+        return np.abs(d) * np.cos(0.5 * th) / np.sqrt(np.maximum(-2.0 * d * q, 1e-300))
+
+    xi = np.array(_GK_X)
+    wk = np.array(_GK_WK)
+    th = np.clip(math.pi * tau / period, 0.0, math.pi)
+    for _ in range(ARC_SAMPLE_NEWTON):
+        nodes = 0.5 * th[:, None] * (1.0 + xi[None, :])
+        t_th = 0.5 * th * (rate(nodes.T).T @ wk) if len(th) else th
+        g = rate(th)
+        step = (t_th - tau) / np.where(g > 0.0, g, 1.0)
+        th = np.clip(th - step, 0.0, math.pi)
+        if np.all(np.abs(step) <= 1e-14):
+            break
+    e = d * np.sin(0.5 * th) ** 2
+    q = base + 0.5 * e + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
+    x[idx] = x_r + e
+    xd[idx] = np.sign(d) * np.sqrt(np.maximum(-2.0 * e * q, 0.0))
+    work[idx, 0] = w0[:, 0] + sa * e
+    work[idx, 1] = w0[:, 1] + sa * sv.vb * tau
+    work[idx, 2] = w0[:, 2] + e * mean_phi(e)

@@ -1,0 +1,308 @@
+"""Reduced models of a mass pressed on a deformable stop (``x_bar < a``).
+
+When the belt presses the mass on the stop, the response ends in a train of ever smaller
+contacts or in an oscillation on the stop whose loops shrink (paper Fig. 11). Step by step,
+its cost grows with the number of loops, not with what changes: thousands of loops whose
+amplitude is far below what a plot can show. Once the motion about the equilibrium is that
+small and its decay is regular, it is advanced by a reduced model instead::
+
+    x(t) = x_c + kappa (A_0 - A(t)) + A(t) cos(phase0 + 2 pi (t - t_s) / T)
+
+with the cycle ``T`` measured over the last cycles and the amplitude ``A`` following the
+decay law fitted to the last amplitudes (one per cycle), the steadiest of
+
+* geometric, ``A_k = A_0 q^k`` (loops of a law that is linear at small amplitude);
+* inverse, ``1/A_k = 1/A_0 + c k`` (the loss per loop of the exponential transition curves
+  of paper Eq. 13 grows like the amplitude cubed, so the amplitude falls like ``1/k``);
+* towards a limit, ``A_k = A_inf + (A_0 - A_inf) q^k`` (loops that become elastic below an
+  amplitude: overlaps under ``D / beta`` never leave the compression envelope, Eq. 13).
+
+The centre creeps as the loops shrink (the loops of Eq. 13 do not close: each ends at a
+slightly different force), in proportion to the amplitude lost, ``kappa`` measured over the
+same cycles (``kappa ~ 7`` on the slow scene of Fig. 11's kind: the centre moves seven times
+the amplitude it loses). The model's error in the state is bounded by
+``(2 + |kappa|) A_0`` (the band it starts in, and the centre's creep if ``kappa`` were off by
+100 %); the solver reports it. The time of rest is when ``A`` falls below the rest amplitude.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from core.hysteresis import Branch, stored_energy
+from core.hysteretic_base import _OSC, _State
+from core.result import TransitionKind
+
+if TYPE_CHECKING:
+    from core.hysteretic import _Solver
+
+#: Amplitudes (one per cycle) the decay law is fitted to.
+DECAY_FIT = 6
+#: Largest relative spread of the fitted per-cycle rates for the decay to count as regular.
+DECAY_SPREAD = 0.05
+
+GEOMETRIC, INVERSE, LIMIT = 0, 1, 2
+#: Extent of a pressed motion, as a multiple of ``rtol`` (times the length scale), below
+#: which a reduced model takes over: its error in the state is at most that extent, half
+#: the error the app states for each accuracy preset (``~100 rtol``, app/solver.py).
+REDUCE_PER_RTOL = 50.0
+#: ... and at least this fraction of the length scale, a thousandth of a pixel of a plot
+#: 1000 pixels high: below it the motion is rest to the eye whatever the preset.
+PAGE_RESOLUTION = 1e-6
+
+
+class Decay(NamedTuple):
+    """A fitted decay law of the amplitude per cycle (see the module's docstring)."""
+
+    law: int
+    rate: float  # q (GEOMETRIC, LIMIT) or c (INVERSE)
+    limit: float  # A_inf (LIMIT), else 0
+
+    def amplitude(self, amp0: float, n):
+        """Amplitude after ``n`` cycles (array or float) from ``amp0``."""
+        n = np.asarray(n, dtype=float)
+        if self.law == GEOMETRIC:
+            return amp0 * self.rate**n
+        if self.law == INVERSE:
+            return amp0 / (1.0 + self.rate * amp0 * n)
+        return self.limit + (amp0 - self.limit) * self.rate**n
+
+    def slope(self, amp0: float, n):
+        """``dA/dn`` after ``n`` cycles."""
+        n = np.asarray(n, dtype=float)
+        if self.law == GEOMETRIC:
+            return amp0 * self.rate**n * math.log(self.rate)
+        if self.law == INVERSE:
+            return -self.rate * amp0 * amp0 / (1.0 + self.rate * amp0 * n) ** 2
+        return (amp0 - self.limit) * self.rate**n * math.log(self.rate)
+
+    def cycles_to(self, amp0: float, target: float) -> float:
+        """Cycles until the amplitude falls to ``target``; ``inf`` if it never does."""
+        if amp0 <= target:
+            return 0.0
+        if self.law == GEOMETRIC:
+            return math.log(target / amp0) / math.log(self.rate)
+        if self.law == INVERSE:
+            return (1.0 / target - 1.0 / amp0) / self.rate
+        if self.limit >= target:
+            return math.inf
+        return math.log((target - self.limit) / (amp0 - self.limit)) / math.log(self.rate)
+
+
+def _spread(values: list[float]) -> float:
+    """Relative standard deviation (plain floats: six values, numpy's overhead would
+    dominate; the fit runs once per contact or reversal)."""
+    n = len(values)
+    mean = sum(values) / n
+    if mean == 0.0:
+        return math.inf
+    return math.sqrt(sum((v - mean) ** 2 for v in values) / n) / abs(mean)
+
+
+def fit_decay(amplitudes) -> Decay | None:
+    """The steadiest decay law of the last :data:`DECAY_FIT` amplitudes (one per cycle),
+    or ``None`` if they do not shrink or no law fits within :data:`DECAY_SPREAD`.
+
+    Examples
+    --------
+    >>> fit_decay([1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125]).law == GEOMETRIC
+    True
+    """
+    a = [float(v) for v in amplitudes][-DECAY_FIT:]
+    if len(a) < DECAY_FIT or a[-1] <= 0.0:
+        return None
+    pairs = list(zip(a[:-1], a[1:], strict=True))
+    if any(q >= p for p, q in pairs):
+        return None
+    ratio = [q / p for p, q in pairs]
+    inverse = [1.0 / q - 1.0 / p for p, q in pairs]
+    steps = [q - p for p, q in pairs]
+    to_limit = [q / p for p, q in zip(steps[:-1], steps[1:], strict=True)]
+    # Spreads of the decrements (1 - ratio), not of the ratios: ratios near 1 always look
+    # steady relative to their mean.
+    fits = [(_spread([1.0 - r for r in ratio]), Decay(GEOMETRIC, 0.5 * sum(ratio[-2:]), 0.0)),
+            (_spread(inverse), Decay(INVERSE, 0.5 * sum(inverse[-2:]), 0.0))]
+    q = 0.5 * sum(to_limit[-2:])
+    if 0.0 < q < 1.0:
+        limit = a[-1] + steps[-1] * q / (1.0 - q)
+        if limit > 0.0:
+            fits.append((_spread([1.0 - r for r in to_limit]), Decay(LIMIT, q, limit)))
+    spread, decay = min(fits, key=lambda f: f[0])
+    if spread > DECAY_SPREAD:
+        return None
+    if decay.law != INVERSE and not 0.0 < decay.rate < 1.0:
+        return None
+    return decay
+
+
+class Oscillation(NamedTuple):
+    """The reduced model's motion from its start ``t_s`` (row data of the solver)."""
+
+    x_c: float  # centre at the start
+    amp0: float  # amplitude at the start
+    period: float  # cycle
+    phase0: float  # phase at the start
+    decay: Decay
+    kappa: float = 0.0  # creep of the centre per amplitude lost
+
+    @property
+    def error_bound(self) -> float:
+        """Bound of the model's error in the position (see the module's docstring)."""
+        return (2.0 + abs(self.kappa)) * self.amp0
+
+    def centre(self, amp) -> float:
+        """Centre of the oscillation once its amplitude is ``amp``."""
+        return self.x_c + self.kappa * (self.amp0 - amp)
+
+    def state(self, tau):
+        """Position and velocity ``tau`` after the start (arrays or floats)."""
+        n = np.asarray(tau, dtype=float) / self.period
+        amp = self.decay.amplitude(self.amp0, n)
+        damp = self.decay.slope(self.amp0, n) / self.period
+        w = 2.0 * math.pi / self.period
+        ph = self.phase0 + w * np.asarray(tau, dtype=float)
+        c, s = np.cos(ph), np.sin(ph)
+        return (self.centre(amp) + amp * c, damp * (c - self.kappa) - amp * w * s, amp)
+
+    def energy(self, amp) -> float:
+        """Energy of the linear oscillator of this cycle at amplitude ``amp``."""
+        w = 2.0 * math.pi / self.period
+        return 0.5 * w * w * amp * amp
+
+
+def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: int):
+    """Hand a small pressed oscillation to a reduced model (:mod:`core.hysteretic_reduced`),
+    or return ``None`` while it is too large or its decay not yet regular.
+
+    One cycle is two reversals; its amplitude is a quarter of its two swings. Loops that
+    tend to a limit amplitude (they turn elastic) are a fixed point of the loop map once
+    the amplitude is within the tolerance of its limit: the last cycle is then repeated.
+    Loops that die out follow the fitted decay until the rest amplitude.
+    """
+    if not (sv.use_reduced and sv.pressed() and s > 0) or len(
+        reversal_x
+    ) < 2 * DECAY_FIT + 1:
+        return None
+    ts, xs, ns = zip(*reversal_x[-(2 * DECAY_FIT + 1):], strict=True)
+    period = ts[-1] - ts[-3]
+    tol = reduce_extent(sv)
+    # Loops of the passive law inside the band retrace their curve: they repeat exactly, a
+    # fixed point of the loop map, taken once the drift per cycle (integration error),
+    # summed over the cycles left, stays inside the tolerance. The paper's loops never
+    # repeat (they creep and shrink): the decay models below take them.
+    drift = max(abs(xs[k] - xs[k - 2]) for k in range(2, len(xs)))
+    if sv.stop.law == "passive" and period > 0.0 and drift * (sv.t_end - st.t) / period <= tol:
+        sv.periodic(ts[-3], ns[-3], st)
+        if sv.steady is None:
+            return None
+        sv.record(TransitionKind.REDUCED, st, 0.0)
+        sv.reduced_error = max(sv.reduced_error, drift * (sv.t_end - st.t) / period)
+        return "periodic"
+    swings = np.abs(np.diff(xs))
+    amps = 0.25 * (swings[0::2] + swings[1::2])
+    decay = fit_decay(amps)
+    if decay is None:
+        return None
+    if decay.law == LIMIT and decay.limit > 0.5 * sv.rest_amplitude():
+        if amps[-1] - decay.limit > tol:
+            return None
+        sv.periodic(ts[-3], ns[-3], st)
+        sv.record(TransitionKind.REDUCED, st, 0.0)
+        sv.reduced_error = max(sv.reduced_error, 2.0 * (amps[-1] - decay.limit))
+        return "periodic"
+    if 2.0 * amps[-1] > tol or 2.0 * math.pi / period * amps[-1] >= sv.vb:
+        return None
+    x_c = 0.5 * (xs[-1] + xs[-2])
+    xa = np.asarray(xs)
+    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+    model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
+                        decay, kappa)
+    if model.error_bound > tol:
+        return None
+    return oscillate(sv, st, branch, s, model)
+
+
+def reduce_extent(sv: _Solver) -> float:
+    """Extent of a pressed motion (and drift from a limit cycle) below which a reduced
+    model takes over: :data:`REDUCE_PER_RTOL` ``rtol``, at least :data:`PAGE_RESOLUTION`
+    (times the length scale)."""
+    return max(REDUCE_PER_RTOL * sv.rtol, PAGE_RESOLUTION) * sv.scale()
+
+
+def creep_end(sv: _Solver, reversal_x, s: int) -> float | None:
+    """Where the centre of a settled pressed oscillation ends once its last amplitude
+    is gone: the centre creeps ``kappa`` times the amplitude lost
+    (:mod:`core.hysteretic_reduced`); ``None`` if it cannot be measured (then rest is
+    at the equilibrium on the current branch)."""
+    if not (sv.pressed() and s > 0) or len(reversal_x) < 2 * DECAY_FIT + 1:
+        return None
+    xa = np.array([x for _, x, _ in reversal_x[-(2 * DECAY_FIT + 1):]])
+    swings = np.abs(np.diff(xa))
+    amps = 0.25 * (swings[0::2] + swings[1::2])
+    if not np.all(np.diff(amps) < 0.0):
+        return None
+    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+    return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * float(swings[-1])
+
+
+def reduce_train(sv: _Solver, st: _State, train: list) -> str | None:
+    """A train of contacts of a pressed mass whose amplitude tends to a limit (contacts
+    that turn elastic): once the amplitude is within the tolerance of its limit, the
+    contact-to-contact map is at its fixed point and the last cycle is repeated.
+
+    ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of this
+    response's contacts; a cycle's amplitude is half the distance from the top of the
+    flight before the contact, ``a - sqrt((a - x_bar)^2 + w^2)``, to the contact's peak.
+    """
+    if not (sv.use_reduced and sv.pressed()) or len(train) < DECAY_FIT + 2:
+        return None
+    done = train[-(DECAY_FIT + 1):-1]
+    if any(math.isnan(peak) for _, _, peak, _ in done):
+        return None
+    gap = sv.a - sv.xb
+    amps = [0.5 * (peak - (sv.a - math.hypot(gap, w))) for _, w, peak, _ in done]
+    decay = fit_decay(amps)
+    if decay is None or decay.law != LIMIT or amps[-1] - decay.limit > reduce_extent(sv):
+        return None
+    t_then, _, _, n_then = train[-2]
+    sv.periodic(t_then, n_then, st)
+    if sv.steady is None:
+        return None
+    sv.record(TransitionKind.REDUCED, st, st.v)
+    sv.reduced_error = max(sv.reduced_error, 2.0 * (amps[-1] - decay.limit))
+    return "periodic"
+
+
+def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillation) -> str:
+    """Advance a small pressed oscillation by its reduced model until its amplitude is
+    below the rest amplitude, then rest at the equilibrium.
+
+    Energy: friction and belt work follow the model's motion; the stop takes the rest
+    of the balance, and its loss grows by the oscillator's energy ``omega^2 A^2 / 2``
+    as the amplitude decays, so ``stop_loss`` never falls.
+    """
+    sv.record(TransitionKind.REDUCED, st, st.v)
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
+    tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
+    t1 = min(st.t + tau_rest, sv.t_end)
+    x_s, m_s = st.x, 0.5 * (st.x * st.x + st.v * st.v)
+    loss_s = st.work[2] - stored_energy(st.x - sv.xb, branch.phi_r, sv.stop)
+    if not sv.contact.kind or sv.timeline[-1][1] != 1:
+        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
+    sa = s * sv.a
+    sv.contact.add(_OSC, st.t, t1, (model, x_s, m_s, loss_s), sa, st.work)
+    x1, v1, _ = (float(q) for q in model.state(t1 - st.t))
+    wf, wb, ws = st.work
+    dwf = sa * (x1 - x_s)
+    dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
+    st.work = (wf + dwf, wb + sa * sv.vb * (t1 - st.t), ws + dwf - dm)
+    st.t, st.x, st.v = t1, x1, v1
+    sv.reduced_error = max(sv.reduced_error, model.error_bound)
+    if t1 >= sv.t_end:
+        return "horizon"
+    return sv.rest_at_stop(st, branch, s, x_rest=model.centre(0.0))

@@ -1,0 +1,409 @@
+"""Samples, energy terms, dense evaluation and the steady state of a deformable-stop solve
+(:mod:`core.hysteretic`), from the rows and transitions the solver recorded."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from core.dense import steady_from_transitions
+from core.hysteresis import (
+    BranchPrimitive,
+    branch_work,
+    force_on_branches,
+    stored_energy_many,
+)
+from core.hysteretic_arcs import _evaluate_arcs
+from core.hysteretic_base import (
+    _ARC,
+    _HERMITE,
+    _LINE,
+    _OSC,
+    FIXED_POINT_RTOL,
+    _dpoly,
+    _poly,
+)
+from core.params import HystereticStop
+from core.result import (
+    Energy,
+    Mode,
+    Result,
+    Status,
+    Steady,
+    SteadyKind,
+    Transition,
+    TransitionKind,
+    make_stats,
+)
+from core.trajectory import evaluate
+
+if TYPE_CHECKING:
+    from core.hysteretic import _Solver
+
+
+#: Samples added on each branch of a contact (from its start, a reversal of the overlap
+#: rate or its end to the next) besides the uniform grid: a contact lasts ~pi/sqrt(k_c0),
+#: a few uniform samples at most, and a force history or hysteresis loop drawn through so
+#: few is a polygon of chords that cuts above the compression envelope.
+CONTACT_SAMPLES = 16
+
+
+#: Branches sampled so at the start and at the end of a response (a mass that rattles on
+#: the stop has thousands; the first loops are the large ones, the last the steady ones).
+CONTACT_SAMPLED_BRANCHES = 16
+
+
+def _continued(sv: _Solver, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Times mapped into the detected cycle (periodic continuation) and the work the
+    repeated cycles add; the identity and zeros without a cycle."""
+    shift_work = np.zeros((len(times), 3))
+    t_eval = np.array(times, dtype=float)
+    if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
+        t_then, t_now = sv.tail_start
+        period = t_now - t_then
+        late = t_eval > t_now
+        k = np.floor((t_eval[late] - t_then) / period)
+        t_eval[late] = t_eval[late] - k * period
+        per = _work_at(sv, np.array([t_now, t_then]))
+        shift_work[late] = k[:, None] * (per[0] - per[1])[None, :]
+        # Each repeated cycle returns to the same state, so the stop takes exactly the
+        # friction work of the cycle: a cycle that is a fixed point only to a tolerance
+        # (a reduced model's) would otherwise add its energy drift once per cycle.
+        shift_work[late, 2] = shift_work[late, 0]
+    return t_eval, shift_work
+
+
+class HystereticDense:
+    """The solution as a function of time (:attr:`core.result.Result.dense`): exact free
+    flight, the contact rows' quintic Hermite steps, arcs, lines and reduced models, and
+    the periodic continuation. Position and velocity are continuous at a deformable stop,
+    so ``side`` makes no difference."""
+
+    def __init__(self, sv: _Solver, t_stop: float) -> None:
+        self._sv, self._t_stop = sv, t_stop
+
+    def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if np.any(t < 0.0) or np.any(t > self._t_stop):
+            raise ValueError(f"t must lie in [0, {self._t_stop:g}] (the computed motion)")
+        t_eval, _ = _continued(self._sv, t)
+        x, xd, *_ = _evaluate(self._sv, t_eval, self._sv.stop)
+        return x, xd
+
+
+def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
+    """Samples on the free segments and the contact rows, energy terms, steady state."""
+    t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
+    if t_eval is None:
+        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop]
+        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
+                                          _contact_samples(sv, t_stop, t_end))))
+    else:
+        times = np.asarray(t_eval, dtype=float)
+    times = times[times <= t_stop]
+    if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
+        t_then, t_now = sv.tail_start
+        _replicate(sv, t_then, t_now, t_now - t_then, t_end)
+    t_eval, shift_work = _continued(sv, times)
+    x, xd, mode, phi, delta, work, stored = _evaluate(sv, t_eval, stop)
+    work = work + shift_work
+    mechanical = 0.5 * (x * x + xd * xd)
+    energy = Energy(
+        mechanical=mechanical,
+        friction_work=work[:, 0],
+        belt_input=work[:, 1],
+        stop_loss=work[:, 2] - stored,
+        stop_stored=stored,
+    )
+    steady = sv.steady
+    if steady is None:
+        steady = _asymptotic(sv, t_end, mode, xd)
+    restitution = sv.restitution
+    stats = make_stats(
+        segments=len(sv.table) + len(sv.contact.kind),
+        steps=sv.steps,
+        rejected=sv.rejected,
+        rhs_evals=sv.rhs_evals + sv.arc_evals,
+        events=sv.log.total,
+    )
+    info = {
+        "n_contacts": sv.n_contacts,
+        "contact_rhs_evals": sv.rhs_evals,
+        "arcs": sv.arcs,
+        "arc_evals": sv.arc_evals,
+        "effective_restitution": restitution[-1] if restitution else math.nan,
+        "effective_restitution_first": restitution[0] if restitution else math.nan,
+        "law": stop.law,
+    }
+    if not math.isnan(sv.rest_force):
+        info["rest_force"] = sv.rest_force
+    if sv.reduced_error > 0.0:
+        info["reduced_error"] = sv.reduced_error
+    x_max = sv.x_max
+    if sv.table.t0:
+        x_max = max(x_max, sv.table.x_max)
+    return Result(
+        t=times,
+        x=x,
+        v=xd,
+        mode=mode.astype(np.int8),
+        transitions=tuple(sv.log.stored),
+        transition_counts=dict(sv.log.counts),
+        n_transitions=sv.log.total,
+        x_max=float(x_max),
+        steady=steady,
+        status=sv.status,
+        energy=energy,
+        contact_force=phi,
+        overlap=delta,
+        impulses=np.zeros((0, 2)),
+        method="exact",
+        stats=stats,
+        info=info,
+        dense=HystereticDense(sv, t_stop),
+    )
+
+
+def _last_time(sv: _Solver) -> float:
+    ends = [sv.contact.t1[-1]] if sv.contact.t1 else []
+    if sv.table.t1:
+        ends.append(sv.table.t1[-1])
+    return max(ends) if ends else 0.0
+
+
+def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
+    """:data:`CONTACT_SAMPLES` times on each branch of the first and the last
+    :data:`CONTACT_SAMPLED_BRANCHES` contact branches, a detected cycle's continuation
+    included."""
+    kinds = (TransitionKind.CONTACT, TransitionKind.REVERSAL, TransitionKind.SEPARATION)
+    marks = [(tr.t, tr.kind) for tr in sv.log.stored if tr.kind in kinds and tr.t <= t_stop]
+    marks.append((t_stop, TransitionKind.SEPARATION))
+    spans = [(t0, t1) for (t0, k0), (t1, _) in zip(marks[:-1], marks[1:], strict=True)
+             if k0 is not TransitionKind.SEPARATION and t1 > t0]
+    if spans and sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
+        t_then, t_now = sv.tail_start
+        period = t_now - t_then
+        cycle = [(a, b) for a, b in spans if a >= t_then and b <= t_now + 1e-12 * period]
+        repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
+        # Only the last repeats can be among the sampled branches: a cycle of a train of
+        # micro-contacts may repeat a million times.
+        first = max(1, repeats - CONTACT_SAMPLED_BRANCHES)
+        spans += [(a + k * period, b + k * period)
+                  for k in range(first, repeats + 1) for a, b in cycle if a + k * period < t_end]
+    if len(spans) > 2 * CONTACT_SAMPLED_BRANCHES:
+        spans = spans[:CONTACT_SAMPLED_BRANCHES] + spans[-CONTACT_SAMPLED_BRANCHES:]
+    if not spans:
+        return np.zeros(0)
+    a, b = np.array(spans).T
+    frac = np.arange(1, CONTACT_SAMPLES + 1) / (CONTACT_SAMPLES + 1)
+    return (a[:, None] + (b - a)[:, None] * frac[None, :]).ravel()
+
+
+def _replicate(sv: _Solver, t_then: float, t_now: float, period: float, t_end: float) -> None:
+    """Transitions after the detected cycle: shifted copies, stored up to the cap."""
+    cycle = [tr for tr in sv.log.stored
+             if t_then < tr.t <= t_now and tr.kind is not TransitionKind.REDUCED]
+    if not cycle:
+        return
+    k = 1
+    while True:
+        if cycle[0].t + k * period > t_end:
+            return
+        if len(sv.log.stored) >= sv.log.cap:
+            remaining = t_end - (cycle[0].t + k * period)
+            full = int(remaining // period) + 1
+            for tr in cycle:
+                n = (
+                    full
+                    if tr.t - cycle[0].t + (full - 1) * period + cycle[0].t + k * period <= t_end
+                    else full - 1
+                )
+                sv.log.total += n
+                sv.log.counts[tr.kind.value] += n
+            return
+        for tr in cycle:
+            ts = tr.t + k * period
+            if ts > t_end:
+                return
+            sv.log.add(tr.kind, ts, tr.x, tr.v, tr.v_after)
+        k += 1
+
+
+def _locate(sv: _Solver, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    starts = np.array([e[0] for e in sv.timeline])
+    src = np.array([e[1] for e in sv.timeline], dtype=int)
+    row = np.array([e[2] for e in sv.timeline], dtype=int)
+    i = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, len(starts) - 1)
+    return src[i], row[i]
+
+
+def _work_at(sv: _Solver, t: np.ndarray) -> np.ndarray:
+    _, _, _, _, _, work, _ = _evaluate(sv, t, sv.stop)
+    return work
+
+
+def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
+    """State, mode, force, overlap, cumulative work and stored energy at times ``t``."""
+    n = len(t)
+    x = np.zeros(n)
+    xd = np.zeros(n)
+    mode = np.zeros(n, dtype=np.int8)
+    phi = np.zeros(n)
+    work = np.zeros((n, 3))
+    stored = np.zeros(n)
+    if not sv.timeline:
+        return x, xd, mode, phi, x - stop.clearance, work, stored
+    src, first_row = _locate(sv, t)
+    free = src == 0
+    if np.any(free):
+        table = sv.table.arrays(sv.vb)
+        out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
+        x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
+        work[free, 0] = out["friction_work"]
+        work[free, 1] = out["belt_input"]
+        work[free, 2] = out["stop_loss"]
+    idx = np.nonzero(~free)[0]
+    if len(idx):
+        c = sv.contact
+        t0 = np.array(c.t0)
+        rows = np.clip(np.searchsorted(t0, t[idx], side="right") - 1, 0, len(t0) - 1)
+        xb = stop.clearance
+        kinds = np.array(c.kind, dtype=np.int8)[rows]
+        branch_rows = np.array(c.branch, dtype=int)[rows]
+        is_arc = kinds == _ARC
+        is_osc = kinds == _OSC
+        if np.any(is_arc):
+            _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
+        osc_stored: dict[int, float] = {}
+        for j, r in zip(idx[is_osc], rows[is_osc], strict=True):
+            model, x_s, m_s, loss_s = c.data[r]
+            tau = t[j] - c.t0[r]
+            xj, uj, amp = (float(q) for q in model.state(tau))
+            wf, wb, ws = c.work0[r]
+            dwf = c.friction[r] * (xj - x_s)
+            x[j], xd[j] = xj, uj
+            work[j] = (wf + dwf, wb + c.friction[r] * sv.vb * tau,
+                       ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s))
+            dissipated = model.energy(model.amp0) - model.energy(amp)
+            osc_stored[j] = work[j, 2] - (loss_s + dissipated)
+        plain = ~is_arc & ~is_osc
+        for j, r in zip(idx[plain], rows[plain], strict=True):
+            kind = c.kind[r]
+            tau = t[j] - c.t0[r]
+            wf, wb, ws = c.work0[r]
+            if kind == _HERMITE:
+                coeffs, h = c.data[r][:6], c.data[r][6]
+                th = tau / h
+                xj, uj = _poly(coeffs, th), _dpoly(coeffs, th) / h
+                fr = c.friction[r]
+                wf += fr * (xj - coeffs[0])
+                wb += fr * sv.vb * tau
+            elif kind == _LINE:
+                x_start, vb = c.data[r]
+                xj, uj = x_start + vb * tau, vb
+                bi = c.branch[r]
+                wst = 0.5 * (xj * xj - x_start * x_start) + branch_work(
+                    x_start - xb, xj - xb, c.branches[bi], stop
+                )
+                wf += wst
+                wb += wst
+            else:
+                xj, uj = c.data[r][0], 0.0
+                wb += c.friction[r] * sv.vb * tau
+            x[j], xd[j] = xj, uj
+            work[j, 0], work[j, 1] = wf, wb
+        mode[idx] = Mode.CONTACT
+        brs = c.branches
+        delta = x[idx] - xb
+        loading = np.array([brs[i].loading for i in branch_rows])
+        d_r = np.array([brs[i].delta_r for i in branch_rows])
+        p_r = np.array([brs[i].phi_r for i in branch_rows])
+        phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop)
+        primitives: dict[int, BranchPrimitive] = {}
+
+        def primitive(bi: int) -> BranchPrimitive:
+            # Unloading branches from 0: their integral up to delta is the stored energy.
+            if bi not in primitives:
+                d0 = c.branch_start[bi][0]
+                sel = delta[branch_rows == bi]
+                lo = 0.0 if not brs[bi].loading else min(d0, float(sel.min()))
+                hi = max(d0, float(sel.max()), brs[bi].delta_r)
+                primitives[bi] = BranchPrimitive(brs[bi], stop, lo, hi)
+            return primitives[bi]
+
+        for k in np.nonzero(plain)[0]:
+            bi = branch_rows[k]
+            d0, w0 = c.branch_start[bi]
+            prim = primitive(bi)
+            work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
+        # The energy the stop gives back on unloading from the law's current state: while
+        # loading, a new unloading branch would start here (Eq. 12); while unloading, the
+        # current branch goes on (not a fresh one from (delta, phi): they differ where the
+        # branch has been clipped onto the compression envelope).
+        stored[idx] = stored_energy_many(delta, phi[idx], stop)
+        for k in np.nonzero(~loading & (delta > 0.0) & ~is_osc)[0]:
+            prim = primitive(branch_rows[k])
+            stored[idx[k]] = prim(delta[k]) - prim(0.0)
+        for j, value in osc_stored.items():
+            stored[j] = value
+    return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
+    """Steady state read off the last transitions when no fixed point was found."""
+    if sv.status is not Status.SUCCESS:
+        return Steady(SteadyKind.NONE)
+    if sv.pressed():
+        return _pressed_steady(list(sv.log.recent))
+    endless = getattr(sv, "endless", None)
+    if endless is not None:
+        if endless.mode is Mode.SLIP:
+            radius = math.hypot(endless.x0 - endless.centre, endless.v0)
+            if radius > 0.0:
+                return Steady(
+                    SteadyKind.PURE_SLIP,
+                    period=2.0 * math.pi,
+                    x_max=endless.centre + radius,
+                    t_reached=endless.t0,
+                )
+        return Steady(SteadyKind.EQUILIBRIUM, x_max=endless.x0, t_reached=endless.t0)
+    tail = list(sv.log.recent)
+    return steady_from_transitions(
+        tail,
+        tol=FIXED_POINT_RTOL * sv.scale(),
+        t_end=t_end,
+        final_mode=int(mode[-1]) if len(mode) else 0,
+        final_v=float(xd[-1]) if len(xd) else 0.0,
+    )
+
+
+def _pressed_steady(tail: list[Transition]) -> Steady:
+    """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
+    latest transitions when no fixed point was found.
+
+    No slip circle misses or grazes the stop then (the circles about ``(a, 0)`` all cross
+    it), so neither pure slip nor grazing can be the limit: the motion ends at rest on the
+    stop, or goes on as a train of contacts, or as an oscillation on the stop. A train is
+    labelled with the measured ratio of successive approach speeds; a sustained oscillation
+    whose swings shrink is rest approached, with the measured ratio of successive swings.
+    """
+    speeds = [tr.v for tr in tail if tr.kind is TransitionKind.CONTACT]
+    if len(speeds) >= 2 and any(tr.kind is TransitionKind.SEPARATION for tr in tail[-4:]):
+        ratio = float(np.median(np.array(speeds[1:]) / np.array(speeds[:-1])))
+        return Steady(
+            SteadyKind.CONTACT_TRAIN,
+            impact_speed=speeds[-1],
+            decay_rate=ratio,
+            x_max=max(tr.x for tr in tail),
+        )
+    xs = [tr.x for tr in tail if tr.kind is TransitionKind.REVERSAL]
+    swings = np.abs(np.diff(xs))
+    if len(swings) >= 4 and np.all(swings[-4:] > 0.0):
+        ratio = float(np.median(swings[-4:][1:] / swings[-4:][:-1]))
+        if ratio < 1.0:
+            return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0, decay_rate=ratio)
+    if tail and tail[-1].kind is TransitionKind.REDUCED:
+        return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
+    return Steady(SteadyKind.NONE)

@@ -1,0 +1,153 @@
+"""A mass pressed on the deformable stop (``x_bar < a``): labels, rest, energy, reduced models.
+
+The belt ``Oscillator(0.45, 0.30, 0.25, u_s=2.0)`` (a = 0.6) and the stop's face at 0.42:
+every slip circle about ``(a, 0)`` crosses the face, so the motion ends on the stop
+(docs/physics.md, the pressed case).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from core import HystereticStop, Oscillator, Status, SteadyKind, TransitionKind, simulate
+from core.hysteretic import simulate_hysteretic
+
+PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
+FACE = 0.42
+SCALE = max(PRESSING.a, PRESSING.b, PRESSING.v)
+#: The app's "standard" preset (app/solver.py).
+STANDARD = {"rtol": 1e-8, "atol": 1e-11}
+
+
+def _balance(res) -> float:
+    e = res.energy
+    lhs = e.mechanical - e.mechanical[0]
+    return float(np.abs(lhs - (e.friction_work - e.stop_loss - e.stop_stored)).max())
+
+
+def test_train_of_micro_contacts_keeps_its_transitions_and_a_true_label():
+    """k_c0 = 1e6: contacts go on to t_end, so the steady state cannot be read off the first
+    10,000 stored transitions (they end at t = 51.26: it was labelled pure slip with
+    x_max = nan from there, while the samples still showed contacts)."""
+    stop = HystereticStop(FACE, 1e6, 5e5, limit_overlap=1e-3, beta_c=1000.0, beta_e=1000.0)
+    res = simulate(PRESSING, stop, 100.0, **STANDARD)
+    assert res.steady.kind in (SteadyKind.PERIODIC, SteadyKind.CONTACT_TRAIN)
+    assert math.isfinite(res.steady.impact_speed) and res.steady.impact_speed > 0.0
+    late = res.t > 90.0
+    assert res.overlap[late].max() > 0.0  # contacts until the end ...
+    assert res.n_transitions > len(res.transitions)  # ... past the stored ones
+    # The contact force at the samples stays on the law (no contact left unrecorded).
+    assert np.all(res.contact_force[res.overlap <= 0.0] == 0.0)
+
+
+#: Cells of the (k_c0, beta, D) grid (k_e0 = k_c0 / 2) that were labelled grazing, a slip
+#: circle touching the stop, impossible with x_bar < a (each checked on the old solver).
+GRID = [(1e2, 10.0, 0.1), (1e2, 100.0, 1.0), (1e3, 10.0, 1e-2), (1e3, 100.0, 0.1),
+        (1e4, 10.0, 1e-2), (1e4, 100.0, 0.1), (1e5, 100.0, 1e-2)]
+
+
+@pytest.mark.parametrize(("k_c0", "beta", "d"), GRID)
+def test_pressed_mass_is_never_pure_slip_nor_grazing(k_c0, beta, d):
+    stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
+    res = simulate(PRESSING, stop, 100.0, **STANDARD)
+    assert res.steady.kind not in (SteadyKind.PURE_SLIP, SteadyKind.GRAZING)
+    if res.steady.kind is SteadyKind.CONTACT_TRAIN:
+        assert 0.0 < res.steady.decay_rate <= 1.0
+
+
+@pytest.mark.parametrize(
+    ("stop_kw", "rtol"),
+    [
+        (dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0), 1e-8),
+        (dict(k_c0=4000.0, k_e0=100.0, beta_c=1000.0, beta_e=1000.0), 1e-5),
+    ],
+)
+def test_rest_is_at_the_equilibrium(stop_kw, rtol):
+    """The rest force balances friction, phi = a - x, to 1e-9 relative (it was the force
+    at the last overlap reversal: off by -9.3e-5 and +7.1e-4 (0.4 %))."""
+    res = simulate_hysteretic(PRESSING, HystereticStop(FACE, **stop_kw), 100.0, 0.0, 0.0,
+                              rtol=rtol, atol=1e-3 * rtol)
+    assert res.steady.kind is SteadyKind.REST and math.isfinite(res.steady.t_reached)
+    x_rest = res.x[-1]
+    force = res.contact_force[-1]
+    assert res.steady.x_max == pytest.approx(x_rest, abs=0.0)
+    assert abs(force - (PRESSING.a - x_rest)) <= 1e-9 * (PRESSING.a - x_rest)
+    assert res.info["rest_force"] == pytest.approx(force, rel=1e-12)
+    assert _balance(res) < 1e3 * rtol * 0.02  # the balance to the integration tolerance
+
+
+def test_stored_energy_is_what_the_unloading_gives_back():
+    """Between the reversal and the separation of a contact, the stored energy is the work
+    the stop still does on the mass until separation (the integral of the force along the
+    unloading branch actually followed), so the loss stays constant there. A fresh unloading
+    from (delta, phi) differs once the branch was clipped onto the compression envelope
+    (beta = 10: the loss rose to 2.3e-4 and fell back to 1.2e-5)."""
+    osc = Oscillator(0.3, 0.2, 0.1)
+    stop = HystereticStop(0.25, 1000.0, 500.0, limit_overlap=1e-3, beta_c=10.0, beta_e=10.0)
+    res = simulate_hysteretic(osc, stop, 4.0, 0.0, 0.0, n_samples=4000)
+    rev = next(tr for tr in res.transitions if tr.kind is TransitionKind.REVERSAL)
+    sep = next(tr for tr in res.transitions if tr.kind is TransitionKind.SEPARATION)
+    unloading = (res.t > rev.t) & (res.t < sep.t)
+    assert unloading.sum() > 10
+    work = res.energy.stop_loss + res.energy.stop_stored
+    work_at_sep = float(np.interp(sep.t, res.t, work))
+    # The work still to be done by the stop: W(t) - W(t_sep), both on the exact branch
+    # primitives (closed form), so they agree to the integration tolerance.
+    returned = work[unloading] - work_at_sep
+    assert np.allclose(res.energy.stop_stored[unloading], returned, rtol=1e-6, atol=1e-12)
+    loss = res.energy.stop_loss[unloading]
+    assert np.ptp(loss) <= 1e-9 * loss.max()
+    assert _balance(res) < 1e-8
+
+
+def test_reduced_oscillation_against_the_full_model():
+    """A small oscillation on the stop, advanced by its reduced model from the REDUCED
+    transition, against every loop followed (reduce=False): the state at t_end within the
+    stated error bound, the balance closed, the loss never falling."""
+    stop = HystereticStop(FACE, 400.0, 200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    fast = simulate_hysteretic(PRESSING, stop, 60.0, 0.0, 0.0, **STANDARD)
+    full = simulate_hysteretic(PRESSING, stop, 60.0, 0.0, 0.0, reduce=False, **STANDARD)
+    switch = [tr for tr in fast.transitions if tr.kind is TransitionKind.REDUCED]
+    assert len(switch) == 1
+    assert full.n_transitions > fast.n_transitions
+    bound = fast.info["reduced_error"]
+    assert bound <= max(50.0 * STANDARD["rtol"], 1e-6) * SCALE  # inside the stated 1e-6
+    assert abs(fast.x[-1] - full.x[-1]) <= bound
+    # Velocity: the oscillation's speed amplitude, 2 pi / period times the amplitude.
+    before = [tr.t for tr in full.transitions if tr.kind is TransitionKind.REVERSAL]
+    period = before[-1] - before[-3]
+    assert abs(fast.v[-1] - full.v[-1]) <= 2.0 * math.pi / period * bound
+    assert abs(fast.x_max - full.x_max) <= 1e-12
+    assert _balance(fast) < 1e-8
+    assert np.diff(fast.energy.stop_loss[fast.t >= switch[0].t]).min() >= -1e-15
+
+
+def test_too_many_events_is_an_event_limit():
+    """Past max_events the solve ends with Status.EVENT_LIMIT and the result up to there
+    (it returned SUCCESS)."""
+    stop = HystereticStop(FACE, 1e6, 5e5, limit_overlap=1e-3, beta_c=1000.0, beta_e=1000.0)
+    res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, max_events=200, reduce=False)
+    assert res.status is Status.EVENT_LIMIT and not res.success
+    assert res.n_transitions == 200
+    assert res.t[-1] < 100.0 and res.t[-1] >= res.transitions[-1].t
+    assert np.all(np.isfinite(res.x))
+
+
+def test_t_eval_and_dense_evaluation():
+    """Samples at the given times equal the dense solution there and the default samples
+    where those fall (the same interpolants)."""
+    stop = HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    osc = Oscillator(0.3, 0.2, 0.07)
+    res = simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0)
+    times = res.t[::7]
+    at = simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0, t_eval=times)
+    assert np.array_equal(at.t, times)
+    assert np.allclose(at.x, res.x[::7], rtol=0.0, atol=1e-15)
+    x, v = res.evaluate(times)
+    assert np.allclose(x, res.x[::7], rtol=0.0, atol=1e-15)
+    assert np.allclose(v, res.v[::7], rtol=0.0, atol=1e-15)
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_hysteretic(osc, stop, 80.0, 0.0, 0.0, t_eval=[1.0, 90.0])
