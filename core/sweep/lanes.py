@@ -172,10 +172,9 @@ def _check(lanes: Lanes, x0: float) -> None:
     for name, bad, rng in checks:
         if np.any(bad):
             i = int(np.argmax(bad))
-            raise ValueError(
-                f"{name} must lie in {rng}; got {getattr(lanes, name)[i]:.6g} "
-                f"(mu_s={lanes.mu_s[i]:.6g}, mu_k={lanes.mu_k[i]:.6g})"
-            )
+            context = f" (mu_s={lanes.mu_s[i]:.6g})" if name == "mu_k" else ""
+            value = getattr(lanes, name)[i]
+            raise ValueError(f"{name} must lie in {rng}; got {value:.6g}{context}")
     limit = lanes.stop.limit_overlap if isinstance(lanes.stop, HystereticStop) else 0.0
     inside = (
         x0 - lanes.clearance >= limit if limit > 0.0 else x0 > lanes.clearance
