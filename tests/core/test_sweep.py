@@ -254,3 +254,27 @@ def test_importing_core_and_the_sweep_does_not_import_dask():
     code = "import sys, core, core.sweep; print('dask' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize(
+    ("t_end", "x0", "v0", "stop"),
+    [
+        (6.0, 0.0, 0.0, RigidStop(0.25, 0.7)),  # horizons that end most transients: 'none'
+        (200.0, -0.5, 0.3, RigidStop(0.3, 0.8)),  # another start, a still belt among them
+        (200.0, -0.4, 0.0, None),
+    ],
+)
+def test_short_horizons_other_starts_and_a_still_belt_agree_with_simulate(t_end, x0, v0, stop):
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+    values = np.concatenate(([0.0], np.random.default_rng(3).uniform(0.0, 0.45, 40)))
+    res = sweep(osc, stop, "belt_speed", values, t_end=t_end, x0=x0, v0=v0)
+    labels = set()
+    for i, value in enumerate(values):
+        o = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=float(value))
+        ref = simulate(o, stop, t_end, x0, v0, transition_cap=100_000)
+        _assert_lane(res, i, ref, 0.5)
+        labels.add(ref.steady.kind.value)
+    if t_end < 10.0:  # the horizon cuts some transients, not all
+        assert "none" in labels and len(labels) > 1
+    else:
+        assert "equilibrium" in labels or "rest" in labels  # the still belt
