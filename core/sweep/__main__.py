@@ -144,20 +144,21 @@ def main(argv: list[str] | None = None) -> int:
         started = time.perf_counter()
         if serial:
             from core.sweep import _check
-            from core.sweep.distributed import run_chunks
+            from core.sweep.distributed import progress_bar, run_chunks
 
             t_end, x0, v0 = _check(stop, quantity, args.t_end, args.method, 0.0, 0.0)
             lanes = make_lanes(osc, stop, axes, x0)
             rec, _ = run_chunks(lanes, t_end, x0, v0, args.method, client=None,
-                                task_seconds=args.task_seconds)
+                                task_seconds=args.task_seconds, progress=progress_bar)
             result = rec.finish(tuple(axes), axes, quantity, t_end, args.method)
         else:
-            from core.sweep.distributed import sweep_distributed
+            from core.sweep.distributed import progress_bar, sweep_distributed
 
             result = sweep_distributed(
                 osc, stop, axes, quantity=quantity, t_end=args.t_end, method=args.method,
                 scheduler=args.scheduler, n_workers=args.workers,
                 dashboard_address=args.dashboard, task_seconds=args.task_seconds,
+                progress=progress_bar,
             )
     except ValueError as err:
         raise SystemExit(f"error: {err}") from None

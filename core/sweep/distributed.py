@@ -44,7 +44,8 @@ def chunk_size(cost: float, n: int, task_seconds: float) -> int:
     return int(min(n, max(1, math.ceil(task_seconds / max(cost, 1e-12)))))
 
 
-def _bar(done: int, total: int, started: float) -> None:
+def progress_bar(done: int, total: int, started: float) -> None:
+    """A plain progress bar on stderr: chunks done of all, seconds since the start."""
     width = 30
     filled = int(width * done / total)
     sys.stderr.write(
@@ -65,7 +66,7 @@ def run_chunks(
     *,
     client=None,
     task_seconds: float = 0.5,
-    progress: Callable[[int, int, float], None] | None = _bar,
+    progress: Callable[[int, int, float], None] | None = None,
 ) -> tuple[LaneRecords, dict]:
     """Solve ``lanes`` in chunks on a Dask ``client`` (``None``: here, one chunk after
     another). Returns the records in order and facts about the run (cost, chunks)."""
@@ -110,7 +111,7 @@ def sweep_distributed(
     processes: bool = True,
     dashboard_address: str | None = None,
     task_seconds: float = 0.5,
-    progress: Callable[[int, int, float], None] | None = _bar,
+    progress: Callable[[int, int, float], None] | None = None,
     client=None,
 ) -> SweepResult:
     """:func:`core.sweep.sweep_grid` on a Dask cluster.
@@ -125,6 +126,9 @@ def sweep_distributed(
         Where the local cluster serves its dashboard (``":5116"``); ``None``: none.
     task_seconds : float
         Least work per task, from the pilot's cost per point.
+    progress : callable, optional
+        Called as ``progress(chunks_done, chunks, start_time)`` after each chunk, e.g.
+        :func:`progress_bar`.
     client : dask.distributed.Client, optional
         Use this client (and leave it open) instead of making one.
 
