@@ -163,7 +163,8 @@ class _Out:
 
     def __init__(self, n: int) -> None:
         self.rec = LaneRecords.empty(n)
-        self.cycles: list[tuple[np.ndarray, ...]] = []  # (lane ids, kind, x, v, v_after)
+        # Steady periods found so far: (lane ids, kind, x, v, v_after), one row a transition.
+        self.cycles: list[tuple[np.ndarray, ...]] = []
 
     def finish(self, ids, kind: SteadyKind, period=np.nan, x_max=np.nan, impact=np.nan):
         rec = self.rec
@@ -298,8 +299,8 @@ def _push(blk, out, idx, kind, t, x, v, seg_xmax, ended) -> None:
         out.rec.fallback[blk.id[idx[full]]] = True
         ended[idx[full]] = True
         keep = ~full
-        idx, kind, t, x, v, seg_xmax = idx[keep], kind[keep], t[keep], x[keep], v[keep], \
-            seg_xmax[keep]
+        idx, kind, t, x, v = idx[keep], kind[keep], t[keep], x[keep], v[keep]
+        seg_xmax = seg_xmax[keep]
     if not len(idx):
         return
     col = blk.count[idx]
