@@ -15,7 +15,7 @@ from core.result import Mode, SteadyKind, TransitionKind
 from core.sweep import LABELS, closed_form, sweep, sweep_grid
 from core.sweep.result import KIND_CODE, SweepResult
 from core.sweep.scalar import steady_cycle
-from core.theory import classify
+from core.theory import classify, classify_grid
 
 #: Agreement asked of the sweep with simulate (relative to the scene's length scale). Both
 #: evaluate the same closed forms; numpy's and math's transcendental functions differ by a
@@ -278,3 +278,17 @@ def test_short_horizons_other_starts_and_a_still_belt_agree_with_simulate(t_end,
         assert "none" in labels and len(labels) > 1
     else:
         assert "equilibrium" in labels or "rest" in labels  # the still belt
+
+
+@pytest.mark.parametrize("restitution", [1.0, 0.7])
+def test_simulated_regime_map_equals_the_theory_map_for_a_rigid_stop(restitution):
+    # An independent reference: the paper's closed-form classification (core.theory) of
+    # every point of a belt speed x clearance map, slow and fast belts, cases a/b/c.
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+    clearances, speeds = np.linspace(0.0, 0.6, 61), np.linspace(0.01, 0.45, 45)
+    stop = RigidStop(0.25, restitution)
+    res = sweep_grid(osc, stop, {"clearance": clearances, "belt_speed": speeds})
+    theory = classify_grid(osc, stop, speeds, clearances)
+    assert res.labels.shape == theory.expected_steady.shape
+    assert np.array_equal(res.labels, theory.expected_steady)
+    assert len(set(theory.expected_steady.ravel())) >= 3
