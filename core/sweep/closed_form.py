@@ -14,8 +14,10 @@ same rules as :func:`core.rigid.simulate_rigid`:
   :mod:`core.impact_sequence` (rest after accumulation if ``x_bar < a``, else grazing);
 * rest at the stop, equilibrium, pure slip, or the horizon.
 
-A lane whose transient outgrows the history kept per lane (:data:`HISTORY`) is flagged and
-left to :func:`core.simulate` by the caller.
+An event decided within rounding of a threshold (:data:`TIE`) is taken by the scalar
+:func:`core.flight.free_flight` for that lane. A lane whose transient outgrows the history
+kept per lane (:data:`HISTORY`), or whose near-tie comes from a state that numpy's
+rounding may have moved, is flagged and left to :func:`core.simulate` by the caller.
 """
 
 from __future__ import annotations
@@ -24,11 +26,24 @@ import math
 
 import numpy as np
 
-from core.flight import ANGLE_EPS, TWO_PI
-from core.result import SteadyKind, TransitionKind
+from core import flight
+from core.flight import ANGLE_EPS, TWO_PI, Motion, Segment
+from core.params import Oscillator
+from core.result import Mode, SteadyKind, TransitionKind
 from core.rigid import FIXED_POINT_LOOKBACK, FIXED_POINT_RTOL, REST_SPEED
 from core.sweep.lanes import Lanes
 from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
+
+#: Decisions closer than this to their threshold (radians for event angles, relative to the
+#: lane's length scale for lengths) are near-ties. numpy's ``atan2``, ``asin`` and ``hypot``
+#: round differently from :mod:`math`'s in the last bit or two, so at an exact tie (the
+#: elastic case c, where the rebound returns to the stop exactly on the stick line and a
+#: zero-length stick may or may not be seen; a slip circle tangent to the stop or to the
+#: stick line) the two could take different branches. A near-tie event is therefore taken
+#: by the scalar :func:`core.flight.free_flight` itself when the lane's state is the one
+#: ``simulate`` has bit for bit (see ``_Block.clean``); otherwise the lane is left to
+#: ``simulate``. Rounding differences are ~1e-16; 1e-12 keeps a wide margin.
+TIE = 1e-12
 
 #: Transition states kept per lane for the fixed-point test. Every regime of the paper
 #: closes its cycle within a few dozen transitions; a lane that needs more is solved by
@@ -54,13 +69,15 @@ def start_motion(x, xdot, v, b):
     return np.where(stick, STICK, SLIP).astype(np.int8), s.astype(np.int8)
 
 
-def free_flight(t0, x0, v0, mode, s, a, b, v, barrier):
+def free_flight(t0, x0, v0, mode, s, a, b, v, barrier, scale=None):
     """Vectorised :func:`core.flight.free_flight`: every lane to its next event.
 
-    Returns ``(t1, kind, x1, v1, x_max)``: the event time (``inf`` if ``kind`` is
+    Returns ``(t1, kind, x1, v1, x_max, tie)``: the event time (``inf`` if ``kind`` is
     :data:`ENDLESS`), its kind code (an impact is :data:`IMPACT` from slip or stick), the
-    state there, and the segment's exact maximum of ``x`` (as ``Segment.x_max`` of the cut
-    segment; ``c + R`` or ``x0`` for an endless one, as ``core.rigid`` reports it).
+    state there, the segment's exact maximum of ``x`` (as ``Segment.x_max`` of the cut
+    segment; ``c + R`` or ``x0`` for an endless one, as ``core.rigid`` reports it), and
+    the lanes whose event was decided within :data:`TIE` of a threshold (``scale``: the
+    lanes' length scales; ``None``: 1).
     """
     with np.errstate(all="ignore"):
         c = s * a
@@ -118,7 +135,15 @@ def free_flight(t0, x0, v0, mode, s, a, b, v, barrier):
         xmax_slip = np.where(kind == ENDLESS, c + radius, xmax_slip)
         xmax_stick = np.where(kind == ENDLESS, x0, np.maximum(x0, x0 + v * tau))
         x_max = np.where(stick, xmax_stick, xmax_slip)
-    return t1, kind, x1, v1, x_max
+
+        # Near-ties of the slip decisions (see TIE).
+        tol = TIE * (1.0 if scale is None else scale)
+        cross_maybe = slip & (radius > 0.0) & (s > 0) & (np.abs(radius - v) <= tol)
+        stick_or_sign = cross & (np.abs(np.abs(x_cross) - b) <= tol)
+        both = cross & slip & finite & (speed2 > 0.0) & (np.abs(d_hit - d) <= TIE)
+        tangent = slip & finite & (x0 != barrier) & (np.abs(c + radius - barrier) <= tol)
+        tie = cross_maybe | stick_or_sign | both | tangent
+    return t1, kind, x1, v1, x_max, tie
 
 
 class _Block:
@@ -128,6 +153,7 @@ class _Block:
         n = len(lanes)
         self.id = np.arange(n)
         self.a, self.b, self.v = lanes.a, lanes.b, lanes.belt_speed.copy()
+        self.mu_s, self.mu_k, self.u_s = lanes.mu_s.copy(), lanes.mu_k.copy(), lanes.u_s.copy()
         self.xb, self.r = lanes.clearance.copy(), lanes.restitution.copy()
         has_stop = np.isfinite(self.xb)
         scale = np.maximum.reduce(
@@ -151,6 +177,11 @@ class _Block:
         self.h_v = np.zeros((n, HISTORY))
         self.h_xmax = np.zeros((n, HISTORY))
         self.count = np.zeros(n, np.int64)
+        # True while the state was reached by operations that round as core.flight's do
+        # (sums, products, square roots; not numpy's atan2/asin/hypot): the start, the end
+        # of a stick, an impact or rebound from a clean state, an event taken by the
+        # scalar free_flight from a clean state.
+        self.clean = np.ones(n, bool)
 
     def keep(self, mask: np.ndarray) -> None:
         for name, value in list(vars(self).items()):
@@ -178,7 +209,8 @@ def solve_lanes(lanes: Lanes, t_end: float, x0: float, v0: float) -> LaneRecords
     """Steady state of every lane (no stop or a rigid stop) by the vectorised closed form.
 
     Lanes flagged ``fallback`` in the result were not resolved here (their history
-    outgrew :data:`HISTORY`) and hold nothing else; the caller solves them one by one.
+    outgrew :data:`HISTORY`, or a near-tie, :data:`TIE`, met a state numpy may have
+    rounded differently) and hold nothing else; the caller solves them one by one.
     """
     n = len(lanes)
     out = _Out(n)
@@ -226,9 +258,21 @@ def _step(blk: _Block, out: _Out, t_end: float) -> np.ndarray:
         blk.impact_w[go] = w[~(rest | pressed)]
 
     live = ~ended
-    t1, kind, x1, v1, seg_xmax = free_flight(
-        blk.t, blk.x, blk.xd, blk.mode, blk.s, blk.a, blk.b, blk.v, blk.xb
+    t1, kind, x1, v1, seg_xmax, tie = free_flight(
+        blk.t, blk.x, blk.xd, blk.mode, blk.s, blk.a, blk.b, blk.v, blk.xb, blk.scale
     )
+    tie &= live
+    if np.any(tie):
+        dirty = tie & ~blk.clean
+        out.rec.fallback[blk.id[dirty]] = True
+        ended |= dirty
+        live &= ~dirty
+        for i in np.flatnonzero(tie & blk.clean).tolist():
+            t1[i], kind[i], x1[i], v1[i], seg_xmax[i] = _scalar_flight(blk, i)
+    # A slip event's position comes from numpy's hypot; the scalar one's does not.
+    from_slip = (blk.mode == SLIP) & ((kind == SLIP_STICK) | (kind == SIGN_CHANGE))
+    blk.clean &= ~(from_slip & ~tie)
+    blk.clean |= blk.mode == STICK
 
     # 2. A rebound whose arc returns to the stop: the endless impact sequence.
     seq = live & blk.check_sequence & (kind == IMPACT) & (t1 < t_end)
@@ -283,6 +327,23 @@ def _step(blk: _Block, out: _Out, t_end: float) -> np.ndarray:
         )
         _push(blk, out, idx, k, t1[idx], x1[idx], v1[idx], seg_xmax[idx], ended)
     return ended
+
+
+def _scalar_flight(blk: _Block, i: int) -> tuple[float, int, float, float, float]:
+    """Lane ``i``'s next event from :func:`core.flight.free_flight` (a near-tie)."""
+    osc = Oscillator(
+        mu_s=float(blk.mu_s[i]), mu_k=float(blk.mu_k[i]), belt_speed=float(blk.v[i]),
+        u_s=float(blk.u_s[i]),
+    )
+    motion = Motion(Mode.STICK) if blk.mode[i] == STICK else Motion(Mode.SLIP, int(blk.s[i]))
+    t0, x0, v0 = float(blk.t[i]), float(blk.x[i]), float(blk.xd[i])
+    seg, ev = flight.free_flight(osc, t0, x0, v0, motion, float(blk.xb[i]))
+    if ev is None:  # as core.rigid reports an endless segment's maximum
+        radius = math.hypot(seg.x0 - seg.centre, seg.v0)
+        top = seg.centre + radius if seg.mode is Mode.SLIP else seg.x0
+        return math.inf, ENDLESS, math.nan, math.nan, top
+    cut = Segment(seg.mode, seg.t0, ev.t, seg.x0, seg.v0, seg.centre)
+    return ev.t, KIND_CODE[ev.kind], ev.x, ev.v, cut.x_max()
 
 
 def _mask(n: int, idx: np.ndarray) -> np.ndarray:
