@@ -14,8 +14,13 @@ x clearance grid) this prints
 
 Target (issue 18): 10^5 points in <= 5 s on this 2-core machine, agreement to 1e-9.
 
+``--deformable N`` adds a deformable-stop sweep of N belt speeds (``simulate`` per point):
+the pilot's cost per point, the chunk size it gives, and the wall time in this process
+against a 2-worker Dask ``LocalCluster`` (processes), with a check that both are equal.
+
     python benchmarks/sweep_speed.py              # about a minute on two cores
     python benchmarks/sweep_speed.py --points 20000 --reference 200
+    python benchmarks/sweep_speed.py --points 0 --deformable 40
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from core import Oscillator, RigidStop  # noqa: E402
+from core import HystereticStop, Oscillator, RigidStop  # noqa: E402
 from core.sweep import sweep_grid  # noqa: E402
 from core.sweep.lanes import make_lanes  # noqa: E402
 from core.sweep.scalar import solve_lanes  # noqa: E402
@@ -90,6 +95,7 @@ def main() -> None:
     parser.add_argument("--points", type=int, default=100_000)
     parser.add_argument("--reference", type=int, default=300, help="points solved by simulate")
     parser.add_argument("--repeat", type=int, default=3, help="sweep timings (best is shown)")
+    parser.add_argument("--deformable", type=int, default=0, help="deformable-stop points")
     args = parser.parse_args()
     print(
         f"python {platform.python_version()}, numpy {np.__version__}, "
@@ -99,10 +105,11 @@ def main() -> None:
         f"{'scene':34s} {'points':>7s} {'wall s':>7s} {'us/pt':>7s} {'simulate us/pt':>15s} "
         f"{'ratio':>6s} {'fallback':>8s} {'labels':>6s} {'regime':>6s} {'max |diff|':>10s}"
     )
-    print(header)
-    print("-" * len(header))
+    if args.points:
+        print(header)
+        print("-" * len(header))
     total_worst = 0.0
-    for name, stop, axes in scenes(args.points):
+    for name, stop, axes in scenes(args.points) if args.points else ():
         times = []
         for _ in range(args.repeat):
             start = time.perf_counter()
@@ -124,10 +131,48 @@ def main() -> None:
             f"{sim / per:6.0f} {int(res.fallback.sum()):8d} "
             f"{agree['label'] + agree['tpp']:6d} {agree['regime']:6d} {worst:10.1e}"
         )
+    if args.points:
+        print(
+            f"\ntarget: {args.points} points in <= {TARGET_SECONDS:g} s per sweep; agreement "
+            f"<= 1e-9 (worst here {total_worst:.1e}). 'labels' counts points whose steady label "
+            "or transitions per period differ from simulate's, 'regime' whose regime label does."
+        )
+    if args.deformable:
+        deformable(args.deformable)
+
+
+def deformable(n: int) -> None:
+    """A deformable-stop sweep here and on a 2-worker LocalCluster."""
+    from dask.distributed import Client, LocalCluster
+
+    from core.sweep.distributed import chunk_size, pilot_cost, run_chunks
+
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
+    stop = HystereticStop(
+        clearance=0.24, k_c0=400.0, k_e0=36.0, limit_overlap=0.02, beta_c=40.0, beta_e=40.0
+    )
+    t_end = 100.0
+    axes = {"belt_speed": np.linspace(0.02, 0.3, n)}
+    lanes = make_lanes(osc, stop, axes, 0.0)
+    cost = pilot_cost(lanes, t_end, 0.0, 0.0, "exact")
+    start = time.perf_counter()
+    serial, _ = run_chunks(lanes, t_end, 0.0, 0.0, "exact")
+    wall_serial = time.perf_counter() - start
+    start = time.perf_counter()
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            up = time.perf_counter() - start
+            rec, info = run_chunks(lanes, t_end, 0.0, 0.0, "exact", client=client)
+    wall_dask = time.perf_counter() - start
+    same = all(
+        np.array_equal(getattr(serial, f), getattr(rec, f), equal_nan=True)
+        for f in ("period", "x_max", "impact_speed", "cycle_x", "cycle_v", "cycle_force")
+    ) and np.array_equal(serial.label, rec.label)
     print(
-        f"\ntarget: {args.points} points in <= {TARGET_SECONDS:g} s per sweep; agreement "
-        f"<= 1e-9 (worst here {total_worst:.1e}). 'labels' counts points whose steady label "
-        "or transitions per period differ from simulate's, 'regime' whose regime label does."
+        f"\ndeformable stop, {n} belt speeds, t_end = {t_end:g}: pilot {cost * 1e3:.0f} ms/point"
+        f" -> {chunk_size(cost, n, 0.5)} points per task ({info['chunks']} tasks)\n"
+        f"  this process: {wall_serial:.1f} s; 2-worker LocalCluster: {wall_dask:.1f} s "
+        f"(of which {up:.1f} s starting it); identical results: {same}"
     )
 
 
