@@ -104,7 +104,8 @@ def _slice(rec: LaneRecords, i: int, j: int) -> LaneRecords:
     )
 
 
-def _check(stop, quantity, t_end, method, x0, v0):
+def check_options(stop, quantity: str, t_end: float, method: str, x0: float, v0: float):
+    """Check a sweep's options once; returns ``(t_end, x0, v0)`` as floats."""
     check_quantity(quantity, isinstance(stop, HystereticStop))
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     if method not in METHODS:
@@ -176,7 +177,7 @@ def sweep_grid(
     See :func:`sweep` for the other arguments.
     """
     quantity = quantity or default_quantity(stop)
-    t_end, x0, v0 = _check(stop, quantity, t_end, method, x0, v0)
+    t_end, x0, v0 = check_options(stop, quantity, t_end, method, x0, v0)
     if not 1 <= len(axes) <= 2:
         raise ValueError(f"a sweep varies one or two parameters; got {len(axes)}")
     lanes = make_lanes(osc, stop, dict(axes), x0)

@@ -143,10 +143,10 @@ def main(argv: list[str] | None = None) -> int:
         serial = args.serial or (local and vectorised(stop, args.method))
         started = time.perf_counter()
         if serial:
-            from core.sweep import _check
+            from core.sweep import check_options
             from core.sweep.distributed import progress_bar, run_chunks
 
-            t_end, x0, v0 = _check(stop, quantity, args.t_end, args.method, 0.0, 0.0)
+            t_end, x0, v0 = check_options(stop, quantity, args.t_end, args.method, 0.0, 0.0)
             lanes = make_lanes(osc, stop, axes, x0)
             rec, _ = run_chunks(lanes, t_end, x0, v0, args.method, client=None,
                                 task_seconds=args.task_seconds, progress=progress_bar)

@@ -19,7 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
-from core.sweep import _check, default_quantity, solve_block, vectorised
+from core.sweep import check_options, default_quantity, solve_block, vectorised
 from core.sweep.lanes import Lanes, make_lanes
 from core.sweep.result import LaneRecords, SweepResult
 
@@ -136,7 +136,7 @@ def sweep_distributed(
     it returns, point for point.
     """
     quantity = quantity or default_quantity(stop)
-    t_end, x0, v0 = _check(stop, quantity, t_end, method, x0, v0)
+    t_end, x0, v0 = check_options(stop, quantity, t_end, method, x0, v0)
     lanes = make_lanes(osc, stop, dict(axes), x0)
     from dask.distributed import Client, LocalCluster
 
