@@ -45,6 +45,9 @@ from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
 #: ``simulate``. Rounding differences are ~1e-16; 1e-12 keeps a wide margin.
 TIE = 1e-12
 
+#: Ended lanes stay in the arrays (masked) until the live ones are at most this fraction.
+COMPACT = 0.5
+
 #: Transition states kept per lane for the fixed-point test. Every regime of the paper
 #: closes its cycle within a few dozen transitions; a lane that needs more is solved by
 #: ``simulate``, which keeps them all. At most the scalar look-back, so the two tests
@@ -182,6 +185,7 @@ class _Block:
         # of a stick, an impact or rebound from a clean state, an event taken by the
         # scalar free_flight from a clean state.
         self.clean = np.ones(n, bool)
+        self.alive = np.ones(n, bool)  # False once a lane has ended (until compaction)
 
     def keep(self, mask: np.ndarray) -> None:
         for name, value in list(vars(self).items()):
@@ -221,11 +225,13 @@ def solve_lanes(lanes: Lanes, t_end: float, x0: float, v0: float) -> LaneRecords
         & (blk.a >= blk.xb)
     )
     _rest(out, blk, pressed)
-    blk.keep(~pressed)
+    blk.alive &= ~pressed
     while len(blk.id):
-        ended = _step(blk, out, t_end)
-        if np.any(ended):
-            blk.keep(~ended)
+        _step(blk, out, t_end)
+        # Compacting copies the histories: do it when half the lanes have ended, so its
+        # cost stays proportional to the work instead of to the number of events.
+        if np.count_nonzero(blk.alive) <= COMPACT * len(blk.id):
+            blk.keep(blk.alive)
     return _collect(out, n)
 
 
@@ -233,12 +239,12 @@ def _rest(out: _Out, blk: _Block, mask: np.ndarray) -> None:
     out.finish(blk.id[mask], SteadyKind.REST, x_max=blk.xb[mask], impact=0.0)
 
 
-def _step(blk: _Block, out: _Out, t_end: float) -> np.ndarray:
-    """One event for every lane; returns the mask of lanes that ended."""
-    ended = np.zeros(len(blk.id), bool)
+def _step(blk: _Block, out: _Out, t_end: float) -> None:
+    """One event for every live lane; lanes that end are marked in ``blk.alive``."""
+    ended = ~blk.alive
 
     # 1. Impacts waiting to be applied (Newton's law, Eq. 8).
-    p = np.flatnonzero(blk.pending)
+    p = np.flatnonzero(blk.pending & blk.alive)
     if len(p):
         w = blk.xd[p]
         r, xb, v, a = blk.r[p], blk.xb[p], blk.v[p], blk.a[p]
@@ -326,7 +332,7 @@ def _step(blk: _Block, out: _Out, t_end: float) -> np.ndarray:
             k == STICK_SLIP, 1, np.where(k == SIGN_CHANGE, -blk.s[idx], blk.s[idx])
         )
         _push(blk, out, idx, k, t1[idx], x1[idx], v1[idx], seg_xmax[idx], ended)
-    return ended
+    blk.alive &= ~ended
 
 
 def _scalar_flight(blk: _Block, i: int) -> tuple[float, int, float, float, float]:
@@ -447,10 +453,10 @@ def _collect(out: _Out, n: int) -> LaneRecords:
         lane = np.zeros(0, np.int64)
         counts = np.zeros(n, np.int64)
     rec.offsets = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
-    periodic = rec.label == LABEL_CODE[SteadyKind.PERIODIC]
+    sequence: list[tuple[int, ...]] = [()] * n
     kinds = rec.cycle_kind.tolist()
     bounds = rec.offsets.tolist()
-    rec.sequence = [
-        tuple(kinds[bounds[i] : bounds[i + 1]]) if periodic[i] else () for i in range(n)
-    ]
+    for i in np.flatnonzero(rec.label == LABEL_CODE[SteadyKind.PERIODIC]).tolist():
+        sequence[i] = tuple(kinds[bounds[i] : bounds[i + 1]])
+    rec.sequence = sequence
     return rec

@@ -270,17 +270,31 @@ class LaneRecords:
         """The :class:`SweepResult` of these lanes, with the regime table built."""
         names: list[str] = []
         index: dict[tuple[int, tuple[int, ...]], int] = {}
-        regime = np.empty(len(self.label), np.int32)
-        for i, key in enumerate(zip(self.label.tolist(), self.sequence, strict=True)):
-            code = index.get(key)
-            if code is None:
-                label, seq = key
+
+        def code(label: int, seq: tuple[int, ...]) -> int:
+            found = index.get((label, seq))
+            if found is None:
                 text = LABELS[label]
                 if seq:
                     text += ": " + " -> ".join(KINDS[k].value for k in seq)
-                code = index[key] = len(names)
+                found = index[(label, seq)] = len(names)
                 names.append(text)
-            regime[i] = code
+            return found
+
+        # Points without a sequence are labelled by their steady kind alone (vectorised);
+        # only those with one are looked up one by one.
+        by_label = np.array([code(i, ()) if np.any(self.label == i) else -1
+                             for i in range(len(LABELS))], np.int32)
+        regime = by_label[self.label]
+        for i, seq in enumerate(self.sequence):
+            if seq:
+                regime[i] = code(int(self.label[i]), seq)
+        used = np.unique(regime)
+        if len(used) < len(names):  # drop labels that only sequences' points had
+            remap = np.full(len(names), -1, np.int32)
+            remap[used] = np.arange(len(used), dtype=np.int32)
+            regime = remap[regime]
+            names = [names[k] for k in used.tolist()]
         shape = tuple(len(axes[p]) for p in parameters)
         return SweepResult(
             parameters=parameters,
