@@ -96,20 +96,27 @@ def scene(args) -> tuple[Oscillator, RigidStop | HystereticStop | None]:
     )
 
 
+def check_out(path: str) -> None:
+    """Refuse an output the sweep could not be written to, before the sweep runs."""
+    if path.endswith(".npz"):
+        return
+    if not path.endswith(".parquet"):
+        raise SystemExit(f"--out must end in .npz or .parquet; got {path!r}")
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise SystemExit(
+            "writing .parquet needs pyarrow, which is not installed; use .npz"
+        ) from None
+
+
 def write(result: SweepResult, path: str) -> None:
     """``.npz`` always; ``.parquet`` when pyarrow is installed (it is not a dependency)."""
     if path.endswith(".npz"):
         result.to_npz(path)
         return
-    if not path.endswith(".parquet"):
-        raise SystemExit(f"--out must end in .npz or .parquet; got {path!r}")
-    try:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-    except ImportError:
-        raise SystemExit(
-            "writing .parquet needs pyarrow, which is not installed; use .npz"
-        ) from None
+    import pyarrow as pa
+    import pyarrow.parquet as pq
     grids = np.meshgrid(*(result.axes[p] for p in result.parameters), indexing="ij")
     values, offsets = result.samples()
     columns = {name: g.ravel() for name, g in zip(result.parameters, grids, strict=True)}
@@ -130,6 +137,7 @@ def write(result: SweepResult, path: str) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    check_out(args.out)
     if len(args.param) > 2:
         raise SystemExit("--param may be given once or twice")
     try:

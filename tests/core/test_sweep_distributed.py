@@ -89,3 +89,5 @@ def test_cli_refuses_a_bad_range_and_an_unknown_parameter(tmp_path):
         main(["--param", "belt_speed", "0.1:1", "--out", str(tmp_path / "a.npz")])
     with pytest.raises(SystemExit, match="parameter must be one of"):
         main(["--param", "speed", "0.1:1:3", "--out", str(tmp_path / "a.npz")])
+    with pytest.raises(SystemExit, match="must end in .npz or .parquet"):
+        main(["--param", "belt_speed", "0.1:1:3", "--out", str(tmp_path / "a.csv")])
