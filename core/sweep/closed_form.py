@@ -186,6 +186,7 @@ class _Block:
         # scalar free_flight from a clean state.
         self.clean = np.ones(n, bool)
         self.alive = np.ones(n, bool)  # False once a lane has ended (until compaction)
+        self.oscillators: dict[int, Oscillator] = {}  # by lane id, for near-tie events
 
     def keep(self, mask: np.ndarray) -> None:
         for name, value in list(vars(self).items()):
@@ -273,8 +274,11 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
         out.rec.fallback[blk.id[dirty]] = True
         ended |= dirty
         live &= ~dirty
-        for i in np.flatnonzero(tie & blk.clean).tolist():
-            t1[i], kind[i], x1[i], v1[i], seg_xmax[i] = _scalar_flight(blk, i)
+        redo = np.flatnonzero(tie & blk.clean)
+        if len(redo):
+            t1[redo], kind[redo], x1[redo], v1[redo], seg_xmax[redo] = _scalar_flights(
+                blk, redo
+            )
     # A slip event's position comes from numpy's hypot; the scalar one's does not.
     from_slip = (blk.mode == SLIP) & ((kind == SLIP_STICK) | (kind == SIGN_CHANGE))
     blk.clean &= ~(from_slip & ~tie)
@@ -335,21 +339,30 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
     blk.alive &= ~ended
 
 
-def _scalar_flight(blk: _Block, i: int) -> tuple[float, int, float, float, float]:
-    """Lane ``i``'s next event from :func:`core.flight.free_flight` (a near-tie)."""
-    osc = Oscillator(
-        mu_s=float(blk.mu_s[i]), mu_k=float(blk.mu_k[i]), belt_speed=float(blk.v[i]),
-        u_s=float(blk.u_s[i]),
-    )
-    motion = Motion(Mode.STICK) if blk.mode[i] == STICK else Motion(Mode.SLIP, int(blk.s[i]))
-    t0, x0, v0 = float(blk.t[i]), float(blk.x[i]), float(blk.xd[i])
-    seg, ev = flight.free_flight(osc, t0, x0, v0, motion, float(blk.xb[i]))
-    if ev is None:  # as core.rigid reports an endless segment's maximum
-        radius = math.hypot(seg.x0 - seg.centre, seg.v0)
-        top = seg.centre + radius if seg.mode is Mode.SLIP else seg.x0
-        return math.inf, ENDLESS, math.nan, math.nan, top
-    cut = Segment(seg.mode, seg.t0, ev.t, seg.x0, seg.v0, seg.centre)
-    return ev.t, KIND_CODE[ev.kind], ev.x, ev.v, cut.x_max()
+def _scalar_flights(blk: _Block, idx: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The next event of lanes ``idx`` from :func:`core.flight.free_flight` (near-ties)."""
+    rows = []
+    columns = (blk.id, blk.mu_s, blk.mu_k, blk.v, blk.u_s, blk.mode, blk.s, blk.t, blk.x,
+               blk.xd, blk.xb)
+    for lane, mu_s, mu_k, v, u_s, mode, s, t0, x0, v0, xb in zip(
+        *(c[idx].tolist() for c in columns), strict=True
+    ):
+        osc = blk.oscillators.get(lane)
+        if osc is None:  # a lane in case c meets the tie once per period: build it once
+            osc = blk.oscillators[lane] = Oscillator(
+                mu_s=mu_s, mu_k=mu_k, belt_speed=v, u_s=u_s
+            )
+        motion = Motion(Mode.STICK) if mode == STICK else Motion(Mode.SLIP, s)
+        seg, ev = flight.free_flight(osc, t0, x0, v0, motion, xb)
+        if ev is None:  # as core.rigid reports an endless segment's maximum
+            radius = math.hypot(seg.x0 - seg.centre, seg.v0)
+            top = seg.centre + radius if seg.mode is Mode.SLIP else seg.x0
+            rows.append((math.inf, ENDLESS, math.nan, math.nan, top))
+            continue
+        cut = Segment(seg.mode, seg.t0, ev.t, seg.x0, seg.v0, seg.centre)
+        rows.append((ev.t, KIND_CODE[ev.kind], ev.x, ev.v, cut.x_max()))
+    t1, kind, x1, v1, x_max = (np.array(col) for col in zip(*rows, strict=True))
+    return t1, kind.astype(np.int8), x1, v1, x_max
 
 
 def _mask(n: int, idx: np.ndarray) -> np.ndarray:
