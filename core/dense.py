@@ -1,5 +1,10 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
+The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
+steady-state search on them (:func:`steady_from_transitions`) stays here because it works
+to the tolerance of a numerical method, which the fixed-point detector of
+:mod:`core.steady` does not take.
+
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
 their own step points, which are irregular and may be many. This module turns those points
@@ -7,12 +12,12 @@ into the result every method returns:
 
 * uniform samples over ``[0, t_end]`` (``n_samples`` of them) merged with the stored
   transitions' points, interpolated by cubic Hermite polynomials on each step (position with
-  the velocity as derivative, velocity with the acceleration as derivative, SPEC §2);
+  the velocity as derivative, velocity with the acceleration as derivative, ``docs/physics.md``);
 * the mode at each sample, the energy terms (:class:`~core.result.Energy`), the contact
   force and overlap;
 * the transition list capped at ``transition_cap`` with all transitions counted;
-* the steady state (SPEC §6): a fixed point of the friction-impact map ``P^j`` found on the
-  transition sequence, to a tolerance the caller derives from its own accuracy.
+* the steady state (``docs/physics.md``): a fixed point of the friction-impact map ``P^j``
+  found on the transition sequence, to a tolerance the caller derives from its own accuracy.
 
 Conventions of the dense arrays
 -------------------------------
@@ -26,12 +31,16 @@ point with the left limit first, so that the velocity interpolant on each side i
 from __future__ import annotations
 
 import math
-from collections import Counter, deque
 from collections.abc import Sequence
 
 import numpy as np
 
+from core.hysteresis import stored_energy
+from core.numerics.dense_output import PointTrack
+from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
+from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import (
+    DenseSolution,
     Energy,
     Mode,
     Result,
@@ -42,6 +51,7 @@ from core.result import (
     TransitionKind,
 )
 from core.theory import accumulation_time
+from core.transitions import IMPACT_KINDS, TransitionLog
 
 #: How many of the most recent transitions are kept for the steady-state search.
 STEADY_WINDOW = 96
@@ -58,58 +68,18 @@ ASYMPTOTIC_MIN = 6
 STEADY_TOL_PER_RTOL = 1e3
 #: Floor of the relative steady-state tolerance (a few thousand ulps).
 STEADY_TOL_FLOOR = 1e-12
-#: Kinds that end a rigid impact (the velocity jumps at them).
-IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
 
 
-class TransitionLog:
-    """Transitions as an integrator finds them, stored up to a cap but all counted.
+def new_log(cap: int, transitions: Sequence[Transition] = ()) -> TransitionLog:
+    """A :class:`~core.transitions.TransitionLog` that keeps the last :data:`STEADY_WINDOW`
+    transitions for :func:`steady_from_transitions`, holding ``transitions``.
 
-    Keeps the first ``cap`` transitions (for the result), the last :data:`STEADY_WINDOW`
-    (for the steady-state search) and a count per kind, so that memory stays bounded on
-    long horizons.
-
-    Examples
-    --------
-    >>> log = TransitionLog(cap=1)
-    >>> log.add(TransitionKind.SLIP_STICK, 1.0, 0.02, 0.1)
-    >>> log.add(TransitionKind.STICK_SLIP, 2.0, 0.3, 0.1)
-    >>> len(log.stored), log.n, log.counts["stick->slip"]
-    (1, 2, 1)
+    >>> new_log(cap=1).recent.maxlen == STEADY_WINDOW
+    True
     """
-
-    __slots__ = ("cap", "stored", "tail", "counts", "n")
-
-    def __init__(self, cap: int) -> None:
-        self.cap = int(cap)
-        self.stored: list[Transition] = []
-        self.tail: deque[Transition] = deque(maxlen=STEADY_WINDOW)
-        self.counts: Counter[str] = Counter()
-        self.n = 0
-
-    def add(
-        self,
-        kind: TransitionKind,
-        t: float,
-        x: float,
-        v: float,
-        v_after: float | None = None,
-    ) -> None:
-        """Record one transition with the state ``(x, v)`` before it (``v_after`` after)."""
-        after = v if v_after is None else v_after
-        tr = Transition(kind, float(t), float(x), float(v), float(after))
-        if self.n < self.cap:
-            self.stored.append(tr)
-        self.tail.append(tr)
-        self.counts[kind.value] += 1
-        self.n += 1
-
-    @classmethod
-    def from_sequence(cls, transitions: Sequence[Transition], cap: int) -> TransitionLog:
-        log = cls(cap)
-        for tr in transitions:
-            log.add(tr.kind, tr.t, tr.x, tr.v, tr.v_after)
-        return log
+    log = TransitionLog(cap, STEADY_WINDOW)
+    log.extend(transitions)
+    return log
 
 
 def log_rest_at_stop(
@@ -117,7 +87,7 @@ def log_rest_at_stop(
 ) -> float:
     """A numerical method stops following the bounces at ``t`` (last approach speed ``w``):
     record the accumulation (for ``0 < r < 1`` with the stop behind the slip centre, after
-    the closed-form remaining time, SPEC §3) and the rest at the stop; return the rest time.
+    the closed-form remaining time, paper §4) and the rest at the stop; return the rest time.
     """
     t_rest = t
     if 0.0 < r < 1.0 and a > c:
@@ -127,87 +97,6 @@ def log_rest_at_stop(
     if t_rest <= t_end:
         log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
     return t_rest
-
-
-def _locate(t: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
-    """Index of the interval ``[t[i], t[i+1]]`` holding each query.
-
-    ``side="right"`` picks the interval that starts at the last of repeated times (after a
-    jump), ``"left"`` the one that ends at the first (before it).
-    """
-    idx = np.searchsorted(t, tq, side=side) - 1
-    return np.clip(idx, 0, len(t) - 2)
-
-
-def hermite_eval(
-    t: np.ndarray,
-    y: np.ndarray,
-    dy: np.ndarray,
-    tq: np.ndarray,
-    side: str = "right",
-) -> np.ndarray:
-    """Piecewise cubic Hermite interpolation of ``y`` (derivative ``dy``) at ``tq``.
-
-    ``side="right"`` takes the state after a jump at a repeated time, ``"left"`` the state
-    before it. Zero-width intervals (jumps) are never interpolated across.
-
-    Examples
-    --------
-    >>> t = np.array([0.0, 1.0]); y = t**3; dy = 3 * t**2
-    >>> float(hermite_eval(t, y, dy, np.array([0.5]))[0])   # exact for a cubic
-    0.125
-    """
-    if len(t) == 1:
-        return np.full(np.shape(tq), y[0], dtype=float)
-    i = _locate(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(h > 0.0, (tq - t0) / h, 0.0)
-    s = np.clip(s, 0.0, 1.0)
-    s2, s3 = s * s, s * s * s
-    # written as y0 + (y1 - y0) * h01 + ...: a constant stays exactly constant
-    h10 = s3 - 2 * s2 + s
-    h01 = -2 * s3 + 3 * s2
-    h11 = s3 - s2
-    return y[i] + h01 * (y[i + 1] - y[i]) + h * (h10 * dy[i] + h11 * dy[i + 1])
-
-
-def hermite_max(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> float:
-    """Largest value of the cubic Hermite interpolant of ``x`` (derivative ``v``).
-
-    Interior maxima are looked for only on intervals where ``v`` falls from positive to
-    non-positive; integrators that insert their maxima as points make this a plain ``max``.
-    """
-    best = float(np.max(x))
-    if len(t) < 2:
-        return best
-    h = np.diff(t)
-    sel = np.flatnonzero((h > 0.0) & (v[:-1] > 0.0) & (v[1:] <= 0.0))
-    if sel.size == 0:
-        return best
-    x0, x1, hh = x[sel], x[sel + 1], h[sel]
-    m0, m1 = hh * v[sel], hh * v[sel + 1]
-    # d/ds of the Hermite cubic: A s^2 + B s + C
-    qa = 6 * x0 + 3 * m0 - 6 * x1 + 3 * m1
-    qb = -6 * x0 - 4 * m0 + 6 * x1 - 2 * m1
-    qc = m0
-    disc = np.maximum(qb * qb - 4 * qa * qc, 0.0)
-    sq = np.sqrt(disc)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r1 = np.where(qa != 0.0, (-qb - sq) / (2 * qa), -qc / qb)
-        r2 = np.where(qa != 0.0, (-qb + sq) / (2 * qa), -qc / qb)
-    for r in (r1, r2):
-        s = np.clip(np.nan_to_num(r, nan=0.0), 0.0, 1.0)
-        s2, s3 = s * s, s * s * s
-        val = (
-            (2 * s3 - 3 * s2 + 1) * x0
-            + (s3 - 2 * s2 + s) * m0
-            + (-2 * s3 + 3 * s2) * x1
-            + (s3 - s2) * m1
-        )
-        best = max(best, float(np.max(val)))
-    return best
 
 
 def _energy_at_samples(
@@ -226,7 +115,7 @@ def _energy_at_samples(
     """Friction work, belt work and work done on the stop at the samples (per unit ``k``).
 
     Friction force over ``k`` on the interval after point ``i``: ``f = x'' + x + phi`` (the
-    equation of motion solved for it, SPEC §2 and §4). On slip it is the constant ``s*a``
+    equation of motion solved for it, ``docs/physics.md``). On slip it is the constant ``s*a``
     (``+-b`` in the switch model's transition band), so its work ``f * dx`` is exact; on
     stick it is the spring-plus-contact force, summed by the trapezoid rule in ``x`` (exact
     off the stop, where it is linear in ``x``). A jump (rigid impact) hands its loss of
@@ -273,7 +162,7 @@ def steady_from_transitions(
     final_v: float,
     x_max_between=None,
 ) -> Steady:
-    """The steady state read off the most recent transitions (SPEC §6).
+    """The steady state read off the most recent transitions (``docs/physics.md``).
 
     Parameters
     ----------
@@ -306,20 +195,9 @@ def steady_from_transitions(
     t_last = tail[-1].t if tail else 0.0
     if not tail or t_end - t_last > 2.0 * math.pi:
         # no transition for more than a full slip circle: nothing will happen any more
-        if final_mode == Mode.STICK and final_v == 0.0:
-            return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
-        if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
-            # impacts died out on a slip circle that touches the stop: grazing (SPEC §3)
-            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
-        if final_mode == Mode.SLIP:
-            return Steady(
-                SteadyKind.PURE_SLIP,
-                period=2.0 * math.pi,
-                x_max=xmax(max(t_last, t_end - 2.0 * math.pi), t_end),
-                t_reached=t_last,
-            )
-        if final_mode == Mode.CONTACT:
-            return Steady(SteadyKind.REST, t_reached=math.nan, x_max=xmax(t_last, t_end))
+        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax)
+        if quiet is not None:
+            return quiet
 
     n = len(tail)
     for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
@@ -352,6 +230,28 @@ def steady_from_transitions(
         kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
         return Steady(kind, impact_speed=0.0, t_reached=math.nan)
     return Steady(SteadyKind.NONE)
+
+
+def _quiet_steady(
+    tail: list[Transition], t_last: float, t_end: float, final_mode: int, final_v: float, xmax
+) -> Steady | None:
+    """The steady state of a motion without transitions over the last full slip circle
+    (from ``t_last`` to ``t_end``), or ``None`` if its final mode does not tell."""
+    if final_mode == Mode.STICK and final_v == 0.0:
+        return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
+    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
+        # impacts died out on a slip circle that touches the stop: grazing (paper §4)
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    if final_mode == Mode.SLIP:
+        return Steady(
+            SteadyKind.PURE_SLIP,
+            period=2.0 * math.pi,
+            x_max=xmax(max(t_last, t_end - 2.0 * math.pi), t_end),
+            t_reached=t_last,
+        )
+    if final_mode == Mode.CONTACT:
+        return Steady(SteadyKind.REST, t_reached=math.nan, x_max=xmax(t_last, t_end))
+    return None
 
 
 def _same(p: Transition, q: Transition, tol: float) -> bool:
@@ -426,7 +326,10 @@ def result_from_dense(
     x_upper: float | None = None,
     status: Status = Status.SUCCESS,
     method: str,
-    stats: dict | None = None,
+    stats: dict[str, int] | None = None,
+    info: dict[str, object] | None = None,
+    t_eval: np.ndarray | None = None,
+    dense: DenseSolution | None = None,
 ) -> Result:
     """Assemble a :class:`~core.result.Result` from an integrator's dense points.
 
@@ -480,6 +383,15 @@ def result_from_dense(
     status : Status
     method : str
     stats : dict, optional
+        Integer counts (:func:`core.result.make_stats`).
+    info : dict, optional
+        Diagnostics that are not counts (the solver's name, the stick band).
+    t_eval : ndarray, optional
+        Sample exactly at these times (checked by the caller) instead of the uniform grid
+        and the transitions; those beyond the end of an early-stopped solve are dropped.
+    dense : DenseSolution, optional
+        The method's own interpolant: the samples of ``x`` and ``x'`` are taken from it,
+        and it is attached to the result for :meth:`~core.result.Result.evaluate`.
 
     Returns
     -------
@@ -502,22 +414,11 @@ def result_from_dense(
     log = (
         transitions
         if isinstance(transitions, TransitionLog)
-        else TransitionLog.from_sequence(transitions, transition_cap)
+        else new_log(transition_cap, transitions)
     )
 
     t_stop = min(float(t_end), float(t[-1]))
-    uniform = np.linspace(0.0, t_stop, max(int(n_samples), 2))
-    tr_pts = [tr for tr in log.stored if tr.t <= t_stop]
-    jump_t = np.array([tr.t for tr in tr_pts if tr.kind in IMPACT_KINDS], dtype=float)
-    other_t = np.array([tr.t for tr in tr_pts if tr.kind not in IMPACT_KINDS], dtype=float)
-    right_t = np.concatenate([uniform, other_t, jump_t])
-    # at a repeated time the state before a jump sorts first
-    order_key = np.concatenate([np.ones(len(right_t)), np.zeros(len(jump_t))])
-    all_t = np.concatenate([right_t, jump_t])
-    sides = ["right"] * len(right_t) + ["left"] * len(jump_t)
-    perm = np.lexsort((order_key, all_t))
-    ts = all_t[perm]
-    is_left = np.array(sides)[perm] == "left"
+    ts, is_left = _sample_times(t_stop, n_samples, log, t_eval)
 
     def sample(y: np.ndarray, dy: np.ndarray | None) -> np.ndarray:
         out = np.empty(len(ts))
@@ -525,16 +426,21 @@ def result_from_dense(
             if not np.any(sel):
                 continue
             if dy is None:
-                out[sel] = _linear(t, y, ts[sel], side)
+                out[sel] = linear_eval(t, y, ts[sel], side)
             else:
                 out[sel] = hermite_eval(t, y, dy, ts[sel], side)
         return out
 
-    xs = sample(x, v)
+    if dense is not None:
+        xs, vs = np.empty(len(ts)), np.empty(len(ts))
+        for side, sel in ((1, ~is_left), (-1, is_left)):
+            if np.any(sel):
+                xs[sel], vs[sel] = dense.evaluate(ts[sel], side)
+    else:
+        xs, vs = sample(x, v), sample(v, acc_arr)
     if x_upper is not None:
         # a rigid stop's face: the interpolant may round a few ulps beyond it
         xs = np.minimum(xs, x_upper)
-    vs = sample(v, acc_arr)
     idx = np.where(
         is_left,
         np.clip(np.searchsorted(t, ts, side="left") - 1, 0, max(n - 1, 0)),
@@ -565,8 +471,7 @@ def result_from_dense(
         )
 
     if impulses is None:
-        imp = [(tr.t, tr.v - tr.v_after) for tr in log.stored if tr.kind in IMPACT_KINDS]
-        impulses = np.array(imp, dtype=float).reshape(-1, 2)
+        impulses = np.array(log.impulses, dtype=float).reshape(-1, 2)
     else:
         impulses = np.asarray(impulses, dtype=float).reshape(-1, 2)
 
@@ -574,30 +479,10 @@ def result_from_dense(
         x_max = hermite_max(t, x, v) if n else math.nan
 
     if steady is None:
-        scale = max(
-            float(np.max(np.abs(x))) if n else 0.0,
-            float(np.max(np.abs(v))) if n else 0.0,
-            abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
-        )
         tol = steady_tol
         if tol is None:
-            tol = max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
-
-        def x_max_between(t0: float, t1: float) -> float:
-            i0 = int(np.searchsorted(t, t0, side="left"))
-            i1 = int(np.searchsorted(t, t1, side="right"))
-            i0 = max(min(i0, n - 1) - 1, 0)
-            i1 = max(i1, i0 + 1)
-            return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
-
-        steady = steady_from_transitions(
-            log.tail,
-            tol=tol,
-            t_end=t_stop,
-            final_mode=int(mode[-1]) if n else int(Mode.SLIP),
-            final_v=float(v[-1]) if n else math.nan,
-            x_max_between=x_max_between,
-        )
+            tol = _default_steady_tol(x, v, belt_speed, rtol)
+        steady = _steady_of(log, t, x, v, mode, tol, t_stop)
 
     return Result(
         t=ts,
@@ -606,7 +491,7 @@ def result_from_dense(
         mode=modes,
         transitions=tuple(log.stored),
         transition_counts=dict(log.counts),
-        n_transitions=log.n,
+        n_transitions=log.total,
         x_max=float(x_max),
         steady=steady,
         status=status,
@@ -616,16 +501,115 @@ def result_from_dense(
         impulses=impulses,
         method=method,
         stats=dict(stats or {}),
+        info=dict(info or {}),
+        dense=dense,
     )
 
 
-def _linear(t: np.ndarray, y: np.ndarray, tq: np.ndarray, side: str) -> np.ndarray:
-    """Piecewise linear interpolation that respects jumps (see :func:`hermite_eval`)."""
-    if len(t) == 1:
-        return np.full(np.shape(tq), y[0], dtype=float)
-    i = _locate(t, tq, side)
-    t0, t1 = t[i], t[i + 1]
-    h = t1 - t0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.clip(np.where(h > 0.0, (tq - t0) / h, 0.0), 0.0, 1.0)
-    return y[i] + s * (y[i + 1] - y[i])
+def result_from_track(
+    track: PointTrack,
+    log: TransitionLog,
+    osc: Oscillator,
+    stop: RigidStop | HystereticStop | None,
+    *,
+    t_end: float,
+    n_samples: int,
+    rtol: float,
+    status: Status,
+    method: str,
+    stats: dict[str, int],
+    info: dict[str, object],
+    t_eval: np.ndarray | None,
+    dense: DenseSolution | None,
+) -> Result:
+    """:func:`result_from_dense` for an integrator's :class:`PointTrack` on a scene: the
+    contact force, overlap and stored energy of a deformable stop, the face of a rigid one."""
+    soft = isinstance(stop, HystereticStop)
+    c = stop.clearance if stop is not None else math.inf
+    return result_from_dense(
+        track.t,
+        track.x,
+        track.v,
+        track.mode,
+        log,
+        t_end=t_end,
+        n_samples=n_samples,
+        transition_cap=log.cap,
+        acc=track.acc,
+        contact_force=track.phi if soft else None,
+        overlap=[xx - c for xx in track.x] if soft else None,
+        stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
+        rtol=rtol,
+        belt_speed=osc.v,
+        x_upper=c if isinstance(stop, RigidStop) else None,
+        status=status,
+        method=method,
+        stats=stats,
+        info=info,
+        t_eval=t_eval,
+        dense=dense,
+    )
+
+
+def _default_steady_tol(x: np.ndarray, v: np.ndarray, belt_speed: float, rtol: float) -> float:
+    """``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale."""
+    scale = max(
+        float(np.max(np.abs(x))) if len(x) else 0.0,
+        float(np.max(np.abs(v))) if len(v) else 0.0,
+        abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
+    )
+    return max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
+
+
+def _steady_of(
+    log: TransitionLog,
+    t: np.ndarray,
+    x: np.ndarray,
+    v: np.ndarray,
+    mode: np.ndarray,
+    tol: float,
+    t_stop: float,
+) -> Steady:
+    """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
+    n = len(t)
+
+    def x_max_between(t0: float, t1: float) -> float:
+        i0 = int(np.searchsorted(t, t0, side="left"))
+        i1 = int(np.searchsorted(t, t1, side="right"))
+        i0 = max(min(i0, n - 1) - 1, 0)
+        i1 = max(i1, i0 + 1)
+        return hermite_max(t[i0 : i1 + 1], x[i0 : i1 + 1], v[i0 : i1 + 1])
+
+    return steady_from_transitions(
+        log.recent,
+        tol=tol,
+        t_end=t_stop,
+        final_mode=int(mode[-1]) if n else int(Mode.SLIP),
+        final_v=float(v[-1]) if n else math.nan,
+        x_max_between=x_max_between,
+    )
+
+
+def _sample_times(
+    t_stop: float, n_samples: int, log: TransitionLog, t_eval: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Sample times and, for each, whether it is the left limit at a jump.
+
+    ``t_eval`` (up to ``t_stop``) as given; else ``n_samples`` uniform times over
+    ``[0, t_stop]`` merged with the stored transitions, an impact twice (the state before it
+    sorts first).
+    """
+    if t_eval is not None:
+        ts = np.asarray(t_eval, dtype=float)
+        ts = ts[ts <= t_stop]
+        return ts, np.zeros(len(ts), dtype=bool)
+    uniform = np.linspace(0.0, t_stop, max(int(n_samples), 2))
+    tr_pts = [tr for tr in log.stored if tr.t <= t_stop]
+    jump_t = np.array([tr.t for tr in tr_pts if tr.kind in IMPACT_KINDS], dtype=float)
+    other_t = np.array([tr.t for tr in tr_pts if tr.kind not in IMPACT_KINDS], dtype=float)
+    right_t = np.concatenate([uniform, other_t, jump_t])
+    order_key = np.concatenate([np.ones(len(right_t)), np.zeros(len(jump_t))])
+    all_t = np.concatenate([right_t, jump_t])
+    is_left = np.concatenate([np.zeros(len(right_t), bool), np.ones(len(jump_t), bool)])
+    perm = np.lexsort((order_key, all_t))
+    return all_t[perm], is_left[perm]

@@ -1,72 +1,485 @@
-"""Event-driven integration of the non-smooth model with :func:`scipy.integrate.solve_ivp`.
+"""Event-driven integration of the non-smooth model with SciPy's Runge-Kutta and BDF solvers.
+
+This module is longer than the project's ~500 lines because it holds one method whole: the
+modes and their events, the solver class whose handlers share one state, and the entry
+point; the stepping loop with event location lives in :mod:`core.numerics.events`.
 
 A second numerical method beside the switch model (:mod:`core.switch`): the non-smooth
 Coulomb model (paper Eqs. 3-6) is integrated mode by mode, each mode a smooth ODE, and every
-mode change is an event located by ``solve_ivp``'s root finder on its dense output. No stick
-band, no regularisation: the error is the integration error alone.
+mode change is an event located on the solver's own dense output. No stick band, no
+regularisation: the error is the integration error alone.
+
+The stepping loop is the one of :func:`scipy.integrate.solve_ivp` (the public
+:class:`scipy.integrate.OdeSolver` classes advanced step by step, sign changes of the event
+functions at the step ends, roots by :func:`scipy.optimize.brentq` on the step's
+interpolant), written out so that the solve can count its work and stop at its limits.
 
 Modes and the events that end them
 ----------------------------------
 * **slip** with a fixed ``s`` (``x'' = -x + s*a - phi``, paper Eq. 3 and Eq. 14 in contact):
   ``x' = v`` (relative velocity vanishes: stick if ``|x + phi| <= b``, else the sign of the
-  relative velocity changes, SPEC §2); ``x = clearance`` with ``x' > 0`` (rigid impact,
-  paper Eq. 8, or the start of a deformable contact); in a deformable contact, ``x' = 0``
-  (reversal of the overlap rate: the branch of the hysteresis law is updated with
-  :func:`core.hysteresis.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the
-  force reaching the stop's strength (failure), the overlap reaching the limit overlap.
-  A non-terminal event at ``x' = 0`` records every maximum of ``x`` as a point, so
-  ``x_max`` has the integration accuracy.
+  relative velocity changes, ``docs/physics.md``); ``x = clearance`` with ``x' > 0`` (rigid
+  impact, paper Eq. 8, or the start of a deformable contact); in a deformable contact,
+  ``x' = 0`` (reversal of the overlap rate: the branch of the hysteresis law is updated with
+  :func:`core.hysteresis.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
+  reaching the stop's strength (failure), the overlap reaching the limit overlap. A
+  non-terminal event at ``x' = 0`` records every maximum of ``x`` as a point, so ``x_max``
+  has the integration accuracy, and betrays a crossing of the stop that rose above it and
+  fell back inside one step.
 * **stick** (``x' = v``): in closed form, ``x = x_0 + v t``, up to ``x = b``, the stop, or in
   a deformable contact up to ``x + phi(x - clearance) = b`` (one monotone root by
   :func:`scipy.optimize.brentq`: along stick the overlap only grows, so the force follows
   one loading branch).
 
-Impact accumulation (Zeno, SPEC §3) is handled as in the switch model: a rebound slower than
-``rest_speed`` while the belt presses the mass on the stop ends the bouncing; the remaining
-arc durations are summed in closed form to give the accumulation time. The default
+Impact accumulation (Zeno, paper §4) is handled as in the switch model: a rebound slower
+than ``rest_speed`` while the mass is pressed on the stop (:func:`core.steady.pressed_on_stop`)
+ends the bouncing; the remaining arc durations are summed in closed form to give the
+accumulation time. The default
 ``rest_speed = sqrt(2 atol (a - clearance))`` keeps the neglected rebounds' height
 ``w^2 / (2 (a - clearance))`` below ``atol``.
+
+Work limits
+-----------
+A solve stops, and returns its result up to that time, with ``Status.STEP_LIMIT`` after
+``max_steps`` solver steps, ``Status.TIME_BUDGET`` when ``time_budget`` seconds have passed,
+and ``Status.EVENT_LIMIT`` after ``max_events`` events or when events keep firing at one
+instant (:data:`MAX_SAME_TIME`).
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
-from core.dense import TransitionLog, log_rest_at_stop, result_from_dense
-from core.hysteresis import FIRST_LOADING, force_and_slope, reverse, stored_energy
+from core.dense import log_rest_at_stop, new_log, result_from_track
+from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
+from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
+from core.numerics.events import Event, SegmentIntegrator
+from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
 from core.params import HystereticStop, Oscillator, RigidStop
-from core.result import Mode, Result, Status, TransitionKind
-from core.validation import check_range, check_start
+from core.result import Mode, Result, Status, TransitionKind, make_stats
+from core.simulate import MAX_SAMPLES, MAX_TRANSITION_CAP
+from core.steady import pressed_on_stop
+from core.validation import check_integer, check_range, check_start, check_times
 
-#: Integrators of :func:`scipy.integrate.solve_ivp` offered (explicit RK pairs, an implicit
-#: Radau IIA method for stiff contact, and LSODA's automatic stiffness switching).
+#: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
+#: contact, and LSODA's automatic stiffness switching.
 SOLVERS = ("RK45", "DOP853", "Radau", "LSODA")
+_SOLVER_CLASSES = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "LSODA": LSODA}
 #: Points that describe a stick segment inside a deformable contact (the force is a
 #: nonlinear function of the overlap there; on free stick two points are exact).
 STICK_CONTACT_POINTS = 16
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it.
 LIMIT_OVERLAP_FRACTION = 1.0 - 1e-9
-#: Relative tolerance of the stick-in-contact end point (monotone bracketed root).
-STICK_ROOT_RTOL = 4.0 * np.finfo(float).eps
+#: Relative tolerance of roots (event times, the stick-in-contact end point).
+ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Largest step of a rebound arc from a rigid stop, as a fraction of its estimated duration
 #: ``2|x'|/|x''|`` (only the segment that starts at the stop).
 REBOUND_STEP_FRACTION = 0.25
-#: Absolute time tolerance of a crossing found on the dense output (dimensionless time).
-ROOT_XTOL = 1e-15
-#: Largest number of restarts (events) before giving up with INTEGRATION_FAILED: a guard
-#: against an event that keeps firing at the same time.
-MAX_SEGMENTS = 5_000_000
 #: Restarts at (numerically) the same time that count as an event stuck in place.
 MAX_SAME_TIME = 64
 
 
-def _phi(stop: HystereticStop, branch, x: float) -> float:
-    d = x - stop.clearance
-    return force_and_slope(d, branch, stop)[0] if d > 0.0 else 0.0
+@dataclass(frozen=True)
+class EventOptions:
+    """Options of :func:`simulate_event` (checked once)."""
+
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    solver: str = "RK45"
+    rest_speed: float | None = None
+    max_steps: int = MAX_STEPS
+    time_budget: float | None = None
+    max_events: int = MAX_EVENTS
+
+    def __post_init__(self) -> None:
+        check_range("rtol", self.rtol, 0.0, low_open=True)
+        check_range("atol", self.atol, 0.0, low_open=True)
+        if self.solver not in SOLVERS:
+            raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {self.solver!r}")
+        if self.rest_speed is not None:
+            check_range("rest_speed", self.rest_speed, 0.0)
+        check_integer("max_events", self.max_events, 1, COUNT_MAX)
+
+
+class EventSolver:
+    """One solve of the non-smooth model by event location: the state of the motion (time,
+    position, velocity, friction state, contact and branch of the contact law), the dense
+    track and the work counts. :meth:`run` advances it to the horizon or a limit."""
+
+    def __init__(
+        self,
+        osc: Oscillator,
+        stop: RigidStop | HystereticStop | None,
+        t_end: float,
+        x0: float,
+        v0: float,
+        opts: EventOptions,
+        limit: WorkLimit,
+        transition_cap: int,
+    ) -> None:
+        self.osc, self.stop, self.t_end, self.opts, self.limit = osc, stop, t_end, opts, limit
+        self.rigid = isinstance(stop, RigidStop)
+        self.soft = isinstance(stop, HystereticStop)
+        self.c = stop.clearance if stop is not None else math.inf
+        self.r = stop.restitution if self.rigid else 1.0
+        # the project's one rule for a mass that may rest at the stop (docs/physics.md)
+        self.pressed = stop is not None and pressed_on_stop(osc, self.c)
+        a = osc.a
+        if opts.rest_speed is not None:
+            self.rest_speed = opts.rest_speed
+        else:
+            self.rest_speed = (
+                math.sqrt(2.0 * opts.atol * max(a - self.c, 0.0)) if self.rigid else 0.0
+            )
+        self.log = new_log(transition_cap)
+        self.track = PointTrack()
+        self.dense = PiecewiseDense(self.c if self.rigid else None)
+        self.t, self.x, self.v = 0.0, x0, v0
+        self.contact = self.soft and x0 > self.c
+        self.branch: Branch = FIRST_LOADING
+        self.fr = 0
+        self.at_rest = False
+        self.status = Status.SUCCESS
+        self.n_seg = self.n_steps = self.n_eval = 0
+        self.same_time = 0
+
+    # --- the law at the current state ----------------------------------------------------
+    def phi(self, x: float) -> float:
+        """Contact force over ``k`` at ``x`` on the current branch (0 out of contact)."""
+        if not (self.soft and self.contact):
+            return 0.0
+        d = x - self.c
+        return force_and_slope(d, self.branch, self.stop)[0] if d > 0.0 else 0.0
+
+    def start_mode(self, x: float, v: float) -> int:
+        """+1/-1 slip with that sign, 0 stick (the relative velocity decides, Eqs. 3-6)."""
+        vb, b = self.osc.v, self.osc.b
+        if v < vb:
+            return 1
+        if v > vb:
+            return -1
+        f = x + self.phi(x)
+        if abs(f) <= b:
+            return 0
+        return 1 if f > 0.0 else -1
+
+    def slip_acc(self, x: float, s: int) -> float:
+        return -x + s * self.osc.a - self.phi(x)
+
+    def acc_of(self, x: float, fr: int) -> float:
+        return 0.0 if fr == 0 else self.slip_acc(x, fr)
+
+    def point(self, t: float, x: float, v: float, acc: float, fr: int) -> None:
+        mode = Mode.CONTACT if self.contact else (Mode.STICK if fr == 0 else Mode.SLIP)
+        self.track.add(t, x, v, acc, mode, self.phi(x) if self.soft else 0.0)
+
+    # --- the loop --------------------------------------------------------------------------
+    def run(self) -> None:
+        self.fr = self.start_mode(self.x, self.v)
+        self.point(self.t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)
+        if self.rigid and self.x >= self.c and self.v > 0.0:
+            self.impact(self.v, self.fr == 0)
+        elif self.rigid and self.x >= self.c and self.v == 0.0 and self.pressed:
+            self.rest_from(0.0)
+        while self.t < self.t_end and not self.at_rest and self.status is Status.SUCCESS:
+            if self.n_seg >= self.opts.max_events:
+                self.status = Status.EVENT_LIMIT
+                break
+            self.n_seg += 1
+            t_before = self.t
+            if self.fr == 0:
+                self.stick()
+            else:
+                self.slip()
+            self.same_time = self.same_time + 1 if self.t <= t_before else 0
+            if self.same_time > MAX_SAME_TIME:
+                self.status = Status.EVENT_LIMIT
+
+    # --- rigid impacts and rest ------------------------------------------------------------
+    def rest_from(self, w: float) -> None:
+        """The bouncing ends: rest on the stop (after the accumulation time for 0<r<1)."""
+        t_rest = log_rest_at_stop(self.log, self.t, w, self.r, self.osc.a, self.c, self.t_end)
+        self.contact = True
+        t_hold = min(max(t_rest, self.t), self.t_end)
+        for tt in (self.t, t_hold, self.t_end):
+            self.point(tt, self.c, 0.0, 0.0, 0)
+        self.dense.add(self.t, self.t_end, line_piece(self.t, self.c, 0.0))
+        self.at_rest = True
+
+    def impact(self, w: float, from_stick: bool) -> None:
+        """Rigid impact at ``x = c`` with approach speed ``w`` (paper Eq. 8)."""
+        v_after = -self.r * w
+        kind = TransitionKind.STICK_IMPACT if from_stick else TransitionKind.IMPACT
+        self.log.add(kind, self.t, self.c, w, v_after)
+        if abs(v_after) <= self.rest_speed and self.pressed:
+            self.rest_from(w)
+            return
+        self.x, self.v = self.c, v_after
+        self.fr = self.start_mode(self.c, self.v)
+        self.point(self.t, self.c, self.v, self.acc_of(self.c, self.fr), self.fr)
+
+    # --- stick in closed form (paper Eqs. 5-6) ----------------------------------------------
+    def stick(self) -> None:
+        vb = self.osc.v
+        if vb <= 0.0:
+            self.point(self.t_end, self.x, 0.0, 0.0, 0)
+            self.dense.add(self.t, self.t_end, line_piece(self.t, self.x, 0.0))
+            self.t = self.t_end
+        elif self.soft and self.contact:
+            self.stick_in_contact()
+        else:
+            self.stick_free()
+
+    def _stick_to(self, t_e: float, x_e: float) -> bool:
+        """Move along the belt to ``(t_e, x_e)`` or the horizon; True if the horizon came
+        first (the points on the way are the caller's)."""
+        vb = self.osc.v
+        t1 = min(t_e, self.t_end)
+        self.dense.add(self.t, t1, line_piece(self.t, self.x, vb))
+        if t_e >= self.t_end:
+            self.x += vb * (self.t_end - self.t)
+            self.t = self.t_end
+            return True
+        self.t, self.x, self.v = t_e, x_e, vb
+        return False
+
+    def stick_in_contact(self) -> None:
+        vb, x0, t0 = self.osc.v, self.x, self.t
+        kind, x_e = _stick_contact_end(self.stop, self.branch, self.x, self.osc.b)
+        t_e = t0 + (x_e - x0) / vb
+        t_stop = min(t_e, self.t_end)
+        for xx in np.linspace(x0, x0 + vb * (t_stop - t0), STICK_CONTACT_POINTS)[1:]:
+            self.point(t0 + (xx - x0) / vb, float(xx), vb, 0.0, 0)
+        if self._stick_to(t_e, x_e):
+            return
+        if kind is TransitionKind.FAILURE:
+            self.log.add(kind, self.t, self.x, self.v)
+            self.status = Status.STOP_FAILED
+        elif kind is None:
+            self.status = Status.LIMIT_OVERLAP
+        else:
+            self.log.add(TransitionKind.STICK_SLIP, self.t, self.x, self.v)
+            self.fr = 1
+            # right limit: the acceleration jumps
+            self.point(self.t, self.x, self.v, self.slip_acc(self.x, 1), 1)
+
+    def stick_free(self) -> None:
+        vb, b, c = self.osc.v, self.osc.b, self.c
+        target = min(b, c)
+        t_e = self.t + max(target - self.x, 0.0) / vb
+        if self._stick_to(t_e, target):
+            self.point(self.t, self.x, vb, 0.0, 0)
+            return
+        if self.rigid and c <= b:
+            self.point(self.t, self.x, self.v, 0.0, 0)
+            self.impact(vb, True)
+        elif self.soft and c < b:
+            self.contact = True
+            self.branch = FIRST_LOADING
+            self.log.add(TransitionKind.CONTACT, self.t, self.x, self.v)
+            self.point(self.t, self.x, self.v, 0.0, 0)
+        else:
+            self.log.add(TransitionKind.STICK_SLIP, self.t, self.x, self.v)
+            self.point(self.t, self.x, self.v, 0.0, 0)  # left limit of the acceleration
+            self.fr = 1
+            self.point(self.t, self.x, self.v, self.slip_acc(self.x, 1), 1)
+
+    # --- slip: an ODE with events -----------------------------------------------------------
+    def slip_fun(self, s: int):
+        """Right-hand side of slip with sign ``s`` on the current branch (Eqs. 3 and 14)."""
+        a, c, stop = self.osc.a, self.c, self.stop
+        if self.soft and self.contact:
+            br = self.branch
+
+            def fun(_t, y):
+                d = y[0] - c
+                p = force_and_slope(d, br, stop)[0] if d > 0.0 else 0.0
+                return np.array([y[1], -y[0] + s * a - p])
+
+            return fun
+
+        def fun_free(_t, y):
+            return np.array([y[1], -y[0] + s * a])
+
+        return fun_free
+
+    def slip(self) -> None:
+        s = self.fr
+        events = _slip_events(s, self)
+        watch = self.stop is not None and not self.contact
+        opts = {}
+        if watch and self.x == self.c and self.v < 0.0 and self.slip_acc(self.x, s) > 0.0:
+            # pushed back to the stop, a rebound arc lasts about 2|x'|/x'': steps must not
+            # jump over it (the event function would see no sign change, or a root at t)
+            opts["max_step"] = REBOUND_STEP_FRACTION * 2.0 * abs(self.v) / self.slip_acc(self.x, s)
+        solver = _SOLVER_CLASSES[self.opts.solver](
+            self.slip_fun(s),
+            self.t,
+            np.array([self.x, self.v]),
+            self.t_end,
+            rtol=self.opts.rtol,
+            atol=self.opts.atol,
+            **opts,
+        )
+
+        def point(t: float, y) -> None:
+            x, v = float(y[0]), float(y[1])
+            self.point(t, x, v, self.slip_acc(x, s), s)
+
+        segment = SegmentIntegrator(
+            solver, events, self.limit, point, level=self.c if watch else None
+        )
+        end = segment.integrate(self.n_steps)
+        self.n_steps += end.steps
+        self.n_eval += solver.nfev
+        if end.piece is not None:
+            self.dense.add(end.t0, end.t, end.piece)
+        if end.status is not None:
+            self.status = end.status
+        self.t, self.x, self.v = end.t, float(end.y[0]), float(end.y[1])
+        if end.event is None:
+            if self.t > self.track.t[-1]:
+                point(self.t, end.y)
+        else:
+            self.handle(end.event, s)
+
+    def handle(self, name: str, s: int) -> None:
+        """The state after the event ``name`` that ended a slip segment with sign ``s``."""
+        t, c = self.t, self.c
+        if name == "ur":
+            self.v = self.osc.v
+            f = self.x + self.phi(self.x)
+            self.point(t, self.x, self.v, self.slip_acc(self.x, s), s)  # left limit
+            if abs(f) <= self.osc.b:
+                self.log.add(TransitionKind.SLIP_STICK, t, self.x, self.v)
+                self.fr = 0
+            else:
+                self.log.add(TransitionKind.SIGN_CHANGE, t, self.x, self.v)
+                self.fr = 1 if f > 0.0 else -1
+            self.point(t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)  # right limit
+        elif name == "stop" and self.rigid:
+            self.x = c
+            self.point(t, c, self.v, self.slip_acc(c, s), s)
+            self.impact(max(self.v, 0.0), False)
+        elif name == "stop":
+            self.x = c
+            self.contact = True
+            self.branch = FIRST_LOADING
+            self.log.add(TransitionKind.CONTACT, t, c, self.v)
+            self.point(t, c, self.v, self.slip_acc(c, s), s)
+        elif name in ("separation", "reversal"):
+            self.leave_branch(name)
+        else:  # failure or limit overlap: the solve ends here
+            self.point(t, self.x, self.v, self.slip_acc(self.x, s), s)
+            if name == "failure":
+                self.log.add(TransitionKind.FAILURE, t, self.x, self.v)
+                self.status = Status.STOP_FAILED
+            else:
+                self.status = Status.LIMIT_OVERLAP
+
+    def leave_branch(self, name: str) -> None:
+        """Separation from, or a reversal inside, a deformable contact."""
+        if name == "separation":
+            self.x = self.c
+            self.contact = False
+            self.branch = FIRST_LOADING
+            self.log.add(TransitionKind.SEPARATION, self.t, self.x, self.v)
+        else:
+            self.v = 0.0
+            d = self.x - self.c
+            phi = force_and_slope(d, self.branch, self.stop)[0] if d > 0.0 else 0.0
+            self.branch = reverse(d, phi, self.branch)
+            self.log.add(TransitionKind.REVERSAL, self.t, self.x, self.v)
+        self.fr = self.start_mode(self.x, self.v)
+        self.point(self.t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)
+
+    # --- the result ---------------------------------------------------------------------------
+    def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
+        stats = make_stats(
+            segments=self.n_seg, steps=self.n_steps, rhs_evals=self.n_eval, events=self.log.total
+        )
+        return result_from_track(
+            self.track,
+            self.log,
+            self.osc,
+            self.stop,
+            t_end=self.t_end,
+            n_samples=n_samples,
+            rtol=self.opts.rtol,
+            status=self.status,
+            method="event",
+            stats=stats,
+            info={"solver": self.opts.solver},
+            t_eval=t_eval,
+            dense=self.dense if self.dense.pieces else None,
+        )
+
+
+def _slip_events(s: int, owner: EventSolver) -> list[Event]:
+    """Event functions of a slip segment with sign ``s`` (see the module docstring)."""
+    vb, c, stop = owner.osc.v, owner.c, owner.stop
+    events = [
+        Event("top", lambda _t, y: y[1], -1.0, terminal=False),
+        Event("ur", lambda _t, y: y[1] - vb, 1.0 if s > 0 else -1.0),
+    ]
+    if owner.rigid or (owner.soft and not owner.contact):
+        events.append(Event("stop", lambda _t, y: y[0] - c, 1.0))
+    elif owner.soft:
+        branch = owner.branch
+        d_lim = stop.limit_overlap * LIMIT_OVERLAP_FRACTION
+        events += [
+            Event("separation", lambda _t, y: y[0] - c, -1.0),
+            Event("reversal", lambda _t, y: y[1], -1.0 if branch.loading else 1.0),
+            Event("limit", lambda _t, y: y[0] - c - d_lim, 1.0),
+        ]
+        if math.isfinite(stop.strength):
+
+            def fail(_t, y):
+                d = y[0] - c
+                phi = force_and_slope(d, branch, stop)[0] if d > 0.0 else 0.0
+                return phi - stop.strength
+
+            events.append(Event("failure", fail, 1.0))
+    return events
+
+
+def _stick_contact_end(stop: HystereticStop, branch: Branch, x: float, b: float):
+    """End of stick inside a deformable contact: ``x + phi = b`` (stick->slip), the force
+    reaching the strength (``FAILURE``) or the limit overlap (``None``), whichever first.
+
+    Along stick the overlap grows, so ``x + phi`` grows monotonically on the loading branch.
+    """
+    c, d_lim = stop.clearance, stop.limit_overlap
+    x_hi = c + d_lim * LIMIT_OVERLAP_FRACTION
+
+    def phi(xx: float) -> float:
+        d = xx - c
+        return force_and_slope(d, branch, stop)[0] if d > 0.0 else 0.0
+
+    def g(xx: float) -> float:
+        return xx + phi(xx) - b
+
+    candidates = []
+    if g(x) >= 0.0:
+        return TransitionKind.STICK_SLIP, x
+    if g(x_hi) > 0.0:
+        candidates.append((brentq(g, x, x_hi, rtol=ROOT_RTOL), TransitionKind.STICK_SLIP))
+    if math.isfinite(stop.strength):
+
+        def gf(xx: float) -> float:
+            return phi(xx) - stop.strength
+
+        if gf(x) < 0.0 < gf(x_hi):
+            candidates.append((brentq(gf, x, x_hi, rtol=ROOT_RTOL), TransitionKind.FAILURE))
+    if not candidates:
+        return None, x_hi
+    x_e, kind = min(candidates, key=lambda p: p[0])
+    return kind, x_e
 
 
 def simulate_event(
@@ -82,8 +495,13 @@ def simulate_event(
     atol: float = 1e-10,
     solver: str = "RK45",
     rest_speed: float | None = None,
+    t_eval=None,
+    max_steps: int = MAX_STEPS,
+    time_budget: float | None = None,
+    max_events: int = MAX_EVENTS,
 ) -> Result:
-    """Response by ``solve_ivp`` with event location on the non-smooth model.
+    """Response by event location on the non-smooth model (SciPy's solvers, see the module
+    docstring).
 
     Parameters
     ----------
@@ -98,18 +516,36 @@ def simulate_event(
     transition_cap : int
         Transitions stored (all are counted).
     rtol, atol : float
-        Tolerances handed to ``solve_ivp``.
+        Tolerances of the solver (as in ``solve_ivp``).
     solver : {"RK45", "DOP853", "Radau", "LSODA"}
-        The ``solve_ivp`` method.
+        The SciPy integrator.
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop rests there (Zeno guard);
         default ``sqrt(2 atol (a - clearance))``.
+    t_eval : array_like, optional
+        Sample exactly at these sorted times in ``[0, t_end]`` (the solver's dense output)
+        instead of ``n_samples`` uniform ones and the transitions; after an early stop only
+        the times it reached are sampled.
+    max_steps : int
+        Largest number of solver steps. When it is reached the solve stops with
+        ``Status.STEP_LIMIT``; the result covers the time up to that point.
+    time_budget : float, optional
+        Wall-clock seconds the solve may take; then it stops with ``Status.TIME_BUDGET``
+        (result up to that point). ``None``: no budget.
+    max_events : int
+        Largest number of segments between events. Too many events, or events that keep
+        firing at one instant (more than :data:`MAX_SAME_TIME` restarts without progress),
+        stop the solve with ``Status.EVENT_LIMIT``; the result covers the time up to that
+        point.
 
     Returns
     -------
     Result
-        ``method="event"``; ``stats`` holds ``segments`` (solve_ivp calls), ``steps``
-        (accepted step points) and ``rhs_evals``.
+        ``method="event"``; ``stats`` (:func:`core.result.make_stats`) counts ``segments``
+        (integrated and closed-form), ``steps`` (accepted solver steps), ``rhs_evals`` and
+        ``events``; SciPy's solvers do not report rejected steps, so ``rejected`` is 0.
+        ``info["solver"]`` names the integrator; ``dense`` is the solvers' own interpolant
+        (closed forms on stick and rest) for :meth:`~core.result.Result.evaluate`.
 
     Examples
     --------
@@ -122,399 +558,16 @@ def simulate_event(
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)
-    rtol = check_range("rtol", rtol, 0.0, low_open=True)
-    atol = check_range("atol", atol, 0.0, low_open=True)
-    n_samples = int(check_range("n_samples", n_samples, 2))
-    transition_cap = int(check_range("transition_cap", transition_cap, 0))
-    if solver not in SOLVERS:
-        raise ValueError(f"solver must be one of {', '.join(SOLVERS)}; got {solver!r}")
-    rigid = isinstance(stop, RigidStop)
-    soft = isinstance(stop, HystereticStop)
-    c = stop.clearance if stop is not None else math.inf
+    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
+    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
+    opts = EventOptions(rtol, atol, solver, rest_speed, max_steps, time_budget, max_events)
+    limit = WorkLimit(max_steps, time_budget)
+    if t_eval is not None:
+        t_eval = check_times("t_eval", t_eval, t_end)
     if stop is not None:
-        check_start(x0, c, stop.limit_overlap if soft else None)
-    a, b, vb = osc.a, osc.b, osc.v
-    r = stop.restitution if rigid else 1.0
-    if rest_speed is None:
-        rest_speed = math.sqrt(2.0 * atol * max(a - c, 0.0)) if rigid else 0.0
-    else:
-        rest_speed = check_range("rest_speed", rest_speed, 0.0)
-
-    log = TransitionLog(transition_cap)
-    ts: list[float] = []
-    xs: list[float] = []
-    vs: list[float] = []
-    accs: list[float] = []
-    modes: list[int] = []
-    phis: list[float] = []
-    n_eval = n_steps = n_seg = 0
-    status = Status.SUCCESS
-
-    contact = soft and x0 > c
-    branch = FIRST_LOADING
-    t, x, v = 0.0, x0, v0
-
-    def phi_now(xx: float) -> float:
-        return _phi(stop, branch, xx) if soft and contact else 0.0
-
-    def start_mode(xx: float, vv: float) -> int:
-        """+1/-1 slip with that sign, 0 stick (SPEC §2; the relative velocity decides)."""
-        if vv < vb:
-            return 1
-        if vv > vb:
-            return -1
-        f = xx + phi_now(xx)
-        if abs(f) <= b:
-            return 0
-        return 1 if f > 0.0 else -1
-
-    def point(tt: float, xx: float, vv: float, aa: float, fr_: int) -> None:
-        ts.append(tt)
-        xs.append(xx)
-        vs.append(vv)
-        accs.append(aa)
-        modes.append(Mode.CONTACT if contact else (Mode.STICK if fr_ == 0 else Mode.SLIP))
-        if soft:
-            phis.append(phi_now(xx))
-
-    def slip_acc(xx: float, s_: int) -> float:
-        return -xx + s_ * a - phi_now(xx)
-
-    def pressed() -> bool:
-        return a >= c if vb > 0.0 else abs(c) <= b
-
-    at_rest = False
-
-    def rest_from(w: float) -> None:
-        """The bouncing ends: rest on the stop (after the accumulation time for 0<r<1)."""
-        nonlocal at_rest
-        t_rest = log_rest_at_stop(log, t, w, r, a, c, t_end)
-        for tt in (t, min(max(t_rest, t), t_end), t_end):
-            point(tt, c, 0.0, 0.0, 0)
-            modes[-1] = Mode.CONTACT
-        at_rest = True
-
-    def impact(w: float, from_stick: bool) -> int:
-        nonlocal v
-        v_after = -r * w
-        kind = TransitionKind.STICK_IMPACT if from_stick else TransitionKind.IMPACT
-        log.add(kind, t, c, w, v_after)
-        if abs(v_after) <= rest_speed and pressed():
-            rest_from(w)
-            return 0
-        v = v_after
-        fr_ = start_mode(c, v)
-        point(t, c, v, 0.0 if fr_ == 0 else slip_acc(c, fr_), fr_)
-        return fr_
-
-    fr = start_mode(x, v)
-    point(t, x, v, 0.0 if fr == 0 else slip_acc(x, fr), fr)
-    if rigid and x >= c and v > 0.0:
-        fr = impact(v, fr == 0)
-    elif rigid and x >= c and v == 0.0 and pressed():
-        rest_from(0.0)
-
-    same_time = 0
-    while t < t_end and not at_rest and status is Status.SUCCESS:
-        n_seg += 1
-        t_before = t
-        if n_seg > MAX_SEGMENTS:
-            status = Status.INTEGRATION_FAILED
-            break
-        if fr == 0:
-            # --- stick in closed form (paper Eqs. 5-6) ----------------------------------
-            if vb <= 0.0:
-                point(t_end, x, 0.0, 0.0, 0)
-                t = t_end
-                break
-            if soft and contact:
-                kind, x_e = _stick_contact_end(stop, branch, x, b)
-                t_e = t + (x_e - x) / vb
-                t_stop = min(t_e, t_end)
-                for xx in np.linspace(x, x + vb * (t_stop - t), STICK_CONTACT_POINTS)[1:]:
-                    point(t + (xx - x) / vb, float(xx), vb, 0.0, 0)
-                if t_e >= t_end:
-                    t = t_end
-                    break
-                t, x, v = t_e, x_e, vb
-                if kind is TransitionKind.FAILURE:
-                    log.add(kind, t, x, v)
-                    status = Status.STOP_FAILED
-                    break
-                if kind is None:
-                    status = Status.LIMIT_OVERLAP
-                    break
-                log.add(TransitionKind.STICK_SLIP, t, x, v)
-                fr = 1
-                point(t, x, v, slip_acc(x, fr), fr)  # right limit: the acceleration jumps
-                continue
-            target = min(b, c)
-            t_e = t + max(target - x, 0.0) / vb
-            if t_e >= t_end:
-                x += vb * (t_end - t)
-                t = t_end
-                point(t, x, vb, 0.0, 0)
-                break
-            t, x, v = t_e, target, vb
-            if rigid and c <= b:
-                point(t, x, v, 0.0, 0)
-                fr = impact(vb, True)
-            elif soft and c < b:
-                contact = True
-                branch = FIRST_LOADING
-                log.add(TransitionKind.CONTACT, t, x, v)
-                point(t, x, v, 0.0, 0)
-            else:
-                log.add(TransitionKind.STICK_SLIP, t, x, v)
-                point(t, x, v, 0.0, 0)  # left limit of the acceleration (stick)
-                fr = 1
-                point(t, x, v, slip_acc(x, fr), fr)
-            continue
-
-        # --- slip with fixed s: an ODE with events ----------------------------------------
-        s = fr
-        events, kinds = _slip_events(s, vb, c, rigid, soft, contact, branch, stop)
-        if soft and contact:
-            br = branch
-
-            def fun(_t, y, s=s, br=br):
-                d = y[0] - c
-                p = force_and_slope(d, br, stop)[0] if d > 0.0 else 0.0
-                return [y[1], -y[0] + s * a - p]
-
-        else:
-
-            def fun(_t, y, s=s):
-                return [y[1], -y[0] + s * a]
-
-        watch = stop is not None and not contact  # a crossing inside one step can be missed
-        opts = {}
-        if watch and x == c and v < 0.0 and slip_acc(x, s) > 0.0:
-            # pushed back to the stop, a rebound arc lasts about 2|x'|/x'': steps must not
-            # jump over it (the event function would see no sign change, or a root at t)
-            opts["max_step"] = REBOUND_STEP_FRACTION * 2.0 * abs(v) / slip_acc(x, s)
-        try:
-            sol = solve_ivp(
-                fun,
-                (t, t_end),
-                [x, v],
-                method=solver,
-                rtol=rtol,
-                atol=atol,
-                events=events,
-                dense_output=watch,
-                **opts,
-            )
-        except ValueError:
-            # solve_ivp's event root search failed: the interpolant of an implicit method
-            # (LSODA) did not reproduce the sign change its step end points showed
-            status = Status.INTEGRATION_FAILED
-            break
-        n_eval += sol.nfev
-        n_steps += len(sol.t) - 1
-        if sol.status == -1:
-            status = Status.INTEGRATION_FAILED
-            break
-        end_kind = None
-        t_stop_at, y_stop_at = float(sol.t[-1]), sol.y[:, -1]
-        if sol.status == 1:
-            for kname, tev in zip(kinds, sol.t_events, strict=False):
-                if kname != "top" and len(tev) and tev[-1] == t_stop_at:
-                    end_kind = kname
-                    break
-        tops = [
-            (te, ye)
-            for te, ye in zip(sol.t_events[0], sol.y_events[0], strict=True)
-            if te < t_stop_at
-        ]
-        if watch:
-            missed = _missed_crossing(sol, tops, c)
-            if missed is not None:
-                t_stop_at, y_stop_at = missed
-                end_kind = "stop"
-        # the step points, merged with the maxima of x (non-terminal event 0)
-        pts = [(float(sol.t[i]), sol.y[:, i]) for i in range(1, len(sol.t))]
-        pts += [(float(te), ye) for te, ye in tops]
-        pts = sorted((p for p in pts if p[0] < t_stop_at), key=lambda p: p[0])
-        if end_kind is None:
-            pts.append((t_stop_at, y_stop_at))
-        for tt, yy in pts:
-            point(tt, float(yy[0]), float(yy[1]), slip_acc(float(yy[0]), s), s)
-        t = t_stop_at
-        x, v = float(y_stop_at[0]), float(y_stop_at[1])
-        if end_kind is None:
-            break
-        same_time = same_time + 1 if t <= t_before else 0
-        if same_time > MAX_SAME_TIME:
-            status = Status.INTEGRATION_FAILED
-            break
-
-        if end_kind == "ur":
-            v = vb
-            f = x + phi_now(x)
-            point(t, x, v, slip_acc(x, s), s)  # left limit of the acceleration
-            if abs(f) <= b:
-                log.add(TransitionKind.SLIP_STICK, t, x, v)
-                fr = 0
-            else:
-                log.add(TransitionKind.SIGN_CHANGE, t, x, v)
-                fr = 1 if f > 0.0 else -1
-            point(t, x, v, 0.0 if fr == 0 else slip_acc(x, fr), fr)  # right limit
-        elif end_kind == "stop" and rigid:
-            x = c
-            point(t, x, v, slip_acc(x, s), s)
-            fr = impact(max(v, 0.0), False)
-        elif end_kind == "stop":
-            x = c
-            contact = True
-            branch = FIRST_LOADING
-            log.add(TransitionKind.CONTACT, t, x, v)
-            point(t, x, v, slip_acc(x, s), s)
-        elif end_kind == "separation":
-            x = c
-            contact = False
-            branch = FIRST_LOADING
-            log.add(TransitionKind.SEPARATION, t, x, v)
-            fr = start_mode(x, v)
-            point(t, x, v, 0.0 if fr == 0 else slip_acc(x, fr), fr)
-        elif end_kind == "reversal":
-            v = 0.0
-            branch = reverse(x - c, _phi(stop, branch, x), branch)
-            log.add(TransitionKind.REVERSAL, t, x, v)
-            fr = start_mode(x, v)
-            point(t, x, v, 0.0 if fr == 0 else slip_acc(x, fr), fr)
-        elif end_kind == "failure":
-            log.add(TransitionKind.FAILURE, t, x, v)
-            point(t, x, v, slip_acc(x, s), s)
-            status = Status.STOP_FAILED
-        elif end_kind == "limit":
-            point(t, x, v, slip_acc(x, s), s)
-            status = Status.LIMIT_OVERLAP
-
-    return result_from_dense(
-        ts,
-        xs,
-        vs,
-        modes,
-        log,
-        t_end=t_end,
-        n_samples=n_samples,
-        transition_cap=transition_cap,
-        acc=accs,
-        contact_force=phis if soft else None,
-        overlap=[xx - c for xx in xs] if soft else None,
-        stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
-        rtol=rtol,
-        belt_speed=vb,
-        x_upper=c if rigid else None,
-        status=status,
-        method="event",
-        stats={"segments": n_seg, "steps": n_steps, "rhs_evals": n_eval, "solver": solver},
-    )
-
-
-def _slip_events(s, vb, c, rigid, soft, contact, branch, stop):
-    """Event functions of a slip segment and their names (see the module docstring)."""
-    events, kinds = [], []
-
-    def top(_t, y):
-        return y[1]
-
-    top.terminal, top.direction = False, -1.0
-    events.append(top)
-    kinds.append("top")
-
-    def ur(_t, y):
-        return y[1] - vb
-
-    ur.terminal, ur.direction = True, 1.0 if s > 0 else -1.0
-    events.append(ur)
-    kinds.append("ur")
-    if rigid or (soft and not contact):
-
-        def hit(_t, y):
-            return y[0] - c
-
-        hit.terminal, hit.direction = True, 1.0
-        events.append(hit)
-        kinds.append("stop")
-    elif soft:
-
-        def sep(_t, y):
-            return y[0] - c
-
-        sep.terminal, sep.direction = True, -1.0
-
-        def rev(_t, y):
-            return y[1]
-
-        rev.terminal, rev.direction = True, -1.0 if branch.loading else 1.0
-        d_lim = stop.limit_overlap * LIMIT_OVERLAP_FRACTION
-
-        def limit(_t, y):
-            return y[0] - c - d_lim
-
-        limit.terminal, limit.direction = True, 1.0
-        events += [sep, rev, limit]
-        kinds += ["separation", "reversal", "limit"]
-        if math.isfinite(stop.strength):
-
-            def fail(_t, y):
-                return _phi(stop, branch, y[0]) - stop.strength
-
-            fail.terminal, fail.direction = True, 1.0
-            events.append(fail)
-            kinds.append("failure")
-    return events, kinds
-
-
-def _missed_crossing(sol, tops, c: float):
-    """First crossing of ``x = c`` that the event function missed, or ``None``.
-
-    A grazing arc can rise above the stop and fall back inside one step: no sign change at
-    the step ends, so ``solve_ivp`` sees no event. Every maximum of ``x`` is an event
-    (``x' = 0``); a maximum beyond the stop betrays the missed crossing, which is then found
-    on the dense output between the step point before it and the maximum.
-    """
-    for te, ye in tops:
-        if ye[0] > c:
-            i = max(int(np.searchsorted(sol.t, te, side="left")) - 1, 0)
-            t_lo = float(sol.t[i])
-            if sol.sol(t_lo)[0] > c:  # the previous crossing fired no event either
-                t_lo = float(sol.t[0])
-            t_c = brentq(
-                lambda tt: sol.sol(tt)[0] - c, t_lo, float(te), xtol=ROOT_XTOL, rtol=STICK_ROOT_RTOL
-            )
-            y_c = sol.sol(t_c)
-            return t_c, np.array([c, max(float(y_c[1]), 0.0)])
-    return None
-
-
-def _stick_contact_end(stop: HystereticStop, branch, x: float, b: float):
-    """End of stick inside a deformable contact: ``x + phi = b`` (stick->slip), the force
-    reaching the strength (``FAILURE``) or the limit overlap (``None``), whichever first.
-
-    Along stick the overlap grows, so ``x + phi`` grows monotonically on the loading branch.
-    """
-    c, d_lim = stop.clearance, stop.limit_overlap
-    x_hi = c + d_lim * LIMIT_OVERLAP_FRACTION
-
-    def g(xx: float) -> float:
-        return xx + _phi(stop, branch, xx) - b
-
-    candidates = []
-    if g(x) >= 0.0:
-        return TransitionKind.STICK_SLIP, x
-    if g(x_hi) > 0.0:
-        candidates.append((brentq(g, x, x_hi, rtol=STICK_ROOT_RTOL), TransitionKind.STICK_SLIP))
-    if math.isfinite(stop.strength):
-
-        def gf(xx: float) -> float:
-            return _phi(stop, branch, xx) - stop.strength
-
-        if gf(x) < 0.0 < gf(x_hi):
-            candidates.append((brentq(gf, x, x_hi, rtol=STICK_ROOT_RTOL), TransitionKind.FAILURE))
-    if not candidates:
-        return None, x_hi
-    x_e, kind = min(candidates, key=lambda p: p[0])
-    return kind, x_e
+        check_start(
+            x0, stop.clearance, stop.limit_overlap if isinstance(stop, HystereticStop) else None
+        )
+    run = EventSolver(osc, stop, t_end, x0, v0, opts, limit, transition_cap)
+    run.run()
+    return run.result(n_samples, t_eval)

@@ -90,25 +90,39 @@ def impact_sequence(
 
 
 def evaluate_sequence(
-    seq: ImpactSequence, t: np.ndarray, belt_speed: float
+    seq: ImpactSequence, t: np.ndarray, belt_speed: float, side: np.ndarray | int = 1
 ) -> dict[str, np.ndarray]:
     """State and energy increments (from ``t_start``, before the first impact) at ``t``.
 
-    Samples after the explicit impacts take the limit: the mass at the stop (accumulation
-    at rest) or the grazing circle about ``(a, 0)`` through ``(x_bar, 0)``.
+    At an impact time ``side = -1`` gives the state just before it (approach speed
+    ``r^k w``) and ``side >= 0`` the state just after it (``-r^(k+1) w``). Samples after
+    the explicit impacts take the limit: the mass at the stop (accumulation at rest) or
+    the grazing circle about ``(a, 0)`` through ``(x_bar, 0)``.
     """
     r, a, xb = seq.r, seq.a, seq.clearance
-    k = np.searchsorted(seq.t_impacts, t, side="right") - 1  # last impact at or before t
-    k = np.clip(k, 0, len(seq.t_impacts) - 1)
+    t = np.asarray(t, dtype=float)
+    before = np.broadcast_to(np.asarray(side) < 0, t.shape)
+    last = len(seq.t_impacts) - 1
+    # The last impact at or before t; strictly before t for a left limit.
+    k = np.where(
+        before,
+        np.searchsorted(seq.t_impacts, t, side="left"),
+        np.searchsorted(seq.t_impacts, t, side="right"),
+    ) - 1
+    k = np.clip(k, 0, last)
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
-    beyond = (k == len(seq.t_impacts) - 1) & seq.limit_follows
+    beyond = (k == last) & seq.limit_follows
     if seq.zeno:
         rebound = np.where(beyond, 0.0, rebound)
         tau = np.where(beyond, 0.0, tau)
     d = xb - a
     x = a + d * np.cos(tau) - rebound * np.sin(tau)
     v = -d * np.sin(tau) - rebound * np.cos(tau)
+    # Exactly at the next impact, from the left: the state Newton's law acts on.
+    arriving = before & (k < last) & (t == seq.t_impacts[np.minimum(k + 1, last)])
+    x = np.where(arriving, xb, x)
+    v = np.where(arriving, seq.speeds[np.minimum(k + 1, last)], v)
     n_impacts = k + 1.0
     loss = 0.5 * seq.w**2 * -np.expm1(2.0 * n_impacts * math.log(r))
     mode = np.where(seq.zeno & (t >= seq.t_accumulation), Mode.CONTACT, Mode.SLIP)

@@ -115,7 +115,7 @@ def test_every_solver_runs(solver):
     exact = simulate(SLOW, RigidStop(0.3, 0.8), t_end=15.0)
     # rtol 1e-8 for every method; implicit ones are less accurate per step: 1e-5 is loose
     assert res.x_max == pytest.approx(exact.x_max, abs=1e-5)
-    assert res.stats["solver"] == solver
+    assert res.info["solver"] == solver
 
 
 def test_hysteretic_stop_contact_sequence():
@@ -152,3 +152,140 @@ def test_bad_input_is_rejected():
         simulate_event(SLOW, solver="Euler")
     with pytest.raises(ValueError, match="x0"):
         simulate_event(SLOW, RigidStop(0.1), x0=0.2)
+
+
+# --- work limits, too many events, t_eval, dense output, stats --------------------------------
+
+IMPACTS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+
+
+def _consistent(res) -> None:
+    n = len(res.t)
+    assert all(len(a) == n for a in (res.x, res.v, res.mode, res.energy.mechanical))
+    assert np.all(np.diff(res.t) >= 0.0) and np.all(np.isfinite(res.x))
+    assert all(tr.t <= res.t[-1] for tr in res.transitions)
+
+
+def test_step_limit_returns_the_result_so_far():
+    from core import Status
+
+    res = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=50.0, max_steps=20)
+    assert res.status is Status.STEP_LIMIT and not res.success
+    assert res.stats["steps"] == 20
+    assert 0.0 < res.t[-1] < 50.0
+    _consistent(res)
+
+
+@pytest.mark.parametrize("belt_speed", [1e-5, 1e-9])
+def test_slow_belt_finishes_in_few_steps(belt_speed):
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=belt_speed)
+    stop = RigidStop(0.25, 0.7)
+    res = simulate_event(osc, stop, t_end=100.0, max_steps=1_000)
+    exact = simulate(osc, stop, t_end=100.0)
+    assert res.success
+    assert res.sequence() == exact.sequence() == "slip->stick"
+    # stick is closed-form: x(100) to the integration error of the first slip arc
+    assert res.x[-1] == pytest.approx(exact.x[-1], abs=1e-12)
+
+
+def test_time_budget_returns_the_result_so_far():
+    from core import Status
+
+    # a budget far below one step's cost: the solve stops at its first check
+    res = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=1e4, time_budget=1e-9)
+    assert res.status is Status.TIME_BUDGET
+    assert res.t[-1] < 1e4
+    _consistent(res)
+
+
+def test_too_many_events_is_an_event_limit():
+    """Too many events stop the solve with EVENT_LIMIT and the result so far (it was
+    INTEGRATION_FAILED)."""
+    from core import Status
+
+    res = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=50.0, max_events=4)
+    assert res.status is Status.EVENT_LIMIT
+    assert res.stats["segments"] == 4
+    assert 0.0 < res.t[-1] < 50.0
+    _consistent(res)
+    full = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=50.0)
+    # the truncated solve is the start of the full one
+    n = len(res.transitions)
+    assert n >= 2
+    assert [tr.t for tr in res.transitions] == [tr.t for tr in full.transitions[:n]]
+
+
+def test_stats_are_integer_counts_with_the_shared_keys():
+    from core.result import STATS_KEYS
+
+    res = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=20.0)
+    assert tuple(res.stats) == STATS_KEYS
+    assert all(isinstance(v, int) for v in res.stats.values())
+    assert res.stats["events"] == res.n_transitions > 0
+    assert res.stats["steps"] > 0 and res.stats["rhs_evals"] > res.stats["steps"]
+    assert res.info["solver"] == "RK45"
+
+
+def test_t_eval_samples_exactly_there():
+    t_eval = np.sort(np.random.default_rng(1).uniform(0.0, 30.0, 257))
+    res = simulate_event(SLOW, RigidStop(0.25, 0.7), t_end=30.0, t_eval=t_eval, **TIGHT)
+    np.testing.assert_array_equal(res.t, t_eval)
+    exact = simulate(SLOW, RigidStop(0.25, 0.7), t_end=30.0, t_eval=t_eval)
+    # DOP853's own interpolant at rtol 1e-11: measured 1e-11 over 40 time units
+    np.testing.assert_allclose(res.x, exact.x, atol=CLOSE)
+    np.testing.assert_allclose(res.v, exact.v, atol=CLOSE)
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_event(SLOW, t_end=30.0, t_eval=[0.0, 31.0])
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_event(SLOW, t_end=30.0, t_eval=[[0.0, 1.0]])
+
+
+@pytest.mark.parametrize(
+    "osc,stop",
+    [(SLOW, RigidStop(0.25, 0.7)), (FAST, RigidStop(0.3, 1.0)), (SLOW, RigidStop(0.15, 0.7))],
+    ids=["inelastic", "elastic", "zeno"],
+)
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8])
+def test_dense_solution_matches_the_closed_form(osc, stop, rtol):
+    res = simulate_event(osc, stop, t_end=40.0, rtol=rtol, atol=rtol * 1e-2)
+    tq = np.linspace(0.0, 40.0, 3001)
+    exact = simulate(osc, stop, t_end=40.0, t_eval=tq)
+    x, v = res.evaluate(tq)
+    # global error of a tolerance-proportional RK45 (and its interpolant) over 40 time
+    # units: measured up to 8 rtol; 100 rtol leaves room without hiding an O(1) error
+    np.testing.assert_allclose(x, exact.x, atol=100 * rtol)
+    np.testing.assert_allclose(v, exact.v, atol=100 * rtol)
+    # the samples are the interpolant's values
+    times, counts = np.unique(res.t, return_counts=True)
+    once = np.isin(res.t, times[counts == 1])  # not a jump (sampled on both sides)
+    xs, vs = res.evaluate(res.t[once], side=1)
+    np.testing.assert_array_equal(xs, res.x[once])
+    np.testing.assert_array_equal(vs, res.v[once])
+    # one-sided limits at an impact: the velocity before and after (Eq. 8)
+    impacts = [tr for tr in res.transitions if tr.kind in IMPACTS]
+    assert impacts
+    for tr in impacts:
+        assert res.evaluate([tr.t], side=-1)[1][0] == tr.v
+        if abs(tr.v_after) > 1e-3:  # not the last one of a Zeno train (rest follows)
+            assert res.evaluate([tr.t], side=1)[1][0] == tr.v_after
+    with pytest.raises(ValueError, match="t must lie"):
+        res.evaluate([41.0])
+
+
+@pytest.mark.parametrize("solver", ["RK45", "DOP853"])
+def test_error_is_proportional_to_rtol(solver):
+    """Tolerance proportionality: the transition times on an inelastic stick-slip-impact
+    scene against the exact solver, over rtol 1e-5 ... 1e-9 (atol = 1e-3 rtol)."""
+    stop = RigidStop(0.25, 0.7)
+    exact = simulate(SLOW, stop, t_end=50.0)
+    rtols = np.array([1e-5, 1e-6, 1e-7, 1e-8, 1e-9])
+    errs = []
+    for rtol in rtols:
+        res = simulate_event(SLOW, stop, t_end=50.0, rtol=rtol, atol=rtol * 1e-3, solver=solver)
+        n = min(len(exact.transitions), len(res.transitions), 10)
+        pairs = zip(exact.transitions[:n], res.transitions[:n], strict=True)
+        errs.append(max(abs(p.t - q.t) for p, q in pairs))
+    slope = float(np.polyfit(np.log(rtols), np.log(errs), 1)[0])
+    # measured 0.94 (RK45) and 0.96 (DOP853): SciPy's controllers keep the global error
+    # proportional to rtol; a lost event or a wrong restart would break the line
+    assert 0.8 < slope < 1.15, (slope, errs)
