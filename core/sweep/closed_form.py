@@ -6,10 +6,10 @@ stick segments along ``x' = v``, impacts by Newton's law. One iteration takes ev
 its next event with the formulas of :func:`core.flight.free_flight`, written here over
 numpy arrays (:func:`free_flight` below; a test checks it against the scalar one); masks
 tell which lane is in which mode. A lane ends as soon as its steady state is known, by the
-same rules as :func:`core.rigid.simulate_rigid`:
+same rules as :func:`core.rigid.simulate_rigid` and :mod:`core.steady`:
 
-* a transition state repeats (the fixed point of ``P^j``, Eq. 20), tested with
-  :data:`core.rigid.FIXED_POINT_RTOL` against the lane's earlier transitions;
+* a transition state repeats (the fixed point of ``P^j``, Eq. 20), tested as
+  :class:`core.steady.FixedPointDetector` tests it against the lane's earlier transitions;
 * a rebound whose arc comes back to the stop: the endless impact sequence of
   :mod:`core.impact_sequence` (rest after accumulation if ``x_bar < a``, else grazing);
 * rest at the stop, equilibrium, pure slip, or the horizon.
@@ -30,7 +30,7 @@ from core import flight
 from core.flight import ANGLE_EPS, TWO_PI, Motion, Segment
 from core.params import Oscillator
 from core.result import Mode, SteadyKind, TransitionKind
-from core.rigid import FIXED_POINT_LOOKBACK, FIXED_POINT_RTOL, REST_SPEED
+from core.steady import FIXED_POINT_LOOKBACK, FIXED_POINT_RTOL, PERIOD_ULPS, REST_SPEED
 from core.sweep.lanes import Lanes
 from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
 
@@ -249,9 +249,13 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
     if len(p):
         w = blk.xd[p]
         r, xb, v, a = blk.r[p], blk.xb[p], blk.v[p], blk.a[p]
-        rest = (w == 0.0) | ((r < 1.0) & (w <= REST_SPEED * blk.scale[p]))
+        # core.steady.comes_to_rest and pressed_on_stop over arrays.
+        held = a >= xb
+        d = np.abs(a - xb)
+        bounce = REST_SPEED * np.sqrt(d * np.maximum(np.abs(xb), d))
+        rest = held & ((w == 0.0) | (w <= bounce))
         after = -r * w
-        pressed = ~rest & (after == 0.0) & (v > 0.0) & (a >= xb)
+        pressed = ~rest & (after == 0.0) & (v > 0.0) & held
         _rest(out, blk, _mask(len(ended), p[rest | pressed]))
         ended[p[rest | pressed]] = True
         go = p[~(rest | pressed)]
@@ -373,7 +377,7 @@ def _mask(n: int, idx: np.ndarray) -> np.ndarray:
 
 def _push(blk, out, idx, kind, t, x, v, seg_xmax, ended) -> None:
     """Add transition states to the lanes' histories and close the cycles that repeat
-    (:func:`core.rigid._repeats` and ``_periodic``, over arrays)."""
+    (:class:`core.steady.FixedPointDetector` and ``core.rigid._periodic``, over arrays)."""
     full = blk.count[idx] >= HISTORY
     if np.any(full):
         out.rec.fallback[blk.id[idx[full]]] = True
@@ -392,17 +396,23 @@ def _push(blk, out, idx, kind, t, x, v, seg_xmax, ended) -> None:
         tol = (FIXED_POINT_RTOL * blk.scale[idx])[:, None]
         dx, dv = np.abs(hx - x[:, None]), np.abs(hv - v[:, None])
         same = earlier & (hk == kind[:, None])
-        near = same & (dx <= tol) & (dv <= tol)
+        # A period the times can resolve (core.steady.PERIOD_ULPS).
+        shortest = PERIOD_ULPS * np.spacing(np.maximum(np.abs(t), 1.0))
+        resolved = (t[:, None] - blk.h_t[idx, :width]) > shortest[:, None]
+        near = same & (dx <= tol) & (dv <= tol) & resolved
         rows = np.flatnonzero(near.any(axis=1))
         if len(rows):
-            dist = np.where(earlier[rows], dx[rows] + dv[rows], -np.inf)
+            gap = dx[rows] + dv[rows]
+            dist = np.where(earlier[rows], gap, -np.inf)
             # size_i = max over states i..now-1 of the distance to the new state.
             size = np.maximum.accumulate(dist[:, ::-1], axis=1)[:, ::-1]
-            ok = near[rows] & (dx[rows] + dv[rows] <= FIXED_POINT_RTOL * size)
-            found = rows[ok.any(axis=1)]
+            ok = near[rows] & (gap <= FIXED_POINT_RTOL * size)
+            has = ok.any(axis=1)
+            found = rows[has]
             if len(found):
-                closest = np.where(same[found], dx[found] + dv[found], np.inf)
-                j = np.argmin(closest, axis=1)  # the first of equals, as min() takes it
+                # The matching state with the smallest gap, the earliest of equals, as
+                # core.steady.FixedPointDetector picks it.
+                j = np.argmin(np.where(ok[has], gap[has], np.inf), axis=1)
                 _periodic(blk, out, idx[found], j, kind[found], t[found], x[found],
                           v[found], seg_xmax[found])
                 ended[idx[found]] = True
