@@ -329,3 +329,18 @@ def test_elastic_case_c_ties_resolve_as_simulate_resolves_them():
             sequences.add(ref.steady.sequence)
     # Both resolutions of the tie occur on this grid.
     assert {("impact",), ("slip->stick", "stick->impact")} <= sequences
+
+
+def test_still_belt_accumulation_comes_to_rest_as_simulate_decides():
+    # With the belt still the impact sequence has no closed form: the bounces shrink until
+    # core.steady.comes_to_rest holds the mass on the stop (a bounce below rounding), or
+    # friction stops it away from the stop; the vectorised rest rule must decide as
+    # simulate does.
+    osc = Oscillator(mu_s=0.05, mu_k=0.05, belt_speed=0.0)
+    clearances = np.linspace(-0.3, 0.3, 31)
+    res = sweep(osc, RigidStop(0.1, 0.5), "clearance", clearances, x0=-0.5, v0=0.6)
+    assert not res.fallback.any()
+    for i, c in enumerate(clearances):
+        ref = simulate(osc, RigidStop(float(c), 0.5), 200.0, -0.5, 0.6, transition_cap=100_000)
+        _assert_lane(res, i, ref, 0.6)
+    assert set(res.labels) == {"rest", "equilibrium"}
