@@ -101,15 +101,12 @@ def evaluate_sequence(
     """
     r, a, xb = seq.r, seq.a, seq.clearance
     t = np.asarray(t, dtype=float)
-    before = np.broadcast_to(np.asarray(side) < 0, t.shape)
+    before = np.asarray(side) < 0
     last = len(seq.t_impacts) - 1
-    # The last impact at or before t; strictly before t for a left limit.
-    k = np.where(
-        before,
-        np.searchsorted(seq.t_impacts, t, side="left"),
-        np.searchsorted(seq.t_impacts, t, side="right"),
-    ) - 1
-    k = np.clip(k, 0, last)
+    k = np.searchsorted(seq.t_impacts, t, side="right") - 1  # last impact at or before t
+    # Exactly at an impact, from the left: the arc that ends there (strictly before t).
+    at_impact = before & (k > 0) & (seq.t_impacts[np.maximum(k, 0)] == t)
+    k = np.clip(k - at_impact, 0, last)
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
     beyond = (k == last) & seq.limit_follows
@@ -119,10 +116,9 @@ def evaluate_sequence(
     d = xb - a
     x = a + d * np.cos(tau) - rebound * np.sin(tau)
     v = -d * np.sin(tau) - rebound * np.cos(tau)
-    # Exactly at the next impact, from the left: the state Newton's law acts on.
-    arriving = before & (k < last) & (t == seq.t_impacts[np.minimum(k + 1, last)])
-    x = np.where(arriving, xb, x)
-    v = np.where(arriving, seq.speeds[np.minimum(k + 1, last)], v)
+    if np.any(at_impact):  # the state Newton's law acts on, exactly
+        x[at_impact] = xb
+        v[at_impact] = seq.speeds[k[at_impact] + 1]
     n_impacts = k + 1.0
     loss = 0.5 * seq.w**2 * -np.expm1(2.0 * n_impacts * math.log(r))
     mode = np.where(seq.zeno & (t >= seq.t_accumulation), Mode.CONTACT, Mode.SLIP)

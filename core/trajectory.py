@@ -147,15 +147,14 @@ def evaluate(
     """
     t = np.asarray(times, dtype=float)
     side = np.asarray(side, dtype=np.int8)
-    snap = EVENT_SNAP_ULPS * np.spacing(np.maximum(np.abs(t), 1.0))
-    wf_off = np.zeros_like(t)
-    wb_off = np.zeros_like(t)
-    loss_off = np.zeros_like(t)
+    # One snap for all times, from the largest: the rounding it absorbs grows with the
+    # horizon, not with each time.
+    snap = EVENT_SNAP_ULPS * math.ulp(max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0)
+    wf_off = wb_off = loss_off = 0.0
     if tail is not None:
         t, n = fold_times(t, side, tail.t_from, tail.cycle_t0, tail.period)
-        late = n > 0.0
         dwf, dwb, dloss = tail.work_per_period
-        wf_off[late], wb_off[late], loss_off[late] = n[late] * dwf, n[late] * dwb, n[late] * dloss
+        wf_off, wb_off, loss_off = n * dwf, n * dwb, n * dloss
     t0 = table["t0"]
     # A time at a transition belongs to the segment after it, or before it when asked
     # (side -1); the snap makes that hold when rounding puts it an ulp off the start.
@@ -216,9 +215,14 @@ class ExactSolution:
         times = np.asarray(times, dtype=float)
         side = np.asarray(side, dtype=np.int8)
         seq = self.sequence
-        late = np.zeros(len(times), bool)
-        if seq is not None:
-            late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
+        if seq is None:
+            out = evaluate(self.table, times, side, self.belt_speed, self.tail)
+            if math.isfinite(self.clearance):
+                # Rounding may put a state a few ulps past the face; the exact solution
+                # never is.
+                np.minimum(out["x"], self.clearance, out=out["x"])
+            return out
+        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
         early = ~late
         out = {
             name: np.empty(len(times), np.int8 if name == "mode" else float)
@@ -228,7 +232,7 @@ class ExactSolution:
             part = evaluate(self.table, times[early], side[early], self.belt_speed, self.tail)
             for name, values in part.items():
                 out[name][early] = values
-        if seq is not None and np.any(late):
+        if np.any(late):
             part = evaluate_sequence(seq, times[late], self.belt_speed, side[late])
             wf, wb, lost = self.sequence_work
             # sequence_work already holds the loss of the first impact of the sequence.
