@@ -104,9 +104,10 @@ def evaluate_sequence(
     before = np.asarray(side) < 0
     last = len(seq.t_impacts) - 1
     k = np.searchsorted(seq.t_impacts, t, side="right") - 1  # last impact at or before t
+    k = np.clip(k, 0, last)
     # Exactly at an impact, from the left: the arc that ends there (strictly before t).
-    at_impact = before & (k > 0) & (seq.t_impacts[np.maximum(k, 0)] == t)
-    k = np.clip(k - at_impact, 0, last)
+    at_impact = before & (k > 0) & (seq.t_impacts[k] == t)
+    k -= at_impact
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
     beyond = (k == last) & seq.limit_follows
@@ -114,8 +115,9 @@ def evaluate_sequence(
         rebound = np.where(beyond, 0.0, rebound)
         tau = np.where(beyond, 0.0, tau)
     d = xb - a
-    x = a + d * np.cos(tau) - rebound * np.sin(tau)
-    v = -d * np.sin(tau) - rebound * np.cos(tau)
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    x = a + d * cos_t - rebound * sin_t
+    v = -d * sin_t - rebound * cos_t
     if np.any(at_impact):  # the state Newton's law acts on, exactly
         x[at_impact] = xb
         v[at_impact] = seq.speeds[k[at_impact] + 1]
