@@ -16,6 +16,7 @@ from core.flight import Segment
 from core.impact_sequence import ImpactSequence, evaluate_sequence
 from core.result import Mode
 from core.steady import fold_times
+from core.validation import check_side, check_times
 
 #: A time within this many ulps (of the time itself) of a transition is taken to lie on it:
 #: the transition times of a repeated cycle are formed as ``t_i + k*period`` and mapped
@@ -255,12 +256,8 @@ class ExactSolution:
         >>> [round(float(res.evaluate(t_hit, side)[1]), 12) for side in (-1, 1)]
         [0.173205080757, -0.173205080757]
         """
-        if side not in (-1, 1):
-            raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")
+        check_side(side)
         t = np.asarray(t, dtype=float)
-        flat = t.ravel()
-        if flat.size and not (np.all(flat >= 0.0) and np.all(flat <= self.t_end)):
-            bad = flat[~((flat >= 0.0) & (flat <= self.t_end))][0]
-            raise ValueError(f"t must lie in [0, t_end={self.t_end:.6g}]; got {bad!r}")
+        flat = check_times("t", t.ravel(), self.t_end)
         out = self.sample(flat, np.full(flat.shape, side, np.int8))
         return out["x"].reshape(t.shape), out["v"].reshape(t.shape)
