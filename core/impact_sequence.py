@@ -101,15 +101,13 @@ def evaluate_sequence(
     """
     r, a, xb = seq.r, seq.a, seq.clearance
     t = np.asarray(t, dtype=float)
-    before = np.broadcast_to(np.asarray(side) < 0, t.shape)
+    before = np.asarray(side) < 0
     last = len(seq.t_impacts) - 1
-    # The last impact at or before t; strictly before t for a left limit.
-    k = np.where(
-        before,
-        np.searchsorted(seq.t_impacts, t, side="left"),
-        np.searchsorted(seq.t_impacts, t, side="right"),
-    ) - 1
+    k = np.searchsorted(seq.t_impacts, t, side="right") - 1  # last impact at or before t
     k = np.clip(k, 0, last)
+    # Exactly at an impact, from the left: the arc that ends there (strictly before t).
+    at_impact = before & (k > 0) & (seq.t_impacts[k] == t)
+    k -= at_impact
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
     beyond = (k == last) & seq.limit_follows
@@ -117,12 +115,12 @@ def evaluate_sequence(
         rebound = np.where(beyond, 0.0, rebound)
         tau = np.where(beyond, 0.0, tau)
     d = xb - a
-    x = a + d * np.cos(tau) - rebound * np.sin(tau)
-    v = -d * np.sin(tau) - rebound * np.cos(tau)
-    # Exactly at the next impact, from the left: the state Newton's law acts on.
-    arriving = before & (k < last) & (t == seq.t_impacts[np.minimum(k + 1, last)])
-    x = np.where(arriving, xb, x)
-    v = np.where(arriving, seq.speeds[np.minimum(k + 1, last)], v)
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    x = a + d * cos_t - rebound * sin_t
+    v = -d * sin_t - rebound * cos_t
+    if np.any(at_impact):  # the state Newton's law acts on, exactly
+        x[at_impact] = xb
+        v[at_impact] = seq.speeds[k[at_impact] + 1]
     n_impacts = k + 1.0
     loss = 0.5 * seq.w**2 * -np.expm1(2.0 * n_impacts * math.log(r))
     mode = np.where(seq.zeno & (t >= seq.t_accumulation), Mode.CONTACT, Mode.SLIP)

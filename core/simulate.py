@@ -10,6 +10,7 @@ from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
 from core.rigid import simulate_rigid
 from core.validation import (
+    check_choice,
     check_integer,
     check_options,
     check_oscillator,
@@ -96,8 +97,7 @@ def simulate(
         check_start(x0, stop.clearance, stop.limit_overlap if soft else None)
     n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
     transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    check_choice("method", method, METHODS)
     check_options(method, method_options(method, stop), {"rtol": rtol, "atol": atol, "eta": eta})
     for name, value in (("rtol", rtol), ("atol", atol), ("eta", eta)):
         if value is not None:

@@ -185,18 +185,22 @@ def fold_times(
     ([1.0, 3.0, 5.0], [0.0, 2.0, 2.0])
     """
     late = (t > t_from) | ((t == t_from) & (side >= 0))
-    k = np.floor((t[late] - t_from) / period)
-    shift = t[late] - t_from - k * period
+    tl = t[late]
+    k = np.floor((tl - t_from) / period)
+    shift = tl - t_from - k * period
     snap = TILE_SNAP * period
     wrap = shift >= period - snap
-    k = np.where(wrap, k + 1.0, k)
-    shift = np.where(wrap | (shift <= snap), 0.0, shift)
+    k += wrap
+    boundary = wrap | (shift <= snap)
+    shift[boundary] = 0.0
     # Left limit at a boundary: the end of the previous period, where the stored motion
     # itself ends, rather than the transient's arrival at the cycle's start.
-    end = (shift == 0.0) & (side[late] < 0)
-    k = np.where(end, k - 1.0, k)
+    end = boundary & (side[late] < 0)
+    k -= end
+    mapped = cycle_t0 + shift
+    mapped[end] = t_from
     folded = np.array(t, dtype=float, copy=True)
-    folded[late] = np.where(end, t_from, cycle_t0 + shift)
+    folded[late] = mapped
     n = np.zeros_like(folded)
     n[late] = k + 1.0
     return folded, n

@@ -16,6 +16,7 @@ from core.flight import Segment
 from core.impact_sequence import ImpactSequence, evaluate_sequence
 from core.result import Mode
 from core.steady import fold_times
+from core.validation import check_side, check_times
 
 #: A time within this many ulps (of the time itself) of a transition is taken to lie on it:
 #: the transition times of a repeated cycle are formed as ``t_i + k*period`` and mapped
@@ -147,15 +148,14 @@ def evaluate(
     """
     t = np.asarray(times, dtype=float)
     side = np.asarray(side, dtype=np.int8)
-    snap = EVENT_SNAP_ULPS * np.spacing(np.maximum(np.abs(t), 1.0))
-    wf_off = np.zeros_like(t)
-    wb_off = np.zeros_like(t)
-    loss_off = np.zeros_like(t)
+    # One snap for all times, from the largest: the rounding it absorbs grows with the
+    # horizon, not with each time.
+    snap = EVENT_SNAP_ULPS * math.ulp(max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0)
+    wf_off = wb_off = loss_off = 0.0
     if tail is not None:
         t, n = fold_times(t, side, tail.t_from, tail.cycle_t0, tail.period)
-        late = n > 0.0
         dwf, dwb, dloss = tail.work_per_period
-        wf_off[late], wb_off[late], loss_off[late] = n[late] * dwf, n[late] * dwb, n[late] * dloss
+        wf_off, wb_off, loss_off = n * dwf, n * dwb, n * dloss
     t0 = table["t0"]
     # A time at a transition belongs to the segment after it, or before it when asked
     # (side -1); the snap makes that hold when rounding puts it an ulp off the start.
@@ -216,9 +216,14 @@ class ExactSolution:
         times = np.asarray(times, dtype=float)
         side = np.asarray(side, dtype=np.int8)
         seq = self.sequence
-        late = np.zeros(len(times), bool)
-        if seq is not None:
-            late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
+        if seq is None:
+            out = evaluate(self.table, times, side, self.belt_speed, self.tail)
+            if math.isfinite(self.clearance):
+                # Rounding may put a state a few ulps past the face; the exact solution
+                # never is.
+                np.minimum(out["x"], self.clearance, out=out["x"])
+            return out
+        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
         early = ~late
         out = {
             name: np.empty(len(times), np.int8 if name == "mode" else float)
@@ -228,7 +233,7 @@ class ExactSolution:
             part = evaluate(self.table, times[early], side[early], self.belt_speed, self.tail)
             for name, values in part.items():
                 out[name][early] = values
-        if seq is not None and np.any(late):
+        if np.any(late):
             part = evaluate_sequence(seq, times[late], self.belt_speed, side[late])
             wf, wb, lost = self.sequence_work
             # sequence_work already holds the loss of the first impact of the sequence.
@@ -251,12 +256,8 @@ class ExactSolution:
         >>> [round(float(res.evaluate(t_hit, side)[1]), 12) for side in (-1, 1)]
         [0.173205080757, -0.173205080757]
         """
-        if side not in (-1, 1):
-            raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")
+        check_side(side)
         t = np.asarray(t, dtype=float)
-        flat = t.ravel()
-        if flat.size and not (np.all(flat >= 0.0) and np.all(flat <= self.t_end)):
-            bad = flat[~((flat >= 0.0) & (flat <= self.t_end))][0]
-            raise ValueError(f"t must lie in [0, t_end={self.t_end:.6g}]; got {bad!r}")
+        flat = check_times("t", t.ravel(), self.t_end)
         out = self.sample(flat, np.full(flat.shape, side, np.int8))
         return out["x"].reshape(t.shape), out["v"].reshape(t.shape)

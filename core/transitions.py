@@ -21,6 +21,9 @@ from core.result import Transition, TransitionKind
 
 #: Transitions at which the stop takes an impulse ``m (v - v_after)``.
 IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+#: Each kind's value, looked up without the enum's property (a long horizon records
+#: hundreds of thousands of transitions).
+_VALUE = {kind: kind.value for kind in TransitionKind}
 
 
 class TransitionLog:
@@ -76,10 +79,10 @@ class TransitionLog:
         after = v if v_after is None else v_after
         tr = Transition(kind, float(t), float(x), float(v), float(after))
         self.total += 1
-        self.counts[kind.value] += 1
+        self.counts[_VALUE[kind]] += 1
         if len(self.stored) < self.cap:
             self.stored.append(tr)
-            if kind in IMPACT_KINDS:
+            if kind is TransitionKind.IMPACT or kind is TransitionKind.STICK_IMPACT:
                 self.impulses.append((tr.t, tr.v - tr.v_after))
         if self.recent.maxlen:
             self.recent.append(tr)
@@ -87,7 +90,7 @@ class TransitionLog:
     def count(self, kind: TransitionKind, n: int) -> None:
         """Count ``n`` transitions of ``kind`` that are not stored."""
         self.total += int(n)
-        self.counts[kind.value] += int(n)
+        self.counts[_VALUE[kind]] += int(n)
 
     def add_impacts(
         self, times: Sequence[float], x: float, speeds: Sequence[float], r: float

@@ -158,7 +158,7 @@ def check_times(name: str, times: object, t_end: float) -> np.ndarray:
     outside = ~np.isfinite(t) | (t < 0.0) | (t > t_end)
     if np.any(outside):
         raise ValueError(
-            f"{name} must hold times in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
+            f"{name} must lie in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
         )
     return t
 
@@ -173,3 +173,29 @@ def check_options(method: str, used: tuple[str, ...], given: dict[str, object]) 
                 f"{name} is not used by method {method!r} here (it uses {uses}); "
                 f"leave {name} unset"
             )
+
+
+def check_choice(name: str, value: object, allowed: tuple) -> None:
+    """``value`` must be one of ``allowed``."""
+    if value not in allowed:
+        raise ValueError(
+            f"{name} must be one of {', '.join(str(a) for a in allowed)}; got {value!r}"
+        )
+
+
+def check_side(side: object) -> None:
+    """The side of a one-sided limit: -1 (left, before a jump) or +1 (right, after it)."""
+    if side not in (-1, 1):
+        raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")
+
+
+def check_grid(name: str, values: np.ndarray, low: float = -math.inf) -> np.ndarray:
+    """A 1-D float array of finite values ``>= low`` (the axis of a regime map)."""
+    values = np.asarray(values, dtype=float).ravel()
+    bad = ~np.isfinite(values) | (values < low)
+    if np.any(bad):
+        raise ValueError(
+            f"{name} must lie in [{_fmt(low)}, inf) at every point of the grid; "
+            f"got {values[bad][0]!r}"
+        )
+    return values

@@ -11,6 +11,10 @@ from core.params import Oscillator, RigidStop
 from core.result import SteadyKind
 from core.theory.regimes import analyse
 from core.theory.values import Point, Prediction
+from core.validation import check_integer
+
+#: Most impact speeds :func:`impact_sequence` lists.
+MAX_IMPACT_SPEEDS = 10_000_000
 
 
 def steady_points(osc: Oscillator, stop: RigidStop | None) -> dict[str, Point]:
@@ -78,9 +82,7 @@ def impact_sequence(osc: Oscillator, stop: RigidStop | None, n: int) -> np.ndarr
     >>> impact_sequence(osc, RigidStop(clearance=0.15, restitution=0.5), 3).round(12)
     array([0.1  , 0.05 , 0.025])
     """
-    n = int(n)
-    if n < 0:
-        raise ValueError(f"n must be >= 0; got {n}")
+    n = check_integer("n", n, 0, MAX_IMPACT_SPEEDS)
     an = analyse(osc, stop, 0.0, 0.0)
     if an.impactless or not math.isfinite(an.first_impact_speed):
         return np.zeros(0)

@@ -17,7 +17,7 @@ import numpy as np
 from core.params import Oscillator, RigidStop
 from core.theory.impactless import rest_position_still_belt
 from core.theory.values import RegimeGrid
-from core.validation import check_oscillator, check_rigid_stop, check_state
+from core.validation import check_grid, check_oscillator, check_rigid_stop, check_state
 
 #: Branch codes of :func:`decide`: which closed form describes the point.
 IMPACTLESS = 0  # the stop is never reached (or there is none)
@@ -187,12 +187,8 @@ def classify_grid(
     x0, v0 = check_state(x0, v0)
     if stop is not None and not isinstance(stop, RigidStop):
         check_rigid_stop(stop, x0)  # raises: the closed forms speak of a rigid stop
-    speeds = np.asarray(speeds, dtype=float).ravel()
-    clearances = np.asarray(clearances, dtype=float).ravel()
-    if not (np.all(np.isfinite(speeds)) and np.all(speeds >= 0.0)):
-        raise ValueError("belt_speed must lie in [0, inf) at every point of the grid")
-    if not np.all(np.isfinite(clearances)):
-        raise ValueError("clearance must be a finite number at every point of the grid")
+    speeds = check_grid("belt_speed", speeds, 0.0)
+    clearances = check_grid("clearance", clearances)
     d = decide(osc, stop, speeds, clearances, x0, v0)
     label = "none" if stop is None else impact_label(stop.restitution)
     return RegimeGrid(

@@ -2,7 +2,7 @@
 
 References used here are independent of the solver: the paper's closed-form results
 (docs/physics.md, "Closed-form results"), a ``solve_ivp`` integration of the non-smooth
-model written in this file, and the invariants of the motion (energy balance, no
+model (tests/core/ivp_reference.py), and the invariants of the motion (energy balance, no
 penetration, Newton's restitution).
 """
 
@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
-from scipy.integrate import solve_ivp
 
 from core import HystereticStop, Oscillator, RigidStop, SteadyKind, TransitionKind, simulate
+from tests.core.ivp_reference import Reference
 
 #: Closed-form agreement: the solver evaluates the same circles, so only rounding of a
 #: few dozen trigonometric evaluations separates them (the issue asks for ~1e-12).
@@ -175,64 +175,6 @@ def test_zeno_with_restitution_near_one_terminates():
 # ----------------------------------------------------------- independent second method
 
 
-def ivp_reference(osc, stop, t_end, x0=0.0, v0=0.0, rtol=1e-12, atol=1e-14):
-    """Non-smooth model integrated by DOP853 with event location (a second, slow method)."""
-    a, b, v = osc.a, osc.b, osc.v
-    xb = stop.clearance if stop else math.inf
-    r = stop.restitution if stop else 1.0
-    t, y = 0.0, np.array([x0, v0])
-    stick = v0 == v and abs(x0) <= b
-    s = 1.0 if v0 < v else -1.0
-    ts, xs = [0.0], [x0]
-    while t < t_end:
-        if stick:
-            t_next = min(t + (min(b, xb) - y[0]) / v, t_end)
-            y = np.array([y[0] + v * (t_next - t), v])
-            t = t_next
-            ts.append(t)
-            xs.append(y[0])
-            if y[0] >= xb:
-                y = np.array([xb, -r * v])
-            stick, s = False, 1.0
-            continue
-
-        def rel(_t, yy):
-            return yy[1] - v
-
-        rel.terminal = True
-        rel.direction = s  # x' rises to v when s = +1, falls to v when s = -1
-
-        def wall(_t, yy):
-            return yy[0] - xb
-
-        wall.terminal = True
-        wall.direction = 1
-        events = [rel] + ([wall] if xb < math.inf else [])
-        sol = solve_ivp(
-            lambda _t, yy, s=s: [yy[1], -yy[0] + s * a],
-            (t, t_end),
-            y,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-            events=events,
-        )
-        ts.extend(sol.t[1:])
-        xs.extend(sol.y[0, 1:])
-        t, y = sol.t[-1], sol.y[:, -1].copy()
-        if sol.status != 1:
-            break
-        if len(sol.t_events) > 1 and len(sol.t_events[1]):
-            y = np.array([xb, -r * y[1]])
-            s = 1.0
-        elif abs(y[0]) <= b:
-            stick = True
-            y[1] = v
-        else:
-            s = -s
-    return np.array(ts), np.array(xs)
-
-
 @pytest.mark.parametrize(
     ("osc", "stop"),
     [
@@ -246,13 +188,16 @@ def ivp_reference(osc, stop, t_end, x0=0.0, v0=0.0, rtol=1e-12, atol=1e-14):
 )
 def test_agrees_with_independent_ivp_integration(osc, stop):
     t_end = 40.0
-    ts, xs = ivp_reference(osc, stop, t_end)
+    ref = Reference(osc, stop, t_end, max_impacts=1000)
+    assert ref.t_last == t_end
+    ts = np.linspace(0.0, t_end, 4001)
+    xs, _ = ref(ts)
     res = simulate(osc, stop, t_end=t_end, t_eval=ts)
     # DOP853 at rtol 1e-12 with event location carries ~1e-11 per event; a few dozen
     # events and restarts over t = 40 keep it below 1e-9.
     np.testing.assert_allclose(res.x, xs, atol=1e-9)
     assert res.x_max >= xs.max() - 1e-9
-    assert res.x_max - xs.max() < 1e-3  # the reference's steps may straddle the maximum
+    assert res.x_max - xs.max() < 1e-3  # the grid may straddle the maximum
 
 
 # ---------------------------------------------------------------------------- invariants
