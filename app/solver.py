@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from app.state import SOLVE_PARAMS, core_inputs
-from core import HystereticStop, Mode, Result, RigidStop, simulate, theory
+from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
 from core.hysteretic import effective_restitutions
 
@@ -262,10 +262,10 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
         program, result = overlap_program(stop), None
     else:
         program = None
+        # The preset's tolerances, for the options this method uses (core refuses others).
+        options = {k: accuracy[k] for k in method_options(method, stop) if k in accuracy}
         result = simulate(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
-            rtol=accuracy["rtol"], atol=accuracy["atol"],
-            eta=accuracy["eta"] if method == "switch" else None,
+            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method, **options,
         )
     solve_time = time.perf_counter() - start
     return Solution(

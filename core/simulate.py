@@ -26,12 +26,14 @@ METHODS = ("exact", "switch", "event")
 METHOD_OPTIONS = {
     "exact": (),  # no stop or a rigid stop: closed form, nothing to tune
     "exact-hysteretic": ("rtol", "atol"),  # exact flight, integrated contact phase
-    "switch": ("rtol", "atol", "eta"),
-    "event": ("rtol", "atol"),
+    "switch": ("rtol", "atol", "eta", "max_steps", "time_budget"),
+    "event": ("rtol", "atol", "max_steps", "time_budget"),
 }
 #: Bounds of the sampling density and the transition store.
 MAX_SAMPLES = 10_000_000
 MAX_TRANSITION_CAP = 10_000_000
+#: Upper bound of a numerical method's step limit.
+MAX_STEPS = 1_000_000_000
 
 
 def simulate(
@@ -48,6 +50,8 @@ def simulate(
     atol: float | None = None,
     eta: float | None = None,
     t_eval: np.ndarray | None = None,
+    max_steps: int | None = None,
+    time_budget: float | None = None,
 ) -> Result:
     """Response of the friction(-impact) oscillator over ``[0, t_end]`` (dimensionless time).
 
@@ -77,7 +81,12 @@ def simulate(
         ``event`` uses ``rtol`` and ``atol``; ``switch`` all three. Any other raises a
         ``TypeError`` that names it.
     t_eval : array, optional
-        Sample at these times in ``[0, t_end]`` instead of ``n_samples`` uniform ones.
+        Sample at these times in ``[0, t_end]`` instead of ``n_samples`` uniform ones
+        (every method).
+    max_steps, time_budget : optional
+        Work limits of the numerical methods (``switch``, ``event``): accepted steps at
+        most, and wall time in seconds. A solve that reaches one returns the result up to
+        that point with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``.
 
     Examples
     --------
@@ -98,35 +107,42 @@ def simulate(
     n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
     transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
     check_choice("method", method, METHODS)
-    check_options(method, method_options(method, stop), {"rtol": rtol, "atol": atol, "eta": eta})
+    check_options(
+        method, method_options(method, stop),
+        {"rtol": rtol, "atol": atol, "eta": eta, "max_steps": max_steps,
+         "time_budget": time_budget},
+    )
     for name, value in (("rtol", rtol), ("atol", atol), ("eta", eta)):
         if value is not None:
             check_range(name, value, 0.0, 1.0, low_open=True)
+    limits: dict[str, float] = {}
+    if max_steps is not None:
+        limits["max_steps"] = check_integer("max_steps", max_steps, 1, MAX_STEPS)
+    if time_budget is not None:
+        limits["time_budget"] = check_range("time_budget", time_budget, 0.0, low_open=True)
     if t_eval is not None:
         t_eval = check_times("t_eval", t_eval, t_end)
-    # t_eval reaches only the exact rigid solver for now; the numerical and hysteretic
-    # solvers take it once their functions accept it.
 
     if method == "switch":
         from core.switch import simulate_switch
 
         return simulate_switch(
             osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            **_given(rtol=rtol, atol=atol, eta=eta),
+            t_eval=t_eval, **limits, **_given(rtol=rtol, atol=atol, eta=eta),
         )
     if method == "event":
         from core.event_method import simulate_event
 
         return simulate_event(
             osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            **_given(rtol=rtol, atol=atol),
+            t_eval=t_eval, **limits, **_given(rtol=rtol, atol=atol),
         )
     if isinstance(stop, HystereticStop):
         from core.hysteretic import simulate_hysteretic
 
         return simulate_hysteretic(
             osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            **_given(rtol=rtol, atol=atol),
+            t_eval=t_eval, **_given(rtol=rtol, atol=atol),
         )
     return simulate_rigid(
         osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
@@ -140,7 +156,7 @@ def method_options(method: str, stop: RigidStop | HystereticStop | None) -> tupl
     Examples
     --------
     >>> method_options("exact", None), method_options("event", None)
-    ((), ('rtol', 'atol'))
+    ((), ('rtol', 'atol', 'max_steps', 'time_budget'))
     """
     if method == "exact" and isinstance(stop, HystereticStop):
         return METHOD_OPTIONS["exact-hysteretic"]

@@ -168,7 +168,7 @@ def check_options(method: str, used: tuple[str, ...], given: dict[str, object]) 
     about extraneous options) instead of dropping it."""
     for name, value in given.items():
         if value is not None and name not in used:
-            uses = ", ".join(used) if used else "none of rtol, atol, eta"
+            uses = ", ".join(used) if used else "none of the tuning options"
             raise TypeError(
                 f"{name} is not used by method {method!r} here (it uses {uses}); "
                 f"leave {name} unset"

@@ -178,3 +178,33 @@ def test_stats_are_integer_counts_and_diagnostics_are_info():
     assert all(type(v) is int for v in res.stats.values())
     assert res.stats["events"] == res.n_transitions
     assert res.info["impacts_evaluated"] > 10
+
+
+@pytest.mark.parametrize(
+    ("method", "stop"),
+    [("exact", RigidStop(0.25, 0.7)), ("switch", RigidStop(0.25, 0.7)),
+     ("event", RigidStop(0.25, 0.7)), ("exact", "hysteretic")],
+)
+def test_every_method_samples_at_t_eval(method, stop):
+    """The driver hands ``t_eval`` to every method (it used to reach the rigid one only)."""
+    from core import HystereticStop
+
+    if stop == "hysteretic":
+        stop = HystereticStop(0.25, 1000.0, 500.0, limit_overlap=1e-3, beta_c=10, beta_e=10)
+    times = np.array([0.0, 3.3, 17.0, 41.5, 50.0])
+    res = simulate(SLOW, stop, t_end=50.0, method=method, t_eval=times)
+    np.testing.assert_array_equal(res.t, times)
+    # Every method's samples are its own dense solution at those times (left limits).
+    x, v = res.evaluate(times)
+    np.testing.assert_allclose(res.x, x, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("method", ["switch", "event"])
+def test_work_limits_reach_the_numerical_methods(method):
+    from core import Status
+
+    res = simulate(SLOW, RigidStop(0.25, 0.7), t_end=50.0, method=method, max_steps=10)
+    assert res.status is Status.STEP_LIMIT
+    assert res.t[-1] < 50.0
+    with pytest.raises(TypeError, match="max_steps"):
+        simulate(SLOW, RigidStop(0.25, 0.7), t_end=50.0, max_steps=10)
