@@ -137,8 +137,10 @@ class Explorer(pn.viewable.Viewer):
         self.plots.figures["phase"].on_event(Tap, self._on_phase_tap)
         self.plots.figures["map"].on_event(Tap, self._on_map_tap)
         self._build_widgets()
-        self.alert = pn.pane.Alert("", alert_type="danger", visible=False,
-                                   sizing_mode="stretch_width", css_classes=["fie-alert"])
+        # An HTML pane whose text is always escaped (a Markdown alert rendered the HTML of a
+        # URL's value: a shared link could run script in the page).
+        self.alert = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
+                                  css_classes=["fie-alert"], stylesheets=[STYLESHEET])
         self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-caption"], stylesheets=[STYLESHEET])
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width", height=READOUT_HEIGHT,
@@ -299,10 +301,21 @@ class Explorer(pn.viewable.Viewer):
                 value = raw
             if value != getattr(self.state, name):
                 values[name] = value
+        # Each value is checked on its own, so that one bad value does not drop the others.
+        good, bad = {}, {}
+        for name, value in values.items():
+            try:
+                ExplorerState(**{name: value})
+            except Exception:  # noqa: BLE001 - any rejected value: say which
+                bad[name] = value
+            else:
+                good[name] = value
         try:
-            self.state.param.update(**values)
-        except Exception:  # noqa: BLE001 - any rejected value: say which
-            self._url_error(values)
+            self.state.param.update(**good)
+        except Exception:  # noqa: BLE001 - a combination the state refuses
+            bad.update(good)
+        if bad:
+            self._url_error(bad)
 
     def _url_changed(self, *events: param.parameterized.Event) -> None:
         """Rewrite the URL once the state has been still for :data:`URL_DELAY_MS`."""
@@ -336,8 +349,10 @@ class Explorer(pn.viewable.Viewer):
         loc.update_query(**query)
 
     def _url_error(self, values: Mapping[str, Any]) -> None:
-        self._show_error("Some URL parameters could not be applied: " +
-                         ", ".join(f"{k}={v!r}" for k, v in values.items()))
+        """Say which of the URL's values were rejected, what each allows and what came."""
+        self._show_error("Some URL parameters could not be applied: " + "; ".join(
+            f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
+            f"got {_shown(value)}" for name, value in values.items()))
 
     # --- events --------------------------------------------------------------------------
 
@@ -613,16 +628,53 @@ class Explorer(pn.viewable.Viewer):
                 f"<div class='fie-look'>{html.escape(scene.caption)}</div>")
 
     def _show_error(self, message: str) -> None:
+        """Show ``message`` as text (it may echo a URL's or a user's value)."""
         self.error = message
         with pn.io.hold():
-            self.alert.object = (f"**Input not applied:** {message}  \n"
-                                 "The plots still show the last valid parameters.")
+            self.alert.object = (
+                f"<div class='fie-alert-box' role='alert'><b>Input not applied:</b> "
+                f"{html.escape(message)}<br>The plots still show the last valid parameters."
+                "</div>")
             self.alert.visible = True
 
     def _csv(self):
         if self.solution is None:
             return None
         return trajectory_csv(self.solution, self.state.scales())
+
+
+#: Characters of a rejected value shown in a message (a long value is cut, and says so).
+SHOWN_CHARS = 60
+
+
+def _shown(value: Any) -> str:
+    """A received value for a message: its repr, cut to :data:`SHOWN_CHARS` characters.
+
+    >>> _shown("x" * 100).endswith("xx… (100 characters)'")
+    True
+    """
+    text = repr(value)
+    if len(text) <= SHOWN_CHARS:
+        return text
+    n = len(value) if isinstance(value, str) else len(text)
+    return f"{text[:SHOWN_CHARS]}… ({n} characters)'"
+
+
+def _allowed(state: ExplorerState, name: str) -> str:
+    """What parameter ``name`` of the state accepts, in words.
+
+    >>> _allowed(ExplorerState(), "restitution"), _allowed(ExplorerState(), "units")
+    ('a number in [0, 1]', "one of 'dimensionless', 'SI'")
+    """
+    p = state.param[name]
+    if isinstance(p, param.Number):
+        low, high = p.bounds
+        return f"a number in [{low:g}, {high:g}]"
+    if isinstance(p, param.Boolean):
+        return "true or false"
+    if isinstance(p, param.Selector):
+        return "one of " + ", ".join(repr(o) for o in p.objects)
+    return "a valid value"
 
 
 def _show_all_label(visible: tuple[str, ...], applicable: tuple[str, ...]) -> str:
