@@ -28,6 +28,7 @@ from app.plots import MAP_PALETTE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
     CUSTOM,
+    DEFAULT_SCENE,
     HYSTERETIC_PLOTS,
     IMPACTLESS_PLOTS,
     PLOT_TITLES,
@@ -35,7 +36,7 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import Solution, SolveTooSlow, regime_map, solve
+from app.solver import ACCURACY, Solution, SolveTooSlow, regime_map, solve
 from app.state import (
     ACCURACIES,
     METHODS,
@@ -45,9 +46,11 @@ from app.state import (
     URL_KEYS,
     VIEW_PARAMS,
     ExplorerState,
+    core_inputs,
     scene_key,
+    scene_values,
 )
-from app.widgets import TypedSlider, set_changed
+from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
 
 log = logging.getLogger(__name__)
 
@@ -69,6 +72,40 @@ SLIDERS: Mapping[str, tuple[str, float]] = {
     "t_end": ("horizon t_end", 1.0),
     "mass": ("mass m (kg)", 0.01),
     "stiffness": ("stiffness k (N/m)", 1.0),
+}
+#: What each symbol means (the box's tooltip; the allowed range is added to it).
+TOOLTIPS: Mapping[str, str] = {
+    "belt_speed": "Belt speed v = v_dr / omega (a length in these units).",
+    "clearance": "Stop position x_bar, measured from the unstretched spring.",
+    "restitution": "Newton's coefficient r: rebound speed over impact speed.",
+    "mu_s": "Static friction coefficient; b = mu_s u_s is the stick limit.",
+    "mu_k": "Kinetic friction coefficient (at most mu_s); a = mu_k u_s is the slip centre.",
+    "u_s": "Static deflection u_s = F_N / k: the spring stretch the normal force makes.",
+    "k_c0": "Stiffness of the stop when first compressed, over k.",
+    "k_e0": "Stiffness of the stop when first expanding, over k (at most k_c0).",
+    "limit_overlap": "Overlap D at which the stop's stiffness is exhausted.",
+    "beta_c": "How fast the stiffness changes on compression (at most beta_e).",
+    "beta_e": "How fast the stiffness changes on expansion.",
+    "x0": "Initial displacement of the mass.",
+    "v0": "Initial velocity of the mass.",
+    "t_end": "Length of the simulated run (dimensionless time t = omega tau).",
+    "mass": "Mass m of the oscillator.",
+    "stiffness": "Stiffness k of the spring.",
+    "normal_force": "Normal force F_N pressing the mass on the belt.",
+    "belt_speed_si": "Belt speed v_dr.",
+    "v0_si": "Initial velocity of the mass.",
+    "t_end_si": "Length of the simulated run in seconds.",
+    "k_c0_si": "Stiffness of the stop when first compressed.",
+    "k_e0_si": "Stiffness of the stop when first expanding (at most k_c0).",
+}
+#: What each method models (the method selector's tooltip).
+METHOD_TIPS: Mapping[str, str] = {
+    "auto": "exact where it applies",
+    "exact": "closed-form slip arcs and stick segments, Newton impacts; a deformable stop's "
+             "contact integrated",
+    "event": "solve_ivp on the non-smooth model, stopping at each stick, slip and contact "
+             "event",
+    "switch": "the paper's switch model: a stick band of width eta, integrated by RKF 4(5)",
 }
 #: SI widgets derived from the state through ExplorerState.physical / from_physical:
 #: name -> (label, step, key of ExplorerState.physical()).
@@ -177,7 +214,8 @@ class Explorer(pn.viewable.Viewer):
                 label, getattr(st, name), step, soft, bounds,
                 on_drag=lambda v, n=name: self._preview(n, v), on_commit=on_commit,
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
-                css_class=f"fie-w-{name}",
+                css_class=f"fie-w-{name}", name=name, tooltip=TOOLTIPS[name],
+                validate=lambda v, n=name: self._refusal(n, v),
             )
         phys = st.physical()
         for name, (label, step, key) in SI_SLIDERS.items():
@@ -193,7 +231,8 @@ class Explorer(pn.viewable.Viewer):
                 on_drag=lambda v, k=key: self._preview_si(k, v),
                 on_commit=lambda v, k=key: self._commit_si({k: v}),
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
-                css_class=f"fie-w-{name}",
+                css_class=f"fie-w-{name}", name=label.split(" (")[0], tooltip=TOOLTIPS[name],
+                validate=lambda v, n=name, k=key: self._refusal_si(n, k, v),
             )
         self.scene_select = pn.widgets.Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
@@ -207,13 +246,25 @@ class Explorer(pn.viewable.Viewer):
         self.units = pn.widgets.RadioButtonGroup(
             label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
         self.accuracy = pn.widgets.RadioButtonGroup(
-            label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH)
-        self.method = pn.widgets.Select(label="Method", options=list(METHODS),
-                                        value=st.method, width=WIDGET_WIDTH)
+            label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH,
+            description=_accuracy_tip(), css_classes=["fie-accuracy"])
+        self.method = pn.widgets.Select(
+            label="Method", options=list(METHODS), value=st.method, width=WIDGET_WIDTH,
+            description="; ".join(f"{k}: {v}" for k, v in METHOD_TIPS.items()) + ".",
+            css_classes=["fie-method"])
+        self.program = pn.widgets.Checkbox(
+            label="overlap program (Fig. 2b): the stop alone", value=st.program,
+            css_classes=["fie-program"])
+        self.reset = pn.widgets.Button(
+            label=_reset_label(st.scene), width=WIDGET_WIDTH, css_classes=["fie-reset"],
+            description="Put back every value of the figure last loaded.")
+        self.reset.on_click(self._reset)
+        #: The paper's figure the reset button returns to (the last scene loaded).
+        self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
         self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
         for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
                               (self.accuracy, "accuracy"), (self.method, "method"),
-                              (self.show_all, "show_all")):
+                              (self.show_all, "show_all"), (self.program, "program")):
             widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
         self.hysteretic_box = pn.Column(
             *(self.sliders[n].layout
@@ -243,8 +294,8 @@ class Explorer(pn.viewable.Viewer):
         """The controls, top to bottom."""
         w = {name: slider.layout for name, slider in self.sliders.items()}
         return [
-            self.scene_select,
-            pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type,
+            self.scene_select, self.reset,
+            pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type, self.program,
             w["clearance"], w["restitution"], self.hysteretic_box,
             pn.pane.HTML("<b>Belt and friction</b>", margin=(8, 10, 0, 10)),
             w["belt_speed"], w["mu_s"], w["mu_k"], w["u_s"],
@@ -375,17 +426,80 @@ class Explorer(pn.viewable.Viewer):
         self._commits += 1
         new = {k: v for k, v in changes.items() if k not in SOLVE_PARAMS}
         solve_changes = {k: v for k, v in changes.items() if k in SOLVE_PARAMS}
+        notes = []
         if solve_changes:
-            merged = self._constrained({**self.state.values(), **solve_changes})
+            wanted = {**self.state.values(), **solve_changes}
+            if wanted["stop_type"] != "hysteretic":  # the program drives a deformable stop
+                wanted["program"] = False
+            merged = self._constrained(dict(wanted))
+            notes = [(low, wanted[low], merged[low], high) for low, high in CONSTRAINTS
+                     if merged[low] != wanted[low]]
             diff = {k: v for k, v in merged.items() if v != getattr(self.state, k)}
             new.update(diff)
             if diff and "scene" not in changes:
                 new["scene"] = CUSTOM
         changed = {k: v for k, v in new.items() if getattr(self.state, k) != v}
+        for slider in self.sliders.values():  # a note is about the last change only
+            if slider.message.visible and not slider.invalid:
+                slider.note("")
         if changed:
             self.state.param.update(**changed)
         elif self.solution is not None:
             self._draw(self.solution)
+        for low, was, now, high in notes:
+            self._coupled_note(low, was, now, high)
+
+    def _coupled_note(self, low: str, was: float, now: float, high: str) -> None:
+        """Say that ``low`` followed ``high`` down, next to the box the user sees."""
+        si = self.state.units == "SI"
+        twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
+        shown = twin_of.get(low, low) if si else low
+        slider = self.sliders[shown]
+        scale = slider.value / now if shown != low and now else 1.0
+        slider.note(f"{slider.name} lowered from {format_number(was * scale)} to "
+                    f"{format_number(now * scale)} to stay ≤ {high}")
+
+    def _refusal(self, name: str, value: float) -> str | None:
+        """Why a typed ``value`` of ``name`` is refused, or None.
+
+        The core's validation speaks first (its messages name the parameter, the allowed
+        range and the value); then the page's own limits (the state's bounds: a horizon
+        the page can draw, a slider that can be drawn).
+        """
+        st = self.state
+        higher = dict(CONSTRAINTS).get(name)
+        if higher is not None:  # the lower of a pair may not pass the higher
+            reason = bounds_reason(name, value, (self.sliders[name].bounds[0],
+                                                 getattr(st, higher)))
+            if reason:
+                return f"{reason} (it may not exceed {higher})"
+        if name in SOLVE_PARAMS:
+            reason = _core_reason(self._constrained({**st.values(), name: value}))
+            if reason and reason != _core_reason(st.values()):
+                return reason
+        return bounds_reason(name, value, self.sliders[name].bounds)
+
+    def _refusal_si(self, name: str, key: str, value: float) -> str | None:
+        """Why a typed SI ``value`` is refused (see :meth:`_refusal`), or None."""
+        reason = bounds_reason(self.sliders[name].name, value, self.sliders[name].bounds)
+        if reason:
+            return reason
+        try:
+            self.state.from_physical(**{key: value})
+        except ValueError as exc:
+            return str(exc)
+        return None
+
+    def _reset(self, event: Any = None) -> None:
+        """Every value of the figure last loaded, whatever was typed or refused since."""
+        for slider in self.sliders.values():
+            slider.clear()
+        if self.state.scene == self.figure and self.state.values() == scene_values(
+                self.figure, accuracy=self.state.accuracy, method=self.state.method):
+            self._sync_widgets()
+            return
+        self._commits += 1
+        self.state.load_scene(self.figure)
 
     def _commit_si(self, si: Mapping[str, float]) -> None:
         """A user's final SI value(s): converted, then committed as the state's values
@@ -468,6 +582,9 @@ class Explorer(pn.viewable.Viewer):
 
     def _on_scene_label(self, event: param.parameterized.Event) -> None:
         self._set_syncing(lambda: setattr(self.scene_select, "value", event.new))
+        if event.new in SCENES:
+            self.figure = event.new
+            set_changed(self.reset, label=_reset_label(event.new))
 
     def _on_state(self, *events: param.parameterized.Event) -> None:
         self._commits += 1
@@ -523,7 +640,8 @@ class Explorer(pn.viewable.Viewer):
                     w.set(value, soft_end=max(w.slider.end, grow * value, step))
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
                               (self.accuracy, st.accuracy), (self.method, st.method),
-                              (self.show_all, st.show_all), (self.scene_select, st.scene)):
+                              (self.show_all, st.show_all), (self.scene_select, st.scene),
+                              (self.program, st.program)):
             set_changed(widget, value=value)
         si = st.units == "SI"
         set_changed(self.si_box, visible=si)
@@ -536,6 +654,7 @@ class Explorer(pn.viewable.Viewer):
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
         set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
+        set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
 
@@ -641,6 +760,37 @@ class Explorer(pn.viewable.Viewer):
         if self.solution is None:
             return None
         return trajectory_csv(self.solution, self.state.scales())
+
+
+#: The figure the reset button returns to when the page opens on custom values.
+DEFAULT_FIGURE = DEFAULT_SCENE
+
+
+def _reset_label(scene: str) -> str:
+    """The reset button's label, naming the figure it returns to.
+
+    >>> _reset_label("7c")
+    'Reset to Fig. 7c'
+    """
+    return f"Reset to Fig. {scene}" if scene in SCENES else f"Reset to Fig. {DEFAULT_FIGURE}"
+
+
+def _accuracy_tip() -> str:
+    """The accuracy presets in one tooltip, from :data:`app.solver.ACCURACY`."""
+    parts = [f"{name}: rtol {ACCURACY[name]['rtol']:g}, switch band eta "
+             f"{ACCURACY[name]['eta']:g}, {ACCURACY[name]['n_samples']} samples"
+             for name in ACCURACIES]
+    return ("; ".join(parts) + ". The exact method on no stop or a rigid stop is closed form "
+            "at every preset: only the smoothness of the curves changes.")
+
+
+def _core_reason(values: Mapping[str, Any]) -> str | None:
+    """The core's message for solve values it refuses, or None."""
+    try:
+        core_inputs(values)
+    except ValueError as exc:
+        return str(exc)
+    return None
 
 
 #: Characters of a rejected value shown in a message (a long value is cut, and says so).
