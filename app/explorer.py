@@ -462,9 +462,10 @@ class Explorer(pn.viewable.Viewer):
     def _refusal(self, name: str, value: float) -> str | None:
         """Why a typed ``value`` of ``name`` is refused, or None.
 
-        The core's validation speaks first (its messages name the parameter, the allowed
-        range and the value); then the page's own limits (the state's bounds: a horizon
-        the page can draw, a slider that can be drawn).
+        The page's limits (the state's bounds: a horizon the page can draw, a slider that
+        can be drawn) come first, then what the core's validation refuses of the whole set
+        (a stop behind the start); both in the core's words (:mod:`core.validation`: the
+        parameter, the allowed range, the value).
         """
         st = self.state
         higher = dict(CONSTRAINTS).get(name)
@@ -473,11 +474,12 @@ class Explorer(pn.viewable.Viewer):
                                                  getattr(st, higher)))
             if reason:
                 return f"{reason} (it may not exceed {higher})"
-        if name in SOLVE_PARAMS:
+        reason = bounds_reason(name, value, self.sliders[name].bounds)
+        if reason is None and name in SOLVE_PARAMS:
             reason = _core_reason(self._constrained({**st.values(), name: value}))
-            if reason and reason != _core_reason(st.values()):
-                return reason
-        return bounds_reason(name, value, self.sliders[name].bounds)
+            if reason == _core_reason(st.values()):  # not this value's doing
+                reason = None
+        return reason
 
     def _refusal_si(self, name: str, key: str, value: float) -> str | None:
         """Why a typed SI ``value`` is refused (see :meth:`_refusal`), or None."""
