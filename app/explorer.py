@@ -23,7 +23,7 @@ from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
 from app.animation import Animation
-from app.export import trajectory_csv
+from app.export import file_name, trajectory_csv, transitions_csv
 from app.plots import MAP_PALETTE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
@@ -187,7 +187,12 @@ class Explorer(pn.viewable.Viewer):
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
             callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
-            color="default", width=WIDGET_WIDTH,
+            color="default", width=WIDGET_WIDTH, css_classes=["fie-download"],
+        )
+        self.download_transitions = pn.widgets.FileDownload(
+            callback=self._transitions_csv, filename="transitions.csv",
+            label="Download transitions (CSV)", color="default", width=WIDGET_WIDTH,
+            css_classes=["fie-download-transitions"],
         )
         self.plot_panes = self._build_plot_panes()
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
@@ -304,7 +309,7 @@ class Explorer(pn.viewable.Viewer):
                          margin=(8, 10, 0, 10)),
             w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
-            self.show_all, self.download,
+            self.show_all, self.download, self.download_transitions,
         ]
 
     def main(self) -> list[Any]:
@@ -759,9 +764,23 @@ class Explorer(pn.viewable.Viewer):
             self.alert.visible = True
 
     def _csv(self):
+        """The trajectory file; its name (set before the transfer) names the run."""
         if self.solution is None:
             return None
+        self.download.filename = self._file_name("trajectory")
         return trajectory_csv(self.solution, self.state.scales())
+
+    def _transitions_csv(self):
+        """One row per transition (impacts with speeds before and after, impulses)."""
+        if self.solution is None:
+            return None
+        self.download_transitions.filename = self._file_name("transitions")
+        return transitions_csv(self.solution, self.state.scales())
+
+    def _file_name(self, what: str) -> str:
+        scene = self.figure if self.state.scene == CUSTOM else self.state.scene
+        scene = scene if self.state.scene != CUSTOM else f"custom-from-{scene}"
+        return file_name(self.solution.values, scene, what)
 
 
 #: The figure the reset button returns to when the page opens on custom values.

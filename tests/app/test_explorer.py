@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import doctest
 import importlib
+import re
 
 import numpy as np
 import panel as pn
@@ -261,9 +262,38 @@ def test_si_stop_stiffnesses_are_in_newtons_per_metre_and_keep_their_order(ex):
 
 def test_csv_export(ex):
     text = ex._csv().getvalue().splitlines()
-    assert text[0].startswith("#") and text[1] == "t,x,xdot,mode,contact_force,overlap"
-    assert len(text) == 2 + len(ex.solution.result.t)
-    assert text[2].split(",")[3] in ("slip", "stick", "contact")
+    assert text[0].startswith("#") and text[1].startswith("# overlap")
+    assert text[2] == ("t [1/omega],x [length],xdot [length],mode,"
+                       "contact_force [phi/k: length],overlap [length]")
+    assert len(text) == 3 + len(ex.solution.result.t)
+    assert text[3].split(",")[3] in ("slip", "stick", "contact")
+    assert ex.download.filename.startswith("fie_5a_trajectory_stop-rigid_v-0.1_xbar-0.32")
+
+
+def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
+    """Scene 7c (r = 0.3): each impact's impulse is m (v_before - v_after) and Newton's law
+    v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
+    ex.scene_select.value = "7c"
+    ex.units.value = "SI"
+    lines = ex._transitions_csv().getvalue().splitlines()
+    assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
+    rows = [line.split(",") for line in lines[3:] if not line.startswith("#")]
+    impacts = [r for r in rows if r[1] == "impact"]
+    assert len(rows) == len(ex.solution.result.transitions) and len(impacts) > 3
+    scales = ex.state.scales()
+    for r in impacts:
+        v_before, v_after, impulse = float(r[3]), float(r[4]), float(r[6])
+        assert v_before > 0 and v_after == pytest.approx(-0.3 * v_before, rel=1e-12)
+        assert impulse == pytest.approx((v_before - v_after) / scales.velocity
+                                        * scales.impulse, rel=1e-12)
+        assert float(r[5]) == 0.0  # a rigid stop is never entered
+    assert all(r[6] == "" for r in rows if r[1] != "impact" and r[1] != "stick->impact")
+    name = ex.download_transitions.filename
+    assert name.startswith("fie_7c_transitions_stop-rigid_") and name.endswith(".csv")
+    assert re.fullmatch(r"[A-Za-z0-9._-]+", name)
+    ex._commit({"belt_speed": 0.123})  # custom values: named after the figure they left
+    ex._transitions_csv()
+    assert ex.download_transitions.filename.startswith("fie_custom-from-7c_transitions")
 
 
 def test_overlap_program_scene(ex):
