@@ -141,12 +141,10 @@ SI_SOFT_SPAN = 3.0
 URL_DELAY_MS = 400
 #: Delay [ms] before a drag's preview is drawn (a release arriving meanwhile cancels it).
 PREVIEW_DELAY_MS = 15
-#: Rows the readout shows without scrolling, and the height of one (``explorer.css``).
-READOUT_ROWS, READOUT_ROW_PX = 9, 22
-#: Fixed height [px] of the readout: a readout that grew or shrank by a row on a release
-#: resized the page's main column, and BokehJS then laid out every figure again and rebuilt
-#: their toolbars (about 60 ms in the browser before the new picture showed).
-READOUT_HEIGHT = READOUT_ROWS * READOUT_ROW_PX + 12
+#: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
+READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
+#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
+READOUT_SPARE_LINES = 1
 
 
 class Explorer(pn.viewable.Viewer):
@@ -180,9 +178,13 @@ class Explorer(pn.viewable.Viewer):
                                   css_classes=["fie-alert"], stylesheets=[STYLESHEET])
         self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-caption"], stylesheets=[STYLESHEET])
-        self.readout = pn.pane.HTML("", sizing_mode="stretch_width", height=READOUT_HEIGHT,
-                                    styles={"overflow-y": "auto"},
+        # Sized to its content, its rows wrapped, never cut; the space it reserves grows
+        # with its rows within a scene and is set again only by a new scene: a readout
+        # that grew or shrank on a release made BokehJS lay out every figure again (about
+        # 60 ms before the new picture showed).
+        self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+        self._readout_scene: str | None = None
         self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
@@ -717,7 +719,8 @@ class Explorer(pn.viewable.Viewer):
             self.plots.update(sol, scales, visible, map_data)
             if "anim" in visible:
                 self.anim.update(sol, scales)
-            self.readout.object = readout_html(sol, scales)
+            self.readout.object = readout = readout_html(sol, scales)
+            self._reserve_readout(readout.count("<tr>"))
             self.caption.object = self._caption_html()
             if map_data is not None:
                 self.map_legend.object = _map_legend(map_data["labels"])
@@ -729,6 +732,17 @@ class Explorer(pn.viewable.Viewer):
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    def _reserve_readout(self, rows: int) -> None:
+        """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows
+        grow the room; a new scene sets it afresh."""
+        height = (rows + READOUT_SPARE_LINES) * READOUT_ROW_PX + READOUT_PAD_PX
+        scene = self.state.scene
+        if scene != self._readout_scene and scene != CUSTOM:
+            self._readout_scene = scene
+        elif self.readout.min_height is not None and height <= self.readout.min_height:
+            return
+        set_changed(self.readout, min_height=height)
 
     def _draw_map(self, sol: Solution) -> None:
         """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
