@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import doctest
+import html
 import importlib
 import re
 
@@ -395,3 +396,39 @@ def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
     deferred.clear()
     _release(ex, "clearance", ex.state.clearance + 0.01)  # the same map, cached
     assert map_callbacks() == []
+
+
+@pytest.mark.parametrize(("name", "text", "said"), [
+    ("mu_k", "0.5", "mu_k must lie in [0, 0.3]; got 0.5"),
+    ("restitution", "1.5", "restitution must lie in [0, 1]; got 1.5"),
+    ("t_end", "0", "t_end must lie in [0.1, 5000]; got 0"),
+    ("belt_speed", "abc", "belt_speed must be a number; got 'abc'"),
+    ("clearance", "-0.5", "the stop must lie ahead of the start position"),
+])
+def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
+    before = ex.state.values()
+    w = ex.sliders[name]
+    w.input.value = text
+    assert ex.state.values() == before and not ex.alert.visible
+    assert w.invalid and w.input.value == text and html.escape(said) in w.message.object
+    assert "fie-invalid" in w.input.css_classes
+    ex._commit({"x0": -0.01})  # another change leaves the refused entry in its box
+    assert w.invalid and w.input.value == text
+    ex._reset()
+    assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
+
+
+def test_coupled_bound_note_and_program_toggle(ex):
+    ex.sliders["mu_s"].input.value = "0.1"
+    assert ex.state.mu_k == 0.1
+    assert "mu_k lowered from 0.2 to 0.1 to stay ≤ mu_s" in ex.sliders["mu_k"].message.object
+    ex._commit({"belt_speed": 0.11})  # the note is about the last change only
+    assert not ex.sliders["mu_k"].message.visible
+    ex.scene_select.value = "2b"
+    assert ex.program.visible and ex.program.value and ex.state.program
+    ex.stop_type.value = "rigid"  # the program drives a deformable stop only
+    assert not ex.state.program and not ex.program.visible
+    ex.stop_type.value = "hysteretic"
+    assert ex.program.visible and not ex.program.value
+    assert "phase" in ex.visible_plots()
+    assert ex.reset.label == "Reset to Fig. 2b"
