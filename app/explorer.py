@@ -9,6 +9,7 @@ failure of a solve shows its message in an alert and keeps the last good picture
 
 from __future__ import annotations
 
+import asyncio
 import html
 import json
 import logging
@@ -50,6 +51,7 @@ from app.state import (
     scene_key,
     scene_values,
 )
+from app.trade import measure, trade_html
 from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
 
 log = logging.getLogger(__name__)
@@ -196,6 +198,16 @@ class Explorer(pn.viewable.Viewer):
             label="Download transitions (CSV)", color="default", width=WIDGET_WIDTH,
             css_classes=["fie-download-transitions"],
         )
+        self.measure = pn.widgets.Button(
+            label="Measure the trade (a few seconds)", width=WIDGET_WIDTH,
+            css_classes=["fie-measure"],
+            description="Solve this run again with every method and preset: wall time now, "
+                        "error against a reference solution, steady state found.")
+        self.measure.on_click(self._measure)
+        self.trade = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
+                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET])
+        #: The solve values the trade table describes.
+        self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
@@ -311,12 +323,12 @@ class Explorer(pn.viewable.Viewer):
                          margin=(8, 10, 0, 10)),
             w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
-            self.show_all, self.download, self.download_transitions,
+            self.measure, self.show_all, self.download, self.download_transitions,
         ]
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
-        return [self.alert, self.caption, self.readout,
+        return [self.alert, self.caption, self.readout, self.trade,
                 pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                            css_classes=["fie-plots"])]
 
@@ -728,10 +740,35 @@ class Explorer(pn.viewable.Viewer):
                 set_changed(pane, visible=name in visible)
             set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
             set_changed(self.alert, visible=False)
+            if self.trade.visible and self._trade_values != sol.values:
+                set_changed(self.trade, visible=False)  # it described another run
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    async def _measure(self, event: Any = None) -> None:
+        """Measure the speed/accuracy trade of the run on screen, off the event loop."""
+        values = dict(self.state.values())
+        if values.get("program"):
+            return
+        self.measure.disabled = True
+        self.measure.label = "Measuring…"
+        try:
+            rows = await asyncio.get_running_loop().run_in_executor(None, measure, values)
+        except Exception as exc:  # noqa: BLE001 - say why and keep the page
+            self._show_error(f"The measurement failed: {type(exc).__name__}: {exc}")
+            return
+        finally:
+            self.measure.disabled = False
+            self.measure.label = "Measure the trade (a few seconds)"
+        if values != dict(self.state.values()):
+            return  # the run changed meanwhile
+        self._trade_values = values
+        self.trade.object = (
+            "<div class='fie-title'>Speed and accuracy, measured for this run</div>"
+            + trade_html(rows))
+        self.trade.visible = True
 
     def _reserve_readout(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows

@@ -306,7 +306,8 @@ def test_overlap_program_scene(ex):
 
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
-                                    "app.readout", "app.export", "app.explorer"])
+                                    "app.readout", "app.export", "app.explorer",
+                                    "app.widgets", "app.trade"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
@@ -432,3 +433,20 @@ def test_coupled_bound_note_and_program_toggle(ex):
     assert ex.program.visible and not ex.program.value
     assert "phase" in ex.visible_plots()
     assert ex.reset.label == "Reset to Fig. 2b"
+
+
+def test_trade_table_measures_every_method_and_marks_a_changed_verdict():
+    """Scene 10: the reference (exact flight, contact at rtol 1e-12) grazes the stop; the
+    exact method's error falls with the preset (its contact is integrated at the preset's
+    rtol), and the switch model at draft finds a periodic orbit, which the row says."""
+    from app.state import scene_values
+    from app.trade import measure, trade_html
+
+    rows = {(r.method, r.accuracy): r for r in measure(scene_values("10"))}
+    assert len(rows) == 9
+    assert rows["exact", "precise"].verdict == "grazing"
+    errors = [rows["exact", a].error for a in ("draft", "standard", "precise")]
+    assert errors[0] > errors[1] > errors[2]
+    assert rows["switch", "draft"].verdict == "periodic"
+    assert "verdict differs" in rows["switch", "draft"].note
+    assert "verdict differs" in trade_html(list(rows.values()))
