@@ -37,9 +37,10 @@ MASS_BOTTOM, MASS_TOP = 0.02, 0.62
 SPRING_Y, SPRING_AMPLITUDE = 0.32, 0.12
 STOP_TOP = 0.85
 
-#: The frame loop (one per mass source; Play toggles it). ``state`` lives on ``window`` so
-#: that the Play and speed callbacks and the loop share it.
-_JS_PLAY = """
+#: The drawing of the mechanism at the animation time ``st.t`` (shared by the frame loop,
+#: the time slider and the step buttons). ``state`` lives on ``window`` so that all the
+#: callbacks share it.
+_JS_DRAW = """
 const key = mass.id;
 const all = (window.__fie_anim = window.__fie_anim || {});
 const st = (all[key] = all[key] || {t: 0.0, running: false, last: null});
@@ -47,30 +48,36 @@ function interp(T, Y, t, lo, hi) {
   const dt = T[hi] - T[lo];
   return dt > 0 ? Y[lo] + (Y[hi] - Y[lo]) * (t - T[lo]) / dt : Y[lo];
 }
-function frame(now) {
-  if (!st.running) { return; }
+function draw() {
   const d = traj.data, T = d.t_raw, X = d.x, V = d.v, M = d.mode;
   const n = T.length;
-  if (n > 1) {
-    if (st.last !== null) { st.t += (now - st.last) / 1000 * rate * speed.value; }
-    if (st.t > T[n - 1] || st.t < T[0]) { st.t = T[0]; }
-    let lo = 0, hi = n - 1;
-    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (T[mid] <= st.t) lo = mid; else hi = mid; }
-    const x = interp(T, X, st.t, lo, hi), v = interp(T, V, st.t, lo, hi);
-    const g = geom.data, w = g.w[0], wall = g.wall[0];
-    const m = mass.data;
-    m.left[0] = x - w / 2; m.right[0] = x + w / 2; m.color[0] = colors[M[lo]] || colors[0];
-    mass.change.emit();
-    const sp = spring.data, k = sp.x.length;
-    for (let i = 0; i < k; i++) { sp.x[i] = wall + (x - w / 2 - wall) * i / (k - 1); }
-    spring.change.emit();
-    const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t) % gap + gap) % gap;
-    for (let i = 0; i < b.x0.length; i++) { b.x0[i] = b.x1[i] = g.belt0[0] + i * gap + shift; }
-    belt.change.emit();
-    marker.data.x[0] = x; marker.data.v[0] = v; marker.change.emit();
-    cursor.location = st.t * g.tscale[0];
-    clock.text = "t = " + (st.t * g.tscale[0]).toFixed(2) + g.tunit[0];
-  }
+  if (n < 2) { return; }
+  if (st.t > T[n - 1] || st.t < T[0]) { st.t = T[0]; }
+  let lo = 0, hi = n - 1;
+  while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (T[mid] <= st.t) lo = mid; else hi = mid; }
+  const x = interp(T, X, st.t, lo, hi), v = interp(T, V, st.t, lo, hi);
+  const g = geom.data, w = g.w[0], wall = g.wall[0];
+  const m = mass.data;
+  m.left[0] = x - w / 2; m.right[0] = x + w / 2; m.color[0] = colors[M[lo]] || colors[0];
+  mass.change.emit();
+  const sp = spring.data, k = sp.x.length;
+  for (let i = 0; i < k; i++) { sp.x[i] = wall + (x - w / 2 - wall) * i / (k - 1); }
+  spring.change.emit();
+  const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t) % gap + gap) % gap;
+  for (let i = 0; i < b.x0.length; i++) { b.x0[i] = b.x1[i] = g.belt0[0] + i * gap + shift; }
+  belt.change.emit();
+  marker.data.x[0] = x; marker.data.v[0] = v; marker.change.emit();
+  cursor.location = st.t * g.tscale[0];
+  const total = (T[n - 1] * g.tscale[0]).toPrecision(4);
+  clock.text = "t = " + (st.t * g.tscale[0]).toFixed(2) + " of " + total + g.tunit[0];
+}
+"""
+#: The frame loop (one per mass source; Play toggles it).
+_JS_PLAY = _JS_DRAW + """
+function frame(now) {
+  if (!st.running) { return; }
+  if (st.last !== null) { st.t += (now - st.last) / 1000 * rate * speed.value; }
+  draw();
   st.last = now;
   window.requestAnimationFrame(frame);
 }
@@ -78,6 +85,24 @@ st.running = play.active;
 st.last = null;
 if (st.running) { window.requestAnimationFrame(frame); }
 """
+#: The time slider: pause and show the fraction ``scrub.value`` of the run.
+_JS_SCRUB = _JS_DRAW + """
+st.running = false; play.active = false;
+const T = traj.data.t_raw;
+if (T.length > 1) { st.t = T[0] + scrub.value * (T[T.length - 1] - T[0]); draw(); }
+"""
+#: A step button: pause and move by ``dir`` steps of the run's length over ``steps``.
+_JS_STEP = _JS_DRAW + """
+st.running = false; play.active = false;
+const T = traj.data.t_raw, n = T.length;
+if (n > 1) {
+  const t = st.t + dir * (T[n - 1] - T[0]) / steps;
+  st.t = Math.min(Math.max(t, T[0]), T[n - 1]);
+  draw();
+}
+"""
+#: Steps of the step buttons over the whole run.
+STEPS = 200
 
 
 class Animation:
@@ -118,23 +143,35 @@ class Animation:
         fig.line("x", "y", source=self.spring, line_color="#333333", line_width=2)
         fig.quad(left="left", right="right", bottom="bottom", top="top",
                  fill_color="color", line_color="#000000", source=self.mass)
-        self.clock = Label(x=10, y=ANIM_SIZE[1] - 60, x_units="screen", y_units="screen",
-                           text="t = 0",
-                           text_font_size="11px", syncable=False)
+        # In the frame, over the stop's top: x in pixels from the frame's left edge (past the
+        # wall), y in the drawing's units.
+        self.clock = Label(x=24, y=0.98, x_units="screen", y_units="data", text="t = 0",
+                           text_baseline="top", text_font_size="13px",
+                           background_fill_color="#ffffff", background_fill_alpha=0.85,
+                           syncable=False)
         fig.add_layout(self.clock)
         self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
                            line_dash="dashed", syncable=False)
         self.play = pn.widgets.Toggle(label="Play / pause", color="primary", width=120)
         self.speed = pn.widgets.FloatSlider(label="speed", start=0.1, end=5.0, step=0.1,
-                                            value=1.0, width=220)
+                                            value=1.0, width=160)
+        self.scrub = pn.widgets.FloatSlider(label="time (drag to scrub)", start=0.0, end=1.0,
+                                            step=0.01,
+                                            value=0.0, show_value=False, width=300,
+                                            css_classes=["fie-anim-scrub"])
+        self.back = pn.widgets.Button(label="◀ step", width=70, css_classes=["fie-anim-back"])
+        self.forward = pn.widgets.Button(label="step ▶", width=70,
+                                         css_classes=["fie-anim-forward"])
         colors = [MODE_COLORS[m] for m in sorted(MODE_COLORS)]
-        self.play.jscallback(
-            value=_JS_PLAY,
-            args={"traj": traj, "geom": self.geom, "mass": self.mass, "spring": self.spring,
-                  "belt": self.belt, "marker": self.marker, "cursor": self.cursor,
-                  "clock": self.clock, "speed": self.speed, "play": self.play,
-                  "colors": colors, "rate": float(TIME_PER_SECOND)},
-        )
+        args = {"traj": traj, "geom": self.geom, "mass": self.mass, "spring": self.spring,
+                "belt": self.belt, "marker": self.marker, "cursor": self.cursor,
+                "clock": self.clock, "speed": self.speed, "play": self.play,
+                "scrub": self.scrub, "colors": colors, "rate": float(TIME_PER_SECOND),
+                "steps": STEPS}
+        self.play.jscallback(value=_JS_PLAY, args=args)
+        self.scrub.jscallback(value=_JS_SCRUB, args=args)
+        self.back.jscallback(clicks=_JS_STEP, args={**args, "dir": -1})
+        self.forward.jscallback(clicks=_JS_STEP, args={**args, "dir": 1})
 
     def attach(self, phase_fig: Any, time_figs: tuple[Any, ...]) -> None:
         """Show the animated state in the phase portrait and a cursor in the time plots."""
@@ -145,7 +182,8 @@ class Animation:
 
     def panel(self) -> pn.Column:
         """The figure with its controls."""
-        return pn.Column(self.figure, pn.Row(self.play, self.speed), margin=0)
+        return pn.Column(self.figure, pn.Row(self.play, self.back, self.forward, self.speed),
+                         self.scrub, margin=0)
 
     def update(self, sol: Solution, scales: Scales) -> None:
         """Redraw the mechanism at the start of the new motion (call under ``pn.io.hold``)."""

@@ -9,6 +9,7 @@ failure of a solve shows its message in an alert and keeps the last good picture
 
 from __future__ import annotations
 
+import asyncio
 import html
 import json
 import logging
@@ -23,11 +24,12 @@ from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
 from app.animation import Animation
-from app.export import trajectory_csv
+from app.export import file_name, trajectory_csv, transitions_csv
 from app.plots import MAP_PALETTE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
     CUSTOM,
+    DEFAULT_SCENE,
     HYSTERETIC_PLOTS,
     IMPACTLESS_PLOTS,
     PLOT_TITLES,
@@ -35,7 +37,7 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import Solution, SolveTooSlow, regime_map, solve
+from app.solver import ACCURACY, Solution, SolveTooSlow, regime_map, solve
 from app.state import (
     ACCURACIES,
     METHODS,
@@ -45,9 +47,12 @@ from app.state import (
     URL_KEYS,
     VIEW_PARAMS,
     ExplorerState,
+    core_inputs,
     scene_key,
+    scene_values,
 )
-from app.widgets import TypedSlider, set_changed
+from app.trade import measure, trade_html
+from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
 
 log = logging.getLogger(__name__)
 
@@ -69,6 +74,40 @@ SLIDERS: Mapping[str, tuple[str, float]] = {
     "t_end": ("horizon t_end", 1.0),
     "mass": ("mass m (kg)", 0.01),
     "stiffness": ("stiffness k (N/m)", 1.0),
+}
+#: What each symbol means (the box's tooltip; the allowed range is added to it).
+TOOLTIPS: Mapping[str, str] = {
+    "belt_speed": "Belt speed v = v_dr / omega (a length in these units).",
+    "clearance": "Stop position x_bar, measured from the unstretched spring.",
+    "restitution": "Newton's coefficient r: rebound speed over impact speed.",
+    "mu_s": "Static friction coefficient; b = mu_s u_s is the stick limit.",
+    "mu_k": "Kinetic friction coefficient (at most mu_s); a = mu_k u_s is the slip centre.",
+    "u_s": "Static deflection u_s = F_N / k: the spring stretch the normal force makes.",
+    "k_c0": "Stiffness of the stop when first compressed, over k.",
+    "k_e0": "Stiffness of the stop when first expanding, over k (at most k_c0).",
+    "limit_overlap": "Overlap D at which the stop's stiffness is exhausted.",
+    "beta_c": "How fast the stiffness changes on compression (at most beta_e).",
+    "beta_e": "How fast the stiffness changes on expansion.",
+    "x0": "Initial displacement of the mass.",
+    "v0": "Initial velocity of the mass.",
+    "t_end": "Length of the simulated run (dimensionless time t = omega tau).",
+    "mass": "Mass m of the oscillator.",
+    "stiffness": "Stiffness k of the spring.",
+    "normal_force": "Normal force F_N pressing the mass on the belt.",
+    "belt_speed_si": "Belt speed v_dr.",
+    "v0_si": "Initial velocity of the mass.",
+    "t_end_si": "Length of the simulated run in seconds.",
+    "k_c0_si": "Stiffness of the stop when first compressed.",
+    "k_e0_si": "Stiffness of the stop when first expanding (at most k_c0).",
+}
+#: What each method models (the method selector's tooltip).
+METHOD_TIPS: Mapping[str, str] = {
+    "auto": "exact where it applies",
+    "exact": "closed-form slip arcs and stick segments, Newton impacts; a deformable stop's "
+             "contact integrated",
+    "event": "solve_ivp on the non-smooth model, stopping at each stick, slip and contact "
+             "event",
+    "switch": "the paper's switch model: a stick band of width eta, integrated by RKF 4(5)",
 }
 #: SI widgets derived from the state through ExplorerState.physical / from_physical:
 #: name -> (label, step, key of ExplorerState.physical()).
@@ -104,12 +143,10 @@ SI_SOFT_SPAN = 3.0
 URL_DELAY_MS = 400
 #: Delay [ms] before a drag's preview is drawn (a release arriving meanwhile cancels it).
 PREVIEW_DELAY_MS = 15
-#: Rows the readout shows without scrolling, and the height of one (``explorer.css``).
-READOUT_ROWS, READOUT_ROW_PX = 9, 22
-#: Fixed height [px] of the readout: a readout that grew or shrank by a row on a release
-#: resized the page's main column, and BokehJS then laid out every figure again and rebuilt
-#: their toolbars (about 60 ms in the browser before the new picture showed).
-READOUT_HEIGHT = READOUT_ROWS * READOUT_ROW_PX + 12
+#: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
+READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
+#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
+READOUT_SPARE_LINES = 1
 
 
 class Explorer(pn.viewable.Viewer):
@@ -137,19 +174,40 @@ class Explorer(pn.viewable.Viewer):
         self.plots.figures["phase"].on_event(Tap, self._on_phase_tap)
         self.plots.figures["map"].on_event(Tap, self._on_map_tap)
         self._build_widgets()
-        self.alert = pn.pane.Alert("", alert_type="danger", visible=False,
-                                   sizing_mode="stretch_width", css_classes=["fie-alert"])
+        # An HTML pane whose text is always escaped (a Markdown alert rendered the HTML of a
+        # URL's value: a shared link could run script in the page).
+        self.alert = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
+                                  css_classes=["fie-alert"], stylesheets=[STYLESHEET])
         self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-caption"], stylesheets=[STYLESHEET])
-        self.readout = pn.pane.HTML("", sizing_mode="stretch_width", height=READOUT_HEIGHT,
-                                    styles={"overflow-y": "auto"},
+        # Sized to its content, its rows wrapped, never cut; the space it reserves grows
+        # with its rows within a scene and is set again only by a new scene: a readout
+        # that grew or shrank on a release made BokehJS lay out every figure again (about
+        # 60 ms before the new picture showed).
+        self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+        self._readout_scene: str | None = None
         self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
             callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
-            color="default", width=WIDGET_WIDTH,
+            color="default", width=WIDGET_WIDTH, css_classes=["fie-download"],
         )
+        self.download_transitions = pn.widgets.FileDownload(
+            callback=self._transitions_csv, filename="transitions.csv",
+            label="Download transitions (CSV)", color="default", width=WIDGET_WIDTH,
+            css_classes=["fie-download-transitions"],
+        )
+        self.measure = pn.widgets.Button(
+            label="Measure the trade (a few seconds)", width=WIDGET_WIDTH,
+            css_classes=["fie-measure"],
+            description="Solve this run again with every method and preset: wall time now, "
+                        "error against a reference solution, steady state found.")
+        self.measure.on_click(self._measure)
+        self.trade = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
+                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET])
+        #: The solve values the trade table describes.
+        self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
@@ -175,7 +233,8 @@ class Explorer(pn.viewable.Viewer):
                 label, getattr(st, name), step, soft, bounds,
                 on_drag=lambda v, n=name: self._preview(n, v), on_commit=on_commit,
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
-                css_class=f"fie-w-{name}",
+                css_class=f"fie-w-{name}", name=name, tooltip=TOOLTIPS[name],
+                validate=lambda v, n=name: self._refusal(n, v),
             )
         phys = st.physical()
         for name, (label, step, key) in SI_SLIDERS.items():
@@ -191,7 +250,8 @@ class Explorer(pn.viewable.Viewer):
                 on_drag=lambda v, k=key: self._preview_si(k, v),
                 on_commit=lambda v, k=key: self._commit_si({k: v}),
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
-                css_class=f"fie-w-{name}",
+                css_class=f"fie-w-{name}", name=label.split(" (")[0], tooltip=TOOLTIPS[name],
+                validate=lambda v, n=name, k=key: self._refusal_si(n, k, v),
             )
         self.scene_select = pn.widgets.Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
@@ -205,13 +265,25 @@ class Explorer(pn.viewable.Viewer):
         self.units = pn.widgets.RadioButtonGroup(
             label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
         self.accuracy = pn.widgets.RadioButtonGroup(
-            label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH)
-        self.method = pn.widgets.Select(label="Method", options=list(METHODS),
-                                        value=st.method, width=WIDGET_WIDTH)
+            label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH,
+            description=_accuracy_tip(), css_classes=["fie-accuracy"])
+        self.method = pn.widgets.Select(
+            label="Method", options=list(METHODS), value=st.method, width=WIDGET_WIDTH,
+            description="; ".join(f"{k}: {v}" for k, v in METHOD_TIPS.items()) + ".",
+            css_classes=["fie-method"])
+        self.program = pn.widgets.Checkbox(
+            label="overlap program (Fig. 2b): the stop alone", value=st.program,
+            css_classes=["fie-program"])
+        self.reset = pn.widgets.Button(
+            label=_reset_label(st.scene), width=WIDGET_WIDTH, css_classes=["fie-reset"],
+            description="Put back every value of the figure last loaded.")
+        self.reset.on_click(self._reset)
+        #: The paper's figure the reset button returns to (the last scene loaded).
+        self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
         self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
         for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
                               (self.accuracy, "accuracy"), (self.method, "method"),
-                              (self.show_all, "show_all")):
+                              (self.show_all, "show_all"), (self.program, "program")):
             widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
         self.hysteretic_box = pn.Column(
             *(self.sliders[n].layout
@@ -241,8 +313,8 @@ class Explorer(pn.viewable.Viewer):
         """The controls, top to bottom."""
         w = {name: slider.layout for name, slider in self.sliders.items()}
         return [
-            self.scene_select,
-            pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type,
+            self.scene_select, self.reset,
+            pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type, self.program,
             w["clearance"], w["restitution"], self.hysteretic_box,
             pn.pane.HTML("<b>Belt and friction</b>", margin=(8, 10, 0, 10)),
             w["belt_speed"], w["mu_s"], w["mu_k"], w["u_s"],
@@ -251,12 +323,12 @@ class Explorer(pn.viewable.Viewer):
                          margin=(8, 10, 0, 10)),
             w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
-            self.show_all, self.download,
+            self.measure, self.show_all, self.download, self.download_transitions,
         ]
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
-        return [self.alert, self.caption, self.readout,
+        return [self.alert, self.caption, self.readout, self.trade,
                 pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                            css_classes=["fie-plots"])]
 
@@ -299,10 +371,21 @@ class Explorer(pn.viewable.Viewer):
                 value = raw
             if value != getattr(self.state, name):
                 values[name] = value
+        # Each value is checked on its own, so that one bad value does not drop the others.
+        good, bad = {}, {}
+        for name, value in values.items():
+            try:
+                ExplorerState(**{name: value})
+            except Exception:  # noqa: BLE001 - any rejected value: say which
+                bad[name] = value
+            else:
+                good[name] = value
         try:
-            self.state.param.update(**values)
-        except Exception:  # noqa: BLE001 - any rejected value: say which
-            self._url_error(values)
+            self.state.param.update(**good)
+        except Exception:  # noqa: BLE001 - a combination the state refuses
+            bad.update(good)
+        if bad:
+            self._url_error(bad)
 
     def _url_changed(self, *events: param.parameterized.Event) -> None:
         """Rewrite the URL once the state has been still for :data:`URL_DELAY_MS`."""
@@ -336,8 +419,10 @@ class Explorer(pn.viewable.Viewer):
         loc.update_query(**query)
 
     def _url_error(self, values: Mapping[str, Any]) -> None:
-        self._show_error("Some URL parameters could not be applied: " +
-                         ", ".join(f"{k}={v!r}" for k, v in values.items()))
+        """Say which of the URL's values were rejected, what each allows and what came."""
+        self._show_error("Some URL parameters could not be applied: " + "; ".join(
+            f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
+            f"got {_shown(value)}" for name, value in values.items()))
 
     # --- events --------------------------------------------------------------------------
 
@@ -360,17 +445,82 @@ class Explorer(pn.viewable.Viewer):
         self._commits += 1
         new = {k: v for k, v in changes.items() if k not in SOLVE_PARAMS}
         solve_changes = {k: v for k, v in changes.items() if k in SOLVE_PARAMS}
+        notes = []
         if solve_changes:
-            merged = self._constrained({**self.state.values(), **solve_changes})
+            wanted = {**self.state.values(), **solve_changes}
+            if wanted["stop_type"] != "hysteretic":  # the program drives a deformable stop
+                wanted["program"] = False
+            merged = self._constrained(dict(wanted))
+            notes = [(low, wanted[low], merged[low], high) for low, high in CONSTRAINTS
+                     if merged[low] != wanted[low]]
             diff = {k: v for k, v in merged.items() if v != getattr(self.state, k)}
             new.update(diff)
             if diff and "scene" not in changes:
                 new["scene"] = CUSTOM
         changed = {k: v for k, v in new.items() if getattr(self.state, k) != v}
+        for slider in self.sliders.values():  # a note is about the last change only
+            if slider.message.visible and not slider.invalid:
+                slider.note("")
         if changed:
             self.state.param.update(**changed)
         elif self.solution is not None:
             self._draw(self.solution)
+        for low, was, now, high in notes:
+            self._coupled_note(low, was, now, high)
+
+    def _coupled_note(self, low: str, was: float, now: float, high: str) -> None:
+        """Say that ``low`` followed ``high`` down, next to the box the user sees."""
+        si = self.state.units == "SI"
+        twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
+        shown = twin_of.get(low, low) if si else low
+        slider = self.sliders[shown]
+        scale = slider.value / now if shown != low and now else 1.0
+        slider.note(f"{slider.name} lowered from {format_number(was * scale)} to "
+                    f"{format_number(now * scale)} to stay ≤ {high}")
+
+    def _refusal(self, name: str, value: float) -> str | None:
+        """Why a typed ``value`` of ``name`` is refused, or None.
+
+        The page's limits (the state's bounds: a horizon the page can draw, a slider that
+        can be drawn) come first, then what the core's validation refuses of the whole set
+        (a stop behind the start); both in the core's words (:mod:`core.validation`: the
+        parameter, the allowed range, the value).
+        """
+        st = self.state
+        higher = dict(CONSTRAINTS).get(name)
+        if higher is not None:  # the lower of a pair may not pass the higher
+            reason = bounds_reason(name, value, (self.sliders[name].bounds[0],
+                                                 getattr(st, higher)))
+            if reason:
+                return f"{reason} (it may not exceed {higher})"
+        reason = bounds_reason(name, value, self.sliders[name].bounds)
+        if reason is None and name in SOLVE_PARAMS:
+            reason = _core_reason(self._constrained({**st.values(), name: value}))
+            if reason == _core_reason(st.values()):  # not this value's doing
+                reason = None
+        return reason
+
+    def _refusal_si(self, name: str, key: str, value: float) -> str | None:
+        """Why a typed SI ``value`` is refused (see :meth:`_refusal`), or None."""
+        reason = bounds_reason(self.sliders[name].name, value, self.sliders[name].bounds)
+        if reason:
+            return reason
+        try:
+            self.state.from_physical(**{key: value})
+        except ValueError as exc:
+            return str(exc)
+        return None
+
+    def _reset(self, event: Any = None) -> None:
+        """Every value of the figure last loaded, whatever was typed or refused since."""
+        for slider in self.sliders.values():
+            slider.clear()
+        if self.state.scene == self.figure and self.state.values() == scene_values(
+                self.figure, accuracy=self.state.accuracy, method=self.state.method):
+            self._sync_widgets()
+            return
+        self._commits += 1
+        self.state.load_scene(self.figure)
 
     def _commit_si(self, si: Mapping[str, float]) -> None:
         """A user's final SI value(s): converted, then committed as the state's values
@@ -453,6 +603,9 @@ class Explorer(pn.viewable.Viewer):
 
     def _on_scene_label(self, event: param.parameterized.Event) -> None:
         self._set_syncing(lambda: setattr(self.scene_select, "value", event.new))
+        if event.new in SCENES:
+            self.figure = event.new
+            set_changed(self.reset, label=_reset_label(event.new))
 
     def _on_state(self, *events: param.parameterized.Event) -> None:
         self._commits += 1
@@ -508,7 +661,8 @@ class Explorer(pn.viewable.Viewer):
                     w.set(value, soft_end=max(w.slider.end, grow * value, step))
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
                               (self.accuracy, st.accuracy), (self.method, st.method),
-                              (self.show_all, st.show_all), (self.scene_select, st.scene)):
+                              (self.show_all, st.show_all), (self.scene_select, st.scene),
+                              (self.program, st.program)):
             set_changed(widget, value=value)
         si = st.units == "SI"
         set_changed(self.si_box, visible=si)
@@ -521,6 +675,7 @@ class Explorer(pn.viewable.Viewer):
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
         set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
+        set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
 
@@ -576,7 +731,8 @@ class Explorer(pn.viewable.Viewer):
             self.plots.update(sol, scales, visible, map_data)
             if "anim" in visible:
                 self.anim.update(sol, scales)
-            self.readout.object = readout_html(sol, scales)
+            self.readout.object = readout = readout_html(sol, scales)
+            self._reserve_readout(readout.count("<tr>"))
             self.caption.object = self._caption_html()
             if map_data is not None:
                 self.map_legend.object = _map_legend(map_data["labels"])
@@ -584,10 +740,46 @@ class Explorer(pn.viewable.Viewer):
                 set_changed(pane, visible=name in visible)
             set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
             set_changed(self.alert, visible=False)
+            if self.trade.visible and self._trade_values != sol.values:
+                set_changed(self.trade, visible=False)  # it described another run
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    async def _measure(self, event: Any = None) -> None:
+        """Measure the speed/accuracy trade of the run on screen, off the event loop."""
+        values = dict(self.state.values())
+        if values.get("program"):
+            return
+        self.measure.disabled = True
+        self.measure.label = "Measuring…"
+        try:
+            rows = await asyncio.get_running_loop().run_in_executor(None, measure, values)
+        except Exception as exc:  # noqa: BLE001 - say why and keep the page
+            self._show_error(f"The measurement failed: {type(exc).__name__}: {exc}")
+            return
+        finally:
+            self.measure.disabled = False
+            self.measure.label = "Measure the trade (a few seconds)"
+        if values != dict(self.state.values()):
+            return  # the run changed meanwhile
+        self._trade_values = values
+        self.trade.object = (
+            "<div class='fie-title'>Speed and accuracy, measured for this run</div>"
+            + trade_html(rows))
+        self.trade.visible = True
+
+    def _reserve_readout(self, rows: int) -> None:
+        """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows
+        grow the room; a new scene sets it afresh."""
+        height = (rows + READOUT_SPARE_LINES) * READOUT_ROW_PX + READOUT_PAD_PX
+        scene = self.state.scene
+        if scene != self._readout_scene and scene != CUSTOM:
+            self._readout_scene = scene
+        elif self.readout.min_height is not None and height <= self.readout.min_height:
+            return
+        set_changed(self.readout, min_height=height)
 
     def _draw_map(self, sol: Solution) -> None:
         """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
@@ -613,16 +805,98 @@ class Explorer(pn.viewable.Viewer):
                 f"<div class='fie-look'>{html.escape(scene.caption)}</div>")
 
     def _show_error(self, message: str) -> None:
+        """Show ``message`` as text (it may echo a URL's or a user's value)."""
         self.error = message
         with pn.io.hold():
-            self.alert.object = (f"**Input not applied:** {message}  \n"
-                                 "The plots still show the last valid parameters.")
+            self.alert.object = (
+                f"<div class='fie-alert-box' role='alert'><b>Input not applied:</b> "
+                f"{html.escape(message)}<br>The plots still show the last valid parameters."
+                "</div>")
             self.alert.visible = True
 
     def _csv(self):
+        """The trajectory file; its name (set before the transfer) names the run."""
         if self.solution is None:
             return None
+        self.download.filename = self._file_name("trajectory")
         return trajectory_csv(self.solution, self.state.scales())
+
+    def _transitions_csv(self):
+        """One row per transition (impacts with speeds before and after, impulses)."""
+        if self.solution is None:
+            return None
+        self.download_transitions.filename = self._file_name("transitions")
+        return transitions_csv(self.solution, self.state.scales())
+
+    def _file_name(self, what: str) -> str:
+        scene = self.figure if self.state.scene == CUSTOM else self.state.scene
+        scene = scene if self.state.scene != CUSTOM else f"custom-from-{scene}"
+        return file_name(self.solution.values, scene, what)
+
+
+#: The figure the reset button returns to when the page opens on custom values.
+DEFAULT_FIGURE = DEFAULT_SCENE
+
+
+def _reset_label(scene: str) -> str:
+    """The reset button's label, naming the figure it returns to.
+
+    >>> _reset_label("7c")
+    'Reset to Fig. 7c'
+    """
+    return f"Reset to Fig. {scene}" if scene in SCENES else f"Reset to Fig. {DEFAULT_FIGURE}"
+
+
+def _accuracy_tip() -> str:
+    """The accuracy presets in one tooltip, from :data:`app.solver.ACCURACY`."""
+    parts = [f"{name}: rtol {ACCURACY[name]['rtol']:g}, switch band eta "
+             f"{ACCURACY[name]['eta']:g}, {ACCURACY[name]['n_samples']} samples"
+             for name in ACCURACIES]
+    return ("; ".join(parts) + ". The exact method on no stop or a rigid stop is closed form "
+            "at every preset: only the smoothness of the curves changes.")
+
+
+def _core_reason(values: Mapping[str, Any]) -> str | None:
+    """The core's message for solve values it refuses, or None."""
+    try:
+        core_inputs(values)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+#: Characters of a rejected value shown in a message (a long value is cut, and says so).
+SHOWN_CHARS = 60
+
+
+def _shown(value: Any) -> str:
+    """A received value for a message: its repr, cut to :data:`SHOWN_CHARS` characters.
+
+    >>> _shown("x" * 100).endswith("xx… (100 characters)'")
+    True
+    """
+    text = repr(value)
+    if len(text) <= SHOWN_CHARS:
+        return text
+    n = len(value) if isinstance(value, str) else len(text)
+    return f"{text[:SHOWN_CHARS]}… ({n} characters)'"
+
+
+def _allowed(state: ExplorerState, name: str) -> str:
+    """What parameter ``name`` of the state accepts, in words.
+
+    >>> _allowed(ExplorerState(), "restitution"), _allowed(ExplorerState(), "units")
+    ('a number in [0, 1]', "one of 'dimensionless', 'SI'")
+    """
+    p = state.param[name]
+    if isinstance(p, param.Number):
+        low, high = p.bounds
+        return f"a number in [{low:g}, {high:g}]"
+    if isinstance(p, param.Boolean):
+        return "true or false"
+    if isinstance(p, param.Selector):
+        return "one of " + ", ".join(repr(o) for o in p.objects)
+    return "a valid value"
 
 
 def _show_all_label(visible: tuple[str, ...], applicable: tuple[str, ...]) -> str:

@@ -100,8 +100,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
 
 
 def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
-    """The rows as an HTML table (escaped); a cell too long for its line shows in full on
-    hover."""
+    """The rows as an HTML table (escaped); a long row wraps."""
     rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
-    body = "".join(f'<tr><th>{k}</th><td title="{v}">{v}</td></tr>' for k, v in rows)
+    body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
     return f'<table class="fie-readout">{body}</table>'

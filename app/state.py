@@ -26,6 +26,7 @@ import param
 
 from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
 from core import HystereticStop, Oscillator, RigidStop
+from core.validation import check_range
 
 #: Stop types offered in the page.
 STOP_TYPES = ("none", "rigid", "hysteretic")
@@ -297,6 +298,5 @@ def core_inputs(values: Mapping[str, Any]):
             f"< x0 {x0:.6g}"
         )
     t_end = float(values["t_end"])
-    if not t_end > 0.0:
-        raise ValueError(f"t_end must be positive; got {t_end:.6g}")
+    check_range("t_end", t_end, 0.0, low_open=True)
     return osc, stop, x0, v0, t_end

@@ -8,6 +8,8 @@ widgets in step in Python instead.
 
 from __future__ import annotations
 
+import html
+import math
 import uuid
 from collections.abc import Callable
 from functools import partial
@@ -17,9 +19,7 @@ import param
 from panel.io.state import set_curdoc, state
 
 from app.connection import writes_done
-
-#: Width of the typed-entry box [px].
-INPUT_WIDTH = 96
+from core.validation import check_range
 
 
 def set_changed(obj: param.Parameterized, **values) -> None:
@@ -91,20 +91,27 @@ class _Slider(pn.widgets.FloatSlider):
 
 
 class TypedSlider:
-    """A labelled slider (soft range) and a number box (hard bounds) for one value.
+    """A labelled number box (hard bounds) and a slider (soft range) for one value.
+
+    The box takes any text: a value that is not a number, or that ``validate`` refuses,
+    stays in the box, marked red with the message below it, until a valid value replaces
+    it; nothing is committed meanwhile. The label is the box's own (its accessible name),
+    with a tooltip naming the symbol and its allowed range.
 
     Parameters
     ----------
     label : str
     value, step : float
+        ``step`` is the finest step of the slider; its keyboard step is coarser, so that
+        the arrow keys cross the range in about :data:`KEY_PRESSES` presses.
     soft : (float, float)
         The slider's range; a typed value outside it widens the slider.
     bounds : (float, float)
-        Hard limits of the typed entry (the browser clamps to them).
+        Hard limits of the typed entry.
     on_drag : callable(float)
         Called with each value while the slider is dragged.
     on_commit : callable(float)
-        Called with the final value: slider released, or a number typed.
+        Called with the final value: slider released, or a valid number typed.
     on_release : callable(), optional
         Called when a release arrives from the browser, before its value is processed
         (a drag's preview still waiting to be drawn is stale from then on).
@@ -112,34 +119,52 @@ class TypedSlider:
         Width in pixels.
     css_class : str
         Class of the whole widget (the browser tests find it by this).
+    name : str
+        The parameter's name in messages (``mu_k must lie in ...``).
+    validate : callable(float) -> str or None, optional
+        The reason a typed value is refused (naming the parameter, the allowed range and
+        the value), or None; by default the hard bounds are checked.
+    tooltip : str
+        What the symbol means; the allowed range is added.
     """
 
     def __init__(self, label: str, value: float, step: float, soft: tuple[float, float],
                  bounds: tuple[float, float], on_drag: Callable[[float], None],
                  on_commit: Callable[[float], None], width: int, css_class: str,
-                 on_release: Callable[[], None] | None = None) -> None:
+                 on_release: Callable[[], None] | None = None, name: str = "",
+                 validate: Callable[[float], str | None] | None = None,
+                 tooltip: str = "") -> None:
         self.step = step
         self.bounds = bounds
+        self.name = name or label
         self._on_drag, self._on_commit = on_drag, on_commit
+        self._validate = validate
+        self._tooltip = tooltip
         self._quiet = False
+        #: True while the box shows a refused entry.
+        self.invalid = False
         start, end = min(soft[0], value), max(soft[1], value)
         if end <= start:
             end = start + step
-        self.label = pn.widgets.StaticText(value=label, margin=(6, 4, 0, 10))
-        self.input = pn.widgets.FloatInput(
-            value=value, step=step, start=bounds[0], end=bounds[1], width=INPUT_WIDTH,
-            margin=(0, 10, 0, 0), css_classes=["fie-input"], format="0[.]0000",
+        self.input = pn.widgets.TextInput(
+            label=label, value=format_number(value), width=width, margin=(2, 10, 0, 10),
+            css_classes=["fie-input"], stylesheets=[INPUT_CSS],
+            description=self._describe(),
         )
         self.slider = _Slider(
-            value=value, start=start, end=end, step=step, show_value=False,
-            width=width - 20, margin=(0, 10, 4, 10), css_classes=["fie-slider"],
+            value=value, start=start, end=end, step=key_step(start, end, step),
+            show_value=False, width=width - 20, margin=(0, 10, 4, 10),
+            css_classes=["fie-slider"], stylesheets=[SLIDER_CSS],
         )
         self.slider.on_release = on_release
         self.slider.param.watch(self._moved, ["value", "value_throttled"])
         self.input.param.watch(self._typed, "value")
+        self.message = pn.pane.HTML("", visible=False, width=width - 20, margin=(0, 10, 2, 10),
+                                    css_classes=["fie-input-message"],
+                                    stylesheets=[MESSAGE_CSS])
         self.layout = pn.Column(
-            pn.Row(self.label, pn.Spacer(), self.input, width=width, margin=0),
-            self.slider, width=width, margin=(2, 0), css_classes=["fie-typed", css_class],
+            self.input, self.message, self.slider, width=width, margin=(2, 0),
+            css_classes=["fie-typed", css_class],
         )
 
     # --- state ---------------------------------------------------------------------------
@@ -150,6 +175,10 @@ class TypedSlider:
         return self.slider.value
 
     @property
+    def label(self) -> str:
+        return self.input.label
+
+    @property
     def visible(self) -> bool:
         return self.layout.visible
 
@@ -158,30 +187,67 @@ class TypedSlider:
         set_changed(self.layout, visible=show)
 
     def set_label(self, label: str) -> None:
-        set_changed(self.label, value=label)
+        set_changed(self.input, label=label)
+
+    def _describe(self) -> str:
+        low, high = self.bounds
+        return (f"{self._tooltip} " if self._tooltip else "") + (
+            f"Allowed: {format_number(low)} to {format_number(high)}.")
 
     def set(self, value: float, *, soft_end: float | None = None,
             hard_end: float | None = None) -> None:
-        """Show ``value`` without calling back; optionally move the upper ends."""
+        """Show ``value`` without calling back; optionally move the upper ends.
+
+        A refused entry stays in its box (red) while the value it would have replaced is
+        unchanged; a new value replaces it.
+        """
         start, end = self.slider.start, self.slider.end
         if soft_end is not None:
             end = soft_end
         start, end = min(start, value), max(end, value)
         if end <= start:
             start = min(start, value - self.step)
+        shown = self.invalid or self.input.value == format_number(value)
         if ((start, end, value) == (self.slider.start, self.slider.end, self.slider.value)
-                and value == self.input.value == self.slider.value_throttled
+                and shown and value == self.slider.value_throttled
                 and hard_end in (None, self.bounds[1])):
             return  # nothing to change (this runs for several sliders on every release)
         self._quiet = True
         try:
-            if hard_end is not None:
+            if hard_end is not None and hard_end != self.bounds[1]:
                 self.bounds = (self.bounds[0], hard_end)
-                self.input.end = hard_end
-            self.slider.param.update(start=start, end=end, value=value)
+                self.input.description = self._describe()
+            step = key_step(start, end, self.step)
+            self.slider.param.update(start=start, end=end, value=value, step=step)
             self.slider.expect_release_from(value)
-            if self.input.value != value:
-                self.input.value = value
+            if value != self.slider.value_throttled or not self.invalid:
+                self._show(value)
+        finally:
+            self._quiet = False
+
+    def _show(self, value: float) -> None:
+        self.invalid = False
+        set_changed(self.input, value=format_number(value), css_classes=["fie-input"])
+        self.note("")
+
+    def note(self, text: str, error: bool = False) -> None:
+        """Show ``text`` below the box (as text; red with the box when ``error``), or hide
+        the message when empty."""
+        body = (f"<div class='fie-msg{' fie-msg-error' if error else ''}' role='status'>"
+                f"{html.escape(text)}</div>") if text else ""
+        set_changed(self.message, object=body, visible=bool(text))
+
+    def refuse(self, message: str) -> None:
+        """Keep the typed entry in the box, red, with ``message`` below it."""
+        self.invalid = True
+        set_changed(self.input, css_classes=["fie-input", "fie-invalid"])
+        self.note(message, error=True)
+
+    def clear(self) -> None:
+        """Forget a refused entry and any note: the box shows the slider's value."""
+        self._quiet = True
+        try:
+            self._show(self.slider.value)
         finally:
             self._quiet = False
 
@@ -200,19 +266,106 @@ class TypedSlider:
         # One message for the typed-entry box and whatever the commit redraws: a message of
         # its own for the box cost ~3 ms (Bokeh's per-message overhead) before the solve.
         with pn.io.hold():
-            self._on_commit(value)
             self._quiet = True
             try:
-                self.input.value = value
+                if self.invalid or self.message.visible:
+                    self._show(value)
+                else:
+                    set_changed(self.input, value=format_number(value))
             finally:
                 self._quiet = False
+            self._on_commit(value)
 
     def _typed(self, event) -> None:
         if self._quiet or event.new is None:
             return
-        value = min(max(event.new, self.bounds[0]), self.bounds[1])
-        self.set(value)
-        self._on_commit(value)
+        text = str(event.new).strip()
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            self.refuse(f"{self.name} must be a number; got {shown_text(text)}")
+            return
+        reason = (self._validate(value) if self._validate is not None
+                  else bounds_reason(self.name, value, self.bounds))
+        if reason:
+            self.refuse(reason)
+            return
+        with pn.io.hold():
+            self.set(value)
+            self._quiet = True
+            try:
+                self._show(value)
+            finally:
+                self._quiet = False
+            self._on_commit(value)
 
     def __panel__(self) -> pn.Column:
         return self.layout
+
+
+#: Arrow-key presses that cross a slider's range (PageUp/PageDown move five steps).
+KEY_PRESSES = 100
+#: The box beside its label, on one line; a refused entry is red.
+INPUT_CSS = """
+.bk-input-group { flex-direction: row; align-items: center; gap: 6px; }
+.bk-input-group > label { flex: 1; margin: 0; }
+.bk-input-group > .bk-input { flex: 0 0 96px; width: 96px; }
+:host(.fie-invalid) .bk-input { border-color: #c0392b; background: #fdecea;
+                                box-shadow: 0 0 0 1px #c0392b; }
+.bk-input:focus-visible { outline: 3px solid #1f6feb; outline-offset: 1px; }
+"""
+#: A visible focus ring on the slider's handle (the keyboard moves it).
+SLIDER_CSS = """
+.noUi-handle:focus-visible, .noUi-handle:focus { outline: 3px solid #1f6feb;
+                                                 outline-offset: 2px; }
+"""
+#: The message below a box.
+MESSAGE_CSS = """
+.fie-msg { font-size: 12px; line-height: 1.3; color: #444; overflow-wrap: anywhere; }
+.fie-msg-error { color: #a61b0f; }
+"""
+
+
+def key_step(start: float, end: float, finest: float) -> float:
+    """A round slider step (1, 2 or 5 times a power of ten, at least ``finest``) that
+    crosses ``[start, end]`` in about :data:`KEY_PRESSES` presses of an arrow key.
+
+    >>> key_step(0.0, 0.6, 0.001), key_step(0.0, 1.0, 0.005), key_step(1.0, 300.0, 1.0)
+    (0.005, 0.01, 2.0)
+    """
+    raw = (end - start) / KEY_PRESSES
+    if not raw > 0:
+        return finest
+    power = 10.0 ** math.floor(math.log10(raw))
+    step = min((m * power for m in (1.0, 2.0, 5.0, 10.0)),
+               key=lambda c: abs(math.log(c / raw)))
+    return max(float(f"{step:.3g}"), finest)
+
+
+def format_number(value: float) -> str:
+    """A value as the box shows it (six significant digits).
+
+    >>> format_number(0.1), format_number(400.0), format_number(1e-6)
+    ('0.1', '400', '1e-06')
+    """
+    return f"{value:.6g}"
+
+
+def shown_text(text: str, limit: int = 40) -> str:
+    """A received entry for a message, quoted and cut at ``limit`` characters."""
+    return repr(text if len(text) <= limit else text[:limit] + "…")
+
+
+def bounds_reason(name: str, value: float, bounds: tuple[float, float]) -> str | None:
+    """The core's message for ``value`` outside ``bounds``, or None.
+
+    >>> bounds_reason("restitution", 1.5, (0.0, 1.0))
+    'restitution must lie in [0, 1]; got 1.5'
+    """
+    try:
+        check_range(name, value, *bounds)
+    except ValueError as exc:
+        return str(exc)
+    return None

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import doctest
+import html
 import importlib
+import re
 
 import numpy as np
 import panel as pn
@@ -79,7 +81,7 @@ def test_mu_k_is_clamped_to_mu_s(ex):
     _release(ex, "mu_s", 0.15)  # below mu_k = 0.2
     assert ex.state.mu_s == 0.15 and ex.state.mu_k == 0.15
     w = ex.sliders["mu_k"]
-    assert w.slider.end == pytest.approx(0.15) and w.input.end == pytest.approx(0.15)
+    assert w.slider.end == pytest.approx(0.15) and w.bounds[1] == pytest.approx(0.15)
     assert ex.error is None
     _release(ex, "mu_s", 0.5)  # the end follows mu_s back up
     assert w.slider.end == pytest.approx(0.5) and ex.state.mu_k == 0.15
@@ -87,11 +89,12 @@ def test_mu_k_is_clamped_to_mu_s(ex):
 
 def test_typed_entry_commits_and_widens_the_slider(ex):
     w = ex.sliders["belt_speed"]
-    w.input.value = 0.9  # beyond the slider's soft end
+    w.input.value = "0.9"  # beyond the slider's soft end
     assert ex.state.belt_speed == 0.9 and ex.state.scene == CUSTOM
     assert w.slider.end >= 0.9 and w.slider.value == 0.9
-    w.input.value = 50.0  # beyond the hard bound: clamped
-    assert ex.state.belt_speed == ex.state.param["belt_speed"].bounds[1]
+    w.input.value = "50"  # beyond the hard bound: refused, said, kept in the box
+    assert ex.state.belt_speed == 0.9 and w.invalid and w.input.value == "50"
+    assert "belt_speed must lie in [0, 10]; got 50" in w.message.object
 
 
 def test_drag_previews_without_committing(ex):
@@ -151,11 +154,11 @@ def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_valu
 
     release(0.12)
     assert ex.state.belt_speed == 0.12
-    ex.sliders["belt_speed"].input.value = 0.15
+    ex.sliders["belt_speed"].input.value = "0.15"
     assert ex.state.belt_speed == 0.15
     release(0.12)
     assert ex.state.belt_speed == 0.12 and ex.solution.values["belt_speed"] == 0.12
-    assert ex.sliders["belt_speed"].input.value == 0.12
+    assert ex.sliders["belt_speed"].input.value == "0.12"
 
 
 def test_release_where_the_drag_started_restores_the_full_picture(ex):
@@ -215,7 +218,7 @@ def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
     assert visible["v0_si"] and visible["t_end_si"]
     assert not visible["v0"] and not visible["t_end"]
     assert ex.sliders["t_end_si"].value == pytest.approx(ex.state.t_end / omega)
-    assert "(m)" in ex.sliders["x0"].label.value
+    assert "(m)" in ex.sliders["x0"].label
     _release(ex, "t_end_si", 3.0)  # seconds
     assert ex.state.t_end == pytest.approx(3.0 * omega)
     _release(ex, "v0_si", -0.2)  # m/s: the dimensionless x'0 is v / omega
@@ -239,7 +242,7 @@ def test_si_stop_stiffnesses_are_in_newtons_per_metre_and_keep_their_order(ex):
     shown = {name for name in ("k_c0", "k_c0_si", "k_e0", "k_e0_si") if ex.sliders[name].visible}
     assert shown == {"k_c0_si", "k_e0_si"}
     assert ex.sliders["k_c0_si"].value == pytest.approx(ex.state.k_c0 * k)
-    assert "N/m" in ex.sliders["k_c0_si"].label.value
+    assert "N/m" in ex.sliders["k_c0_si"].label
     # The expansion stiffness ends where the compression stiffness stands (k_e0 <= k_c0).
     assert ex.sliders["k_e0_si"].bounds[1] == pytest.approx(ex.state.k_c0 * k)
     _release(ex, "k_c0_si", 20_000.0)
@@ -260,9 +263,38 @@ def test_si_stop_stiffnesses_are_in_newtons_per_metre_and_keep_their_order(ex):
 
 def test_csv_export(ex):
     text = ex._csv().getvalue().splitlines()
-    assert text[0].startswith("#") and text[1] == "t,x,xdot,mode,contact_force,overlap"
-    assert len(text) == 2 + len(ex.solution.result.t)
-    assert text[2].split(",")[3] in ("slip", "stick", "contact")
+    assert text[0].startswith("#") and text[1].startswith("# overlap")
+    assert text[2] == ("t [1/omega],x [length],xdot [length],mode,"
+                       "contact_force [phi/k: length],overlap [length]")
+    assert len(text) == 3 + len(ex.solution.result.t)
+    assert text[3].split(",")[3] in ("slip", "stick", "contact")
+    assert ex.download.filename.startswith("fie_5a_trajectory_stop-rigid_v-0.1_xbar-0.32")
+
+
+def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
+    """Scene 7c (r = 0.3): each impact's impulse is m (v_before - v_after) and Newton's law
+    v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
+    ex.scene_select.value = "7c"
+    ex.units.value = "SI"
+    lines = ex._transitions_csv().getvalue().splitlines()
+    assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
+    rows = [line.split(",") for line in lines[3:] if not line.startswith("#")]
+    impacts = [r for r in rows if r[1] == "impact"]
+    assert len(rows) == len(ex.solution.result.transitions) and len(impacts) > 3
+    scales = ex.state.scales()
+    for r in impacts:
+        v_before, v_after, impulse = float(r[3]), float(r[4]), float(r[6])
+        assert v_before > 0 and v_after == pytest.approx(-0.3 * v_before, rel=1e-12)
+        assert impulse == pytest.approx((v_before - v_after) / scales.velocity
+                                        * scales.impulse, rel=1e-12)
+        assert float(r[5]) == 0.0  # a rigid stop is never entered
+    assert all(r[6] == "" for r in rows if r[1] != "impact" and r[1] != "stick->impact")
+    name = ex.download_transitions.filename
+    assert name.startswith("fie_7c_transitions_stop-rigid_") and name.endswith(".csv")
+    assert re.fullmatch(r"[A-Za-z0-9._-]+", name)
+    ex._commit({"belt_speed": 0.123})  # custom values: named after the figure they left
+    ex._transitions_csv()
+    assert ex.download_transitions.filename.startswith("fie_custom-from-7c_transitions")
 
 
 def test_overlap_program_scene(ex):
@@ -274,7 +306,8 @@ def test_overlap_program_scene(ex):
 
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
-                                    "app.readout", "app.export", "app.explorer"])
+                                    "app.readout", "app.export", "app.explorer",
+                                    "app.widgets", "app.trade"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
@@ -364,3 +397,56 @@ def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
     deferred.clear()
     _release(ex, "clearance", ex.state.clearance + 0.01)  # the same map, cached
     assert map_callbacks() == []
+
+
+@pytest.mark.parametrize(("name", "text", "said"), [
+    ("mu_k", "0.5", "mu_k must lie in [0, 0.3]; got 0.5"),
+    ("restitution", "1.5", "restitution must lie in [0, 1]; got 1.5"),
+    ("t_end", "0", "t_end must lie in [0.1, 5000]; got 0"),
+    ("belt_speed", "abc", "belt_speed must be a number; got 'abc'"),
+    ("clearance", "-0.5", "the stop must lie ahead of the start position"),
+])
+def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
+    before = ex.state.values()
+    w = ex.sliders[name]
+    w.input.value = text
+    assert ex.state.values() == before and not ex.alert.visible
+    assert w.invalid and w.input.value == text and html.escape(said) in w.message.object
+    assert "fie-invalid" in w.input.css_classes
+    ex._commit({"x0": -0.01})  # another change leaves the refused entry in its box
+    assert w.invalid and w.input.value == text
+    ex._reset()
+    assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
+
+
+def test_coupled_bound_note_and_program_toggle(ex):
+    ex.sliders["mu_s"].input.value = "0.1"
+    assert ex.state.mu_k == 0.1
+    assert "mu_k lowered from 0.2 to 0.1 to stay ≤ mu_s" in ex.sliders["mu_k"].message.object
+    ex._commit({"belt_speed": 0.11})  # the note is about the last change only
+    assert not ex.sliders["mu_k"].message.visible
+    ex.scene_select.value = "2b"
+    assert ex.program.visible and ex.program.value and ex.state.program
+    ex.stop_type.value = "rigid"  # the program drives a deformable stop only
+    assert not ex.state.program and not ex.program.visible
+    ex.stop_type.value = "hysteretic"
+    assert ex.program.visible and not ex.program.value
+    assert "phase" in ex.visible_plots()
+    assert ex.reset.label == "Reset to Fig. 2b"
+
+
+def test_trade_table_measures_every_method_and_marks_a_changed_verdict():
+    """Scene 10: the reference (exact flight, contact at rtol 1e-12) grazes the stop; the
+    exact method's error falls with the preset (its contact is integrated at the preset's
+    rtol), and the switch model at draft finds a periodic orbit, which the row says."""
+    from app.state import scene_values
+    from app.trade import measure, trade_html
+
+    rows = {(r.method, r.accuracy): r for r in measure(scene_values("10"))}
+    assert len(rows) == 9
+    assert rows["exact", "precise"].verdict == "grazing"
+    errors = [rows["exact", a].error for a in ("draft", "standard", "precise")]
+    assert errors[0] > errors[1] > errors[2]
+    assert rows["switch", "draft"].verdict == "periodic"
+    assert "verdict differs" in rows["switch", "draft"].note
+    assert "verdict differs" in trade_html(list(rows.values()))

@@ -212,11 +212,11 @@ def test_invalid_input_keeps_the_picture(page, shots):
     box = page.page.locator(".fie-w-clearance input").first
     box.fill("-0.5")
     box.press("Enter")
-    alert = page.page.locator(".fie-alert").first
-    alert.wait_for(state="visible", timeout=30_000)
+    message = page.page.locator(".fie-w-clearance .fie-input-message").first
+    message.wait_for(state="visible", timeout=30_000)
     page.settle()
     page.page.screenshot(path=shots / "invalid-input.png", full_page=True)
-    assert "ahead of the start" in page.text(".fie-alert")
+    assert "ahead of the start" in page.text(".fie-w-clearance .fie-input-message")
     after = page.pixels(".fie-plot-phase")
     assert np.abs(after - before).mean() < MIN_CHANGE
     assert page.errors == []
