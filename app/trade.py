@@ -33,7 +33,7 @@ import numpy as np
 
 from app.solver import ACCURACY
 from app.state import ACCURACIES, core_inputs
-from core import simulate
+from core import method_options, simulate
 
 #: Methods compared (``auto`` is one of them).
 METHODS = ("exact", "event", "switch")
@@ -79,7 +79,8 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
     """
     osc, stop, x0, v0, t_end = core_inputs(values)
     t_eval = np.linspace(0.0, t_end, COMPARE_POINTS)
-    tight = dict(rtol=REFERENCE_RTOL, atol=REFERENCE_ATOL)
+    tight = {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
+             if k in method_options("exact", stop)}
     ref = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method="exact", **tight)
     x_ref = _at(ref, t_eval)
     scale = max(float(np.max(np.abs(x_ref - x_ref.mean()))), 1e-300)
@@ -87,8 +88,10 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
     for method in methods:
         for accuracy in ACCURACIES:
             acc = ACCURACY[accuracy]
-            kwargs = dict(rtol=acc["rtol"], atol=acc["atol"],
-                          eta=acc["eta"] if method == "switch" else None)
+            used = method_options(method, stop)
+            kwargs = {k: acc[k] for k in used if k in acc}
+            if "time_budget" in used:  # the solve itself stops, not only the wait for it
+                kwargs["time_budget"] = budget_s
 
             def run(m=method, kw=kwargs):
                 start = time.perf_counter()
