@@ -10,7 +10,7 @@ $(BIN)/.installed: pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[test]"
 	touch $@
 
-.PHONY: install serve test browser bench lint
+.PHONY: install serve test browser bench lint nginx test-min
 
 install: $(BIN)/.installed
 
@@ -23,9 +23,21 @@ browser:
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq chromium; \
 	  else echo "chromium missing: sudo apt-get install -y chromium"; exit 1; fi; }
 
-test: install browser
+test: install browser nginx
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
 
 bench: install
 	$(BIN)/python benchmarks/solver_speed.py
+
+# Debian's nginx fronts two server processes in tests/deploy/test_nginx.py; install it if
+# missing (needs root).
+nginx:
+	@command -v nginx >/dev/null 2>&1 || [ -x /usr/sbin/nginx ] || { \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq nginx; \
+	  else echo "nginx missing: sudo apt-get install -y nginx"; exit 1; fi; }
+
+# The core and app tests on the lowest versions pyproject.toml allows, in a fresh venv
+# (scripts/test-min-versions.sh; needs python3 >= 3.11).
+test-min:
+	PYTHON=$(PYTHON) scripts/test-min-versions.sh
