@@ -10,7 +10,7 @@ $(BIN)/.installed: pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[test]"
 	touch $@
 
-.PHONY: install serve test browser bench lint nginx test-min
+.PHONY: install serve test browser bench lint nginx test-min image-tools image-test
 
 install: $(BIN)/.installed
 
@@ -41,3 +41,17 @@ nginx:
 # (scripts/test-min-versions.sh; needs python3 >= 3.11).
 test-min:
 	PYTHON=$(PYTHON) scripts/test-min-versions.sh
+
+# Debian's buildah, podman and debootstrap build and mount the image; install them if missing.
+IMAGE_TOOLS := buildah podman debootstrap curl
+image-tools:
+	@missing=""; for t in $(IMAGE_TOOLS); do \
+	  command -v $$t >/dev/null 2>&1 || [ -x /usr/sbin/$$t ] || missing="$$missing $$t"; done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq $(IMAGE_TOOLS); \
+	  else echo "missing:$$missing: sudo apt-get install -y $(IMAGE_TOOLS)"; exit 1; fi; fi
+
+# Build the Dockerfile with buildah (no Docker engine) and serve from the built image
+# (scripts/image-test.sh; root).
+image-test: image-tools
+	scripts/image-test.sh
