@@ -223,7 +223,7 @@ SERVER_PID=$!
 
 BASE=http://127.0.0.1:$PORT
 deadline=$(($(date +%s) + 180))
-until curl -fsS -o /dev/null --max-time 5 "$BASE/liveness"; do
+until curl -fs -o /dev/null --max-time 5 "$BASE/liveness"; do
     kill -0 "$SERVER_PID" 2>/dev/null || { cat "$WORKDIR/serve.log" >&2; die "the server exited"; }
     [ "$(date +%s)" -lt "$deadline" ] || { cat "$WORKDIR/serve.log" >&2; die "no /liveness in 180 s"; }
     sleep 1
