@@ -4,9 +4,10 @@
 #   docker run --rm -p 5006:5006 -e NUM_PROCS=0 \
 #       -e ALLOW_WEBSOCKET_ORIGIN=explorer.school.example friction-explorer
 #
-# The install and start steps live in scripts/install.sh and scripts/serve.sh, which CI runs
-# in a fresh virtual environment (tests/deploy/), so what the image does is tested without a
-# Docker engine. See docs/deploy.md.
+# The install and start steps live in scripts/install.sh and scripts/serve.sh, which CI also
+# runs in a fresh virtual environment (tests/deploy/). CI builds this file with buildah, no
+# Docker engine, on a stand-in for the base image, and serves from the built image
+# (`make image-test`, scripts/image-test.sh). See docs/deploy.md.
 FROM python:3.11-slim-bookworm
 
 ENV PYTHONDONTWRITEBYTECODE=1 \

@@ -10,7 +10,7 @@ $(BIN)/.installed: pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[test]"
 	touch $@
 
-.PHONY: install serve test test-random browser bench lint
+.PHONY: install serve test test-random browser bench lint nginx test-min image-tools image-test
 
 install: $(BIN)/.installed
 
@@ -23,7 +23,7 @@ browser:
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq chromium; \
 	  else echo "chromium missing: sudo apt-get install -y chromium"; exit 1; fi; }
 
-test: install browser
+test: install browser nginx
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
 
@@ -34,3 +34,29 @@ test-random: install
 
 bench: install
 	$(BIN)/python benchmarks/solver_speed.py
+
+# Debian's nginx fronts two server processes in tests/deploy/test_nginx.py; install it if
+# missing (needs root).
+nginx:
+	@command -v nginx >/dev/null 2>&1 || [ -x /usr/sbin/nginx ] || { \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq nginx; \
+	  else echo "nginx missing: sudo apt-get install -y nginx"; exit 1; fi; }
+
+# The core and app tests on the lowest versions pyproject.toml allows, in a fresh venv
+# (scripts/test-min-versions.sh; needs python3 >= 3.11).
+test-min:
+	PYTHON=$(PYTHON) scripts/test-min-versions.sh
+
+# Debian's buildah, podman and debootstrap build and mount the image; install them if missing.
+IMAGE_TOOLS := buildah podman debootstrap curl
+image-tools:
+	@missing=""; for t in $(IMAGE_TOOLS); do \
+	  command -v $$t >/dev/null 2>&1 || [ -x /usr/sbin/$$t ] || missing="$$missing $$t"; done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq $(IMAGE_TOOLS); \
+	  else echo "missing:$$missing: sudo apt-get install -y $(IMAGE_TOOLS)"; exit 1; fi; fi
+
+# Build the Dockerfile with buildah (no Docker engine) and serve from the built image
+# (scripts/image-test.sh; root).
+image-test: image-tools
+	scripts/image-test.sh

@@ -23,6 +23,13 @@ running 60 Chromiums on the same cores. Browser-side rendering time is not inclu
     python benchmarks/load.py                       # starts scripts/serve.sh on a free port
     python benchmarks/load.py --sessions 10 --moves 3
     python benchmarks/load.py --url http://127.0.0.1:5006/main --server-pid 1234
+    # behind a proxy (scripts/serve-behind-nginx.sh): the proxy's URL, every process's pid and
+    # address (for memory, CPU and session counts)
+    python benchmarks/load.py --url http://127.0.0.1:8086/main --server-pid 11 --server-pid 12 \
+        --backend http://127.0.0.1:5107 --backend http://127.0.0.1:5108
+
+A session keeps the cookies the page set (a proxy's sticky-session cookie) for its websocket,
+as a browser does.
 """
 
 from __future__ import annotations
@@ -125,14 +132,15 @@ def system_busy_s() -> float:
 
 
 class Server:
-    """A server started by scripts/serve.sh, or one already running (url + pid)."""
+    """A server started by scripts/serve.sh, or one already running (url + pids), possibly a
+    proxy in front of several processes (backends)."""
 
     def __init__(self, args: argparse.Namespace):
         self.args = args
         self.proc: subprocess.Popen | None = None
         if args.url:
             self.url = args.url
-            self.pid = args.server_pid
+            self.pids = list(args.server_pid or [])
         else:
             port = args.port or free_port()
             self.url = f"http://127.0.0.1:{port}/main"
@@ -158,11 +166,16 @@ class Server:
                 stderr=subprocess.STDOUT,
                 start_new_session=True,
             )
-            self.pid = self.proc.pid
+            self.pids = [self.proc.pid]
         parts = urllib.parse.urlsplit(self.url)
         if parts.hostname not in LOOPBACK:
             raise SystemExit(f"refusing {self.url}: this harness only loads loopback servers")
         self.base = f"{parts.scheme}://{parts.netloc}"
+        # Where to ask for session counts: each process behind a proxy, or the server itself.
+        self.backends = list(args.backend or [self.base])
+        for backend in self.backends:
+            if urllib.parse.urlsplit(backend).hostname not in LOOPBACK:
+                raise SystemExit(f"refusing {backend}: this harness only loads loopback servers")
         self.app_path = parts.path or "/main"
 
     async def wait_live(self, timeout: float) -> None:
@@ -183,13 +196,18 @@ class Server:
         raise SystemExit(f"no /liveness at {self.base} after {timeout} s")
 
     async def live_sessions(self) -> int | None:
-        """Sessions Panel counts as rendered and not yet discarded (None: not known).
+        """Sessions Panel counts as rendered and not yet discarded, summed over the backends
+        (None: not known).
 
         Needs `panel serve --rest-session-info --session-history N`.
         """
+        counts = [await self._live_sessions(backend) for backend in self.backends]
+        return None if None in counts else sum(counts)
+
+    async def _live_sessions(self, base: str) -> int | None:
         try:
             resp = await AsyncHTTPClient().fetch(
-                f"{self.base}/rest/session_info", request_timeout=5, raise_error=False
+                f"{base}/rest/session_info", request_timeout=5, raise_error=False
             )
             if resp.code != 200:
                 return None
@@ -202,10 +220,10 @@ class Server:
             return None
 
     def rss(self) -> float:
-        return rss_mib(self.pid) if self.pid else float("nan")
+        return sum(rss_mib(p) for p in self.pids) if self.pids else float("nan")
 
     def cpu(self) -> float:
-        return cpu_s(self.pid) if self.pid else float("nan")
+        return sum(cpu_s(p) for p in self.pids) if self.pids else float("nan")
 
     def log_errors(self) -> list[str]:
         """Errors the server has logged so far (callbacks that raised, ...)."""
@@ -348,7 +366,13 @@ class Session:
         match = TOKEN_RE.search(resp.body.decode("utf-8", "replace"))
         token = match.group(1) if match else generate_jwt_token(generate_session_id())
         ws_url = "ws" + self.server.base[4:] + self.server.app_path + "/ws"
-        request = HTTPRequest(ws_url, headers={"Origin": self.server.base}, request_timeout=timeout)
+        headers = {"Origin": self.server.base}
+        # The cookies the page set go with the websocket, as in a browser: a proxy's sticky
+        # cookie sends it to the process that built the session.
+        cookies = [c.split(";", 1)[0] for c in resp.headers.get_list("Set-Cookie")]
+        if cookies:
+            headers["Cookie"] = "; ".join(cookies)
+        request = HTTPRequest(ws_url, headers=headers, request_timeout=timeout)
         self.ws = await websocket_connect(
             request, subprotocols=["bokeh", token], max_message_size=64 * 1024 * 1024
         )
@@ -672,7 +696,7 @@ async def main_async(args: argparse.Namespace) -> list[dict]:
         await warm.open()
         await warm.close()
         await asyncio.sleep((args.session_lifetime_ms + 2 * args.check_unused_ms) / 1000 + 2)
-        print(f"server {server.url} pid {server.pid}: {server.rss():.0f} MiB RSS after warm-up",
+        print(f"server {server.url} pids {server.pids}: {server.rss():.0f} MiB RSS after warm-up",
               file=sys.stderr)
         for i, n in enumerate(args.sessions):
             if time.monotonic() > deadline:
@@ -706,7 +730,12 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                         "no answer from the server)")
     p.add_argument("--app", default=str(ROOT / "app" / "main.py"), help="app to serve")
     p.add_argument("--url", help="use a running loopback server, e.g. http://127.0.0.1:5006/main")
-    p.add_argument("--server-pid", type=int, help="its process id, for memory (with --url)")
+    p.add_argument("--server-pid", type=int, action="append",
+                   help="its process id, for memory and CPU (with --url); repeat it for each "
+                        "process behind a proxy")
+    p.add_argument("--backend", action="append",
+                   help="with --url of a proxy: a process's own base URL, e.g. "
+                        "http://127.0.0.1:5107, asked for its session count (repeatable)")
     p.add_argument("--port", type=int, help="port for the started server (default: free)")
     p.add_argument("--num-procs", type=int, default=1)
     p.add_argument("--session-lifetime-ms", type=int, default=3000)
@@ -741,8 +770,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"run stopped: {type(exc).__name__}: {exc}", file=sys.stderr)
         if args.json and Path(args.json).exists():
             rows = json.loads(Path(args.json).read_text())
+    target = (f"server {args.url} ({len(args.server_pid or [])} pids)" if args.url
+              else f"--num-procs {args.num_procs}")
     print(f"\n{args.moves} moves per session (think time ~{args.think_s} s), openings spread "
-          f"over {args.ramp_s} s, --num-procs {args.num_procs}, unused-session lifetime "
+          f"over {args.ramp_s} s, {target}, unused-session lifetime "
           f"{args.session_lifetime_ms} ms.\n"
           "open: GET page -> document pulled; move: slider release -> plot data patch "
           "received;\ncpu/open, cpu/move: server CPU seconds per session opened / per move; "

@@ -1,0 +1,285 @@
+"""Two `panel serve` processes behind a real nginx with sticky sessions, on loopback.
+
+scripts/serve-behind-nginx.sh, as an operator runs it: nginx (Debian's package; `make nginx`
+installs it) with docs/nginx-example.conf itself, loopback ports put in for its `listen` and
+`server` lines, in front of two scripts/serve.sh processes, each with --allow-websocket-origin
+set to the proxy's host:port (the browser's Origin) and --use-xheaders. Checked through the
+proxy:
+
+- /liveness and /main answer;
+- every session's websocket reaches the process that built it on GET /main. Were it to reach
+  the other process, that process would build the session a second time (Bokeh creates any
+  session a websocket names), so each process's own session list (Panel's
+  /rest/session_info, asked directly) must hold exactly the sessions opened through it, and
+  both processes must have been used;
+- a websocket from a foreign Origin is refused behind the proxy too;
+- in headless Chromium the page loads through the proxy and a slider move updates it.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.slow
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE_CONF = ROOT / "docs" / "nginx-example.conf"
+STARTUP_TIMEOUT = 180.0
+TOKEN_RE = re.compile(r'"token"\s*:\s*"([^"]+)"')
+COOKIE = "explorer_upstream"
+#: Sessions opened through the proxy, each with its own sticky key. Were a session's page and
+#: websocket sent to upstreams independently (no stickiness), each session would show it with
+#: probability 1/2, so 10 sessions miss it with probability 2**-10.
+MIN_KEYS = 10
+#: More keys are tried until both upstreams have a session. The consistent hash maps a key to
+#: an upstream by the upstreams' addresses (free ports, new each run): each key picks either
+#: upstream with probability ~1/2, so 20 keys all picking one has probability ~2e-6.
+MAX_KEYS = 20
+#: JavaScript: an element's text including its shadow roots (Panel renders panes in them).
+JS_DEEP_TEXT = """el => {
+  function t(n) {
+    let s = n.shadowRoot ? t(n.shadowRoot) : "";
+    for (const c of n.childNodes) {
+      if (c.nodeType === 3) s += c.textContent;
+      else if (c.nodeType === 1 && !["STYLE", "SCRIPT", "LINK"].includes(c.tagName)) s += t(c);
+    }
+    return s;
+  }
+  return t(el);
+}"""
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _get(url: str, headers: dict | None = None, timeout: float = 60.0):
+    req = urllib.request.Request(url, headers=headers or {})
+    try:
+        with urllib.request.urlopen(req, timeout=timeout) as resp:
+            return resp.status, resp.headers, resp.read().decode("utf-8", "replace")
+    except urllib.error.HTTPError as exc:
+        return exc.code, exc.headers, exc.read().decode("utf-8", "replace")
+
+
+def _nginx() -> str:
+    found = shutil.which("nginx") or ("/usr/sbin/nginx" if os.path.exists("/usr/sbin/nginx")
+                                      else None)
+    if found is None:
+        pytest.fail("nginx is not installed: `make nginx` (apt-get install -y nginx-light)")
+    return found
+
+
+def _wait_live(url: str, proc: subprocess.Popen, log: Path) -> None:
+    deadline = time.monotonic() + STARTUP_TIMEOUT
+    while True:
+        if proc.poll() is not None:
+            pytest.fail(f"{proc.args[0]} exited with {proc.returncode}:\n{log.read_text()}")
+        try:
+            if _get(url, timeout=2)[0] == 200:
+                return
+        except OSError:
+            pass
+        if time.monotonic() > deadline:
+            pytest.fail(f"no answer from {url} after {STARTUP_TIMEOUT} s:\n{log.read_text()}")
+        time.sleep(0.5)
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+@pytest.fixture(scope="module")
+def deployment(tmp_path_factory):
+    """(proxy base URL, [upstream base URLs], nginx access log): scripts/serve-behind-nginx.sh
+    with two processes on free loopback ports."""
+    nginx = _nginx()
+    run_dir = tmp_path_factory.mktemp("nginx")
+    proxy_port, upstream_ports = _free_port(), [_free_port(), _free_port()]
+    env = dict(os.environ)
+    env.update(
+        NGINX=nginx, RUN_DIR=str(run_dir), PROXY_ADDRESS="127.0.0.1", PROXY_PORT=str(proxy_port),
+        UPSTREAM_PORTS=" ".join(map(str, upstream_ports)), VENV=sys.prefix, WARM="0",
+        # Sessions stay until the module ends, so the processes' session lists are complete.
+        SESSION_LIFETIME_MS="600000",
+    )
+    log = run_dir / "serve-behind-nginx.log"
+    with open(log, "w") as out:
+        proc = subprocess.Popen(
+            [str(ROOT / "scripts" / "serve-behind-nginx.sh"), "--rest-session-info",
+             "--session-history", "100"],
+            env=env, stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        for port in upstream_ports:
+            _wait_live(f"http://127.0.0.1:{port}/liveness", proc, log)
+        _wait_live(f"http://127.0.0.1:{proxy_port}/liveness", proc, log)
+        yield (f"http://127.0.0.1:{proxy_port}",
+               [f"http://127.0.0.1:{p}" for p in upstream_ports], run_dir / "access.log")
+    finally:
+        _stop(proc)
+
+
+def _sessions(upstream: str) -> dict:
+    """Panel's record of the sessions one process built: id -> launched/rendered/..."""
+    status, _, body = _get(f"{upstream}/rest/session_info")
+    assert status == 200, body
+    info = json.loads(body)
+    return info.get("session_info", info)["sessions"]
+
+
+async def _open_session(proxy: str, key: str) -> str:
+    """Open /main through the proxy as a browser holding the sticky cookie ``key`` would:
+    the page, then its websocket and the document; return the session's id."""
+    from bokeh.protocol import Protocol
+    from bokeh.protocol.receiver import Receiver
+    from bokeh.util.token import get_session_id
+    from tornado.httpclient import AsyncHTTPClient, HTTPRequest
+    from tornado.websocket import websocket_connect
+
+    headers = {"Cookie": f"{COOKIE}={key}"}
+    resp = await AsyncHTTPClient().fetch(f"{proxy}/main", headers=headers, request_timeout=120)
+    token = TOKEN_RE.search(resp.body.decode()).group(1)
+    request = HTTPRequest(f"ws{proxy[4:]}/main/ws", headers={**headers, "Origin": proxy},
+                          request_timeout=120)
+    ws = await websocket_connect(request, subprotocols=["bokeh", token],
+                                 max_message_size=64 * 1024 * 1024)
+    protocol = Protocol()
+    receiver = Receiver(protocol)
+
+    async def read(kind: str):
+        while True:
+            fragment = await asyncio.wait_for(ws.read_message(), 120)
+            assert fragment is not None, "the websocket was closed"
+            msg = await receiver.consume(fragment)
+            if msg is not None and msg.msgtype == kind:
+                return msg
+
+    try:
+        await read("ACK")
+        pull = protocol.create("PULL-DOC-REQ")
+        for part in (pull.header_json, pull.metadata_json, pull.content_json):
+            await ws.write_message(part)
+        reply = await read("PULL-DOC-REPLY")
+        assert reply.content["doc"]["roots"], "an empty document"
+    finally:
+        ws.close()
+    return get_session_id(token)
+
+
+def test_liveness_and_page_through_the_proxy(deployment):
+    proxy, _, _ = deployment
+    assert _get(f"{proxy}/liveness")[0] == 200
+    status, headers, html = _get(f"{proxy}/main")
+    assert status == 200
+    assert "data-root-id" in html and TOKEN_RE.search(html)
+    # A browser without the cookie is given one, which keeps it on its upstream.
+    assert f"{COOKIE}=" in (headers.get("Set-Cookie") or "")
+
+
+def test_each_websocket_reaches_the_process_that_built_its_session(deployment, run_async):
+    proxy, upstreams, access_log = deployment
+    before = {u: set(_sessions(u)) for u in upstreams}
+    opened: list[str] = []
+    for i in range(MAX_KEYS):
+        opened.append(run_async(lambda i=i: _open_session(proxy, f"student-{i}")))
+        built = {u: set(_sessions(u)) - before[u] for u in upstreams}
+        if i + 1 >= MIN_KEYS and all(built.values()):
+            break
+    # Every session was built once, in one process: a websocket on the wrong process would
+    # have added the session to that process's list as well.
+    assert sorted(opened) == sorted(s for u in upstreams for s in built[u])
+    assert all(built.values()), f"all {len(opened)} sessions went to one process: {built}"
+    # nginx's own record agrees: a key's page and websocket went to the same upstream.
+    seen: dict[str, set[str]] = {}
+    for line in access_log.read_text().splitlines():
+        uri, status, upstream, key = line.split(" ")
+        if key.startswith("student-") and uri.startswith("/main"):
+            seen.setdefault(key, set()).add(upstream)
+    assert len(seen) == len(opened)
+    assert all(len(ups) == 1 for ups in seen.values()), seen
+
+
+def test_foreign_origin_is_refused_behind_the_proxy(deployment, run_async):
+    from tornado.httpclient import HTTPClientError, HTTPRequest
+    from tornado.websocket import websocket_connect
+
+    proxy, _, _ = deployment
+    token = TOKEN_RE.search(_get(f"{proxy}/main")[2]).group(1)
+
+    async def connect():
+        request = HTTPRequest(f"ws{proxy[4:]}/main/ws",
+                              headers={"Origin": "http://elsewhere.example"})
+        await websocket_connect(request, subprotocols=["bokeh", token])
+
+    with pytest.raises(HTTPClientError) as err:
+        run_async(connect)
+    assert err.value.code == 403
+
+
+@pytest.mark.ui
+def test_slider_move_updates_the_page_through_the_proxy(deployment):
+    from playwright.sync_api import sync_playwright
+
+    proxy, upstreams, _ = deployment
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    before = {u: set(_sessions(u)) for u in upstreams}
+    errors: list[str] = []
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1600, "height": 2000})
+            page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            page.goto(f"{proxy}/main", timeout=120_000)
+            page.wait_for_function(
+                "() => window.Bokeh && Bokeh.documents.length > 0"
+                " && Bokeh.documents[0].is_idle === true", timeout=120_000)
+            readout = page.locator(".fie-readout-pane").first
+            old = readout.evaluate(JS_DEEP_TEXT)
+            assert "v =" in old, old  # the readout is on the page, with the belt speed
+            handle = page.locator(".fie-w-belt_speed .noUi-handle").first
+            box = handle.bounding_box()
+            x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+            page.mouse.move(x, y)
+            page.mouse.down()
+            page.mouse.move(x + 40, y, steps=8)
+            page.mouse.up()
+            # The server answers the release with a new solution and readout: only the
+            # process holding this session's document can.
+            deadline = time.monotonic() + 60
+            while readout.evaluate(JS_DEEP_TEXT) == old:
+                assert time.monotonic() < deadline, "the readout did not change after a move"
+                page.wait_for_timeout(50)
+        finally:
+            browser.close()
+    assert errors == []
+    built = {u: set(_sessions(u)) - before[u] for u in upstreams}
+    assert sum(len(s) for s in built.values()) == 1, built
+    (session,) = set().union(*built.values())
+    (owner,) = [u for u in upstreams if session in built[u]]
+    # document_ready came over the websocket to the process that built the document.
+    assert _sessions(owner)[session]["rendered"] is not None
