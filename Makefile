@@ -26,6 +26,8 @@ browser:
 test: install browser
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
+	# Once more without the patches of library internals (app/perf, static/perf).
+	EXPLORER_PERF_PATCHES=off $(BIN)/python -m pytest tests/app tests/ui
 
 bench: install
 	$(BIN)/python benchmarks/solver_speed.py

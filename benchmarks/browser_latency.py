@@ -203,13 +203,15 @@ def measure(page, url: str, scene: str, moves: int,
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--moves", type=int, default=100)
+    parser.add_argument("--patches", choices=("on", "off"), default="on",
+                        help="the perf patches (app/perf, static/perf)")
     parser.add_argument("--scenes", default="5b,7c,10,11")
     parser.add_argument("--slider", default=SLIDER,
                         help="state parameter whose slider is dragged (default: clearance)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    proc, url = _serve()
+    proc, url = _serve(patches=args.patches == "on")
     try:
         with sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)

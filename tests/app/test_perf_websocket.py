@@ -8,6 +8,7 @@ import importlib
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from bokeh.document import Document
 from bokeh.models import ColumnDataSource
 from bokeh.protocol import Protocol
@@ -15,6 +16,12 @@ from tornado.locks import Lock
 
 import app.perf as perf
 from app.perf import websocket as connection
+
+
+@pytest.fixture(autouse=True)
+def patches_on(monkeypatch):
+    """These tests are of the patches themselves: switched on whatever the environment."""
+    monkeypatch.setenv(perf.SWITCH, "on")
 
 
 class _Socket:
