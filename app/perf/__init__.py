@@ -45,8 +45,15 @@ class Patch:
 
     def in_window(self, installed: str | None = None) -> bool:
         """Whether ``installed`` (default: the installed version) is inside the window."""
-        v = Version(installed if installed is not None else version(self.library))
+        v = Version(installed if installed is not None else _installed(self.library))
         return Version(self.low) <= v < Version(self.high)
+
+
+@cache
+def _installed(library: str) -> str:
+    # Read once: importlib.metadata scans the path's distributions (milliseconds), and the
+    # patches ask on every release.
+    return version(library)
 
 
 #: The patches, by name. Windows: the versions the patches were written and tested with.
@@ -78,11 +85,16 @@ def applies(name: str) -> bool:
     if not enabled():
         _say(f"perf patch {name!r} not applied: {SWITCH} is off")
         return False
-    if not patch.in_window():
+    if not _in_window(patch):
         _say(f"perf patch {name!r} not applied: it was written for {patch.library} "
-             f">={patch.low},<{patch.high}; {version(patch.library)} is installed")
+             f">={patch.low},<{patch.high}; {_installed(patch.library)} is installed")
         return False
     return True
+
+
+@cache
+def _in_window(patch: Patch) -> bool:
+    return patch.in_window()
 
 
 @cache
