@@ -8,6 +8,7 @@ take seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s
 
 from __future__ import annotations
 
+import itertools
 import statistics
 import subprocess
 import sys
@@ -119,8 +120,10 @@ def slow_server(tmp_path_factory):
     proc.wait(timeout=10)
 
 
-def _release(p: Page, dx: float) -> float:
-    """Drag the clearance by ``dx`` px, release, and return the reply time [ms]."""
+def _release(p: Page) -> float:
+    """Drag the clearance right or left (by turns, so that every release is a new value and
+    the handle stays between two places), release, and return the reply time [ms]."""
+    dx = 12 if next(_TURNS) % 2 == 0 else -12
     done = p.page.evaluate("() => window.__reply.ms.length")
     handle = p.page.locator(".fie-w-clearance .noUi-handle").first
     box = handle.bounding_box()
@@ -133,11 +136,14 @@ def _release(p: Page, dx: float) -> float:
     return p.page.evaluate("() => window.__reply.ms.at(-1)")
 
 
+_TURNS = itertools.count()
+
+
 def _releases(p: Page, n: int, until=None) -> list[float]:
     """Reply times [ms] of ``n`` releases (fewer if ``until()`` turns true)."""
     replies = []
-    for i in range(n):
-        reply = _release(p, 12 if i % 2 == 0 else -12)
+    for _ in range(n):
+        reply = _release(p)
         if until is not None and until():
             break
         replies.append(reply)
