@@ -569,9 +569,10 @@ class Explorer(pn.viewable.Viewer):
 
     def _show_busy(self, busy: bool) -> None:
         """Mark the plots a running solve will replace (Panel's per-pane ``loading``)."""
+        visible = self.visible_plots() if busy else ()
         with pn.io.hold():
-            for name in self.visible_plots():
-                set_changed(self.plot_panes[name], loading=busy)
+            for name, pane in self.plot_panes.items():
+                set_changed(pane, loading=name in visible)
 
     def _draw(self, sol: Solution) -> None:
         st = self.state
