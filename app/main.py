@@ -20,26 +20,24 @@ if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the
 
 from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
-from app.perf import enabled as perf_enabled  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
-#: Scripts of the page: no history entry per change of the address, and the JavaScript
-#: patches of BokehJS (``static/perf/``: repaint shortcuts, no repaint of a stale preview
-#: after a slider's release), left out with the Python ones (:mod:`app.perf`).
-JS_FILES = {"fie_url_history": f"{ASSETS}/url_history.js"}
-PERF_JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
-                 "fie_release_hold": f"{ASSETS}/perf/release_hold.js"}
+#: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
+#: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
+#: in the page's address turns them off), and no history entry per change of the address.
+JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
+            "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
+            "fie_url_history": f"{ASSETS}/url_history.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 
 
 def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
-    js_files = {**JS_FILES, **(PERF_JS_FILES if perf_enabled() else {})}
-    pn.extension(notifications=False, design="bootstrap", js_files=js_files)
+    pn.extension(notifications=False, design="bootstrap", js_files=JS_FILES)
     explorer = Explorer()
     explorer.sync_url()
     template = pn.template.BootstrapTemplate(

@@ -10,8 +10,8 @@ written and tested for (:data:`PATCHES`), and is applied only
   the patch was left out), and
 * unless the environment variable ``EXPLORER_PERF_PATCHES`` is ``off`` (all of them).
 
-The page's JavaScript patches (``static/perf/``) follow the same rules in the browser, with
-``paint_shortcuts=off`` in the page's address as their switch. The explorer works fully
+The page's JavaScript patches (``static/perf/``) check their BokehJS version in the browser,
+with ``paint_shortcuts=off`` in the page's address as their switch. The explorer works fully
 without any patch; ``benchmarks/README.md`` has a paired measurement of what they buy, and
 the findings worth reporting upstream.
 """

@@ -95,11 +95,10 @@ def test_slider_drag_repaints(page, shots):
     # The typed-entry box follows the released slider (sent with the new picture): the
     # drag moved right, so the clearance grew.
     assert float(box.input_value()) > typed
-    # Every repaint shortcut found the BokehJS internal it replaces (static/perf/), unless
-    # the patches are off (app.perf).
-    assert page.page.evaluate("() => window.__fie_paint ?? []") == ([
+    # Every repaint shortcut found the BokehJS internal it replaces (static/perf/).
+    assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "mask-visuals", "marker-mask"] if perf_enabled() else [])
+        "mask-visuals", "marker-mask"]
     assert page.errors == []
 
 
@@ -121,13 +120,13 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
             p.page.wait_for_timeout(500)
             p.settle()
             dragged = p.pixels(".fie-plots"), _legend_line_ends(p)
-            seen[flag] = (loaded, dragged,
-                          p.page.evaluate("() => window.__fie_paint ?? []"), p.errors)
+            seen[flag] = (loaded, dragged, p.page.evaluate("() => window.__fie_paint"),
+                          p.errors)
         finally:
             p.close()
     ((on, ends_loaded), (on_dragged, ends_dragged), applied, errors_on), (
         (off, _), (off_dragged, _), none, errors_off) = seen.values()
-    assert len(applied) >= (7 if perf_enabled() else 0) and none == []
+    assert len(applied) >= 7 and none == []
     assert on.shape == off.shape == on_dragged.shape == off_dragged.shape
     # One kind of pixel may differ: the left end of a legend entry's line. BokehJS redraws
     # an entry's small canvas at each paint after clearing it offset by half a pixel, so
@@ -172,8 +171,8 @@ def test_a_release_after_a_typed_value_is_applied(page, shots):
         page.page.wait_for_timeout(1000)
     page.settle()
     page.page.screenshot(path=shots / "release-after-typing.png", full_page=True)
-    # Without the patches (app.perf.slider) that release is not applied: the typed value
-    # stays.
+    # Without the Python patches (app.perf.slider) that release is not applied: the typed
+    # value stays.
     assert float(box.input_value()) == (released if perf_enabled() else
                                         pytest.approx(released + 0.03))
     assert page.errors == []
