@@ -10,7 +10,7 @@ from panel.io.state import set_curdoc
 
 #: Models allowed on a new session's default page. The page had 946 when this was counted
 #: (234 of them legend stand-ins); the budget leaves room for a few small models, not for a
-#: new figure. The classroom target is 350 (``docs/deploy.md``): lower this as the page
+#: new figure. The target for a classroom is 350 (``benchmarks/load.py``): lower this as the page
 #: sheds its stand-ins.
 MODEL_BUDGET = 960
 
