@@ -26,6 +26,8 @@ browser:
 test: install browser nginx
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
+	# Once more without the patches of library internals (app/perf, static/perf).
+	EXPLORER_PERF_PATCHES=off $(BIN)/python -m pytest tests/app tests/ui
 
 # The property tests with fresh random examples, ten times as many as in CI (the suite
 # itself runs them derandomized; see tests/conftest.py).

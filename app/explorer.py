@@ -37,7 +37,7 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import ACCURACY, Solution, SolveTooSlow, regime_map, solve
+from app.solver import ACCURACY, Solution, SolveRunner, SolveTooSlow, regime_map
 from app.state import (
     ACCURACIES,
     METHODS,
@@ -167,6 +167,9 @@ class Explorer(pn.viewable.Viewer):
         self._url_timer: _Deferred | None = None
         #: Counts the commits: a preview solved before the latest commit is not drawn.
         self._commits = 0
+        #: Full solves and drag previews, in the worker pool (the latest request wins).
+        self._solves = SolveRunner(self._solve_failed, self._show_busy)
+        self._previews = SolveRunner(lambda exc: None, preview=True)
         self.plots = PlotSet()
         self.anim = Animation(self.plots.sources["traj"])
         self.anim.attach(self.plots.figures["phase"],
@@ -565,17 +568,16 @@ class Explorer(pn.viewable.Viewer):
             # picture now rather than leave a draft on screen.
             self._draw(self.solution)
             return
-        try:
-            sol = solve(values, preview=True)
-        except Exception:  # noqa: BLE001 - a preview that fails just does not draw
-            return
-        if sol.result is None:
-            return
-        # Drawn a moment later: a release that arrives meanwhile (the drag's last value and
-        # the release come together) replaces it, and its full solution is not held up by
-        # sending and painting a preview that is already stale.
         commits = self._commits
-        self._later(lambda: self._draw_preview(sol, commits), PREVIEW_DELAY_MS)
+
+        def solved(sol: Solution) -> None:
+            # Drawn a moment later: a release that arrives meanwhile (the drag's last value
+            # and the release come together) replaces it, and its full solution is not held
+            # up by sending and painting a preview that is already stale.
+            if sol.result is not None:
+                self._later(lambda: self._draw_preview(sol, commits), PREVIEW_DELAY_MS)
+
+        self._previews.request(values, solved)
 
     def _draw_preview(self, sol: Solution, commits: int) -> None:
         if commits != self._commits:
@@ -702,22 +704,30 @@ class Explorer(pn.viewable.Viewer):
         return tuple(p for p in applicable if p in wanted)
 
     def _update(self) -> None:
-        """Full solve of the state and redraw; on failure show why and keep the picture."""
-        try:
-            sol = solve(self.state.values())
-        except ValueError as exc:
-            self._show_error(str(exc))
-            return
-        except SolveTooSlow as exc:
-            self._show_error(f"The solve was too slow: {exc}")
-            return
-        except Exception as exc:  # noqa: BLE001 - the server must survive any solve
-            log.exception("solve failed")
-            self._show_error(f"The solver failed: {type(exc).__name__}: {exc}")
-            return
+        """Full solve of the state, then redraw (:meth:`_solved`); on failure show why and
+        keep the picture. The solve runs in the worker pool, not on the event loop."""
+        self._solves.request(self.state.values(), self._solved)
+
+    def _solved(self, sol: Solution) -> None:
         self.solution = sol
         self.error = None
         self._draw(sol)
+
+    def _solve_failed(self, exc: Exception) -> None:
+        if isinstance(exc, ValueError):
+            self._show_error(str(exc))
+        elif isinstance(exc, SolveTooSlow):
+            self._show_error(f"The solve was too slow: {exc}")
+        else:
+            log.error("solve failed", exc_info=exc)
+            self._show_error(f"The solver failed: {type(exc).__name__}: {exc}")
+
+    def _show_busy(self, busy: bool) -> None:
+        """Mark the plots a running solve will replace (Panel's per-pane ``loading``)."""
+        visible = self.visible_plots() if busy else ()
+        with pn.io.hold():
+            for name, pane in self.plot_panes.items():
+                set_changed(pane, loading=name in visible)
 
     def _draw(self, sol: Solution) -> None:
         st = self.state

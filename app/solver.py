@@ -13,13 +13,12 @@ Examples
 
 from __future__ import annotations
 
-import functools
 import importlib.util
 import math
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
 from concurrent.futures import TimeoutError as FutureTimeout
 from dataclasses import dataclass, field
@@ -27,11 +26,14 @@ from types import MappingProxyType
 from typing import Any
 
 import numpy as np
+import panel as pn
+from panel.io.state import set_curdoc
 
 from app.state import SOLVE_PARAMS, core_inputs
 from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
 from core.hysteretic import effective_restitutions
+from core.result import Status
 
 #: Accuracy presets -> method settings, and the error each gives, from the work-precision
 #: measurements of ``benchmarks/README.md`` (largest of the relative errors of the state at
@@ -67,18 +69,26 @@ ACCURACY: Mapping[str, Mapping[str, Any]] = MappingProxyType({
 PREVIEW_SAMPLES = 400
 #: Accuracy preset of the previews.
 PREVIEW_ACCURACY = "draft"
-#: Wall-time budget [s] of a full solve by a numerical method (``event``, ``switch``): past
-#: it the page says so and keeps its picture. Those methods can take minutes on a Zeno
-#: scene (scene 7c with ``event``); the closed-form ``exact`` method needs milliseconds and
-#: runs without a budget.
+#: Wall-time budget [s] of a full solve, whatever its method: past it the page says so and
+#: keeps its picture. The numerical methods can take minutes on a Zeno scene (scene 7c with
+#: ``event``) and the deformable stop's integrated contact seconds on a stiff, sharp stop;
+#: the closed form for a rigid stop needs milliseconds.
 SOLVE_BUDGET_S = 2.0
-#: Budget [s] of a preview solve by a numerical method (a late preview is just skipped).
+#: Budget [s] of a preview solve (a late preview is just skipped).
 PREVIEW_BUDGET_S = 0.25
-#: Numerical solves that may run at once in the background (per server process). A solve
-#: past its budget cannot be stopped; it finishes in the background and lands in the cache,
-#: so asking again later is instant. While all workers are busy, further numerical solves
-#: are refused at once instead of queueing behind them.
+#: Solves that integrate (a deformable stop's contact, ``event``, ``switch``) and may run at
+#: once in the background, per server process. A solve past its budget cannot be stopped
+#: (unless the core takes a ``time_budget``); it finishes in the background and lands in
+#: the cache, so asking again later is instant.
 SOLVE_WORKERS = 2
+#: Integrating solves that may wait for a worker; past that further ones are refused at
+#: once (the server is saturated) instead of queueing behind them.
+SOLVE_QUEUE = 4
+#: Workers of the closed-form solves (rigid stop, no stop: below ~2 ms each), in a pool of
+#: their own so that they never wait behind an integrating solve.
+CLOSED_FORM_WORKERS = 2
+#: A solve still running after this long [s] marks the plots it will replace as busy.
+BUSY_DELAY_S = 0.15
 #: Cached solves kept (shared by all sessions of the server process).
 CACHE_ITEMS = 256
 #: Grid of the regime map: cells along belt speed and clearance.
@@ -182,12 +192,32 @@ def choose_method(method: str, stop_type: str) -> str:
 
 
 class SolveTooSlow(RuntimeError):
-    """A numerical solve did not finish within its budget (its message says what to do)."""
+    """A solve did not finish within its budget, or the server's workers are saturated (its
+    message says what to do)."""
+
+
+def _key(values: Mapping[str, Any]) -> tuple:
+    return tuple((name, values[name]) for name in SOLVE_PARAMS)
+
+
+def _budget(preview: bool, budget: float | None) -> float:
+    if budget is not None:
+        return budget
+    return PREVIEW_BUDGET_S if preview else SOLVE_BUDGET_S
+
+
+def _too_slow(values: Mapping[str, Any], budget: float) -> SolveTooSlow:
+    return SolveTooSlow(
+        f"the {values['method']} method did not finish within {budget:g} s (it goes on in "
+        "the background; asking again once it is done is instant). A shorter horizon "
+        "t_end, a looser accuracy or, for a rigid stop, the 'auto' method (closed form) "
+        "answers at once.")
 
 
 def solve(values: Mapping[str, Any], *, preview: bool = False,
           budget: float | None = None) -> Solution:
-    """Solve the state ``values``; raise ``ValueError`` with the core's message if invalid.
+    """Solve the state ``values`` in the worker pool and wait for it (for scripts and tests;
+    the page uses :class:`SolveRunner`, which does not wait).
 
     Parameters
     ----------
@@ -196,62 +226,232 @@ def solve(values: Mapping[str, Any], *, preview: bool = False,
     preview : bool
         A cheap solve while a slider is dragged: few samples, draft accuracy, no theory.
     budget : float, optional
-        Wall-time budget [s] of a numerical method (default :data:`SOLVE_BUDGET_S`, or
-        :data:`PREVIEW_BUDGET_S` for a preview); the ``exact`` method has none.
+        Wall-time budget [s] (default :data:`SOLVE_BUDGET_S`, or :data:`PREVIEW_BUDGET_S`
+        for a preview).
+
+    Raises
+    ------
+    ValueError
+        Invalid inputs, with the core's message.
+    SolveTooSlow
+        The solve did not finish within ``budget`` (it goes on in the background and is
+        cached when done), or the workers are saturated.
+    """
+    budget = _budget(preview, budget)
+    future = submit(values, preview=preview)
+    try:
+        return future.result(timeout=budget)
+    except FutureTimeout:
+        raise _too_slow(values, budget) from None
+
+
+class _Lane:
+    """A pool of worker threads for one kind of solve; one future per distinct solve."""
+
+    def __init__(self, name: str, workers: int, queue: int | None) -> None:
+        self.executor = ThreadPoolExecutor(max_workers=workers,
+                                           thread_name_prefix=f"fie-{name}")
+        self.limit = None if queue is None else workers + queue
+        self.futures: dict[tuple, Future] = {}
+        self.lock = threading.Lock()
+
+    def submit(self, key: tuple, preview: bool) -> Future:
+        with self.lock:
+            future = self.futures.get((key, preview))
+            if future is not None:
+                return future
+            if self.limit is not None and len(self.futures) >= self.limit:
+                raise SolveTooSlow(
+                    "the server is busy with other long solves; try again in a moment, or "
+                    "choose a shorter horizon t_end or a looser accuracy.")
+            # Looked up at each call: tests replace it with a slow stand-in.
+            future = self.executor.submit(_solve_cached, key, preview)
+            self.futures[(key, preview)] = future
+
+        def done(_: Future) -> None:
+            with self.lock:
+                if self.futures.get((key, preview)) is future:
+                    del self.futures[(key, preview)]
+
+        future.add_done_callback(done)
+        return future
+
+    def drop(self, key: tuple, preview: bool, future: Future) -> None:
+        """Nobody waits for ``future`` any more: cancel it if it has not started."""
+        if future.cancel():
+            with self.lock:
+                if self.futures.get((key, preview)) is future:
+                    del self.futures[(key, preview)]
+
+
+_closed_form = _Lane("closed-form", CLOSED_FORM_WORKERS, None)
+_integrating = _Lane("integrating", SOLVE_WORKERS, SOLVE_QUEUE)
+
+
+def _lane(values: Mapping[str, Any]) -> _Lane:
+    closed = (choose_method(values["method"], values["stop_type"]) == "exact"
+              and values["stop_type"] != "hysteretic")
+    return _closed_form if closed else _integrating
+
+
+def submit(values: Mapping[str, Any], *, preview: bool = False) -> Future:
+    """The solve of ``values`` as a future: done at once when cached, else running (or
+    queued) in a worker thread. Solves that integrate and closed-form ones have pools of
+    their own; a solve already running for another session is shared.
 
     Raises
     ------
     SolveTooSlow
-        The numerical solve did not finish within ``budget`` (it goes on in the
-        background and is cached when done).
+        The integrating workers and their queue are full.
     """
-    key = tuple((name, values[name]) for name in SOLVE_PARAMS)
-    if choose_method(values["method"], values["stop_type"]) == "exact":
-        return _solve_cached(key, preview)
-    if budget is None:
-        budget = PREVIEW_BUDGET_S if preview else SOLVE_BUDGET_S
-    future = _submit(key, preview)
-    try:
-        return future.result(timeout=budget)
-    except FutureTimeout:
-        raise SolveTooSlow(
-            f"the {values['method']} method did not finish within {budget:g} s (it goes on "
-            "in the background; asking again once it is done is instant). The 'auto' "
-            "method (closed form) or a shorter horizon t_end answers at once."
-        ) from None
+    key = _key(values)
+    with _CACHE_LOCK:
+        cached = _CACHE.get((key, preview))
+    if cached is not None:
+        future: Future = Future()
+        future.set_result(cached)
+        return future
+    return _lane(values).submit(key, preview)
 
 
-_executor = ThreadPoolExecutor(max_workers=SOLVE_WORKERS, thread_name_prefix="fie-solve")
-_running: dict[tuple, Future] = {}
-_running_lock = threading.Lock()
+def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False) -> None:
+    """The caller no longer needs ``future`` (a newer request replaced it): a solve that
+    has not started yet is cancelled."""
+    _lane(values).drop(_key(values), preview, future)
 
 
-def _submit(key: tuple, preview: bool) -> Future:
-    """The running (or a new) background solve of ``key``; refuse when all workers are
-    busy, so that a fast request never queues behind slow ones."""
-    with _running_lock:
-        future = _running.get((key, preview))
-        if future is not None:
-            return future
-        if len(_running) >= SOLVE_WORKERS:
-            raise SolveTooSlow(
-                "earlier numerical solves are still running on the server; try again in a "
-                "moment, or use the 'auto' method (closed form), which answers at once.")
-        future = _executor.submit(_solve_cached, key, preview)
-        _running[(key, preview)] = future
+class SolveRunner:
+    """One session's solves: the latest request wins, the event loop never waits.
 
-    def done(_: Future) -> None:
-        with _running_lock:
-            _running.pop((key, preview), None)
+    :meth:`request` hands the solve to the worker pool and returns. The answer comes back
+    on the session's event loop (``Document.add_next_tick_callback``, Bokeh's thread-safe
+    door into a session) and goes to ``on_solved`` unless a newer request has been made
+    since (a stale answer is dropped; a stale solve that has not started is cancelled). A
+    solve still running after :data:`BUSY_DELAY_S` calls ``on_busy(True)`` (and
+    ``on_busy(False)`` when it ends or is replaced); one still running at its budget calls
+    ``on_failed`` with :class:`SolveTooSlow`. Without a server session (scripts, tests) a
+    request is answered before it returns.
 
-    future.add_done_callback(done)
-    return future
+    Parameters
+    ----------
+    on_failed : callable(Exception)
+        Called with what the solve raised (``ValueError`` for invalid inputs).
+    on_busy : callable(bool), optional
+    preview : bool
+        Solve previews (:func:`solve`).
+    """
+
+    def __init__(self, on_failed: Callable[[Exception], None],
+                 on_busy: Callable[[bool], None] | None = None, *, preview: bool = False
+                 ) -> None:
+        self.on_failed, self.on_busy, self.preview = on_failed, on_busy, preview
+        self._token = 0
+        self._pending: tuple[Mapping[str, Any], Future] | None = None
+        self._busy = False
+
+    @property
+    def pending(self) -> bool:
+        """A request is waiting for its answer."""
+        return self._pending is not None
+
+    def request(self, values: Mapping[str, Any], on_solved: Callable[[Solution], None]
+                ) -> None:
+        """Solve ``values`` and call ``on_solved(solution)`` with the answer (see the class
+        docstring)."""
+        self.cancel()
+        token = self._token
+        budget = _budget(self.preview, None)
+        try:
+            future = submit(values, preview=self.preview)
+        except Exception as exc:  # noqa: BLE001 - whatever it is, the caller reports it
+            self.on_failed(exc)
+            return
+        doc = pn.state.curdoc
+        if future.done() or doc is None or doc.session_context is None:
+            self._answer(future, on_solved, values, budget)
+            return
+        self._pending = (values, future)
+
+        def back_on_the_loop(fn: Callable[[], None]) -> Callable[[], None]:
+            def run() -> None:
+                if token == self._token:
+                    with set_curdoc(doc):
+                        fn()
+            return run
+
+        def finished() -> None:
+            self._pending = None
+            self._set_busy(False)
+            self._answer(future, on_solved, values, budget)
+
+        def overdue() -> None:
+            if not future.done():
+                self.cancel()
+                self.on_failed(_too_slow(values, budget))
+
+        def busy() -> None:
+            if not future.done():
+                self._set_busy(True)
+
+        future.add_done_callback(
+            lambda _: doc.add_next_tick_callback(back_on_the_loop(finished)))
+        if self.on_busy is not None:
+            doc.add_timeout_callback(back_on_the_loop(busy), BUSY_DELAY_S * 1000)
+        doc.add_timeout_callback(back_on_the_loop(overdue),
+                                 (budget + _budget_grace()) * 1000)
+
+    def cancel(self) -> None:
+        """Drop the pending request, if any (its answer will be ignored)."""
+        self._token += 1
+        if self._pending is not None:
+            values, future = self._pending
+            self._pending = None
+            forget(values, future, preview=self.preview)
+        self._set_busy(False)
+
+    def _set_busy(self, busy: bool) -> None:
+        if self.on_busy is not None and busy != self._busy:
+            self._busy = busy
+            self.on_busy(busy)
+
+    def _answer(self, future: Future, on_solved: Callable[[Solution], None],
+                values: Mapping[str, Any], budget: float) -> None:
+        try:
+            solution = future.result(timeout=budget)
+        except FutureTimeout:
+            self.on_failed(_too_slow(values, budget))
+        except Exception as exc:  # noqa: BLE001 - the server must survive any solve
+            self.on_failed(exc)
+        else:
+            on_solved(solution)
 
 
-# functools' cache hashes the key tuple with the built-in hash (~1 µs); pn.cache hashed it
-# with its own recursive hashing, ~0.25 ms on every release.
-@functools.lru_cache(maxsize=CACHE_ITEMS)
+#: Extra time [s] a solve gets past its budget before the page calls it too slow, when the
+#: core stops it at the budget itself (then it answers with what it has by then).
+BUDGET_GRACE_S = 0.5
+
+
+def _budget_grace() -> float:
+    return BUDGET_GRACE_S
+
+_CACHE: OrderedDict[tuple, Solution] = OrderedDict()
+_CACHE_LOCK = threading.Lock()
+
+
 def _solve_cached(key: tuple, preview: bool) -> Solution:
+    """Solve ``key`` (runs in a worker) and keep the answer in the cache (not one the core
+    cut short at its budget: asking again may get further)."""
+    solution = _solve(key, preview)
+    if solution.result is None or solution.result.status is not Status.TIME_BUDGET:
+        with _CACHE_LOCK:
+            _CACHE[(key, preview)] = solution
+            _CACHE.move_to_end((key, preview))
+            while len(_CACHE) > CACHE_ITEMS:
+                _CACHE.popitem(last=False)
+    return solution
+
+
+def _solve(key: tuple, preview: bool) -> Solution:
     values = MappingProxyType(dict(key))
     osc, stop, x0, v0, t_end = core_inputs(values)
     accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
@@ -262,8 +462,12 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
         program, result = overlap_program(stop), None
     else:
         program = None
-        # The preset's tolerances, for the options this method uses (core refuses others).
-        options = {k: accuracy[k] for k in method_options(method, stop) if k in accuracy}
+        used = method_options(method, stop)
+        # The preset's tolerances, for the options this method uses (core refuses others);
+        # the numerical methods stop at their budget themselves.
+        options = {k: accuracy[k] for k in used if k in accuracy}
+        if "time_budget" in used:
+            options["time_budget"] = _budget(preview, None)
         result = simulate(
             osc, stop, t_end, x0, v0, n_samples=n_samples, method=method, **options,
         )
@@ -484,7 +688,8 @@ def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 __all__ = [
-    "ACCURACY", "Mode", "Program", "SolveTooSlow", "Solution", "Theory", "choose_method",
+    "ACCURACY", "Mode", "Program", "SolveRunner", "SolveTooSlow", "Solution", "Theory",
+    "choose_method", "forget", "submit",
     "mode_intervals",
     "overlap_program", "regime_labels", "regime_map", "solve",
 ]

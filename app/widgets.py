@@ -10,15 +10,12 @@ from __future__ import annotations
 
 import html
 import math
-import uuid
 from collections.abc import Callable
-from functools import partial
 
 import panel as pn
 import param
-from panel.io.state import set_curdoc, state
 
-from app.connection import writes_done
+from app.perf.slider import keep_released_value, release_bases
 from core.validation import check_range
 
 
@@ -34,60 +31,25 @@ def set_changed(obj: param.Parameterized, **values) -> None:
         obj.param.update(**changed)
 
 
-class _Slider(pn.widgets.FloatSlider):
-    """A float slider whose release is handled at once.
+class _Slider(*release_bases(), pn.widgets.FloatSlider):
+    """A float slider whose release, where :mod:`app.perf.slider` applies, is handled as
+    soon as it arrives instead of after the drag's debounce."""
 
-    Panel waits ``_debounce`` (50 ms) before it processes a value from the browser, so that
-    a drag's many values collapse into the latest; the release is one value and needs no
-    such wait (only for the acknowledgement of the value to be written, see
-    :func:`app.connection.writes_done`).
-    """
-
-    _priority_changes = ["value_throttled"]
-    # Panel counts every widget event as "busy" (for a busy indicator the page does not
-    # have): each count and uncount rewrites pn.state's read-only flags, ~1 ms of server
-    # time per event, several events per drag and one on the release's critical path.
-    _busy__ignore = ["value", "value_throttled"]
-
-    #: Called as soon as a release arrives from the browser, before Panel processes it.
+    #: Called as soon as a release arrives from the browser, before Panel processes it
+    #: (where :mod:`app.perf.slider` applies; else the release's commit comes first).
     on_release: Callable[[], None] | None = None
-
-    def _server_change(self, doc, ref, subpath, attr, old, new) -> None:
-        if attr == "value_throttled" and self.on_release is not None:
-            self.on_release()
-        # Panel honours a priority change only when nothing is pending: a release that
-        # arrives while the drag's last value waits out its debounce would wait too (up to
-        # 50 ms). Process the pending changes with the release now; the debounce callback
-        # then finds nothing left to do.
-        pending = bool(self._events) and attr in self._priority_changes
-        super()._server_change(doc, ref, subpath, attr, old, new)
-        if pending and self._events and doc.session_context:
-            event_id = uuid.uuid4().hex
-            callback = partial(self._change_coroutine, doc, event_id=event_id)
-            state._change_callbacks.setdefault(doc, {})[event_id] = callback
-            with set_curdoc(doc):
-                state.execute(callback, schedule=True)
 
     def expect_release_from(self, value: float) -> None:
         """Make ``value`` the last released value, on the server's side of the link.
 
         A value set on the server (typed, a scene, a URL, a map tap) leaves the released
-        value where the last release put it, in Python and in the Bokeh model behind the
-        slider; a release at that old value then changed nothing on the server and was
-        dropped before it reached Panel. Bokeh's ``value_throttled`` is read-only, so its
-        stored value is replaced in place (the browser sends every release anyway, see
-        static/release_hold.js).
+        value where the last release put it; a release at that old value then changed
+        nothing on the server and was dropped before it reached Panel
+        (:func:`app.perf.slider.keep_released_value`).
         """
         with param.edit_constant(self):
             self.value_throttled = value
-        for model, _ in self._models.values():
-            stored = getattr(model, "_property_values", None)
-            if isinstance(stored, dict):
-                stored["value_throttled"] = value
-
-    async def _change_coroutine(self, doc, event_id: str | None = None) -> None:
-        await writes_done(doc)
-        await super()._change_coroutine(doc, event_id=event_id)
+        keep_released_value(self, value)
 
 
 class TypedSlider:

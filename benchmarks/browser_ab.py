@@ -8,7 +8,9 @@ and 95th percentile of each and the median of the paired differences. The probe 
 are those of ``browser_latency.py``.
 
 Usage: ``.venv/bin/python benchmarks/browser_ab.py --ref HEAD~1 [--scenes 5b,7c] [--rounds 40]``
-(the revision is checked out into a temporary git worktree, removed afterwards).
+(the revision is checked out into a temporary git worktree, removed afterwards), or
+``--patches``: this checkout with its perf patches (``app/perf``, ``static/perf``) on (A)
+and off (B).
 """
 
 from __future__ import annotations
@@ -48,7 +50,10 @@ def compare(browser, urls: dict[str, str], scene: str, rounds: int) -> dict[str,
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--ref", required=True, help="git revision to compare against (B)")
+    target = parser.add_mutually_exclusive_group(required=True)
+    target.add_argument("--ref", help="git revision to compare against (B)")
+    target.add_argument("--patches", action="store_true",
+                        help="B = this checkout with the perf patches off")
     parser.add_argument("--scenes", default="5b,7c")
     parser.add_argument("--rounds", type=int, default=40)
     args = parser.parse_args()
@@ -56,16 +61,17 @@ def main() -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         other = Path(tmp) / "b"
-        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(other), args.ref],
-                       cwd=ROOT, check=True)
+        if not args.patches:
+            subprocess.run(["git", "worktree", "add", "--detach", "-q", str(other), args.ref],
+                           cwd=ROOT, check=True)
         procs = []
         try:
             proc_a, url_a = bl._serve(ROOT)
             procs.append(proc_a)
-            proc_b, url_b = bl._serve(other)
+            proc_b, url_b = bl._serve(ROOT, patches=False) if args.patches else bl._serve(other)
             procs.append(proc_b)
-            print(f"A = this checkout, B = {args.ref}; {args.rounds} releases each, "
-                  "alternating")
+            b_is = "this checkout, perf patches off" if args.patches else args.ref
+            print(f"A = this checkout, B = {b_is}; {args.rounds} releases each, alternating")
             print(f"{'scene':>6} {'A median':>9} {'A p95':>7} {'B median':>9} {'B p95':>7} "
                   f"{'median(A-B)':>12}")
             with sync_playwright() as pw:
@@ -83,8 +89,9 @@ def main() -> None:
             for proc in procs:
                 proc.terminate()
                 proc.wait(timeout=10)
-            subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT,
-                           check=False)
+            if not args.patches:
+                subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT,
+                               check=False)
 
 
 if __name__ == "__main__":

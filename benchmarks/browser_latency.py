@@ -136,8 +136,10 @@ def steal_percent(before: tuple[int, int] | None, after: tuple[int, int] | None)
     return f"{100.0 * (after[0] - before[0]) / (after[1] - before[1]):.1f}"
 
 
-def _serve(root: Path = ROOT) -> tuple[subprocess.Popen, str]:
-    """``panel serve`` of the explorer in the checkout ``root`` on a free loopback port."""
+def _serve(root: Path = ROOT, patches: bool = True) -> tuple[subprocess.Popen, str]:
+    """``panel serve`` of the explorer in the checkout ``root`` on a free loopback port;
+    with ``patches=False`` the perf patches are off (app.perf's switch in the server, and
+    ``paint_shortcuts=off`` in the page's address)."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
@@ -146,11 +148,13 @@ def _serve(root: Path = ROOT) -> tuple[subprocess.Popen, str]:
          "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
          "--static-dirs", "assets=static", "--liveness"],
         cwd=root, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        env={**os.environ, "EXPLORER_PERF_PATCHES": "on" if patches else "off"},
     )
     for _ in range(300):
         try:
             urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2)
-            return proc, f"http://127.0.0.1:{port}/main"
+            query = "" if patches else "?paint_shortcuts=off"
+            return proc, f"http://127.0.0.1:{port}/main{query}"
         except OSError:
             time.sleep(0.2)
     proc.kill()
@@ -159,7 +163,7 @@ def _serve(root: Path = ROOT) -> tuple[subprocess.Popen, str]:
 
 def open_scene(page, url: str, scene: str) -> None:
     """Load ``scene`` in ``page``, wait until BokehJS is idle and install the probe."""
-    page.goto(f"{url}?scene={scene}", timeout=60_000)
+    page.goto(f"{url}{'&' if '?' in url else '?'}scene={scene}", timeout=60_000)
     page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
                            "Bokeh.documents[0].is_idle", timeout=60_000)
     page.evaluate(JS_PROBE, [FULL_MIN_POINTS, SETTLE_MS])
@@ -199,13 +203,15 @@ def measure(page, url: str, scene: str, moves: int,
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--moves", type=int, default=100)
+    parser.add_argument("--patches", choices=("on", "off"), default="on",
+                        help="the perf patches (app/perf, static/perf)")
     parser.add_argument("--scenes", default="5b,7c,10,11")
     parser.add_argument("--slider", default=SLIDER,
                         help="state parameter whose slider is dragged (default: clearance)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    proc, url = _serve()
+    proc, url = _serve(patches=args.patches == "on")
     try:
         with sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)

@@ -284,6 +284,7 @@ class Session:
         self.receiver = Receiver(PROTOCOL)
         self.result = SessionResult()
         self.sliders: dict[str, dict] = {}  # id -> attributes (start, end, step, value, ...)
+        self.models = 0  # models of the document pulled at the opening
         self.arrivals: list[tuple[float, bool]] = []  # (time, changed a ColumnDataSource)
         self.arrived = asyncio.Event()
         self.replies: dict[str, asyncio.Future] = {}
@@ -383,6 +384,7 @@ class Session:
         reply = await self._request(PROTOCOL.create("PULL-DOC-REQ"), timeout)
         if reply.msgtype != "PULL-DOC-REPLY":
             raise RuntimeError(f"PULL-DOC answered with {reply.msgtype}")
+        self.models = len({obj["id"] for obj in _objects(reply.content["doc"])})
         # Only sliders a student can reach: inside no hidden layout (e.g. the SI-unit set).
         for obj in _visible_objects(reply.content["doc"]):
             if obj.get("name") in SLIDER_TYPES:
@@ -695,6 +697,7 @@ async def main_async(args: argparse.Namespace) -> list[dict]:
         warm = Session(server, random.Random(0), args)
         await warm.open()
         await warm.close()
+        args.page_models = warm.models
         await asyncio.sleep((args.session_lifetime_ms + 2 * args.check_unused_ms) / 1000 + 2)
         print(f"server {server.url} pids {server.pids}: {server.rss():.0f} MiB RSS after warm-up",
               file=sys.stderr)
@@ -783,6 +786,7 @@ def main(argv: list[str] | None = None) -> int:
           "srv cpu: server CPU (cores) during the round; others: cores used by other processes "
           f"on this machine ({os.cpu_count()} cores) during it.\n")
     print_table(rows)
+    print(f"\na new session's default page: {getattr(args, 'page_models', 'n/a')} Bokeh models")
     return 0 if rows and all(r["errors"] == 0 for r in rows) else 1
 
 

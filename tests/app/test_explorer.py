@@ -13,8 +13,9 @@ import param
 import pytest
 from bokeh.events import Tap
 
-import app.explorer as explorer_module
+import app.solver as solver_module
 from app.explorer import Explorer
+from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY, MAP_CELLS
@@ -31,6 +32,15 @@ def _release(ex: Explorer, name: str, value: float) -> None:
     slider.value = value
     with param.edit_constant(slider):
         slider.value_throttled = value
+
+
+def _same(a, b) -> bool:
+    """Equal arrays, NaN where NaN."""
+    try:
+        np.testing.assert_array_equal(a, b)
+    except AssertionError:
+        return False
+    return True
 
 
 def _traj(ex: Explorer) -> dict:
@@ -68,10 +78,10 @@ def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
 def test_a_crashing_solver_does_not_take_the_session_down(ex, monkeypatch):
     before = ex.solution
 
-    def boom(values, preview=False):
+    def boom(key, preview=False):
         raise RuntimeError("numerical trouble")
 
-    monkeypatch.setattr(explorer_module, "solve", boom)
+    monkeypatch.setattr(solver_module, "_solve_cached", boom)  # in the worker thread
     _release(ex, "belt_speed", 0.12)
     assert ex.alert.visible and "numerical trouble" in ex.alert.object
     assert ex.solution is before
@@ -124,8 +134,10 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
     monkeypatch.setattr(slider, "_change_event", pending.append)
     slider._server_change(Document(), "ref", None, "value_throttled", 0.1, 0.15)
     draw_preview()  # the preview's moment comes first: it is not drawn
-    for key, col in _traj(ex).items():
-        np.testing.assert_array_equal(col, before[key])
+    # (Without app.perf.slider the release is not seen before Panel processes it, and the
+    # preview is drawn.)
+    unchanged = all(_same(col, before[key]) for key, col in _traj(ex).items())
+    assert unchanged == applies("slider-release")
     monkeypatch.undo()
     slider._change_event(pending[0])  # the release's turn: committed, full picture
     assert ex.state.belt_speed == 0.15 and ex.solution.values["belt_speed"] == 0.15
@@ -157,6 +169,9 @@ def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_valu
     ex.sliders["belt_speed"].input.value = "0.15"
     assert ex.state.belt_speed == 0.15
     release(0.12)
+    if not applies("slider-release"):  # app.perf.slider keeps the model in step
+        assert ex.state.belt_speed == 0.15  # the documented limitation without it
+        return
     assert ex.state.belt_speed == 0.12 and ex.solution.values["belt_speed"] == 0.12
     assert ex.sliders["belt_speed"].input.value == "0.12"
 
@@ -337,14 +352,6 @@ def test_a_too_slow_numerical_solve_keeps_the_picture_and_says_so(ex, monkeypatc
         assert ex.solution is before
     finally:
         release.set()
-
-
-def test_exact_solves_bypass_the_budget_and_the_workers():
-    from app.solver import solve
-    from app.state import scene_values
-
-    sol = solve(scene_values("7c"), budget=0.0)  # closed form: never refused, never timed
-    assert sol.method == "exact" and sol.result is not None
 
 
 @pytest.mark.parametrize("scene", ["11", "10", "5b"])

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from uipage import Page, count_color
 
+from app.perf import enabled as perf_enabled
 from app.plots import MODE_COLORS
 from app.scenes import SCENES
 from core import Mode
@@ -94,10 +95,10 @@ def test_slider_drag_repaints(page, shots):
     # The typed-entry box follows the released slider (sent with the new picture): the
     # drag moved right, so the clearance grew.
     assert float(box.input_value()) > typed
-    # Every repaint shortcut found the BokehJS internal it replaces (static/bokeh_paint.js).
+    # Every repaint shortcut found the BokehJS internal it replaces (static/perf/).
     assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "legend-proxy", "mask-visuals", "legend-glyphs", "marker-mask"]
+        "mask-visuals", "marker-mask"]
     assert page.errors == []
 
 
@@ -120,27 +121,22 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
             p.settle()
             dragged = p.pixels(".fie-plots"), _legend_line_ends(p)
             seen[flag] = (loaded, dragged, p.page.evaluate("() => window.__fie_paint"),
-                          p.errors, p.page.evaluate(JS_LEGENDS_DRAWN_ONCE))
+                          p.errors)
         finally:
             p.close()
-    ((on, ends_loaded), (on_dragged, ends_dragged), applied, errors_on, once), (
-        (off, _), (off_dragged, _), none, errors_off, once_off) = seen.values()
-    assert len(applied) >= 9 and none == []
-    # Patch 8 took effect: every legend of the scene keeps its drawn entries (its stand-ins
-    # were found by their tag).
-    assert once and all(once.values()), once
-    assert not any(once_off.values())
+    ((on, ends_loaded), (on_dragged, ends_dragged), applied, errors_on), (
+        (off, _), (off_dragged, _), none, errors_off) = seen.values()
+    assert len(applied) >= 7 and none == []
     assert on.shape == off.shape == on_dragged.shape == off_dragged.shape
     # One kind of pixel may differ: the left end of a legend entry's line. BokehJS redraws
     # an entry's small canvas at each paint after clearing it offset by half a pixel, so
-    # that end darkens with every repaint (several while the page loads); patch 8 draws an
-    # entry once, so there it can only be lighter. Every other pixel must be the same.
-    # (The drag can show or hide entries, which moves the others.)
+    # that end darkens with every repaint, and the shortcuts change how many repaints there
+    # are. Every other pixel must be the same. (The drag can show or hide entries, which
+    # moves the others.)
     for with_patches, without, ends in ((on, off, ends_loaded),
                                         (on_dragged, off_dragged, ends_dragged)):
         differs = np.abs(with_patches - without).max(axis=2) > 0
         assert not (differs & ~ends).any(), np.argwhere(differs & ~ends)[:10]
-        assert (with_patches[ends] >= without[ends]).all()
     assert not np.array_equal(on, on_dragged)  # the drag changed the picture
     assert errors_on == errors_off == []
 
@@ -169,26 +165,17 @@ def test_a_release_after_a_typed_value_is_applied(page, shots):
     page.page.mouse.move(spot["x"] + spot["width"] / 2, spot["y"] + spot["height"] / 2,
                          steps=8)
     page.page.mouse.up()
-    page.wait_text_change(".fie-readout-pane", readout)
+    if perf_enabled():
+        page.wait_text_change(".fie-readout-pane", readout)
+    else:  # nothing will change: give the release time to arrive
+        page.page.wait_for_timeout(1000)
     page.settle()
     page.page.screenshot(path=shots / "release-after-typing.png", full_page=True)
-    assert float(box.input_value()) == released
+    # Without the Python patches (app.perf.slider) that release is not applied: the typed
+    # value stays.
+    assert float(box.input_value()) == (released if perf_enabled() else
+                                        pytest.approx(released + 0.03))
     assert page.errors == []
-
-
-#: ``{figure title: whether its legend keeps its drawn entries}`` (bokeh_paint.js patch 8)
-#: for every legend of a figure shown on the page.
-JS_LEGENDS_DRAWN_ONCE = """() => {
-  const LegendView = Bokeh.require("models/annotations/legend").LegendView;
-  const found = {};
-  const walk = (view) => {
-    if (view instanceof LegendView && view.is_visible && view.plot_view.is_displayed)
-      found[view.plot_view.model.title.text] = view.__fie_glyphs === view.entries;
-    for (const child of view.children?.() ?? []) walk(child);
-  };
-  Object.values(Bokeh.index).forEach(walk);
-  return found;
-}"""
 
 
 def _legend_line_ends(p: Page) -> np.ndarray:

@@ -1,5 +1,5 @@
-"""The session's websocket: messages leave at once, in few frames, and updates wait for
-writes under way.
+"""Patches of Bokeh's server (3.9): messages leave at once, in few frames, and updates wait
+for writes under way.
 
 Three delays stood between a slider's release and the new picture, all in how messages are
 written to the browser, not in computing them:
@@ -16,10 +16,13 @@ written to the browser, not in computing them:
   last). :func:`send_arrays_inline` puts the arrays into the message's content instead.
 * **A write under way.** See :func:`writes_done`.
 
-Making each message costs server time on the release's critical path too: Bokeh's
-serializer starts by listing a reference for every model of the document (~900 here),
-whether the message names them or not. :class:`_SyncedRefSerializer` looks each up only
-when the message meets it.
+Each is a patch of Bokeh internals (the server's connection objects, the websocket's write
+lock, the PATCH-DOC message's ``create``) and is applied only where :mod:`app.perf` says so
+(names ``tcp-nodelay``, ``write-lock``, ``inline-arrays``).
+
+Left out after measuring: a serializer that looked up the document's references lazily
+(Bokeh's lists a reference for every model of the document on each message, ~1.5 ms for
+~900 models; below the 5 ms a patch must buy).
 """
 
 from __future__ import annotations
@@ -28,9 +31,10 @@ import importlib
 from typing import Any
 
 import panel as pn
-from bokeh.core.serialization import Ref, Serializer
+from bokeh.core.serialization import Serializer
 from bokeh.document.json import PatchJson
-from bokeh.model import Model
+
+from app.perf import applies
 
 
 def _sockets(doc: Any) -> list[Any]:
@@ -44,6 +48,8 @@ def _sockets(doc: Any) -> list[Any]:
 def send_without_delay(doc: Any) -> int:
     """Set ``TCP_NODELAY`` on the session's open websockets; returns how many."""
     done = 0
+    if not applies("tcp-nodelay"):
+        return done
     for socket in _sockets(doc):
         if getattr(socket, "ws_connection", None) is not None:
             socket.set_nodelay(True)
@@ -67,41 +73,13 @@ async def writes_done(doc: Any) -> None:
     release's new picture by about 10 ms. Waiting for the lock first lets the update be
     written as soon as it is made.
     """
+    if not applies("write-lock"):
+        return
     for socket in _sockets(doc):
         lock = getattr(socket, "write_lock", None)
         if lock is not None:
             async with lock:
                 pass
-
-
-class _SyncedRefSerializer(Serializer):
-    """Bokeh's serializer with ``references=doc.models.synced_references``, looked up lazily.
-
-    Bokeh's constructor builds the map ``{id(model): model.ref}`` for every synced model of
-    the document on each message: about 1.5 ms for the explorer's ~900 models, most of the
-    time it takes to serialize a slider release's update, for the dozen models the message
-    names. Here a model is a reference iff the document knows it and it is not new (the
-    definition of ``DocumentModelManager.synced_references``), decided when it is met.
-    """
-
-    def __init__(self, doc: Any, **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        self._doc_models = doc.models
-
-    def _synced_ref(self, obj: Any) -> Ref | None:
-        models = self._doc_models
-        if (isinstance(obj, Model) and models._models.get(obj.id) is obj
-                and obj not in models._new_models):
-            ref = self._references[id(obj)] = obj.ref
-            return ref
-        return None
-
-    def has_ref(self, obj: Any) -> bool:
-        return id(obj) in self._references or self._synced_ref(obj) is not None
-
-    def get_ref(self, obj: Any) -> Ref | None:
-        ref = self._references.get(id(obj))
-        return ref if ref is not None else self._synced_ref(obj)
 
 
 #: Bokeh's own ``patch_doc.create``, once :func:`send_arrays_inline` has replaced it.
@@ -115,8 +93,7 @@ def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
     Each array is then gzip-compressed and base64-encoded (Bokeh's own inline form, which
     BokehJS reads as well as binary frames): for the explorer's smooth float32 columns
     about half the bytes of the binary frames (~45 instead of ~80 kB per release of scene
-    5b), for ~1 ms more of encoding in the server and of decoding in the browser. The
-    document's models are referenced through :class:`_SyncedRefSerializer`.
+    5b), for ~1 ms more of encoding in the server and of decoding in the browser.
     """
     header = cls.create_header()
     if not events:
@@ -125,7 +102,7 @@ def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
     if len(docs) != 1:
         raise ValueError("PATCH-DOC message configured with events for more than one document")
     [doc] = docs
-    serializer = _SyncedRefSerializer(doc, deferred=False)
+    serializer = Serializer(references=doc.models.synced_references, deferred=False)
     patch_json = PatchJson(events=serializer.encode(events))
     doc.models.flush_synced(lambda model: not serializer.has_ref(model))
     return cls(header, metadata, patch_json)
@@ -133,8 +110,10 @@ def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
 
 def send_arrays_inline() -> None:
     """Make every document update of this server one message of three frames (see the
-    module's docstring); idempotent."""
+    module's docstring); idempotent. Nothing is changed where the patch does not apply."""
     global _bokeh_create
+    if not applies("inline-arrays"):
+        return
     # The package exports the class under the module's name: fetch the module itself.
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
     if getattr(patch_doc.create, "__func__", None) is not _patch_doc_inline:

@@ -1,5 +1,5 @@
 /* No repaint of a stale preview after a slider's release, and no restyle of the whole
- * page when a slider is pressed or released (served as /assets/release_hold.js).
+ * page when a slider is pressed or released (served as /assets/perf/release_hold.js).
  *
  * While a slider is dragged the server sends cheap previews; the one for the drag's last
  * value is often still on its way when the slider is released, and painting it (~30 ms of
@@ -26,8 +26,13 @@
  * update it in the browser, so releasing the slider where it had last been released sent
  * nothing: the server kept the typed value while the slider showed another, under the
  * drag's draft picture. The release is now sent even when it equals the last one (and
- * app.widgets._Slider.expect_release_from keeps the server's released value in step with
+ * app.perf.slider.keep_released_value keeps the server's released value in step with
  * what the slider shows, so that such a release is a change there).
+ *
+ * Written for BokehJS 3.9: with another version, or with `paint_shortcuts=off` in the page's
+ * address, nothing here is applied (the console says why) and the page paints every
+ * update as it comes, restyles the page on a slider's press and release, and drops a
+ * release at the value last released (see app/perf/slider.py).
  */
 (function () {
   "use strict";
@@ -109,7 +114,6 @@
       }
     }
   }
-  inertBodyStyle();
 
   function sendEveryRelease(B, tries) {
     let sliders;
@@ -133,9 +137,17 @@
     window.__fie_release_sent = true;
   }
 
+  if (new URLSearchParams(window.location.search).get("paint_shortcuts") === "off") return;
+
   (function wait() {
     const B = window.Bokeh;
     if (B && typeof B.require === "function") {
+      const [major, minor] = String(B.version).split(".").map(Number);
+      if (major !== 3 || minor !== 9) {
+        console.info(`release_hold.js: written for BokehJS 3.9, found ${B.version}: not applied`);
+        return;
+      }
+      inertBodyStyle();
       install(B);
       sendEveryRelease(B, 500);
     } else {

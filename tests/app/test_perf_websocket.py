@@ -1,19 +1,27 @@
-"""The session's websocket settings (app.connection), on stand-ins for Bokeh's objects."""
+"""The websocket patches (app.perf.websocket), on stand-ins for Bokeh's objects, and the
+version window and switch that gate them (app.perf)."""
 
 from __future__ import annotations
 
 import asyncio
 import importlib
-import re
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from bokeh.document import Document
 from bokeh.models import ColumnDataSource
 from bokeh.protocol import Protocol
 from tornado.locks import Lock
 
-from app import connection
+import app.perf as perf
+from app.perf import websocket as connection
+
+
+@pytest.fixture(autouse=True)
+def patches_on(monkeypatch):
+    """These tests are of the patches themselves: switched on whatever the environment."""
+    monkeypatch.setenv(perf.SWITCH, "on")
 
 
 class _Socket:
@@ -99,41 +107,33 @@ def test_arrays_travel_inside_the_message(monkeypatch):
     assert np.asarray(got["x"]).dtype == np.float32
 
 
+def test_a_patch_outside_its_version_window_is_not_applied(monkeypatch, caplog):
+    """Bokeh 3.9's PATCH-DOC is left alone when the window names other versions, and the
+    log says why."""
+    patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+    bokeh_create = connection._bokeh_create or patch_doc.__dict__["create"]
+    monkeypatch.setattr(patch_doc, "create", bokeh_create)
+    monkeypatch.setattr(connection, "_bokeh_create", None)
+    old = perf.Patch("inline-arrays", "bokeh", "3.4", "3.5", "for an older Bokeh")
+    monkeypatch.setitem(perf.PATCHES, "inline-arrays", old)
+    perf._say.cache_clear()
+    with caplog.at_level("WARNING", logger="app.perf"):
+        connection.send_arrays_inline()
+    assert patch_doc.__dict__["create"] is bokeh_create
+    assert "'inline-arrays' not applied: it was written for bokeh >=3.4,<3.5" in caplog.text
+    assert not perf.report()["inline-arrays"] and perf.report()["tcp-nodelay"]
 
-def test_lazy_references_encode_like_bokeh():
-    """The serializer that looks references up lazily gives Bokeh's encoding: a model the
-    browser has is a reference, a model new in this message is sent in full, and the new
-    models the message carried are no longer new after it."""
-    from bokeh.core.serialization import Serializer
-    from bokeh.models import Range1d
 
-    def encoded(make_serializer):
-        doc = Document()
-        source = ColumnDataSource({"x": np.zeros(3, dtype=np.float32)})
-        rng = Range1d(0, 1)
-        doc.add_root(source)
-        doc.add_root(rng)
-        doc.models.flush_synced()  # the browser has both
-        events = []
-        doc.on_change(lambda event: events.append(event))
-        source.data = {"x": np.arange(4, dtype=np.float32)}
-        new = ColumnDataSource({"y": [1.0]})
-        rng.tags = [new, source]  # one model new to the browser, one it has
-        serializer = make_serializer(doc)
-        content = serializer.encode(events)
-        doc.models.flush_synced(lambda model: not serializer.has_ref(model))
-        text = repr(content).replace(source.id, "SOURCE").replace(new.id, "NEW")
-        # The two documents' other ids differ: number them in order of appearance.
-        ids = dict.fromkeys(re.findall(r"'(p\d+)'", text))
-        for k, old in enumerate(ids):
-            text = text.replace(f"'{old}'", f"'M{k}'")
-        return text, len(doc.models._new_models)
+def test_the_switch_turns_every_python_patch_off(monkeypatch):
+    monkeypatch.setenv(perf.SWITCH, "off")
+    assert perf.report() == dict.fromkeys(perf.PATCHES, False)
+    socket = _Socket()
+    assert connection.send_without_delay(_doc(socket)) == 0 and socket.nodelay is None
+    monkeypatch.setenv(perf.SWITCH, "on")
+    assert all(perf.report().values())  # the installed versions are inside every window
 
-    bokeh = encoded(lambda doc: Serializer(references=doc.models.synced_references,
-                                           deferred=False))
-    lazy = encoded(lambda doc: connection._SyncedRefSerializer(doc, deferred=False))
-    assert lazy == bokeh
-    text = bokeh[0]
-    assert "{'id': 'SOURCE'}" in text  # the known model as a reference
-    assert "'name': 'ColumnDataSource', 'id': 'NEW', 'attributes'" in text  # new: in full
-    assert bokeh[1] == 0  # sent, so no longer new
+
+def test_the_windows_hold_the_installed_versions_and_no_others():
+    for patch in perf.PATCHES.values():
+        assert patch.in_window(patch.low)
+        assert not patch.in_window(patch.high)

@@ -1,4 +1,4 @@
-/* Faster repaints of the explorer's Bokeh figures (served as /assets/bokeh_paint.js).
+/* Faster repaints of the explorer's Bokeh figures (served as /assets/perf/bokeh_paint.js).
  *
  * BokehJS 3.9 rewrites each renderer's positioning <style> on every paint, even when the
  * text is unchanged, and reads every line/fill/text property through getComputedStyle to
@@ -38,40 +38,39 @@
  *      models: BokehJS builds four `Range1d` models per marker renderer and paint to hold
  *      the widened frame's bounds (`widen`, `map`), ~0.7 ms per paint of the phase
  *      portrait and garbage for the collector. The bounds are the same numbers.
- *   7. a legend stand-in (a renderer tagged `fie-legend-proxy`, app.plots._legend_item) is
- *      not painted in the frame: its one point is NaN, so it draws nothing there, yet each
- *      paint of its figure laid it out, mapped, masked and styled it like a data renderer
- *      (the phase portrait has 18; its forced repaint 4.8 -> 4.2 ms, median, paired in one
- *      page). The legend draws its entry from the glyph itself (`draw_legend`), which is
- *      untouched.
- *   8. a legend whose entries all stand in through such stand-ins draws its entries' glyph
- *      images once, not at every paint of its figure: BokehJS 3.9 lays a legend out in
- *      the page (HTML, one small canvas per entry) and redrew every entry's canvas at each
- *      paint (the phase portrait has 18 entries: ~1 ms per paint, and 18 canvases for the
- *      compositor to take up again). A stand-in's style never changes, and new or changed
- *      items give the legend new entries, which are drawn; so are entries after a change
- *      of glyph size or of the screen's pixel ratio. Exports (`is_forcing_paint`) copy the
- *      entries' canvases, which stay drawn. The one pixel this changes: BokehJS clears an
- *      entry's canvas offset by half a pixel, so each redraw darkened the left end of a
- *      line entry a little more; drawn once, it keeps the shade of one drawing.
- *   9. a glyph renderer's visuals (colours, widths, alphas of its six glyph variants) are
+ *   7. a glyph renderer's visuals (colours, widths, alphas of its six glyph variants) are
  *      not recomputed when only its masked indices (the points near the frame) changed.
  *      BokehJS sets the masked indices at every paint and after every data update, and
  *      each set fires a recomputation of all six variants' visuals, inside the paint;
  *      the visuals are computed from all indices and the data, never from the mask, and
  *      a data update recomputes them itself.
  *
- * Each patch is applied only if the internal it replaces exists, so another BokehJS
- * version runs unpatched (slower, never wrong). `window.__fie_paint` lists what applied.
- * With `paint_shortcuts=off` in the page's address none is applied: the UI tests compare
- * the figures both ways, pixel for pixel (but for the legend pixels of patch 8).
+ * The patches were written for BokehJS 3.9 (VERSIONS): with another version none is
+ * applied and the console says so. Each is applied only if the internal it replaces
+ * exists. `window.__fie_paint` lists what applied. With `paint_shortcuts=off` in the
+ * page's address none is applied (nor those of release_hold.js): the UI tests compare the
+ * figures both ways, pixel for pixel. Patches 3 and 6 were measured at about 0.5 ms per
+ * paint each (benchmarks/README.md); they are kept because they remove work that BokehJS
+ * repeats for every plot on every paint, which grows with the page.
  */
 (function () {
   "use strict";
   const applied = (window.__fie_paint = []);
+  //: BokehJS versions the patches were written for: [lowest, first one not covered).
+  const VERSIONS = [[3, 9], [3, 10]];
+
+  function inWindow(version) {
+    const [major, minor] = String(version).split(".").map(Number);
+    const at = major * 1000 + minor;
+    return VERSIONS[0][0] * 1000 + VERSIONS[0][1] <= at && at < VERSIONS[1][0] * 1000 + VERSIONS[1][1];
+  }
 
   function patch(B) {
-    let dom, visual, plot, glyph, marker = {}, legend = {};
+    if (!inWindow(B.version)) {
+      console.info(`bokeh_paint.js: written for BokehJS 3.9, found ${B.version}: not applied`);
+      return;
+    }
+    let dom, visual, plot, glyph, marker = {};
     try {
       dom = B.require("core/dom");
       visual = B.require("core/visuals/visual");
@@ -84,11 +83,6 @@
       marker = B.require("models/glyphs/marker");
     } catch (err) {
       // No marker module: patch 6 is skipped, the others apply.
-    }
-    try {
-      legend = B.require("models/annotations/legend");
-    } catch (err) {
-      // No legend module: patch 8 is skipped.
     }
     const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
     if (sheet && typeof sheet._update === "function") {
@@ -141,15 +135,6 @@
       };
       applied.push("one-data-update");
     }
-    if (glyph_view && typeof glyph_view.paint === "function" &&
-        typeof glyph_view.mark_finished === "function") {
-      const paint = glyph_view.paint;
-      glyph_view.paint = function (ctx) {
-        if (this.model.tags.includes("fie-legend-proxy")) this.mark_finished();
-        else paint.call(this, ctx);
-      };
-      applied.push("legend-proxy");
-    }
     if (glyph_view && typeof glyph_view._update_masked_indices === "function" &&
         typeof glyph_view.set_visuals === "function") {
       const update_masked = glyph_view._update_masked_indices;
@@ -168,23 +153,6 @@
         return set_visuals.call(this);
       };
       applied.push("mask-visuals");
-    }
-    const legend_view = legend.LegendView && legend.LegendView.prototype;
-    if (legend_view && typeof legend_view._paint_glyphs === "function") {
-      const paint_glyphs = legend_view._paint_glyphs;
-      legend_view._paint_glyphs = function () {
-        const {glyph_width, glyph_height} = this.model;
-        const key = `${glyph_width}x${glyph_height}@${window.devicePixelRatio}`;
-        if (this.__fie_glyphs === this.entries && this.__fie_glyphs_key === key) return;
-        paint_glyphs.call(this);
-        // Kept only when every entry was drawn from a stand-in whose view exists.
-        const fixed = this.entries.every(({item}) => item.renderers.every(
-          (r) => r.tags.includes("fie-legend-proxy") &&
-                 this.plot_view.views.find_one(r) != null));
-        this.__fie_glyphs = fixed ? this.entries : null;
-        this.__fie_glyphs_key = key;
-      };
-      applied.push("legend-glyphs");
     }
     const marker_view = marker.MarkerView && marker.MarkerView.prototype;
     if (marker_view && typeof marker_view._mask_data === "function" &&

@@ -1,0 +1,30 @@
+"""How many Bokeh models a new session's default page holds (each costs server time to build,
+serialise and send, and browser time to render)."""
+
+from __future__ import annotations
+
+import importlib
+
+from bokeh.document import Document
+from panel.io.state import set_curdoc
+
+#: Models allowed on a new session's default page. The page had 946 when this was counted
+#: (234 of them legend stand-ins); the budget leaves room for a few small models, not for a
+#: new figure. The target for a classroom is 350 (``benchmarks/load.py``): lower this as the page
+#: sheds its stand-ins.
+MODEL_BUDGET = 960
+
+
+def count_models() -> int:
+    """Models of a new session's page, built and attached as the server does."""
+    main = importlib.import_module("app.main")
+    doc = Document()
+    with set_curdoc(doc):
+        main.serve(main.create_app(), doc)
+    return len(doc.models)
+
+
+def test_a_new_page_stays_within_its_model_budget():
+    models = count_models()
+    print(f"a new session's default page: {models} Bokeh models (budget {MODEL_BUDGET})")
+    assert 100 < models <= MODEL_BUDGET

@@ -1,0 +1,156 @@
+"""No solve on the event loop: every method runs in the worker pool, within its budget, and
+a session's newer request replaces its older one."""
+
+from __future__ import annotations
+
+import threading
+
+import panel as pn
+import pytest
+
+import app.solver as solver_module
+from app.solver import SolveRunner, SolveTooSlow, solve
+from app.state import scene_values
+
+
+def _unique(values: dict, **changes) -> dict:
+    """``values`` with ``changes`` and by default a horizon no other test solves (the cache
+    would answer)."""
+    return {**values, "t_end": 60.0 + threading.get_ident() % 997 / 1e4 + 1e-6, **changes}
+
+
+def _thread_of_solve(monkeypatch, values) -> str:
+    seen = []
+    real = solver_module._solve_cached
+
+    def spy(key, preview):
+        seen.append(threading.current_thread().name)
+        return real(key, preview)
+
+    monkeypatch.setattr(solver_module, "_solve_cached", spy)
+    solve(values)
+    return seen[0]
+
+
+@pytest.mark.parametrize(("scene", "lane"), [("10", "fie-integrating"),
+                                             ("5b", "fie-closed-form")])
+def test_every_method_solves_in_a_worker_thread(monkeypatch, scene, lane):
+    """Regression: the exact method with a deformable stop (scene 10) ran on the caller's
+    thread, i.e. on the server's event loop."""
+    values = _unique(dict(scene_values(scene)), method="exact")
+    assert _thread_of_solve(monkeypatch, values).startswith(lane)
+
+
+def test_the_exact_deformable_stop_solve_has_a_budget(monkeypatch):
+    """Regression: ``exact`` with a hysteretic stop bypassed the budget."""
+    release = threading.Event()
+    real = solver_module._solve_cached
+
+    def slow(key, preview):
+        release.wait(5.0)
+        return real(key, preview)
+
+    monkeypatch.setattr(solver_module, "_solve_cached", slow)
+    values = _unique(dict(scene_values("10")), method="exact", t_end=61.234)
+    try:
+        with pytest.raises(SolveTooSlow, match="within 0.05 s"):
+            solve(values, budget=0.05)
+    finally:
+        release.set()
+
+
+class _Session:
+    """What :class:`SolveRunner` uses of a server session's document: its callbacks are
+    kept here and run by the test, in the order the event loop would run them."""
+
+    def __init__(self) -> None:
+        self.session_context = object()
+        self.next_tick: list = []
+        self.timeouts: list[tuple[float, object]] = []
+        self.lock = threading.Lock()
+
+    def add_next_tick_callback(self, fn) -> None:  # called from the worker thread
+        with self.lock:
+            self.next_tick.append(fn)
+
+    def add_timeout_callback(self, fn, ms: float) -> None:
+        self.timeouts.append((ms, fn))
+
+    def run_next_ticks(self) -> None:
+        with self.lock:
+            calls, self.next_tick = self.next_tick, []
+        for fn in calls:
+            fn()
+
+    def run_timeouts(self, up_to_ms: float) -> None:
+        due = [fn for ms, fn in self.timeouts if ms <= up_to_ms]
+        self.timeouts = [(ms, fn) for ms, fn in self.timeouts if ms > up_to_ms]
+        for fn in due:
+            fn()
+
+
+@pytest.fixture
+def session(monkeypatch) -> _Session:
+    doc = _Session()
+    monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: doc))
+    return doc
+
+
+def _gated(monkeypatch) -> dict[float, threading.Event]:
+    """Make each solve wait for the test to open its gate (keyed by ``t_end``)."""
+    gates: dict[float, threading.Event] = {}
+    real = solver_module._solve_cached
+
+    def gated(key, preview):
+        gates.setdefault(dict(key)["t_end"], threading.Event()).wait(5.0)
+        return real(key, preview)
+
+    monkeypatch.setattr(solver_module, "_solve_cached", gated)
+    return gates
+
+
+def test_a_newer_request_drops_the_older_answer_and_marks_busy(monkeypatch, session):
+    gates = _gated(monkeypatch)
+    solved, failed, busy = [], [], []
+    runner = SolveRunner(failed.append, busy.append)
+    base = dict(scene_values("10"))
+    first, second = (_unique(base, t_end=t) for t in (61.111, 62.222))
+    runner.request(first, solved.append)
+    assert solved == [] and runner.pending  # the request returned before the answer
+    session.run_timeouts(solver_module.BUSY_DELAY_S * 1000)
+    assert busy == [True]  # still running at the busy delay: the plots say so
+    runner.request(second, solved.append)
+    assert busy == [True, False]  # replaced: the old request's mark goes
+    gates.setdefault(61.111, threading.Event()).set()
+    gates.setdefault(62.222, threading.Event()).set()
+    for _ in range(200):  # both answers reach the loop
+        if len(session.next_tick) >= 2:
+            break
+        threading.Event().wait(0.01)
+    session.run_next_ticks()
+    assert [s.values["t_end"] for s in solved] == [62.222]  # the stale one was dropped
+    assert failed == [] and not runner.pending
+
+
+def test_a_solve_past_its_budget_says_so_and_its_late_answer_is_dropped(monkeypatch,
+                                                                        session):
+    gates = _gated(monkeypatch)
+    solved, failed = [], []
+    runner = SolveRunner(failed.append)
+    values = _unique(dict(scene_values("10")), t_end=63.333)
+    runner.request(values, solved.append)
+    session.run_timeouts(1e9)  # the budget's timer fires before the answer
+    assert len(failed) == 1 and isinstance(failed[0], SolveTooSlow)
+    gates.setdefault(63.333, threading.Event()).set()
+    for _ in range(200):
+        if session.next_tick:
+            break
+        threading.Event().wait(0.01)
+    session.run_next_ticks()
+    assert solved == []
+
+
+def test_without_a_session_a_request_is_answered_before_it_returns():
+    solved = []
+    SolveRunner(pytest.fail).request(dict(scene_values("5b")), solved.append)
+    assert len(solved) == 1 and solved[0].result is not None

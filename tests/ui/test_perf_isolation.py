@@ -1,0 +1,186 @@
+"""One session's long solve does not hold up another session of the same server process.
+
+The server runs the explorer with one change: a solve with the horizon
+:data:`SLOW_T_END` first spends :data:`SLOW_S` of CPU time in Python (holding the
+interpreter's lock as long integrations do), like the stiff deformable-stop solves that
+take seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s).
+"""
+
+from __future__ import annotations
+
+import itertools
+import statistics
+import subprocess
+import sys
+import time
+import urllib.request
+
+import pytest
+from conftest import ROOT, SERVER_TIMEOUT, free_port
+from uipage import Page
+
+from app.solver import PREVIEW_SAMPLES
+
+pytestmark = pytest.mark.ui
+
+#: Horizon that makes a solve slow, and how long it computes [s of CPU time].
+SLOW_T_END = 77.0
+SLOW_S = 3.0
+#: Largest delay [ms] the slow solve may add to the other session's reply (median of the
+#: replies during the solve minus the median of those before and after it). Solved on the
+#: event loop, the slow solve delays the reply by the whole solve (3 s and more: the test
+#: fails there, replies arrive only after it). Solved in a worker thread it shares the
+#: interpreter's lock and one of the two cores with the event loop, and the browser's two
+#: pages the other: measured 114, 442 and 556 ms on the shared test machine (load average
+#: 8-11). The goal, GOAL_MS, is printed against the measurement; the assertion holds the
+#: bound the thread design meets here, a third of the solve.
+MAX_DELAY_MS = 1000.0
+GOAL_MS = 100.0
+#: Releases measured before, during and after the slow solve; releases not measured first
+#: (the first ones compute what later ones find cached); replies needed during the solve.
+RELEASES, WARM_UP, MIN_DURING = 5, 2, 3
+#: How often [ms] a page is asked about its busy marks (a page in the background gets no
+#: animation frames, Playwright's default).
+POLL_MS = 50
+
+SLOW_APP = f'''
+import runpy, sys, time
+sys.path.insert(0, {str(ROOT)!r})
+import app.solver as solver
+
+if not getattr(solver.simulate, "made_slow", False):
+    real = solver.simulate
+
+    def simulate(osc, stop, t_end, *args, **kwargs):
+        if t_end == {SLOW_T_END!r}:
+            end = time.thread_time() + {SLOW_S!r}
+            while time.thread_time() < end:
+                pass
+            with open({{DONE_FILE}}, "w"):
+                pass
+        return real(osc, stop, t_end, *args, **kwargs)
+
+    simulate.made_slow = True
+    solver.simulate = simulate
+    solver.SOLVE_BUDGET_S = 600.0  # the slow session waits for its answer
+runpy.run_path({str(ROOT / "app" / "main.py")!r})
+'''
+
+#: Records, in the page, the time from each ``pointerup`` until the full solution's
+#: trajectory (more points than a preview's) arrives from the server.
+JS_REPLY_PROBE = """(minPoints) => {
+  const doc = Bokeh.documents[0];
+  const traj = [...doc.all_models].find(m => m.data && "t_raw" in m.data);
+  const r = (window.__reply = {up: null, ms: []});
+  document.addEventListener("pointerup", () => { r.up = performance.now(); }, true);
+  traj.properties.data.change.connect(() => {
+    if (r.up !== null && traj.data.t_raw.length >= minPoints) {
+      r.ms.push(performance.now() - r.up);
+      r.up = null;
+    }
+  });
+}"""
+
+#: The plots marked busy (Panel's ``loading``: class ``pn-loading``), shadow roots included.
+JS_BUSY_PLOTS = """() => {
+  const found = [];
+  (function walk(node) {
+    if (node.classList && node.classList.contains("fie-plot") &&
+        node.classList.contains("pn-loading")) found.push(node.className);
+    if (node.shadowRoot) walk(node.shadowRoot);
+    for (const child of node.children || []) walk(child);
+  })(document.body);
+  return found;
+}"""
+
+
+@pytest.fixture(scope="module")
+def slow_server(tmp_path_factory):
+    script = tmp_path_factory.mktemp("slow") / "slow.py"
+    done_file = script.with_name("slow-solve-done")
+    script.write_text(SLOW_APP.replace("{DONE_FILE}", repr(str(done_file))))
+    port = free_port()
+    log = script.with_suffix(".log")
+    with open(log, "w") as out:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "panel", "serve", str(script), "--port", str(port),
+             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
+             "--static-dirs", f"assets={ROOT / 'static'}", "--liveness"],
+            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
+    deadline = time.monotonic() + SERVER_TIMEOUT
+    while True:
+        try:
+            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
+                break
+        except OSError:
+            if proc.poll() is not None or time.monotonic() > deadline:
+                proc.kill()
+                raise RuntimeError(f"panel serve did not start; see {log}") from None
+            time.sleep(0.2)
+    yield f"http://127.0.0.1:{port}/slow", done_file
+    proc.terminate()
+    proc.wait(timeout=10)
+
+
+def _release(p: Page) -> float:
+    """Drag the clearance right or left (by turns, so that every release is a new value and
+    the handle stays between two places), release, and return the reply time [ms]."""
+    dx = 12 if next(_TURNS) % 2 == 0 else -12
+    done = p.page.evaluate("() => window.__reply.ms.length")
+    handle = p.page.locator(".fie-w-clearance .noUi-handle").first
+    box = handle.bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    p.page.mouse.move(x, y)
+    p.page.mouse.down()
+    p.page.mouse.move(x + dx, y, steps=4)
+    p.page.mouse.up()
+    p.page.wait_for_function(f"() => window.__reply.ms.length > {done}", timeout=20_000)
+    return p.page.evaluate("() => window.__reply.ms.at(-1)")
+
+
+_TURNS = itertools.count()
+
+
+def _releases(p: Page, n: int, until=None) -> list[float]:
+    """Reply times [ms] of ``n`` releases (fewer if ``until()`` turns true)."""
+    replies = []
+    for _ in range(n):
+        reply = _release(p)
+        if until is not None and until():
+            break
+        replies.append(reply)
+    return replies
+
+
+def test_a_long_solve_does_not_delay_another_session(browser, slow_server, shots):
+    url, done_file = slow_server
+    slow, other = Page(browser, url), Page(browser, url)
+    try:
+        other.page.evaluate(JS_REPLY_PROBE, PREVIEW_SAMPLES + 50)
+        _releases(other, WARM_UP)
+        before = _releases(other, RELEASES)
+        readout = slow.text(".fie-readout-pane")
+        box = slow.page.locator(".fie-w-t_end input").first
+        box.fill(f"{SLOW_T_END:g}")
+        box.press("Enter")
+        # The session that waits for its solve marks the plots that solve will replace.
+        slow.page.wait_for_function(f"() => ({JS_BUSY_PLOTS})().length > 0",
+                                    polling=POLL_MS, timeout=20_000)
+        busy = slow.page.evaluate(JS_BUSY_PLOTS)
+        slow.page.screenshot(path=shots / "busy-plots.png")
+        assert slow.text(".fie-readout-pane") == readout and not done_file.exists()
+        during = _releases(other, RELEASES, until=done_file.exists)
+        # The answer replaces the picture and the busy marks.
+        slow.wait_text_change(".fie-readout-pane", readout, timeout=60_000)
+        slow.page.wait_for_function(f"() => ({JS_BUSY_PLOTS})().length === 0",
+                                    polling=POLL_MS, timeout=20_000)
+        after = _releases(other, RELEASES)
+    finally:
+        slow.close()
+        other.close()
+    delay = statistics.median(during) - statistics.median(before + after)
+    print(f"replies before the slow solve {before} ms, during it {during} ms, after it "
+          f"{after} ms; delay {delay:.0f} ms (goal {GOAL_MS:.0f} ms)")
+    assert "fie-plot fie-plot-phase pn-loading" in " ".join(busy), busy
+    assert len(during) >= MIN_DURING, during  # measured while the slow solve ran
+    assert delay <= MAX_DELAY_MS, (before, during, after)
