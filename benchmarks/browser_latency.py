@@ -5,7 +5,7 @@ hysteretic-stop scene, drags a slider many times and measures, inside the page, 
 from the ``pointerup`` that ends each drag until every figure has repainted with the full
 solution (until the screen shows the frame with the last figure repaint, once the full
 trajectory has arrived; a preview has fewer points, see ``app.solver``).
-Prints the median and 95th percentile per scene against the targets of issue 4, how many
+Prints the median and 95th percentile per scene against the targets, how many
 figure repaints a release cost, and the share of CPU time the host took from this machine
 meanwhile (steal). A p95 rests on the few slowest releases: 100 moves (the default) put
 five releases above it, 40 only two.
@@ -37,7 +37,7 @@ from app.solver import PREVIEW_SAMPLES  # noqa: E402
 CHROMIUM = os.environ.get("CHROMIUM", shutil.which("chromium") or "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
-#: p95 targets [ms] by stop type (issue 4).
+#: p95 targets [ms] by stop type.
 TARGETS_MS = {"rigid": 100.0, "hysteretic": 250.0, "none": 100.0}
 #: Slider dragged in each scene (``--slider``) and the drag distance [px] (alternating left
 #: and right).

@@ -1,4 +1,4 @@
-"""Speed and error of the exact solver against solve_ivp with events (issue 2).
+"""Speed and error of the exact solver against solve_ivp with events.
 
 For a set of paper scenes (no stop, fast and slow belt; rigid elastic stop, fast belt; slow
 belt cases a/b/c; inelastic impact accumulation) this times

@@ -12,7 +12,7 @@ x clearance grid) this prints
   and the steady period's transitions (position, speeds),
 * how many points the sweep left to ``simulate`` (``fallback``).
 
-Target (issue 18): 10^5 points in <= 5 s on this 2-core machine, agreement to 1e-9.
+Target: 10^5 points in <= 5 s on this 2-core machine, agreement to 1e-9.
 
 ``--deformable N`` adds a deformable-stop sweep of N belt speeds (``simulate`` per point):
 the pilot's cost per point, the chunk size it gives, and the wall time in this process

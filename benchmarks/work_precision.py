@@ -1,4 +1,4 @@
-"""Work-precision of the numerical methods on rigid and hysteretic scenes (issue 3).
+"""Work-precision of the numerical methods on rigid and hysteretic scenes.
 
 For each scene and each method, over a tolerance sweep (``rtol`` 1e-3 ... 1e-12,
 ``atol = rtol / 100``) and, for the switch model, an ``eta`` sweep at a tight tolerance, this
