@@ -3,10 +3,9 @@
 :class:`PlotSet` builds every figure once with empty ``ColumnDataSource`` objects; an update
 replaces each source's ``.data`` in one assignment (the caller batches them with
 ``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
-Arrays are float32 and decimated to about what the screen can show
-(:func:`decimation_indices`). The ``*_columns`` functions are pure: they turn a
-:class:`~app.solver.Solution` into the columns of one source and are tested without a
-browser.
+Arrays are float32 and sampled for the screen from the exact motion (:mod:`app.sampling`).
+The ``*_columns`` functions are pure: they turn a :class:`~app.solver.Solution` into the
+columns of one source and are tested without a browser.
 """
 
 from __future__ import annotations
@@ -31,10 +30,11 @@ from bokeh.models import (
 )
 from bokeh.plotting import figure
 
+from app import sampling
 from app.scenes import PLOTS
-from app.solver import Solution, mode_intervals
+from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
-from core import Mode, RigidStop, TransitionKind
+from core import Mode, TransitionKind
 from core.hysteresis import phi_compression, phi_expansion
 
 #: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
@@ -84,18 +84,12 @@ ENERGY_COLORS: Mapping[str, str] = {
     "mechanical": "#000000", "belt_input": "#2ca02c", "friction_heat": "#1f5fbf",
     "stop_loss": "#c8102e", "stop_stored": "#9467bd",
 }
-#: Relative distance from the stop within which a sample pair at equal times is an impact.
-IMPACT_X_TOL = 1e-9
-#: Relative difference of times within which a sample pair belongs to an impulse.
-IMPACT_T_TOL = 1e-12
 #: Points of the full trajectory sent to the browser (a few per pixel of a plot's width).
 MAX_POINTS = 1600
 #: Points of the hysteresis loop sent at most (of many contacts, the latest loops).
 MAX_LOOP_POINTS = 4 * MAX_POINTS
 #: Transition markers drawn at most (the latest ones).
 MAX_MARKERS = 400
-#: Mode bands drawn at most (shorter bands are merged into their neighbours' gaps).
-MAX_BANDS = 600
 #: Operating points drawn on the friction law.
 MAX_OPERATING_POINTS = 500
 #: Gap [px] between a theory point and its label.
@@ -157,97 +151,117 @@ def _assign(source: ColumnDataSource, cols: Mapping[str, Any]) -> bool:
     return True
 
 
-def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.ndarray:
-    """Indices of the samples to draw: a uniform stride plus every mode change and both
-    sides of every jump (samples at equal time, i.e. impacts). Samples in contact
-    (:attr:`Mode.CONTACT`, short and sampled densely by the core) have a budget of
-    ``max_points`` of their own, so a contact is not thinned to a few chords.
-
-    >>> t = np.linspace(0, 1, 11); mode = np.zeros(11, dtype=int); mode[5:] = 1
-    >>> decimation_indices(t, mode, 4).tolist()
-    [0, 3, 4, 5, 6, 9, 10]
-    """
-    n = len(t)
-    if n <= max_points:
-        return np.arange(n)
-    step = int(math.ceil(n / max_points))
-    keep = [np.arange(0, n, step), [n - 1]]
-    contact = np.flatnonzero(np.asarray(mode) == int(Mode.CONTACT))
-    if len(contact):
-        keep.append(contact[::int(math.ceil(len(contact) / max_points))])
-    change = np.flatnonzero(np.diff(mode) != 0)
-    keep += [change, change + 1]
-    jump = np.flatnonzero(np.diff(t) <= 0.0)
-    keep += [jump, jump + 1]
-    return np.unique(np.concatenate(keep).astype(np.int64))
+#: Nominal frame of the phase portrait [px] until the browser reports the real one
+#: (``Plot.inner_width``/``inner_height``), and its largest frame: the chord bound is set
+#: for the largest, so a wider window does not show chords.
+PHASE_FRAME = (460, 400)
+PHASE_FRAME_MAX = (900, 700)
+#: Longest chord of the phase path on the largest frame [px]: below what the eye tells from
+#: a curve (a 2 px chord of a 100 px radius arc deviates from it by 0.005 px).
+CHORD_PX = 2.0
+#: Pixel columns the time histories are reduced to (a wide screen's plot, the largest).
+HISTORY_COLUMNS = 1600
 
 
-def impact_velocities(res: Any, stop: Any) -> np.ndarray:
-    """The sampled velocities with both sides of every rigid impact in place.
+def _drawing(sol: Solution):
+    """The solution as a function of time (:func:`app.sampling.evaluator`), cached on
+    the solution (one evaluator serves the phase portrait and the time histories)."""
+    res = sol.result
+    cache = _DRAWING_CACHE
+    key = id(sol)
+    hit = cache.get(key)
+    if hit is not None and hit[0] is sol:
+        return hit[1]
+    value = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0, sol.method)
+    cache.clear()  # one solution at a time: the last drawn
+    cache[key] = (sol, value)
+    return value
 
-    The core samples each impact twice at the same time, the state before and then after
-    (``core.rigid._sample_times``), but in the periodic continuation of a steady state it
-    can return the same side twice. The phase portrait then joins one side to the next
-    sample on the other side's arc with a chord, one per period, which draws a filled wedge
-    beside the stop (scene 5a). Each pair at an impact therefore gets its velocities from
-    the impact's impulse ``j = x'- - x'+`` and Newton's law ``x'+ = -r x'-``:
-    ``x'- = j / (1 + r)``, ``x'+ = -r j / (1 + r)``, so the impact draws as the vertical
-    jump at ``x = x_bar``.
 
-    >>> from types import SimpleNamespace
-    >>> from core import RigidStop
-    >>> res = SimpleNamespace(t=np.array([0.0, 1.0, 1.0]), x=np.array([0.1, 0.3, 0.3]),
-    ...                       v=np.array([0.2, 0.4, 0.4]), impulses=np.array([[1.0, 0.75]]))
-    >>> impact_velocities(res, RigidStop(clearance=0.3, restitution=0.5)).tolist()
-    [0.2, 0.5, -0.25]
-    """
-    t, v = np.asarray(res.t), np.asarray(res.v)
-    imp = np.asarray(res.impulses, dtype=float).reshape(-1, 2)
-    if not isinstance(stop, RigidStop) or len(t) < 2 or len(imp) == 0:
-        return v
-    pair = np.flatnonzero(np.diff(t) == 0.0)
-    pair = pair[np.abs(np.asarray(res.x)[pair] - stop.clearance)
-                <= IMPACT_X_TOL * max(1.0, abs(stop.clearance))]
-    k = np.clip(np.searchsorted(imp[:, 0], t[pair]), 0, len(imp) - 1)
-    k_prev = np.maximum(k - 1, 0)  # the nearest impulse time, from either side
-    k = np.where(np.abs(imp[k_prev, 0] - t[pair]) < np.abs(imp[k, 0] - t[pair]), k_prev, k)
-    hit = np.abs(imp[k, 0] - t[pair]) <= IMPACT_T_TOL * np.maximum(1.0, np.abs(t[pair]))
-    pair, k = pair[hit], k[hit]
-    if len(pair) == 0:
-        return v
-    r = stop.restitution
-    v = v.copy()
-    v[pair] = imp[k, 1] / (1.0 + r)
-    v[pair + 1] = -r * v[pair]
-    return v
+_DRAWING_CACHE: dict[int, tuple[Solution, Any]] = {}
+
+
+def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]
+               ) -> tuple[float, float]:
+    """Longest chord along each axis [data units] for :data:`CHORD_PX` on the largest
+    frame, for equal-aspect ranges that hold both bounds (dimensionless ``v``)."""
+    (x0, x1), (v0, v1) = x_bounds, v_bounds
+    per_px = max((x1 - x0) / PHASE_FRAME_MAX[0], (v1 - v0) / PHASE_FRAME_MAX[1], EMPTY_SPAN)
+    return CHORD_PX * per_px, CHORD_PX * per_px
 
 
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
-                       max_points: int = MAX_POINTS) -> dict[str, np.ndarray]:
-    """Columns of the trajectory source: ``t``, ``x``, ``v`` and ``v_slip``/``v_stick``/
-    ``v_contact`` (``v`` where the segment from the previous sample is in that mode, NaN
-    elsewhere, so each mode draws as its own broken line), plus ``t_raw`` (dimensionless
-    time, for the animation) and ``mode``."""
+                       columns: int = HISTORY_COLUMNS) -> dict[str, np.ndarray]:
+    """Columns of the trajectory source (time histories and the animation): ``t``
+    (shown units), ``t_raw`` (dimensionless, for the animation), ``x``, ``v`` and
+    ``mode``, reduced to the first, last, lowest and highest sample of each of
+    ``columns`` pixel columns from samples of the exact motion
+    (:func:`app.sampling.history`); ``bands`` holds the mode bands."""
     res = sol.result
     if res is None:
-        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick",
-                                         "v_contact")}, "mode": np.zeros(0, np.int8)}
-    idx = decimation_indices(res.t, res.mode, max_points)
-    v = impact_velocities(res, sol.stop)
-    t, x, v, mode = res.t[idx], res.x[idx], v[idx] * scales.velocity, res.mode[idx]
-    prev = np.concatenate(([mode[0]], mode[:-1])) if len(mode) else mode
-    cols = {"t": _f32(t * scales.time), "t_raw": _f32(t), "x": _f32(x), "v": _f32(v),
-            "mode": np.asarray(mode, dtype=np.int8)}
-    for m, name in MODE_NAMES.items():
-        # A sample closes the segment from its predecessor: draw it in both modes.
-        cols[f"v_{name}"] = _f32(np.where((mode == m) | (prev == m), v, np.nan))
-    return cols
+        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v")},
+                "mode": np.zeros(0, np.int8)}
+    evaluate, exact = _drawing(sol)
+    step = phase_step(*_sample_bounds(sol))
+    h = sampling.history(res, evaluate, sol.t_end, exact, columns, step)
+    return {"t": _f32(h.t * scales.time), "t_raw": _f32(h.t), "x": _f32(h.x),
+            "v": _f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
+            "bands": h.bands}
 
 
-def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, list]:
-    """Markers of the latest transitions (at most :data:`MAX_MARKERS`) by kind."""
+def _sample_bounds(sol: Solution) -> tuple[tuple[float, float], tuple[float, float]]:
     res = sol.result
-    trs = res.transitions[-MAX_MARKERS:] if res is not None else ()
+    x, v = np.asarray(res.x, float), np.asarray(res.v, float)
+    if len(x) == 0:
+        return (0.0, 1.0), (0.0, 1.0)
+    return (float(x.min()), float(x.max())), (float(v.min()), float(v.max()))
+
+
+def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
+                  step: tuple[float, float] | None = None) -> dict[str, Any]:
+    """The phase portrait's path up to the end of the first steady cycle
+    (:func:`app.sampling.draw_horizon`): per mode name the columns ``x``, ``v`` of its
+    pieces (NaN between pieces), each piece sampled so that no chord is longer than
+    ``step`` (default :func:`phase_step` of the samples' bounds); ``t_draw`` the time
+    drawn to, and ``repeat`` the state where a steady cycle closes (drawn once) with the
+    number of its repeats within the horizon."""
+    res = sol.result
+    empty = {"x": _f32([]), "v": _f32([])}
+    out: dict[str, Any] = {name: dict(empty) for name in MODE_NAMES.values()}
+    out["t_draw"], out["repeat"] = 0.0, {"x": _f32([]), "v": _f32([]), "text": []}
+    if res is None or len(res.t) == 0:
+        return out
+    if step is None:
+        step = phase_step(*_sample_bounds(sol))
+    evaluate, _ = _drawing(sol)
+    t_draw = sampling.draw_horizon(res, sol.t_end, step)
+    path = sampling.phase_path(res, evaluate, t_draw, step)
+    x, v, mode = path.x, path.v * scales.velocity, path.mode
+    # Consecutive pieces meet at their transition's state, so each mode's runs are drawn
+    # as they are, one NaN after each run to break the line.
+    for m, name in MODE_NAMES.items():
+        sel = mode == m
+        keep = sel | np.r_[False, sel[:-1]]
+        out[name] = {"x": _f32(np.where(sel, x, np.nan)[keep]),
+                     "v": _f32(np.where(sel, v, np.nan)[keep])}
+    out["t_draw"] = t_draw
+    steady = res.steady
+    if t_draw < sol.t_end and math.isfinite(steady.period) and steady.period > 0 and (
+            steady.kind.value == "periodic"):
+        repeats = int((sol.t_end - t_draw) // steady.period)
+        xr, vr = evaluate(np.array([t_draw]))
+        out["repeat"] = {"x": _f32(xr), "v": _f32(vr * scales.velocity),
+                         "text": [f"cycle repeats {repeats}x"]}
+    return out
+
+
+def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
+                       t_draw: float = math.inf) -> dict[str, list]:
+    """Markers of the transitions the phase portrait draws (up to ``t_draw``; the later
+    ones repeat them)."""
+    res = sol.result
+    trs = [tr for tr in res.transitions if tr.t <= t_draw] if res is not None else []
+    trs = trs[-MAX_MARKERS:]
     styles = [TRANSITION_STYLE.get(tr.kind.value, ("circle", "#000000")) for tr in trs]
     return {
         "x": _f32([tr.x for tr in trs]),
@@ -259,18 +273,14 @@ def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[st
     }
 
 
-def band_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, Any]:
-    """Mode bands behind the time histories: ``left``, ``right``, ``color``."""
-    res = sol.result
-    if res is None:
-        return {"left": _f32([]), "right": _f32([]), "color": []}
-    left, right, mode = mode_intervals(res)
-    if len(left) > MAX_BANDS:  # keep the longest bands; the rest show as slip background
-        keep = np.sort(np.argsort(right - left)[-MAX_BANDS:])
-        left, right, mode = left[keep], right[keep], mode[keep]
+def band_columns(bands, scales: Scales = DIMENSIONLESS) -> dict[str, Any]:
+    """Mode bands behind the time histories: ``left``, ``right``, ``color``, from
+    :func:`app.sampling.mode_bands` (a stick interval narrower than a pixel column covers
+    the column)."""
+    left, right, mode = bands
     return {
-        "left": _f32(left * scales.time),
-        "right": _f32(right * scales.time),
+        "left": _f32(np.asarray(left) * scales.time),
+        "right": _f32(np.asarray(right) * scales.time),
         "color": [BAND_COLORS[int(m)] for m in mode],
     }
 
@@ -356,18 +366,28 @@ def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, di
     if prog is not None:
         line = {"t": _f32(prog.s), "phi": _f32(prog.force * scales.force)}
     elif res is not None and sol.values["stop_type"] == "rigid":
-        imp = np.asarray(res.impulses).reshape(-1, 2)[-MAX_MARKERS:]
+        # Every stored impact (the core stores the first ``transition_cap``).
+        imp = np.asarray(res.impulses).reshape(-1, 2)
         stems = {"t": _f32(imp[:, 0] * scales.time), "j": _f32(imp[:, 1] * scales.impulse)}
         pressed = np.asarray(res.mode) == int(Mode.CONTACT)
         if pressed.any():
-            idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+            idx = _columns(res, (np.asarray(res.contact_force),))
             f = np.where(pressed[idx], np.asarray(res.contact_force)[idx], np.nan)
             rest = {"t": _f32(res.t[idx] * scales.time), "f": _f32(f * scales.force)}
     elif res is not None and sol.values["stop_type"] == "hysteretic":
-        idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+        idx = _columns(res, (np.asarray(res.contact_force),))
         line = {"t": _f32(res.t[idx] * scales.time),
                 "phi": _f32(np.asarray(res.contact_force)[idx] * scales.force)}
     return {"stems": stems, "line": line, "rest": rest}
+
+
+def _columns(res, series: tuple[np.ndarray, ...]) -> np.ndarray:
+    """Indices of the result's samples that draw ``series`` over time as every sample
+    would, on :data:`HISTORY_COLUMNS` pixel columns (:func:`app.sampling.m4`)."""
+    t = np.asarray(res.t, float)
+    if len(t) == 0:
+        return np.zeros(0, np.int64)
+    return sampling.m4(t, series, float(t[0]), float(t[-1]), HISTORY_COLUMNS)
 
 
 def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -431,8 +451,8 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
     names = tuple(ENERGY_COLORS)
     if res is None:
         return {"t": _f32([]), **{n: _f32([]) for n in names}}
-    idx = decimation_indices(res.t, res.mode, MAX_POINTS)
     e = res.energy
+    idx = _columns(res, (np.asarray(e.mechanical),))
     terms = {"mechanical": e.mechanical, "belt_input": e.belt_input,
              "friction_heat": np.asarray(e.belt_input) - np.asarray(e.friction_work),
              "stop_loss": e.stop_loss, "stop_stored": e.stop_stored}
@@ -476,6 +496,11 @@ class PlotSet:
         self._dirty: set[str] = set()
         self._map_shown: Mapping[str, Any] | None = None
         self._map_scales: Scales | None = None
+        self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
+        # The phase portrait's frame [px], as the browser reports it.
+        self._phase_frame = PHASE_FRAME
+        self.figures["phase"].on_change("inner_width", self._on_phase_frame)
+        self.figures["phase"].on_change("inner_height", self._on_phase_frame)
 
     # --- building ------------------------------------------------------------------------
 
@@ -495,15 +520,18 @@ class PlotSet:
         fig = self._figure("Phase portrait (x, x')", PHASE_SIZE,
                            x_axis_label="x", y_axis_label="x'")
         items = []
+        theory = self._theory_renderers = []
         r = fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
                      line_width=1)
+        theory.append(r)
         items.append(_legend_item(fig, r, "Gamma_0", "line", line_color="#777777",
                                   line_dash="dashed", line_width=1))
         r = fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1)
+        theory.append(r)
         items.append(_legend_item(fig, r, "impactless", "line", line_color="#999999",
                                   line_width=1))
         for m, name in MODE_NAMES.items():
-            r = fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
+            r = fig.line("x", "v", source=s[f"path_{name}"], line_width=2,
                          line_color=MODE_COLORS[m])
             items.append(_legend_item(fig, r, name, "line", line_width=2,
                                       line_color=MODE_COLORS[m]))
@@ -520,9 +548,21 @@ class PlotSet:
         style = {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
                  "line_color": "#000000", "line_width": 2}
         r = fig.scatter("x", "v", source=s["points"], **style)
+        theory.append(r)
         items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
-        fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                                text_align="align", y_offset="dy", text_font_size="10px"))
+        labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
+                          text_align="align", y_offset="dy", text_font_size="11px")
+        fig.add_layout(labels)
+        theory.append(labels)
+        # Where a periodic steady state closes: drawn once, its repeats counted.
+        style = {"marker": "circle_dot", "size": 11, "fill_color": "#ffffff",
+                 "line_color": "#2ca02c", "line_width": 2}
+        r = fig.scatter("x", "v", source=s["repeat"], **style)
+        self.repeat_item = _legend_item(fig, r, "cycle closes", "scatter", **style)
+        self.repeat_item.visible = False
+        items.append(self.repeat_item)
+        fig.add_layout(LabelSet(x="x", y="v", text="text", source=s["repeat"], x_offset=8,
+                                y_offset=-16, text_font_size="11px", text_color="#2ca02c"))
         style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
                  "line_color": "#000000"}
         r = fig.scatter("x", "v", source=s["start"], **style)
@@ -652,12 +692,44 @@ class PlotSet:
         self._kinds_stop = None
 
     def update_preview(self, sol: Solution, scales: Scales) -> None:
-        """Cheap update while a slider is dragged: the trajectory only."""
-        s = self.sources
-        _assign(s["traj"], trajectory_columns(sol, scales, max_points=len(sol.result.t)))
-        _assign(s["trans"], transition_columns(sol, scales))
+        """Cheap update while a slider is dragged: the motion, and the contact force of
+        the same state; the theory's overlays (points, reference curves), which a preview
+        does not compute, are hidden until the full solution arrives, so that nothing on
+        the plots belongs to another state."""
+        self._set_theory_visible(False)
+        _assign(self.sources["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+        self._draw_motion(sol, scales)
+        cols = force_columns(sol, scales)
+        _assign(self.sources["stems"], cols["stems"])
+        _assign(self.sources["force"], cols["line"])
+        _assign(self.sources["rest"], cols["rest"])
         self._set_spans(sol, scales)
-        self._set_ranges({"phase", "time"}, sol)
+        self._set_ranges({"phase", "time", "force"}, sol)
+
+    def _draw_motion(self, sol: Solution, scales: Scales) -> None:
+        """The phase path, the transitions it passes, and the time histories."""
+        s = self.sources
+        step = self._phase_step(sol, scales)
+        traj = trajectory_columns(sol, scales)
+        self._bands = traj.pop("bands", (np.zeros(0), np.zeros(0), np.zeros(0, np.int8)))
+        _assign(s["traj"], traj)
+        phase = phase_columns(sol, scales, step)
+        for name in MODE_NAMES.values():
+            _assign(s[f"path_{name}"], phase[name])
+        _assign(s["repeat"], phase["repeat"])
+        self.repeat_item.visible = bool(len(phase["repeat"]["x"]))
+        _assign(s["trans"], transition_columns(sol, scales, phase["t_draw"]))
+
+    def _set_theory_visible(self, visible: bool) -> None:
+        for r in self._theory_renderers:
+            if r.visible != visible:
+                r.visible = visible
+
+    def _phase_step(self, sol: Solution, scales: Scales) -> tuple[float, float]:
+        """Chord bound of the phase path (:func:`phase_step`) for the view that shows the
+        motion and the references."""
+        (x0, x1), (v0, v1) = self._phase_bounds(sol, scales, use_path=False)
+        return phase_step((x0, x1), (v0 / scales.velocity, v1 / scales.velocity))
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
@@ -669,8 +741,13 @@ class PlotSet:
         s = self.sources
         todo = self._dirty.intersection(visible)
         if todo & {"phase", "time", "anim", "friction"}:
-            _assign(s["traj"], trajectory_columns(sol, scales))
-            _assign(s["trans"], transition_columns(sol, scales))
+            self._set_theory_visible(True)
+            refs = reference_columns(sol, scales)
+            _assign(s["gamma0"], refs["gamma0"])
+            _assign(s["cycle"], refs["cycle"])
+            _assign(s["points"], refs["points"])
+            _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+            self._draw_motion(sol, scales)
             # Entries stay once shown (until the stop type changes): a legend that changes
             # size relayouts and repaints its figure once more after each release.
             stop_type = sol.values["stop_type"]
@@ -679,14 +756,9 @@ class PlotSet:
             self._kinds_shown.update(s["trans"].data["kind"])
             for kind, item in self.kind_items.items():
                 item.visible = kind in self._kinds_shown
-            refs = reference_columns(sol, scales)
-            _assign(s["gamma0"], refs["gamma0"])
-            _assign(s["cycle"], refs["cycle"])
-            _assign(s["points"], refs["points"])
-            _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
-            _assign(s["bands"], band_columns(sol, scales))
+            _assign(s["bands"], band_columns(self._bands, scales))
             self._dirty.discard("time")
         if "force" in todo:
             cols = force_columns(sol, scales)
@@ -731,9 +803,10 @@ class PlotSet:
         f = self.figures
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
         if "phase" in plots:
-            traj, pts = d["traj"], d["points"]
-            _set_range(f["phase"].x_range, (traj["x"], pts["x"], stop), PHASE_X_PADDING)
-            _set_range(f["phase"].y_range, (traj["v"], pts["v"]), RANGE_PADDING)
+            (x0, x1), (v0, v1) = self._phase_bounds(sol, self._scales or DIMENSIONLESS)
+            for rng, lo, hi in ((f["phase"].x_range, x0, x1), (f["phase"].y_range, v0, v1)):
+                if (rng.start, rng.end, rng.reset_start, rng.reset_end) != (lo, hi, lo, hi):
+                    rng.update(start=lo, end=hi, reset_start=lo, reset_end=hi)
         if "time" in plots:
             traj = d["traj"]
             _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
@@ -758,6 +831,41 @@ class PlotSet:
             _set_range(f["energy"].x_range, (energy["t"],), RANGE_PADDING)
             _set_range(f["energy"].y_range, tuple(energy[n] for n in ENERGY_COLORS),
                        RANGE_PADDING)
+
+    def _phase_bounds(self, sol: Solution, scales: Scales, use_path: bool = True
+                      ) -> tuple[tuple[float, float], tuple[float, float]]:
+        """Ranges of the phase portrait: the motion (its drawn path, or all samples), the
+        reference curves and theory points the caption speaks of, and the stop when near,
+        padded and widened to equal aspect for the current frame (a circle of the
+        dimensionless phase plane is drawn as a circle; :func:`equal_aspect`)."""
+        d = {name: src.data for name, src in self.sources.items()}
+        if use_path:
+            xs = [d[f"path_{n}"]["x"] for n in MODE_NAMES.values()]
+            vs = [d[f"path_{n}"]["v"] for n in MODE_NAMES.values()]
+        else:
+            res = sol.result
+            xs = [np.asarray(res.x)] if res is not None else []
+            vs = [np.asarray(res.v) * scales.velocity] if res is not None else []
+        stop = _stop_in_view(np.concatenate([np.asarray(x, float) for x in xs])
+                             if xs else [], sol)
+        xs += [d["start"]["x"], stop]
+        vs += [d["start"]["v"]]
+        if self._theory_renderers[0].visible:  # hidden during a preview: another state
+            xs += [d["points"]["x"], d["gamma0"]["x"], d["cycle"]["x"]]
+            vs += [d["points"]["v"], d["gamma0"]["v"], d["cycle"]["v"]]
+        xb = data_bounds(tuple(xs), PHASE_X_PADDING)
+        vb = data_bounds(tuple(vs), RANGE_PADDING)
+        return equal_aspect(xb, vb, self._phase_frame, scales.velocity)
+
+    def _on_phase_frame(self, attr: str, old: Any, new: Any) -> None:
+        """The browser laid the phase portrait out: keep its aspect equal."""
+        fig = self.figures["phase"]
+        w, h = fig.inner_width, fig.inner_height
+        if not w or not h or w <= 0 or h <= 0 or (w, h) == self._phase_frame:
+            return
+        self._phase_frame = (int(w), int(h))
+        if self._last is not None:
+            self._set_ranges({"phase"}, self._last)
 
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None
@@ -826,6 +934,31 @@ def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> Le
     return LegendItem(label=label, renderers=[proxy])
 
 
+def equal_aspect(x_bounds: tuple[float, float], v_bounds: tuple[float, float],
+                 frame: tuple[int, int], v_scale: float = 1.0
+                 ) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Widen one of the bounds so that a ``frame = (width, height)`` [px] shows one unit of
+    ``x`` and ``v_scale`` units of ``v`` over the same number of pixels (SI: ``v_scale =
+    omega``, so ``x'/omega`` and ``x`` share a scale and the slip circles of paper Eq. 7
+    are circles on the screen).
+
+    >>> equal_aspect((0.0, 1.0), (0.0, 1.0), (200, 100))
+    ((-0.5, 1.5), (0.0, 1.0))
+    >>> equal_aspect((0.0, 1.0), (0.0, 1.0), (100, 100), 2.0)
+    ((0.0, 1.0), (-0.5, 1.5))
+    """
+    (x0, x1), (v0, v1) = x_bounds, v_bounds
+    w, h = frame
+    xs, vs = x1 - x0, (v1 - v0) / v_scale
+    if xs * h > vs * w:  # x needs more pixels per unit: widen v
+        half = 0.5 * xs * h / w * v_scale
+        mid = 0.5 * (v0 + v1)
+        return (x0, x1), (mid - half, mid + half)
+    half = 0.5 * vs * w / h
+    mid = 0.5 * (x0 + x1)
+    return (mid - half, mid + half), (v0, v1)
+
+
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
     """``(start, end)`` of an axis showing every finite value of ``arrays``, widened by
     ``padding`` times the span (half on each side, as ``DataRange1d.range_padding``).
@@ -880,8 +1013,9 @@ def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {
-    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick", "v_contact",
-                             "mode")},
+    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "mode")},
+    **{f"path_{name}": {"x": [], "v": []} for name in MODE_NAMES.values()},
+    "repeat": {"x": [], "v": [], "text": []},
     "trans": {k: [] for k in ("x", "v", "t", "kind", "marker", "color")},
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},
