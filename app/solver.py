@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import HystereticStop, Mode, Result, RigidStop, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
@@ -257,6 +258,9 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
     accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
     method = choose_method(values["method"], values["stop_type"])
     n_samples = PREVIEW_SAMPLES if preview else accuracy["n_samples"]
+    if method != "exact" or isinstance(stop, HystereticStop):
+        # Drawn from its samples (app/sampling.py): dense enough for any horizon.
+        n_samples = samples_for(t_end, n_samples)
     start = time.perf_counter()
     if values.get("program") and isinstance(stop, HystereticStop):
         program, result = overlap_program(stop), None
