@@ -24,7 +24,7 @@ from panel.io.state import set_curdoc
 
 from app.animation import Animation
 from app.export import trajectory_csv
-from app.plots import MAP_PALETTE, PlotSet
+from app.plots import MAP_PALETTE, PLOT_WIDTHS, PlotSet
 from app.readout import readout_html
 from app.scenes import (
     CUSTOM,
@@ -144,7 +144,8 @@ class Explorer(pn.viewable.Viewer):
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width", height=READOUT_HEIGHT,
                                     styles={"overflow-y": "auto"},
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
-        self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
+        self.map_legend = pn.pane.HTML("", sizing_mode="stretch_width",
+                                       css_classes=["fie-map-legend"],
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
             callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
@@ -227,12 +228,18 @@ class Explorer(pn.viewable.Viewer):
             if name == "anim":
                 body = self.anim.panel()
             elif name == "map":
-                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"]), self.map_legend,
-                                 margin=0)
+                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"],
+                                               sizing_mode="stretch_width"),
+                                 self.map_legend, margin=0, sizing_mode="stretch_width")
             else:
-                body = pn.pane.Bokeh(self.plots.panes[name])
+                body = pn.pane.Bokeh(self.plots.panes[name], sizing_mode="stretch_width")
+            # Responsive grid: each plot grows from its narrowest width to its widest, and
+            # the row wraps when two do not fit (app.plots.PLOT_WIDTHS).
             panes[name] = pn.Column(body, css_classes=["fie-plot", f"fie-plot-{name}"],
-                                    name=PLOT_TITLES[name], margin=(4, 8))
+                                    name=PLOT_TITLES[name], margin=(4, 8),
+                                    sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
+                                    max_width=PLOT_WIDTHS[1],
+                                    styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 100}px"})
         return panes
 
     # --- views ---------------------------------------------------------------------------

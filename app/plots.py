@@ -10,6 +10,7 @@ columns of one source and are tested without a browser.
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -19,10 +20,10 @@ from bokeh.layouts import column
 from bokeh.models import (
     BasicTickFormatter,
     ColumnDataSource,
+    DataRange1d,
+    Div,
     Label,
     LabelSet,
-    Legend,
-    LegendItem,
     LinearAxis,
     LinearColorMapper,
     Range1d,
@@ -116,13 +117,38 @@ PHASE_X_PADDING = 0.15
 STOP_VIEW_REACH = 0.5
 #: Relative span below which data are a single value (the axis then spans one unit).
 EMPTY_SPAN = 1e-12
-#: Sizes of the figures [px].
+#: Heights of the figures [px]; their widths follow the page (:data:`PLOT_WIDTHS`).
 PHASE_SIZE = (540, 500)
-TIME_SIZE = (540, 215)
+TIME_SIZE = (540, 230)
 SMALL_SIZE = (540, 300)
 MAP_SIZE = (540, 380)
-#: Tag of the legend stand-ins (:func:`_legend_item`), which draw nothing in the frame.
-LEGEND_PROXY_TAG = "fie-legend-proxy"
+#: Narrowest and widest plot [px]: two columns side by side from ~1100 px of page, one
+#: column (readable, legends not cut) on an 800 px window, no stretched plots beyond.
+PLOT_WIDTHS = (360, 900)
+#: Font sizes: axis labels and the theory's labels readable from the back of a room.
+AXIS_LABEL_FONT, TICK_LABEL_FONT, TITLE_FONT = "13px", "12px", "14px"
+#: Styles of the phase portrait's glyphs (drawn and in its HTML legend).
+PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
+    "gamma0": {"line_color": "#777777", "line_dash": "dashed", "line_width": 1},
+    "cycle": {"line_color": "#999999", "line_width": 1},
+    **{name: {"line_color": MODE_COLORS[m], "line_width": 2} for m, name in MODE_NAMES.items()},
+    "points": {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
+               "line_color": "#000000", "line_width": 2},
+    "repeat": {"marker": "circle_dot", "size": 11, "fill_color": "#ffffff",
+               "line_color": "#2ca02c", "line_width": 2},
+    "start": {"marker": "circle", "size": 8, "fill_color": "#ffffff", "line_color": "#000000"},
+}
+#: Legend labels of the phase portrait's references, and what they are (tooltips).
+PHASE_LABELS: Mapping[str, tuple[str, str]] = {
+    "gamma0": ("Gamma_0", "Gamma_0 (Eq. 21): the disc about (a, 0) of radius v, touching "
+               "the stick line x' = v; a start inside it slips for ever (fast belt)"),
+    "cycle": ("impactless cycle", "Gamma_LC (Eqs. 23-24): the stick-slip cycle (or, for a "
+              "fast belt, the slip circle) the motion settles on without the stop"),
+    "points": ("theory (A.1-A.12)", "the steady-state points of the paper's appendix"),
+    "repeat": ("cycle closes", "the periodic steady state is drawn once: from here it "
+               "repeats; the label counts the repeats within the horizon"),
+    "start": ("start", "the initial state (x0, x'0); click the portrait to move it"),
+}
 #: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
 #: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
 TICK_POWER_LIMIT_LOW = -5
@@ -151,11 +177,9 @@ def _assign(source: ColumnDataSource, cols: Mapping[str, Any]) -> bool:
     return True
 
 
-#: Nominal frame of the phase portrait [px] until the browser reports the real one
-#: (``Plot.inner_width``/``inner_height``), and its largest frame: the chord bound is set
-#: for the largest, so a wider window does not show chords.
-PHASE_FRAME = (460, 400)
-PHASE_FRAME_MAX = (900, 700)
+#: The largest frame of the phase portrait [px] (the widest plot, and its height): the
+#: chord bound is set for it, so a wider window does not show chords.
+PHASE_FRAME_MAX = (PLOT_WIDTHS[1] - 80, PHASE_SIZE[1] - 80)
 #: Longest chord of the phase path on the largest frame [px]: below what the eye tells from
 #: a curve (a 2 px chord of a 100 px radius arc deviates from it by 0.005 px).
 CHORD_PX = 2.0
@@ -251,7 +275,7 @@ def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
         repeats = int((sol.t_end - t_draw) // steady.period)
         xr, vr = evaluate(np.array([t_draw]))
         out["repeat"] = {"x": _f32(xr), "v": _f32(vr * scales.velocity),
-                         "text": [f"cycle repeats {repeats}x"]}
+                         "text": [f"repeats {repeats}x"]}
     return out
 
 
@@ -481,6 +505,7 @@ class PlotSet:
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
+        self.legends: dict[str, Div] = {}
         self.panes: dict[str, Any] = {}
         self._build_phase(s)
         self._build_time(s)
@@ -497,10 +522,6 @@ class PlotSet:
         self._map_shown: Mapping[str, Any] | None = None
         self._map_scales: Scales | None = None
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
-        # The phase portrait's frame [px], as the browser reports it.
-        self._phase_frame = PHASE_FRAME
-        self.figures["phase"].on_change("inner_width", self._on_phase_frame)
-        self.figures["phase"].on_change("inner_height", self._on_phase_frame)
 
     # --- building ------------------------------------------------------------------------
 
@@ -509,64 +530,47 @@ class PlotSet:
         kw.setdefault("x_range", Range1d(0.0, 1.0))
         kw.setdefault("y_range", Range1d(0.0, 1.0))
         fig = figure(title=title, width=size[0], height=size[1], tools=TOOLS,
-                     toolbar_location="right", output_backend="canvas", **kw)
-        fig.title.text_font_size = "13px"
+                     toolbar_location="right", output_backend="canvas",
+                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
+                     max_width=PLOT_WIDTHS[1], **kw)
+        fig.title.text_font_size = TITLE_FONT
         fig.toolbar.logo = None
         for axis in (*fig.xaxis, *fig.yaxis):
             axis.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
+            axis.axis_label_text_font_size = AXIS_LABEL_FONT
+            axis.major_label_text_font_size = TICK_LABEL_FONT
         return fig
 
     def _build_phase(self, s) -> None:
-        fig = self._figure("Phase portrait (x, x')", PHASE_SIZE,
-                           x_axis_label="x", y_axis_label="x'")
-        items = []
+        # Equal aspect: the browser fits the ranges to the frame it lays out
+        # (``match_aspect``; ``aspect_scale`` is omega in SI units, so that x and x'/omega
+        # share one scale). The server does not know the frame's size, so this figure's
+        # ranges are the one thing computed in the browser.
+        x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
+        y_range = DataRange1d(range_padding=RANGE_PADDING, only_visible=True)
+        fig = self._figure("Phase portrait (x, x')", PHASE_SIZE, x_axis_label="x",
+                           y_axis_label="x'", x_range=x_range, y_range=y_range,
+                           match_aspect=True)
         theory = self._theory_renderers = []
-        r = fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
-                     line_width=1)
-        theory.append(r)
-        items.append(_legend_item(fig, r, "Gamma_0", "line", line_color="#777777",
-                                  line_dash="dashed", line_width=1))
-        r = fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1)
-        theory.append(r)
-        items.append(_legend_item(fig, r, "impactless", "line", line_color="#999999",
-                                  line_width=1))
-        for m, name in MODE_NAMES.items():
-            r = fig.line("x", "v", source=s[f"path_{name}"], line_width=2,
-                         line_color=MODE_COLORS[m])
-            items.append(_legend_item(fig, r, name, "line", line_width=2,
-                                      line_color=MODE_COLORS[m]))
-        r = fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
-                        fill_alpha=0.6)
-        # One entry per transition kind, shown while the trajectory has that kind.
-        self.kind_items: dict[str, LegendItem] = {}
-        for kind, (marker, color) in TRANSITION_STYLE.items():
-            item = _legend_item(fig, r, TRANSITION_LABELS.get(kind, kind), "scatter",
-                                marker=marker, color=color, size=7, fill_alpha=0.6)
-            item.visible = False
-            self.kind_items[kind] = item
-            items.append(item)
-        style = {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
-                 "line_color": "#000000", "line_width": 2}
-        r = fig.scatter("x", "v", source=s["points"], **style)
-        theory.append(r)
-        items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
+        ranged = [fig.line("x", "v", source=s["gamma0"], **PHASE_STYLE["gamma0"]),
+                  fig.line("x", "v", source=s["cycle"], **PHASE_STYLE["cycle"])]
+        theory += ranged
+        for name in MODE_NAMES.values():
+            ranged.append(fig.line("x", "v", source=s[f"path_{name}"], **PHASE_STYLE[name]))
+        fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
+                    fill_alpha=0.6)
+        theory.append(fig.scatter("x", "v", source=s["points"], **PHASE_STYLE["points"]))
+        ranged.append(theory[-1])
+        # The stop, when near the motion (:func:`_stop_in_view`), is in the ranges too.
+        ranged.append(fig.scatter("x", "v", source=s["stop_pt"], size=0, alpha=0.0))
         labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                          text_align="align", y_offset="dy", text_font_size="11px")
+                          text_align="align", y_offset="dy", text_font_size="12px")
         fig.add_layout(labels)
         theory.append(labels)
         # Where a periodic steady state closes: drawn once, its repeats counted.
-        style = {"marker": "circle_dot", "size": 11, "fill_color": "#ffffff",
-                 "line_color": "#2ca02c", "line_width": 2}
-        r = fig.scatter("x", "v", source=s["repeat"], **style)
-        self.repeat_item = _legend_item(fig, r, "cycle closes", "scatter", **style)
-        self.repeat_item.visible = False
-        items.append(self.repeat_item)
-        fig.add_layout(LabelSet(x="x", y="v", text="text", source=s["repeat"], x_offset=8,
-                                y_offset=-16, text_font_size="11px", text_color="#2ca02c"))
-        style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
-                 "line_color": "#000000"}
-        r = fig.scatter("x", "v", source=s["start"], **style)
-        items.append(_legend_item(fig, r, "start", "scatter", **style))
+        fig.scatter("x", "v", source=s["repeat"], **PHASE_STYLE["repeat"])
+        ranged.append(fig.scatter("x", "v", source=s["start"], **PHASE_STYLE["start"]))
+        x_range.renderers = y_range.renderers = ranged
         # Underlay: the stick segment runs along the belt line and must stay visible.
         self.spans["stop"] = Span(location=0.0, dimension="height", line_color="#000000",
                                   line_width=3, level="underlay")
@@ -574,13 +578,11 @@ class PlotSet:
                                   line_dash="dotted", line_width=2, level="underlay")
         fig.add_layout(self.spans["stop"])
         fig.add_layout(self.spans["belt"])
-        # Below the frame, so it never hides the trajectory.
-        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
-                              ncols=5, label_text_font_size="10px", spacing=2, padding=2,
-                              margin=2, click_policy="hide", glyph_width=14,
-                              label_standoff=3), "below")
+        # The legend is HTML below the figure (one model, drawn by the browser's layout,
+        # not a Bokeh legend with a stand-in renderer per entry).
+        self.legends["phase"] = _legend_div()
         self.figures["phase"] = fig
-        self.panes["phase"] = fig
+        self.panes["phase"] = column(fig, self.legends["phase"], sizing_mode="stretch_width")
 
     def _build_time(self, s) -> None:
         fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
@@ -597,7 +599,7 @@ class PlotSet:
         fig_x.add_layout(self.spans["stop_t"])
         fig_v.add_layout(self.spans["belt_t"])
         self.figures["time_x"], self.figures["time_v"] = fig_x, fig_v
-        self.panes["time"] = column(fig_x, fig_v)
+        self.panes["time"] = column(fig_x, fig_v, sizing_mode="stretch_width")
 
     def _build_force(self, s) -> None:
         fig = self._figure("Contact force", SMALL_SIZE, x_axis_label="t",
@@ -610,6 +612,8 @@ class PlotSet:
         fig.extra_y_ranges = {"rest": Range1d(0.0, 1.0)}
         self.rest_axis = LinearAxis(y_range_name="rest", axis_label="force at rest",
                                     axis_label_text_color=REST_COLOR, visible=False,
+                                    axis_label_text_font_size=AXIS_LABEL_FONT,
+                                    major_label_text_font_size=TICK_LABEL_FONT,
                                     formatter=BasicTickFormatter(
                                         power_limit_low=TICK_POWER_LIMIT_LOW))
         fig.add_layout(self.rest_axis, "right")
@@ -627,11 +631,11 @@ class PlotSet:
             ("exp", "expansion envelope", {"line_color": "#888888", "line_dash": "dotdash"}),
             ("loop", "contact force", {"line_color": MODE_COLORS[2], "line_width": 2}),
         ):
-            r = fig.line("d", "phi", source=s[name], **style)
-            items.append(_legend_item(fig, r, label, "line", **style))
-        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px"))
+            fig.line("d", "phi", source=s[name], **style)
+            items.append((label, _swatch("line", **style), ""))
+        self.legends["loop"] = _legend_div(legend_html(items))
         self.figures["loop"] = fig
-        self.panes["loop"] = fig
+        self.panes["loop"] = column(fig, self.legends["loop"], sizing_mode="stretch_width")
 
     def _build_friction(self, s) -> None:
         fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
@@ -646,16 +650,12 @@ class PlotSet:
         fig = self._figure("Energy", SMALL_SIZE, x_axis_label="t", y_axis_label="energy / k")
         items = []
         for name, color in ENERGY_COLORS.items():
-            r = fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
-            items.append(_legend_item(fig, r, name.replace("_", " "), "line",
-                                      line_color=color, line_width=1.5))
-        # Below the frame, so it never hides a curve.
-        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
-                              label_text_font_size="10px", spacing=4, padding=2, margin=2,
-                              click_policy="hide", glyph_width=14, label_standoff=3),
-                       "below")
+            fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
+            items.append((name.replace("_", " "),
+                          _swatch("line", line_color=color, line_width=1.5), ""))
+        self.legends["energy"] = _legend_div(legend_html(items))
         self.figures["energy"] = fig
-        self.panes["energy"] = fig
+        self.panes["energy"] = column(fig, self.legends["energy"], sizing_mode="stretch_width")
 
     def _build_map(self, s) -> None:
         fig = self._figure("Regime map (tap to move there)", MAP_SIZE,
@@ -717,8 +717,31 @@ class PlotSet:
         for name in MODE_NAMES.values():
             _assign(s[f"path_{name}"], phase[name])
         _assign(s["repeat"], phase["repeat"])
-        self.repeat_item.visible = bool(len(phase["repeat"]["x"]))
         _assign(s["trans"], transition_columns(sol, scales, phase["t_draw"]))
+
+    def _phase_legend(self) -> list[tuple[str, str, str]]:
+        """Entries of what the phase portrait draws: ``(label, swatch, explanation)``."""
+        d = {name: src.data for name, src in self.sources.items()}
+        out = []
+        for key in ("gamma0", "cycle"):
+            if len(d[key]["x"]):
+                label, note = PHASE_LABELS[key]
+                out.append((label, _swatch("line", **PHASE_STYLE[key]), note))
+        for name in MODE_NAMES.values():
+            if len(d[f"path_{name}"]["x"]):
+                out.append((name, _swatch("line", **PHASE_STYLE[name]), ""))
+        for kind, (marker, color) in TRANSITION_STYLE.items():
+            if kind in self._kinds_shown:
+                out.append((TRANSITION_LABELS.get(kind, kind),
+                            _swatch(marker, fill_color=color, line_color=color), ""))
+        for key in ("points", "repeat", "start"):
+            if len(d[key]["x"]):
+                label, note = PHASE_LABELS[key]
+                if key == "repeat":  # with the count of repeats
+                    label = f"{label} ({d[key]['text'][0]})"
+                style = PHASE_STYLE[key]
+                out.append((label, _swatch(**style), note))
+        return out
 
     def _set_theory_visible(self, visible: bool) -> None:
         for r in self._theory_renderers:
@@ -726,10 +749,18 @@ class PlotSet:
                 r.visible = visible
 
     def _phase_step(self, sol: Solution, scales: Scales) -> tuple[float, float]:
-        """Chord bound of the phase path (:func:`phase_step`) for the view that shows the
-        motion and the references."""
-        (x0, x1), (v0, v1) = self._phase_bounds(sol, scales, use_path=False)
-        return phase_step((x0, x1), (v0 / scales.velocity, v1 / scales.velocity))
+        """Chord bound of the phase path (:func:`phase_step`) for a view that shows the
+        motion and the reference curves (dimensionless)."""
+        d = {name: self.sources[name].data for name in ("gamma0", "cycle")}
+        (x0, x1), (v0, v1) = _sample_bounds(sol)
+        for ref in d.values():
+            if len(ref["x"]):
+                x0, x1 = min(x0, float(np.min(ref["x"]))), max(x1, float(np.max(ref["x"])))
+                vr = np.asarray(ref["v"], float) / scales.velocity
+                vr = vr[np.isfinite(vr)]
+                if len(vr):
+                    v0, v1 = min(v0, float(vr.min())), max(v1, float(vr.max()))
+        return phase_step((x0, x1), (v0, v1))
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
@@ -754,8 +785,9 @@ class PlotSet:
             if stop_type != self._kinds_stop:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
-            for kind, item in self.kind_items.items():
-                item.visible = kind in self._kinds_shown
+            text = legend_html(self._phase_legend())
+            if self.legends["phase"].text != text:
+                self.legends["phase"].text = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
             _assign(s["bands"], band_columns(self._bands, scales))
@@ -802,11 +834,8 @@ class PlotSet:
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
-        if "phase" in plots:
-            (x0, x1), (v0, v1) = self._phase_bounds(sol, self._scales or DIMENSIONLESS)
-            for rng, lo, hi in ((f["phase"].x_range, x0, x1), (f["phase"].y_range, v0, v1)):
-                if (rng.start, rng.end, rng.reset_start, rng.reset_end) != (lo, hi, lo, hi):
-                    rng.update(start=lo, end=hi, reset_start=lo, reset_end=hi)
+        if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
+            _assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
         if "time" in plots:
             traj = d["traj"]
             _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
@@ -832,41 +861,6 @@ class PlotSet:
             _set_range(f["energy"].y_range, tuple(energy[n] for n in ENERGY_COLORS),
                        RANGE_PADDING)
 
-    def _phase_bounds(self, sol: Solution, scales: Scales, use_path: bool = True
-                      ) -> tuple[tuple[float, float], tuple[float, float]]:
-        """Ranges of the phase portrait: the motion (its drawn path, or all samples), the
-        reference curves and theory points the caption speaks of, and the stop when near,
-        padded and widened to equal aspect for the current frame (a circle of the
-        dimensionless phase plane is drawn as a circle; :func:`equal_aspect`)."""
-        d = {name: src.data for name, src in self.sources.items()}
-        if use_path:
-            xs = [d[f"path_{n}"]["x"] for n in MODE_NAMES.values()]
-            vs = [d[f"path_{n}"]["v"] for n in MODE_NAMES.values()]
-        else:
-            res = sol.result
-            xs = [np.asarray(res.x)] if res is not None else []
-            vs = [np.asarray(res.v) * scales.velocity] if res is not None else []
-        stop = _stop_in_view(np.concatenate([np.asarray(x, float) for x in xs])
-                             if xs else [], sol)
-        xs += [d["start"]["x"], stop]
-        vs += [d["start"]["v"]]
-        if self._theory_renderers[0].visible:  # hidden during a preview: another state
-            xs += [d["points"]["x"], d["gamma0"]["x"], d["cycle"]["x"]]
-            vs += [d["points"]["v"], d["gamma0"]["v"], d["cycle"]["v"]]
-        xb = data_bounds(tuple(xs), PHASE_X_PADDING)
-        vb = data_bounds(tuple(vs), RANGE_PADDING)
-        return equal_aspect(xb, vb, self._phase_frame, scales.velocity)
-
-    def _on_phase_frame(self, attr: str, old: Any, new: Any) -> None:
-        """The browser laid the phase portrait out: keep its aspect equal."""
-        fig = self.figures["phase"]
-        w, h = fig.inner_width, fig.inner_height
-        if not w or not h or w <= 0 or h <= 0 or (w, h) == self._phase_frame:
-            return
-        self._phase_frame = (int(w), int(h))
-        if self._last is not None:
-            self._set_ranges({"phase"}, self._last)
-
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None
         for name in ("stop", "stop_t"):
@@ -880,6 +874,8 @@ class PlotSet:
         f = self.figures
         f["phase"].xaxis.axis_label = scales.length_label
         f["phase"].yaxis.axis_label = scales.velocity_label
+        if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
+            f["phase"].aspect_scale = scales.velocity
         f["time_x"].yaxis.axis_label = scales.length_label
         f["time_v"].yaxis.axis_label = scales.velocity_label
         f["time_v"].xaxis.axis_label = scales.time_label
@@ -913,50 +909,46 @@ class PlotSet:
         _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
 
 
-def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> LegendItem:
-    """A legend entry for ``renderer`` drawn from a stand-in glyph with no data.
+def _swatch(marker: str = "line", **style: Any) -> str:
+    """A small inline SVG of a line style or a marker, for an HTML legend."""
+    color = style.get("line_color", style.get("color", "#000000"))
+    fill = style.get("fill_color", style.get("color", color))
+    width = style.get("line_width", 1.5)
+    if marker == "line":
+        dash = {"dashed": "4 3", "dotted": "1 2", "dotdash": "1 2 4 2"}.get(
+            style.get("line_dash", ""), "")
+        shape = (f'<line x1="1" y1="6" x2="17" y2="6" stroke="{color}" '
+                 f'stroke-width="{width}" stroke-dasharray="{dash}"/>')
+    else:
+        shape = {
+            "triangle": '<polygon points="9,1 15,11 3,11"',
+            "inverted_triangle": '<polygon points="3,1 15,1 9,11"',
+            "diamond": '<polygon points="9,0 15,6 9,12 3,6"',
+            "square": '<rect x="4" y="2" width="9" height="9"',
+            "square_pin": '<rect x="4" y="2" width="9" height="9"',
+        }.get(marker, '<circle cx="9" cy="6" r="4.5"')
+        shape += f' fill="{fill}" stroke="{color}" stroke-width="{min(width, 2)}"/>'
+    return (f'<svg width="18" height="12" viewBox="0 0 18 12" aria-hidden="true" '
+            f'style="vertical-align:-1px;margin-right:4px">{shape}</svg>')
 
-    A legend redraws every entry whenever anything reachable from its items changes, so
-    entries that pointed at the data renderers were redrawn for each source a release
-    updates (~15 times per message in the phase portrait). The stand-in never changes;
-    hiding it from the legend hides the renderer it stands for, through the server (a
-    ``js_link`` would make the renderer, and so its data, reachable from the legend).
+
+def legend_html(entries: list[tuple[str, str, str]]) -> str:
+    """An HTML legend: each entry's swatch and label, its explanation as a tooltip.
+
+    >>> legend_html([("slip", "<svg/>", "")])
+    '<span style="display:inline-block;margin-right:12px;white-space:nowrap"><svg/>slip</span>'
     """
-    # One point off the canvas: the legend draws the glyph of a data index.
-    source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
-    draw = fig.line if glyph == "line" else fig.scatter
-    proxy = draw("x", "y", source=source, **style)
-    # The renderer is tagged (a ``tags`` argument of ``fig.line`` would tag its glyph), so
-    # that the page skips painting it in the frame and draws its legend entry once
-    # (static/bokeh_paint.js, patches 7 and 8).
-    proxy.tags = [LEGEND_PROXY_TAG]
-    proxy.on_change("visible", lambda attr, old, new: setattr(renderer, "visible", new))
-    return LegendItem(label=label, renderers=[proxy])
+    parts = []
+    for label, swatch, note in entries:
+        title = f' title="{html.escape(note)}"' if note else ""
+        parts.append(f'<span style="display:inline-block;margin-right:12px;'
+                     f'white-space:nowrap"{title}>{swatch}{html.escape(label)}</span>')
+    return "".join(parts)
 
 
-def equal_aspect(x_bounds: tuple[float, float], v_bounds: tuple[float, float],
-                 frame: tuple[int, int], v_scale: float = 1.0
-                 ) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Widen one of the bounds so that a ``frame = (width, height)`` [px] shows one unit of
-    ``x`` and ``v_scale`` units of ``v`` over the same number of pixels (SI: ``v_scale =
-    omega``, so ``x'/omega`` and ``x`` share a scale and the slip circles of paper Eq. 7
-    are circles on the screen).
-
-    >>> equal_aspect((0.0, 1.0), (0.0, 1.0), (200, 100))
-    ((-0.5, 1.5), (0.0, 1.0))
-    >>> equal_aspect((0.0, 1.0), (0.0, 1.0), (100, 100), 2.0)
-    ((0.0, 1.0), (-0.5, 1.5))
-    """
-    (x0, x1), (v0, v1) = x_bounds, v_bounds
-    w, h = frame
-    xs, vs = x1 - x0, (v1 - v0) / v_scale
-    if xs * h > vs * w:  # x needs more pixels per unit: widen v
-        half = 0.5 * xs * h / w * v_scale
-        mid = 0.5 * (v0 + v1)
-        return (x0, x1), (mid - half, mid + half)
-    half = 0.5 * vs * w / h
-    mid = 0.5 * (x0 + x1)
-    return (mid - half, mid + half), (v0, v1)
+def _legend_div(text: str = "") -> Div:
+    return Div(text=text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
+               styles={"font-size": "12px", "line-height": "1.7"})
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
@@ -1016,6 +1008,7 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "traj": {k: [] for k in ("t", "t_raw", "x", "v", "mode")},
     **{f"path_{name}": {"x": [], "v": []} for name in MODE_NAMES.values()},
     "repeat": {"x": [], "v": [], "text": []},
+    "stop_pt": {"x": [], "v": []},
     "trans": {k: [] for k in ("x", "v", "t", "kind", "marker", "color")},
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import html
+
 import numpy as np
 import pytest
 
@@ -67,23 +69,63 @@ def test_phase_trajectory_jumps_at_the_stop_and_joins_only_neighbours(key, previ
 
 def test_axis_ranges_come_with_the_data():
     """The server sets every visible figure's range from the data it sends (no
-    ``DataRange1d`` computed in the browser and echoed back)."""
+    ``DataRange1d`` computed in the browser and echoed back), except the phase portrait's:
+    only the browser knows its frame, and equal aspect needs it (``match_aspect``)."""
     from bokeh.models import DataRange1d
 
     from app.explorer import Explorer
 
     ex = Explorer()
     figs = ex.plots.figures
-    assert not any(isinstance(r, DataRange1d) for f in figs.values()
-                   for r in (f.x_range, f.y_range))
-    traj = {k: np.asarray(v, float) for k, v in ex.plots.sources["traj"].data.items()}
-    phase = figs["phase"]
-    assert phase.x_range.start < traj["x"].min() and phase.x_range.end > traj["x"].max()
-    assert phase.y_range.start < traj["v"].min() and phase.y_range.end > traj["v"].max()
-    assert (phase.x_range.reset_start, phase.x_range.reset_end) == (
-        phase.x_range.start, phase.x_range.end)  # the reset tool returns here
-    t = figs["time_x"].x_range
-    assert (t.start, t.end) == pytest.approx((traj["t"][0], traj["t"][-1]))
+    assert not any(isinstance(r, DataRange1d) for name, f in figs.items()
+                   for r in (f.x_range, f.y_range) if name != "phase")
+
+
+@pytest.mark.parametrize("units, omega", [("dimensionless", 1.0), ("SI", None)])
+def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
+    """A slip arc is a circle about (+-a, 0) (paper Eq. 7): the portrait fits its ranges
+    to the frame with one scale for x and x' (dimensionless) or x and x'/omega (SI, x' in
+    m/s), so circles are drawn as circles (the browser test measures them)."""
+    from bokeh.models import DataRange1d
+
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex._commit({"units": units})
+    fig = ex.plots.figures["phase"]
+    assert fig.match_aspect
+    assert isinstance(fig.x_range, DataRange1d) and isinstance(fig.y_range, DataRange1d)
+    scale = ex.state.scales().velocity
+    assert fig.aspect_scale == pytest.approx(omega or scale)
+    if units == "SI":
+        assert scale != 1.0
+    # The references the caption names are in the ranges' renderers.
+    ranged = set(fig.x_range.renderers) & set(fig.y_range.renderers)
+    sources = {r.data_source for r in ranged}
+    for name in ("gamma0", "cycle", "points", "start", "path_slip"):
+        assert ex.plots.sources[name] in sources, name
+
+
+def test_legends_are_html_and_list_only_what_is_drawn():
+    """No legend stand-in renderers (234 of a page's ~950 models): the legends are HTML,
+    and the phase portrait's lists what it draws (a pure slip orbit has no stick)."""
+    from bokeh.models import Legend
+
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    assert not [m for f in ex.plots.figures.values() for m in f.select(type=Legend)]
+    for fig in ex.plots.figures.values():
+        for r in fig.renderers:
+            data = r.data_source.data if hasattr(r, "data_source") else {}
+            assert not (data.get("x") is not None and len(data["x"]) == 1
+                        and np.isnan(data["x"][0])), "a stand-in renderer"
+    ex.scene_select.value = "4a"  # impactless, fast belt: pure slip
+    text = ex.plots.legends["phase"].text
+    assert "slip" in text and ">stick<" not in text and "slip-&gt;stick" not in text
+    ex.scene_select.value = "5b"
+    text = ex.plots.legends["phase"].text
+    assert ">stick<" in text and "impact" in text
 
 
 def test_a_preview_overtaken_by_a_release_is_not_drawn():
@@ -100,33 +142,18 @@ def test_a_preview_overtaken_by_a_release_is_not_drawn():
 
 def test_legend_lists_the_transition_kinds_of_the_scene():
     from app.explorer import Explorer
+    from app.plots import TRANSITION_LABELS, TRANSITION_STYLE
+
+    def listed(ex):
+        text = ex.plots.legends["phase"].text
+        return {k for k in TRANSITION_STYLE
+                if f">{html.escape(TRANSITION_LABELS.get(k, k))}</span>" in text}
 
     ex = Explorer()
     ex.scene_select.value = "10"
-    shown = {k for k, item in ex.plots.kind_items.items() if item.visible}
-    assert shown == set(ex.plots.sources["trans"].data["kind"])
+    assert listed(ex) == set(ex.plots.sources["trans"].data["kind"])
     ex.scene_select.value = "11"  # a new scene forgets the kinds of the last one
-    shown = {k for k, item in ex.plots.kind_items.items() if item.visible}
-    assert shown == set(ex.plots.sources["trans"].data["kind"])
-
-
-def test_every_legend_entry_is_a_tagged_stand_in():
-    """The page's paint shortcuts for legends (static/bokeh_paint.js, patches 7 and 8) find
-    the stand-ins by the tag of their renderer: each legend entry of every figure is drawn
-    from a renderer that carries it and has no data to show."""
-    from bokeh.models import GlyphRenderer, Legend
-
-    from app.explorer import Explorer
-    from app.plots import LEGEND_PROXY_TAG
-
-    ex = Explorer()
-    legends = [m for fig in ex.plots.figures.values() for m in fig.select(type=Legend)]
-    assert len(legends) >= 3  # phase portrait, energy, hysteresis loop
-    for legend in legends:
-        for item in legend.items:
-            for r in item.renderers:
-                assert isinstance(r, GlyphRenderer) and LEGEND_PROXY_TAG in r.tags, item.label
-                assert np.isnan(r.data_source.data["x"]).all()
+    assert listed(ex) == set(ex.plots.sources["trans"].data["kind"])
 
 
 @pytest.mark.parametrize("beyond, shown", [(0.3, True), (2.0, False)])
@@ -147,8 +174,10 @@ def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
     x = np.asarray(ex.plots.sources["traj"].data["x"], float)
     assert x.max() < clearance  # no impact: the motion does not reach the stop
     figs = ex.plots.figures
-    for rng in (figs["phase"].x_range, figs["time_x"].y_range):
-        assert (rng.end > clearance) is shown
+    assert (figs["time_x"].y_range.end > clearance) is shown
+    # The phase portrait's ranges are fitted in the browser to what its renderers hold.
+    stop_pt = ex.plots.sources["stop_pt"].data["x"]
+    assert (list(stop_pt) == [clearance]) is shown
 
 
 @pytest.mark.parametrize("key", ["10", "11"])

@@ -56,8 +56,17 @@ def test_phase_portrait_has_no_long_chords_at_a_long_horizon(key):
     plots = _drawn(key)
     fig = plots.figures["phase"]
     sol = plots._last
-    px_x = PHASE_FRAME_MAX[0] / (fig.x_range.end - fig.x_range.start)
-    px_v = PHASE_FRAME_MAX[1] / (fig.y_range.end - fig.y_range.start)
+    # The browser fits the ranges to what the ranged renderers hold, padded, at equal
+    # aspect (match_aspect): pixels per unit are the smaller of the two axes' ratios.
+    xs, vs = [], []
+    for r in fig.x_range.renderers:
+        data = r.data_source.data
+        xs.append(np.asarray(data["x"], float))
+        vs.append(np.asarray(data["v"], float))
+    x_all, v_all = np.concatenate(xs), np.concatenate(vs)
+    x_span = np.ptp(x_all[np.isfinite(x_all)]) * (1 + fig.x_range.range_padding)
+    v_span = np.ptp(v_all[np.isfinite(v_all)]) * (1 + fig.y_range.range_padding)
+    px_x = px_v = min(PHASE_FRAME_MAX[0] / x_span, PHASE_FRAME_MAX[1] / v_span)
     longest = 0.0
     for name in MODE_NAMES.values():
         data = plots.sources[f"path_{name}"].data
@@ -80,7 +89,8 @@ def test_a_periodic_steady_state_is_drawn_once_and_its_repeats_counted():
     repeat = plots.sources["repeat"].data
     assert len(repeat["x"]) == 1
     n = int((sol.t_end - steady.t_reached - steady.period) // steady.period)
-    assert repeat["text"] == [f"cycle repeats {n}x"]
+    assert repeat["text"] == [f"repeats {n}x"]
+    assert f"cycle closes (repeats {n}x)" in plots.legends["phase"].text
     # Markers only for the transitions up to the end of the first cycle.
     t_marks = np.asarray(plots.sources["trans"].data["t"], float)
     assert t_marks.max() <= steady.t_reached + steady.period * (1 + 1e-6)
