@@ -22,6 +22,7 @@ from bokeh.models import (
     ColumnDataSource,
     DataRange1d,
     Div,
+    GlyphRenderer,
     Label,
     LabelSet,
     LinearAxis,
@@ -514,6 +515,14 @@ class PlotSet:
         self._build_friction(s)
         self._build_energy(s)
         self._build_map(s)
+        # No selection tools and no muting legends: BokehJS derives the non-selection and
+        # muted glyphs itself ("auto") instead of receiving two more glyph models per
+        # renderer (~70 models of a page).
+        for fig in self.figures.values():
+            for r in fig.renderers:
+                if isinstance(r, GlyphRenderer):
+                    r.nonselection_glyph = "auto"
+                    r.muted_glyph = "auto"
         self._last: Solution | None = None
         self._updates = 0
         self._kinds_stop: str | None = None
@@ -546,8 +555,10 @@ class PlotSet:
         # (``match_aspect``; ``aspect_scale`` is omega in SI units, so that x and x'/omega
         # share one scale). The server does not know the frame's size, so this figure's
         # ranges are the one thing computed in the browser.
+        # One padding for both: BokehJS pads after fitting the aspect, each axis by a
+        # fraction of its own span, which keeps the ratio only if the fractions are equal.
         x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
-        y_range = DataRange1d(range_padding=RANGE_PADDING, only_visible=True)
+        y_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
         fig = self._figure("Phase portrait (x, x')", PHASE_SIZE, x_axis_label="x",
                            y_axis_label="x'", x_range=x_range, y_range=y_range,
                            match_aspect=True)
