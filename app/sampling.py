@@ -293,11 +293,15 @@ def steady_cycle(result: Result, t_end: float, step: tuple[float, float]
 
 
 def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
-                 cycle: tuple[float, float] | None = None):
+                 cycle: tuple[float, float] | None = None, column_width: float = 0.0):
     """Samples of the whole horizon at :data:`HISTORY_DT` or finer, with the exact states
     on both sides of each transition. A steady ``cycle`` (:func:`steady_cycle`) is
     evaluated for one period and tiled; a mass at rest (on the stop or in equilibrium) is
-    evaluated up to the time it stops. Returns ``t, x, v, mode``."""
+    evaluated up to the time it stops. Returns ``t, x, v, mode``.
+
+    When a pixel column (``column_width``) is at least a period long, every column holds
+    every phase of the cycle, so its extremes are the cycle's: the tiles then carry only
+    the cycle's extreme samples and the ends of its mode runs."""
     if not exact:
         return (np.asarray(result.t, float), np.asarray(result.x, float),
                 np.asarray(result.v, float), np.asarray(result.mode, np.int8))
@@ -333,6 +337,11 @@ def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
     ct, cx, cv, cm = t[cyc], x[cyc], v[cyc], mode[cyc]
     keep = ct < t0 + period * (1.0 - 1e-12)
     ct, cx, cv, cm = ct[keep] - t0, cx[keep], cv[keep], cm[keep]
+    if column_width >= period and len(ct) > 2:
+        run = np.flatnonzero(cm[1:] != cm[:-1])
+        key = np.unique(np.r_[0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),
+                              np.argmin(cv), np.argmax(cv)])
+        ct, cx, cv, cm = ct[key], cx[key], cv[key], cm[key]
     copies = int(math.ceil((t_end - t0) / period))
     tt = (ct[None, :] + (t0 + period * np.arange(copies))[:, None]).ravel()
     n_in = int(np.searchsorted(tt, t_end, side="right"))
@@ -417,7 +426,7 @@ def history(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
     """The time histories and mode bands for a plot ``columns`` pixels wide (``step``:
     the phase portrait's chord bound, see :func:`steady_cycle`)."""
     cycle = steady_cycle(result, t_end, step) if exact else None
-    t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle)
+    t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle, t_end / columns)
     t_lo = float(t[0]) if len(t) else 0.0
     idx = m4(t, (x, v), t_lo, t_end, columns)
     bands = mode_bands(t, mode, t_lo, t_end, columns)
