@@ -575,7 +575,8 @@ class Explorer(pn.viewable.Viewer):
         st = self.state
         scales = st.scales()
         visible = self.visible_plots()
-        map_data = regime_map(sol.values, compute=False) if "map" in visible else None
+        map_data = (regime_map(sol.values, compute=False, frame=self._map_frame(sol))
+                    if "map" in visible else None)
         # The values come from the solver and the plot code, valid by construction: Bokeh's
         # check of each of the ~100 properties set here is skipped (server time on the
         # critical path of every release).
@@ -596,12 +597,17 @@ class Explorer(pn.viewable.Viewer):
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
 
+    def _map_frame(self, sol: Solution) -> tuple[float, float, float]:
+        """The regime map's axes, stable for a scene (:meth:`PlotSet.map_frame`)."""
+        return self.plots.map_frame({**sol.values, "scene": self.state.scene,
+                                     "units": self.state.units})
+
     def _draw_map(self, sol: Solution) -> None:
         """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
         if sol is not self.solution:
             return
         try:
-            data = regime_map(sol.values)
+            data = regime_map(sol.values, frame=self._map_frame(sol))
         except Exception:  # noqa: BLE001 - a map that fails leaves the old one
             log.exception("regime map failed")
             return
@@ -657,11 +663,27 @@ class _Deferred:
             fn()
 
 
+#: What the words of the regime map's legend mean (shown under it, for the words used).
+MAP_TERMS = {
+    "slow": "slow / fast belt: v below / above the critical speed v* (Eq. 25)",
+    "no impact": "no impact: the motion stays short of the stop",
+    "elastic": "elastic / inelastic / plastic: restitution r = 1 / 0 < r < 1 / r = 0",
+    "case": "case a / b / c: where the stick phase meets the stop (Sec. 4.2-4.4, Eq. 35)",
+    "grazing": "grazing: impacts fade towards a slip circle touching the stop",
+    "rest": "rest: the impacts accumulate and the mass stays pressed on the stop",
+}
+
+
 def _map_legend(labels: list[str]) -> str:
-    """Colour swatches naming the regimes of the map."""
+    """Colour swatches naming the regimes of the map, and what their words mean."""
     items = "".join(
         f"<span class='fie-swatch'><i style='background:{MAP_PALETTE[i % len(MAP_PALETTE)]}'>"
         f"</i>{html.escape(label)}</span>"
         for i, label in enumerate(labels)
     )
-    return f"<div class='fie-legend'>{items}</div>"
+    words = " ".join(labels)
+    terms = [text for word, text in MAP_TERMS.items()
+             if word in words or (word == "slow" and "fast" in words)
+             or (word == "elastic" and ("inelastic" in words or "plastic" in words))]
+    notes = "".join(f"<div class='fie-look'>{html.escape(t)}</div>" for t in terms)
+    return f"<div class='fie-legend'>{items}{notes}</div>"

@@ -33,8 +33,8 @@ from bokeh.models import (
 from bokeh.plotting import figure
 
 from app import sampling
-from app.scenes import PLOTS
-from app.solver import Solution
+from app.scenes import CUSTOM, PLOTS
+from app.solver import Solution, map_ranges
 from app.state import DIMENSIONLESS, Scales
 from core import Mode, TransitionKind
 from core.hysteresis import phi_compression, phi_expansion
@@ -128,6 +128,8 @@ MAP_SIZE = (540, 380)
 PLOT_WIDTHS = (360, 900)
 #: Font sizes: axis labels and the theory's labels readable from the back of a room.
 AXIS_LABEL_FONT, TICK_LABEL_FONT, TITLE_FONT = "13px", "12px", "14px"
+#: What the regime map's axes depend on besides the point: a change reframes the map.
+MAP_FRAME_KEYS = ("scene", "stop_type", "mu_s", "mu_k", "u_s", "units")
 #: Styles of the phase portrait's glyphs (drawn and in its HTML legend).
 PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
     "gamma0": {"line_color": "#777777", "line_dash": "dashed", "line_width": 1},
@@ -530,6 +532,8 @@ class PlotSet:
         self._dirty: set[str] = set()
         self._map_shown: Mapping[str, Any] | None = None
         self._map_scales: Scales | None = None
+        self._map_frame: tuple[float, float, float] | None = None
+        self._map_frame_key: tuple | None = None
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
 
     # --- building ------------------------------------------------------------------------
@@ -830,6 +834,25 @@ class PlotSet:
         self._set_labels(sol, scales)
         self._set_ranges(todo, sol)
 
+    def map_frame(self, values: Mapping[str, Any]) -> tuple[float, float, float]:
+        """Axes ``(v_hi, x_lo, x_hi)`` of the regime map, stable for a scene: computed
+        (:func:`app.solver.map_ranges`) when what the map's axes depend on besides the
+        point changes (scene, stop type, friction, units), kept when the point moves (a
+        tap, a slider) or the start moves, and widened only to keep the point in view."""
+        key = tuple(values.get(name) for name in MAP_FRAME_KEYS)
+        if values.get("scene") == CUSTOM and self._map_frame_key is not None:
+            # A parameter moved off the scene: the scene's frame stays.
+            key = (self._map_frame_key[0], *key[1:])
+        v, x = values["belt_speed"], values["clearance"]
+        frame = self._map_frame
+        if frame is None or key != self._map_frame_key:
+            frame = map_ranges(values)
+        elif not (0.0 <= v <= frame[0] and frame[1] <= x <= frame[2]):
+            new = map_ranges(values)
+            frame = (max(frame[0], new[0]), min(frame[1], new[1]), max(frame[2], new[2]))
+        self._map_frame, self._map_frame_key = frame, key
+        return frame
+
     def show_map(self, map_data: Mapping[str, Any]) -> None:
         """Draw the regime map of the last solution, computed after the rest of its update
         was sent (:meth:`app.explorer.Explorer._draw`); call under ``pn.io.hold``."""
@@ -916,6 +939,10 @@ class PlotSet:
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)
+        # Without a stop the regime does not depend on the clearance: no clearance axis.
+        has_stop = sol.values["stop_type"] != "none"
+        if fig.yaxis[0].visible != has_stop:
+            fig.yaxis[0].visible = has_stop
         clearance = sol.values["clearance"]
         _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
 

@@ -347,20 +347,22 @@ def overlap_program(stop: HystereticStop) -> Program:
     return Program(s=s, overlap=delta, force=force)
 
 
-def regime_map(values: Mapping[str, Any], *, compute: bool = True) -> dict[str, Any] | None:
+def regime_map(values: Mapping[str, Any], *, compute: bool = True,
+               frame: tuple[float, float, float] | None = None) -> dict[str, Any] | None:
     """Regime codes over a (belt speed, clearance) grid for the current friction, stop and
     start (:func:`core.theory.classify`); cached on what the map depends on.
 
     A new map is :data:`MAP_CELLS` squared classifications at once (~4 ms at 128 x 128,
     :func:`core.theory.classify_grid`); with ``compute=False`` only a cached one is
-    returned, else ``None`` (the page then draws the rest first).
+    returned, else ``None`` (the page then draws the rest first). ``frame`` gives the axes
+    ``(v_hi, x_lo, x_hi)`` (default :func:`map_ranges` of ``values``).
     """
     key = tuple(
         (name, values[name])
         for name in ("mu_s", "mu_k", "u_s", "stop_type", "restitution", "k_c0", "k_e0",
                      "limit_overlap", "beta_c", "beta_e", "x0", "v0")
     )
-    v_hi, x_lo, x_hi = map_ranges(values)
+    v_hi, x_lo, x_hi = frame if frame is not None else map_ranges(values)
     key += (("v_hi", v_hi), ("x_lo", x_lo), ("x_hi", x_hi))
     with _MAP_LOCK:
         data = _MAP_CACHE.get(key)

@@ -258,3 +258,35 @@ def test_a_new_session_page_stays_within_its_model_budget():
     create_app().server_doc(doc)
     n = len(doc.models)
     assert 0 < n <= PAGE_MODEL_BUDGET, f"{n} models"
+
+
+def test_the_regime_map_keeps_its_axes_for_a_scene():
+    """A tap on the map or a new start point does not reframe it (a tap near its right
+    edge used to widen the belt speed axis, a new x0 moved the clearance axis); without a
+    stop it has no clearance axis; its legend says what its words mean."""
+    from bokeh.events import Tap
+
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex.scene_select.value = "5b"
+    ex._draw_map(ex.solution)
+    fig = ex.plots.figures["map"]
+
+    def axes():
+        return fig.x_range.start, fig.x_range.end, fig.y_range.start, fig.y_range.end
+
+    before = axes()
+    x0, x1, y0, y1 = before
+    ex._on_map_tap(Tap(fig, x=x0 + 0.95 * (x1 - x0), y=y0 + 0.9 * (y1 - y0)))
+    ex._draw_map(ex.solution)
+    assert axes() == before
+    ex._commit({"x0": -0.1})
+    ex._draw_map(ex.solution)
+    assert axes() == before
+    legend = ex.map_legend.object
+    assert "critical speed" in legend and "case a / b / c" in legend
+    assert fig.yaxis[0].visible
+    ex._commit({"stop_type": "none"})
+    ex._draw_map(ex.solution)
+    assert not fig.yaxis[0].visible
