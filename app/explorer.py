@@ -239,7 +239,7 @@ class Explorer(pn.viewable.Viewer):
                                     name=PLOT_TITLES[name], margin=(4, 8),
                                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
                                     max_width=PLOT_WIDTHS[1],
-                                    styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 100}px"})
+                                    styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"})
         return panes
 
     # --- views ---------------------------------------------------------------------------

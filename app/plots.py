@@ -134,6 +134,7 @@ MAP_FRAME_KEYS = ("scene", "stop_type", "mu_s", "mu_k", "u_s", "units")
 PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
     "gamma0": {"line_color": "#777777", "line_dash": "dashed", "line_width": 1},
     "cycle": {"line_color": "#999999", "line_width": 1},
+    "removed": {"line_color": "#555555", "line_dash": "dotted", "line_width": 1.5},
     **{name: {"line_color": MODE_COLORS[m], "line_width": 2} for m, name in MODE_NAMES.items()},
     "points": {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
                "line_color": "#000000", "line_width": 2},
@@ -151,6 +152,8 @@ PHASE_LABELS: Mapping[str, tuple[str, str]] = {
     "repeat": ("cycle closes", "the periodic steady state is drawn once: from here it "
                "repeats; the label counts the repeats within the horizon"),
     "start": ("start", "the initial state (x0, x'0); click the portrait to move it"),
+    "removed": ("stop removed", "Sec. 4.6: the pure slip circle about (a, 0) the mass "
+                "would follow if the stop were removed while it rests on it"),
 }
 #: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
 #: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
@@ -318,7 +321,8 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
     empty = {"x": _f32([]), "v": _f32([])}
     th = sol.theory
     if th is None:
-        return {"gamma0": empty, "cycle": empty, "points": _theory_points({}, math.inf, scales)}
+        return {"gamma0": empty, "cycle": empty, "removed": empty,
+                "points": _theory_points({}, math.inf, scales)}
     a, v = sol.osc.a, sol.osc.v
     phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
     gamma0 = {"x": _f32(a + th.gamma0_radius * np.cos(phi)),
@@ -341,8 +345,35 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
         cv = np.r_[cv, np.nan, v, v]
         cycle = {"x": _f32(cx), "v": _f32(cv * scales.velocity)}
     stop = sol.stop.clearance if sol.stop is not None else math.inf
-    return {"gamma0": gamma0, "cycle": cycle,
+    return {"gamma0": gamma0, "cycle": cycle, "removed": removed_circle(sol, scales),
             "points": _theory_points(th.points, stop, scales)}
+
+
+def _applicable_points(points: Mapping[str, list], sources: Mapping[str, Any]
+                       ) -> dict[str, list]:
+    """The theory's points that the drawn motion can have: no stick points when it never
+    sticks (a pure slip orbit), no impact points when it never reaches the stop."""
+    sticks = len(sources["path_stick"].data["x"]) > 0
+    impacts = any(k in ("impact", "stick->impact") for k in sources["trans"].data["kind"])
+    keep = [i for i, name in enumerate(points["name"])
+            if (sticks or "stick" not in name) and (impacts or "impact" not in name)]
+    return {k: [col[i] for i in keep] for k, col in points.items()}
+
+
+def removed_circle(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, np.ndarray]:
+    """The pure slip circle the mass would follow if the stop were removed once it rests
+    pressed on it (paper Sec. 4.6, dotted in Figs. 6b and 7d): centre ``(a, 0)`` through
+    the rest point ``(x_bar, 0)``. Empty unless the motion ends at rest on a rigid stop
+    short of ``a`` on a moving belt."""
+    res, stop = sol.result, sol.stop
+    a = sol.osc.a
+    if (res is None or stop is None or sol.values["stop_type"] != "rigid"
+            or res.steady.kind.value != "rest" or sol.osc.v <= 0 or stop.clearance >= a):
+        return {"x": _f32([]), "v": _f32([])}
+    radius = a - stop.clearance
+    phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
+    return {"x": _f32(a + radius * np.cos(phi)),
+            "v": _f32(radius * np.sin(phi) * scales.velocity)}
 
 
 def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
@@ -568,7 +599,8 @@ class PlotSet:
                            match_aspect=True)
         theory = self._theory_renderers = []
         ranged = [fig.line("x", "v", source=s["gamma0"], **PHASE_STYLE["gamma0"]),
-                  fig.line("x", "v", source=s["cycle"], **PHASE_STYLE["cycle"])]
+                  fig.line("x", "v", source=s["cycle"], **PHASE_STYLE["cycle"]),
+                  fig.line("x", "v", source=s["removed"], **PHASE_STYLE["removed"])]
         theory += ranged
         for name in MODE_NAMES.values():
             ranged.append(fig.line("x", "v", source=s[f"path_{name}"], **PHASE_STYLE[name]))
@@ -738,7 +770,7 @@ class PlotSet:
         """Entries of what the phase portrait draws: ``(label, swatch, explanation)``."""
         d = {name: src.data for name, src in self.sources.items()}
         out = []
-        for key in ("gamma0", "cycle"):
+        for key in ("gamma0", "cycle", "removed"):
             if len(d[key]["x"]):
                 label, note = PHASE_LABELS[key]
                 out.append((label, _swatch("line", **PHASE_STYLE[key]), note))
@@ -791,9 +823,10 @@ class PlotSet:
             refs = reference_columns(sol, scales)
             _assign(s["gamma0"], refs["gamma0"])
             _assign(s["cycle"], refs["cycle"])
-            _assign(s["points"], refs["points"])
+            _assign(s["removed"], refs["removed"])
             _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
             self._draw_motion(sol, scales)
+            _assign(s["points"], _applicable_points(refs["points"], s))
             # Entries stay once shown (until the stop type changes): a legend that changes
             # size relayouts and repaints its figure once more after each release.
             stop_type = sol.values["stop_type"]
@@ -1050,6 +1083,7 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "trans": {k: [] for k in ("x", "v", "t", "kind", "marker", "color")},
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},
+    "removed": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
     "points": {"x": [], "v": [], "name": [], "align": [], "dx": [], "dy": []},
     "start": {"x": [], "v": []},

@@ -290,3 +290,38 @@ def test_the_regime_map_keeps_its_axes_for_a_scene():
     ex._commit({"stop_type": "none"})
     ex._draw_map(ex.solution)
     assert not fig.yaxis[0].visible
+
+
+@pytest.mark.parametrize("key", ["6b", "7d", "7c", "5a"])
+def test_the_stop_removed_circle_of_figs_6b_and_7d(key):
+    """Sec. 4.6: once the mass rests on the stop (Figs. 6b, 7d), removing the stop leaves
+    a pure slip circle about (a, 0) through the rest point (x_bar, 0), dotted in the paper:
+    drawn there and listed in the legend, nowhere else."""
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex.scene_select.value = key
+    data = ex.plots.sources["removed"].data
+    drawn = key in ("6b", "7d")
+    assert bool(len(data["x"])) is drawn
+    assert ("stop removed" in ex.plots.legends["phase"].text) is drawn
+    if drawn:
+        sol = ex.solution
+        a, x_bar = sol.osc.a, sol.stop.clearance
+        r = np.hypot(np.asarray(data["x"], float) - a, np.asarray(data["v"], float))
+        np.testing.assert_allclose(r, a - x_bar, rtol=1e-6)  # float32 columns
+
+
+@pytest.mark.parametrize("start, sticks", [((0.2, 0.05), False), ((0.0, 0.0), True)])
+def test_theory_points_only_where_the_motion_can_have_them(start, sticks):
+    """A start inside Gamma_0 (scene 3a's slow belt, x0 = a, x'0 < v) slips for ever: the
+    stick points of the impactless cycle are not drawn over that pure slip orbit."""
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex.scene_select.value = "3a"
+    ex._commit({"x0": start[0], "v0": start[1]})
+    assert ex.solution.theory.points  # the theory has its stick points either way
+    names = ex.plots.sources["points"].data["name"]
+    assert bool(len(ex.plots.sources["path_stick"].data["x"])) is sticks
+    assert bool([n for n in names if "stick" in n]) is sticks
