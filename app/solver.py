@@ -258,8 +258,9 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
     accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
     method = choose_method(values["method"], values["stop_type"])
     n_samples = PREVIEW_SAMPLES if preview else accuracy["n_samples"]
-    if method != "exact" or isinstance(stop, HystereticStop):
-        # Drawn from its samples (app/sampling.py): dense enough for any horizon.
+    if not preview and (method != "exact" or isinstance(stop, HystereticStop)):
+        # Drawn from its samples (app/sampling.py): dense enough for any horizon (a
+        # preview stays cheap).
         n_samples = samples_for(t_end, n_samples)
     start = time.perf_counter()
     if values.get("program") and isinstance(stop, HystereticStop):
