@@ -1017,9 +1017,15 @@ def legend_html(entries: list[tuple[str, str, str]]) -> str:
     return "".join(parts)
 
 
+#: Lines of an HTML legend's height kept free (20 px each): entries that come and go
+#: with the state do not move the plots below on every release.
+LEGEND_LINES = 3
+
+
 def _legend_div(text: str = "") -> Div:
     return Div(text=text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
-               styles={"font-size": "12px", "line-height": "1.7"})
+               min_height=20 * LEGEND_LINES,
+               styles={"font-size": "12px", "line-height": "20px"})
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:

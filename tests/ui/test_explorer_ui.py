@@ -126,9 +126,9 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
     ((on, ends_loaded), (on_dragged, ends_dragged), applied, errors_on, once), (
         (off, _), (off_dragged, _), none, errors_off, once_off) = seen.values()
     assert len(applied) >= 9 and none == []
-    # Patch 8 took effect: every legend of the scene keeps its drawn entries (its stand-ins
-    # were found by their tag).
-    assert once and all(once.values()), once
+    # Patch 8 took effect: every Bokeh legend of the scene keeps its drawn entries (its
+    # stand-ins were found by their tag). The plots' legends are HTML now: none is left.
+    assert all(once.values()), once
     assert not any(once_off.values())
     assert on.shape == off.shape == on_dragged.shape == off_dragged.shape
     # One kind of pixel may differ: the left end of a legend entry's line. BokehJS redraws
