@@ -10,7 +10,7 @@ $(BIN)/.installed: pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[test]"
 	touch $@
 
-.PHONY: install serve test browser bench lint
+.PHONY: install serve test test-random browser bench lint
 
 install: $(BIN)/.installed
 
@@ -26,6 +26,11 @@ browser:
 test: install browser
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
+
+# The property tests with fresh random examples, ten times as many as in CI (the suite
+# itself runs them derandomized; see tests/conftest.py).
+test-random: install
+	HYPOTHESIS_PROFILE=random $(BIN)/python -m pytest -m hypothesis -p no:cacheprovider tests
 
 bench: install
 	$(BIN)/python benchmarks/solver_speed.py

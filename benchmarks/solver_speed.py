@@ -14,12 +14,22 @@ Targets: exact >= 100x faster than RK45 at ``rtol = 1e-6``; a whole solve < 2 ms
 
     python benchmarks/solver_speed.py            # about a minute on two cores
     python benchmarks/solver_speed.py --quick    # fewer repeats
+    python benchmarks/solver_speed.py --against /work/main   # exact solver: this tree vs another
+
+``--against TREE`` times only the exact solver, paired in one run: one worker process on
+this tree and one on ``TREE`` (another checkout, e.g. the main branch) take turns, round
+by round and alternating which goes first, at solving the same scene 20 times; the table
+gives each side's median and the median of the paired ratios, so that the load of a
+shared machine falls on both sides alike.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -94,10 +104,86 @@ def errors(res, ref) -> tuple[float, float]:
     return state, abs(res.x_max - ref.x_max)
 
 
+#: Program run in a persistent subprocess on one tree: for each request (a scene index and a
+#: count on stdin) it solves that scene that many times and answers with the time taken.
+_WORKER = """
+import json, sys, time
+from core import Oscillator, RigidStop, simulate
+scenes = json.loads(sys.argv[1]); t_end, n = float(sys.argv[2]), int(sys.argv[3])
+built = [(Oscillator(*o), RigidStop(*s) if s else None) for o, s in scenes]
+for o, s in built:
+    simulate(o, s, t_end, n_samples=n, method="exact")
+print("ready", flush=True)
+for line in sys.stdin:
+    i, count = map(int, line.split())
+    o, s = built[i]
+    t0 = time.perf_counter()
+    for _ in range(count):
+        simulate(o, s, t_end, n_samples=n, method="exact")
+    print(time.perf_counter() - t0, flush=True)
+"""
+
+
+def _worker(tree: Path) -> subprocess.Popen:
+    scenes = [
+        ((o.mu_s, o.mu_k, o.belt_speed, o.u_s),
+         (s.clearance, s.restitution) if s is not None else None)
+        for o, s in SCENES.values()
+    ]
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _WORKER, json.dumps(scenes), str(T_END), str(N_SAMPLES)],
+        env=dict(os.environ, PYTHONPATH=str(tree)), cwd=tree, text=True,
+        stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+    )
+    assert proc.stdout.readline().strip() == "ready"
+    return proc
+
+
+def _ask(proc: subprocess.Popen, scene: int, count: int) -> float:
+    proc.stdin.write(f"{scene} {count}\n")
+    proc.stdin.flush()
+    return float(proc.stdout.readline()) / count
+
+
+def paired(other: Path, rounds: int, count: int) -> None:
+    """Exact solve times of this tree and ``other``: one worker process per tree, asked in
+    turn (alternating which goes first) for ``count`` solves of a scene, ``rounds`` times
+    per scene; the median over rounds of each side, and the median of the paired ratios."""
+    here = Path(__file__).resolve().parents[1]
+    workers = {"this": _worker(here), "other": _worker(other)}
+    print(f"exact solver, t_end = {T_END:g}, {N_SAMPLES} samples; {rounds} paired rounds of "
+          f"{count} solves per scene (other = {other})")
+    print(f"{'scene':32s} {'this ms':>9s} {'other ms':>9s} {'paired ratio':>12s}")
+    medians = []
+    try:
+        for k, name in enumerate(SCENES):
+            times: dict[str, list[float]] = {"this": [], "other": []}
+            for r in range(rounds):
+                order = ["this", "other"] if r % 2 == 0 else ["other", "this"]
+                for side in order:
+                    times[side].append(_ask(workers[side], k, count))
+            ratio = statistics.median(
+                a / b for a, b in zip(times["this"], times["other"], strict=True)
+            )
+            medians.append(ratio)
+            print(f"{name:32s} {statistics.median(times['this']) * 1e3:9.3f} "
+                  f"{statistics.median(times['other']) * 1e3:9.3f} {ratio:12.3f}")
+    finally:
+        for proc in workers.values():
+            proc.stdin.close()
+            proc.wait()
+    print(f"median over scenes of the paired ratio this/other: {statistics.median(medians):.3f}")
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer repeats")
+    ap.add_argument("--against", type=Path, help="time the exact solver against this tree")
+    ap.add_argument("--rounds", type=int, default=60, help="paired rounds for --against")
     args = ap.parse_args(argv)
+    if args.against is not None:
+        paired(args.against.resolve(), args.rounds, 5 if args.quick else 20)
+        return
     rep_exact, rep_num = (20, 1) if args.quick else (101, 3)
     exact = exact_solver()
     if exact is None:

@@ -18,8 +18,14 @@ on the largest of the three errors), the fastest setting that meets the level on
 scene of the class, and prints the result as ``ACCURACY_PRESETS``. matplotlib, if
 installed, draws the work-precision diagram to ``work_precision.png``.
 
+The headline comes first: on the rigid scenes, at ``t_end = 100`` and ``1000``, the time of
+the fastest ``solve_ivp`` run (event location, RK45 or DOP853, over the ``rtol`` sweep) whose
+error against the exact answer is within 1e-6 and 1e-9, divided by the exact solver's time
+(whose own error is rounding: ~1e-12 or less against the closed forms).
+
     python benchmarks/work_precision.py            # about two minutes on two cores
     python benchmarks/work_precision.py --quick    # a coarser sweep
+    python benchmarks/work_precision.py --headline # only the headline table
 """
 
 from __future__ import annotations
@@ -88,7 +94,8 @@ def _methods(rtols):
                 rtol,
                 None,
                 lambda o, s, r=rtol, a=atol: simulate(
-                    o, s, T_END, rtol=r, atol=a, n_samples=N_SAMPLES
+                    o, s, T_END, n_samples=N_SAMPLES,
+                    **({"rtol": r, "atol": a} if isinstance(s, HystereticStop) else {}),
                 ),
             )
         )
@@ -188,6 +195,79 @@ def errors(res, ref) -> dict[str, float]:
     return {"state": e_state, "xmax": e_xmax, "trans": e_tr}
 
 
+#: Horizons and accuracy levels of the headline.
+HEADLINE_T_ENDS = (100.0, 1000.0)
+HEADLINE_LEVELS = (1e-6, 1e-9)
+#: A headline run slower than this (s) ends that solver's sweep to tighter tolerances.
+HEADLINE_SLOW = 3.0
+#: Runs of the exact solver whose median is its headline time.
+HEADLINE_EXACT_REPEATS = 41
+
+
+def _once(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def headline(rtols) -> None:
+    """Speed ratio solve_ivp / exact at equal accuracy on the rigid scenes."""
+    from core import simulate
+
+    print(
+        "Headline: time of the fastest solve_ivp run (event location, RK45 or DOP853, rtol "
+        "sweep, atol = rtol/100) whose error against the exact answer (largest of: state at "
+        "t_end, x_max, transition times) is within the level, over the exact solver's time; "
+        f"{N_SAMPLES} samples. '>' : no run met the level, ratio to the slowest run tried."
+    )
+    print(
+        f"{'t_end':>6s} {'scene':30s} {'exact ms':>9s} {'level':>6s} {'solve_ivp':>16s} "
+        f"{'ms':>9s} {'ratio':>8s}"
+    )
+    summary: dict[tuple[float, float], list[str]] = {}
+    for t_end in HEADLINE_T_ENDS:
+        for scene, (osc, stop) in SCENES["rigid"].items():
+            # The exact solve takes a millisecond: the median of many runs, so that a spike
+            # of the machine's load does not set the ratio.
+            ref = simulate(osc, stop, t_end, n_samples=N_SAMPLES)
+            t_ex = statistics.median(
+                _once(lambda o=osc, s=stop, t=t_end: simulate(o, s, t, n_samples=N_SAMPLES))
+                for _ in range(HEADLINE_EXACT_REPEATS)
+            )
+            runs = []
+            for solver in ("RK45", "DOP853"):
+                for rtol in rtols:
+                    secs, res = timed(
+                        lambda o=osc, s=stop, t=t_end, r=rtol, m=solver: simulate_event(
+                            o, s, t, rtol=r, atol=r * ATOL_PER_RTOL, solver=m,
+                            n_samples=N_SAMPLES,
+                        ),
+                        HEADLINE_SLOW,
+                    )
+                    runs.append((secs, max(errors(res, ref).values()), f"{solver} {rtol:.0e}"))
+                    if secs > HEADLINE_SLOW:
+                        break
+            for level in HEADLINE_LEVELS:
+                ok = [run for run in runs if run[1] <= level]
+                if ok:
+                    secs, _, name = min(ok)
+                    ratio = f"{secs / t_ex:.0f}"
+                else:
+                    secs, _, name = max(runs)
+                    ratio = f">{secs / t_ex:.0f}"
+                summary.setdefault((t_end, level), []).append(ratio.strip())
+                print(
+                    f"{t_end:6g} {scene:30s} {t_ex * 1e3:9.3f} {level:6.0e} {name:>16s} "
+                    f"{secs * 1e3:9.1f} {ratio:>8s}"
+                )
+    for (t_end, level), ratios in summary.items():
+        print(
+            f"t_end = {t_end:g}, error <= {level:.0e}: solve_ivp / exact = "
+            f"{', '.join(r + 'x' for r in ratios)} ({', '.join(SCENES['rigid'])})"
+        )
+    print()
+
+
 def fmt(e: float) -> str:
     """``seq``: the transition sequences part (or the solve failed)."""
     return "    seq" if math.isinf(e) else f"{e:7.1e}"
@@ -197,7 +277,11 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="coarser tolerance sweep")
     ap.add_argument("--plot", default="work_precision.png", help="PNG file of the diagram")
+    ap.add_argument("--headline", action="store_true", help="only the headline table")
     args = ap.parse_args(argv)
+    headline(RTOLS_QUICK if args.quick else RTOLS)
+    if args.headline:
+        return
     methods = _methods(RTOLS_QUICK if args.quick else RTOLS)
     rows = []  # (class, scene, method, rtol, eta_rel, seconds, errors)
     for cls, scenes in SCENES.items():

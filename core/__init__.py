@@ -9,8 +9,13 @@
 ``core`` imports neither panel, bokeh nor param; ``app`` is built on top of it.
 """
 
+from core import theory
+from core.hysteresis import FIRST_LOADING, contact_force, phi_compression, phi_expansion, reverse
+from core.hysteretic import effective_restitutions
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import (
+    STATS_KEYS,
+    DenseSolution,
     Energy,
     Mode,
     Result,
@@ -20,9 +25,14 @@ from core.result import (
     Transition,
     TransitionKind,
 )
-from core.simulate import simulate
+from core.simulate import METHODS, method_options, simulate
+from core.steady import pressed_on_stop, rest_force
 
 __all__ = [
+    "FIRST_LOADING",
+    "METHODS",
+    "STATS_KEYS",
+    "DenseSolution",
     "Energy",
     "HystereticStop",
     "Mode",
@@ -34,5 +44,14 @@ __all__ = [
     "SteadyKind",
     "Transition",
     "TransitionKind",
+    "contact_force",
+    "effective_restitutions",
+    "method_options",
+    "phi_compression",
+    "phi_expansion",
+    "pressed_on_stop",
+    "rest_force",
+    "reverse",
     "simulate",
+    "theory",
 ]

@@ -1,4 +1,5 @@
-"""Exact free flight of the friction oscillator away from the stop (paper §3, SPEC §2).
+"""Exact free flight of the friction oscillator away from the stop (paper §3; docs/physics.md,
+"Exact solution").
 
 Slip with ``s = sign(v - x')`` obeys ``x'' + x = s*a`` (paper Eq. 3 with Eq. 4): a clockwise
 circle in the phase plane about ``(s*a, 0)``. Stick obeys ``x' = v`` while ``|x| <= b``

@@ -90,25 +90,37 @@ def impact_sequence(
 
 
 def evaluate_sequence(
-    seq: ImpactSequence, t: np.ndarray, belt_speed: float
+    seq: ImpactSequence, t: np.ndarray, belt_speed: float, side: np.ndarray | int = 1
 ) -> dict[str, np.ndarray]:
     """State and energy increments (from ``t_start``, before the first impact) at ``t``.
 
-    Samples after the explicit impacts take the limit: the mass at the stop (accumulation
-    at rest) or the grazing circle about ``(a, 0)`` through ``(x_bar, 0)``.
+    At an impact time ``side = -1`` gives the state just before it (approach speed
+    ``r^k w``) and ``side >= 0`` the state just after it (``-r^(k+1) w``). Samples after
+    the explicit impacts take the limit: the mass at the stop (accumulation at rest) or
+    the grazing circle about ``(a, 0)`` through ``(x_bar, 0)``.
     """
     r, a, xb = seq.r, seq.a, seq.clearance
+    t = np.asarray(t, dtype=float)
+    before = np.asarray(side) < 0
+    last = len(seq.t_impacts) - 1
     k = np.searchsorted(seq.t_impacts, t, side="right") - 1  # last impact at or before t
-    k = np.clip(k, 0, len(seq.t_impacts) - 1)
+    k = np.clip(k, 0, last)
+    # Exactly at an impact, from the left: the arc that ends there (strictly before t).
+    at_impact = before & (k > 0) & (seq.t_impacts[k] == t)
+    k -= at_impact
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
-    beyond = (k == len(seq.t_impacts) - 1) & seq.limit_follows
+    beyond = (k == last) & seq.limit_follows
     if seq.zeno:
         rebound = np.where(beyond, 0.0, rebound)
         tau = np.where(beyond, 0.0, tau)
     d = xb - a
-    x = a + d * np.cos(tau) - rebound * np.sin(tau)
-    v = -d * np.sin(tau) - rebound * np.cos(tau)
+    cos_t, sin_t = np.cos(tau), np.sin(tau)
+    x = a + d * cos_t - rebound * sin_t
+    v = -d * sin_t - rebound * cos_t
+    if np.any(at_impact):  # the state Newton's law acts on, exactly
+        x[at_impact] = xb
+        v[at_impact] = seq.speeds[k[at_impact] + 1]
     n_impacts = k + 1.0
     loss = 0.5 * seq.w**2 * -np.expm1(2.0 * n_impacts * math.log(r))
     mode = np.where(seq.zeno & (t >= seq.t_accumulation), Mode.CONTACT, Mode.SLIP)

@@ -1,8 +1,8 @@
 """Frozen, validated parameter values of the friction-impact oscillator.
 
-The core works in the dimensionless form of SPEC §2 (paper Eqs. 2-3): time ``t = omega*tau``
-with ``omega = sqrt(k/m)``; lengths keep their unit. ``from_physical`` and ``to_physical``
-convert from and to SI inputs.
+The core works in the dimensionless form of docs/physics.md, "Dimensionless form" (paper
+Eqs. 2-3): time ``t = omega*tau`` with ``omega = sqrt(k/m)``; lengths keep their unit.
+``from_physical`` and ``to_physical`` convert from and to SI inputs.
 """
 
 from __future__ import annotations
@@ -127,7 +127,8 @@ class RigidStop:
 
 @dataclass(frozen=True)
 class HystereticStop:
-    """Deformable stop with the hysteretic contact law of SPEC §4 (paper Eqs. 9-13).
+    """Deformable stop with the hysteretic contact law of docs/physics.md, "The deformable stop"
+    (paper Eqs. 9-13).
 
     Parameters
     ----------

@@ -1,24 +1,26 @@
-"""Exact event-driven response with no stop or a rigid stop (paper §3-4, SPEC §2-3).
+"""Exact event-driven response with no stop or a rigid stop (paper §3-4; docs/physics.md,
+"Exact solution" and "Rigid impacts").
 
 The motion is advanced from event to event with :func:`core.flight.free_flight`; impacts
 apply Newton's law ``x'(+) = -r x'(-)`` (Eq. 8). Three closed-form continuations end the
 loop early and keep long horizons cheap:
 
 * a **periodic** steady state, found as a fixed point of the friction-impact map ``P^j``
-  (Eq. 20): a transition state that repeats; the rest of the horizon is the cycle repeated;
+  (Eq. 20, :class:`core.steady.FixedPointDetector`): the rest of the horizon is the cycle
+  repeated;
 * an endless **impact sequence** (accumulation or grazing, :mod:`core.impact_sequence`);
 * a motion that never ends: **rest** at the stop, **equilibrium**, or **pure slip**.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from collections import Counter
 
 import numpy as np
 
-from core.flight import Motion, Segment, after_event, free_flight, start_motion
-from core.impact_sequence import ImpactSequence, evaluate_sequence, impact_sequence
+from core.flight import FreeEvent, Motion, Segment, after_event, free_flight, start_motion
+from core.impact_sequence import ImpactSequence, impact_sequence
 from core.params import Oscillator, RigidStop
 from core.result import (
     Energy,
@@ -27,25 +29,16 @@ from core.result import (
     Status,
     Steady,
     SteadyKind,
-    Transition,
     TransitionKind,
+    make_stats,
 )
-from core.trajectory import PeriodicTail, SegmentTable, evaluate
+from core.steady import Cycle, FixedPointDetector, comes_to_rest, pressed_on_stop, rest_force
+from core.trajectory import ExactSolution, PeriodicTail, SegmentTable
+from core.transitions import IMPACT_KINDS, TransitionLog
 
-#: Two transition states closer than this (relative to the problem's length scale) are the
-#: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
-#: leaves room for the rounding of long transients without merging distinct states.
-FIXED_POINT_RTOL = 1e-11
-#: How many earlier transitions of the same kind are compared with each new one.
-FIXED_POINT_LOOKBACK = 64
-#: An impact slower than this (relative to the length scale) ends an accumulation that the
-#: closed form does not cover (still belt). Below ~sqrt(machine epsilon) the speed at the
-#: stop is set by rounding (one ulp of x at a turning point next to the stop gives a speed
-#: of sqrt(2 ulp |x_bar - c|)), so it cannot be resolved; the rest state is then exact to
-#: this speed and the remaining time to ~this speed over |x_bar - c|.
-REST_SPEED = 1e-7
 #: Guard against an endless event loop (never reached by the paper's regimes: their
-#: transients end in a few dozen events); the result then says no steady state was found.
+#: transients end in a few dozen events). A solve that reaches it returns the response up
+#: to the last event with ``Status.EVENT_LIMIT`` and no steady state.
 MAX_EVENTS = 2_000_000
 
 
@@ -53,29 +46,6 @@ def length_scale(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) 
     """A length that sets the scale of absolute tolerances (never zero)."""
     xb = abs(stop.clearance) if stop is not None else 0.0
     return max(osc.a, osc.b, osc.v, xb, abs(x0), abs(v0), 1e-300)
-
-
-class _Recorder:
-    """Transitions: the first ``cap`` stored, all counted."""
-
-    def __init__(self, cap: int) -> None:
-        self.cap = cap
-        self.stored: list[Transition] = []
-        self.counts: Counter[str] = Counter()
-        self.total = 0
-        self.impulses: list[tuple[float, float]] = []
-
-    def add(self, kind: TransitionKind, t: float, x: float, v: float, v_after: float) -> None:
-        self.total += 1
-        self.counts[kind.value] += 1
-        if len(self.stored) < self.cap:
-            self.stored.append(Transition(kind, t, x, v, v_after))
-            if kind in (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT):
-                self.impulses.append((t, v - v_after))
-
-    def add_many(self, kind: TransitionKind, count: int) -> None:
-        self.total += count
-        self.counts[kind.value] += count
 
 
 def simulate_rigid(
@@ -88,220 +58,181 @@ def simulate_rigid(
     n_samples: int,
     transition_cap: int,
     t_eval: np.ndarray | None = None,
+    max_events: int = MAX_EVENTS,
 ) -> Result:
-    """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``)."""
-    xb = stop.clearance if stop is not None else math.inf
-    r = stop.restitution if stop is not None else 1.0
-    a, v = osc.a, osc.v
-    scale = length_scale(osc, stop, x0, v0)
-    tol = FIXED_POINT_RTOL * scale
+    """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``).
 
-    table = SegmentTable()
-    rec = _Recorder(transition_cap)
-    history: dict[str, list[int]] = {}  # kind -> indices into `states`
-    states: list[tuple[float, float, float, int]] = []  # (t, x, v, table row after it)
-    tail: PeriodicTail | None = None
-    sequence: ImpactSequence | None = None
-    steady = Steady(SteadyKind.NONE)
-
-    t, x, xd = 0.0, x0, v0
-    motion = start_motion(osc, x, xd)
-    pending_impact = stop is not None and x >= xb and xd > 0.0
-    if pending_impact:  # keep the state before an impact at t = 0 for the samples
-        table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, motion.s * a), 0.0, v)
-    if stop is not None and x >= xb and xd == 0.0 and v > 0.0 and a >= xb:
-        motion = Motion(Mode.CONTACT)  # starts pressed on the stop
-        rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
-
-    for _ in range(MAX_EVENTS):
-        if pending_impact:
-            pending_impact = False
-            stuck = motion.mode is Mode.STICK
-            kind = TransitionKind.STICK_IMPACT if stuck else TransitionKind.IMPACT
-            w, after = xd, -r * xd
-            if w == 0.0 or (r < 1.0 and w <= REST_SPEED * scale):
-                # Pressed on the stop, or an accumulation not of the closed-form kind (a
-                # still belt): the impacts left take less than ~w/|x_bar| of time.
-                table.add_loss(0.5 * w * w)
-                if w > 0.0:
-                    rec.add(TransitionKind.ACCUMULATION, t, xb, w, 0.0)
-                rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
-                xd, motion = 0.0, Motion(Mode.CONTACT)
-                continue
-            rec.add(kind, t, xb, w, after)
-            table.add_loss(0.5 * (1.0 - r * r) * w * w)
-            xd = after
-            if after == 0.0 and v > 0.0 and a >= xb:
-                rec.add(TransitionKind.REST, t, xb, 0.0, 0.0)
-                motion = Motion(Mode.CONTACT)
-            else:
-                motion = start_motion(osc, x, xd)
-                if 0.0 < r < 1.0 and v > 0.0:
-                    seg, ev = free_flight(osc, t, x, xd, motion, xb)
-                    if ev is not None and ev.kind is TransitionKind.IMPACT and ev.t < t_end:
-                        sequence = impact_sequence(t, w, r, xb, a, t_end, scale)
-                        steady = _sequence_steady(sequence, rec, t_end)
-                        break
-            if _repeats(states, history, kind, t, x, w, tol, len(table)):
-                tail, steady = _periodic(states, history[kind.value], table, rec, kind, t_end)
-                break
-            continue
-
-        if motion.mode is Mode.CONTACT:  # pressed on the stop for good: force a - x_bar
-            table.add(Segment(Mode.CONTACT, t, math.inf, xb, 0.0, a), t_end, v)
-            steady = Steady(
-                SteadyKind.REST, x_max=xb, impact_speed=0.0, t_reached=t, period=math.nan
-            )
-            break
-
-        seg, ev = free_flight(osc, t, x, xd, motion, xb)
-        if ev is None or ev.t >= t_end:
-            table.add(seg, t_end, v)
-            if ev is None:
-                steady = _endless(seg, t)
-            break
-        table.add(seg, ev.t, v)
-        t, x = ev.t, ev.x
-        if ev.kind is TransitionKind.IMPACT:
-            xd = ev.v
-            pending_impact = True
-            continue
-        rec.add(ev.kind, t, x, ev.v, ev.v)
-        xd = ev.v
-        motion = after_event(osc, ev, motion)
-        if _repeats(states, history, ev.kind, t, x, xd, tol, len(table)):
-            tail, steady = _periodic(states, history[ev.kind.value], table, rec, ev.kind, t_end)
-            break
-    else:
-        raise RuntimeError(
-            f"more than {MAX_EVENTS} events before t_end={t_end:g} without a steady state"
-        )
-
-    return _assemble(
-        osc, stop, table, rec, tail, sequence, steady, t_end, x0, v0, n_samples, t_eval
-    )
-
-
-def _repeats(
-    states: list[tuple[float, float, float, int]],
-    history: dict[str, list[int]],
-    kind: TransitionKind,
-    t: float,
-    x: float,
-    v: float,
-    tol: float,
-    row: int,
-) -> bool:
-    """Record a transition state; True when it repeats an earlier one (Eq. 20).
-
-    A repeat must hold to ``tol`` and also to ``FIXED_POINT_RTOL`` of the cycle's own size:
-    a sequence converging on a point (an accumulation) has consecutive states that come
-    within any absolute tolerance without ever repeating.
+    After ``max_events`` events without reaching ``t_end`` or a steady state, the result
+    covers ``[0, t]`` up to the last event and has ``status = Status.EVENT_LIMIT``.
     """
-    seen = history.setdefault(kind.value, [])
-    found = False
-    for i in seen[-FIXED_POINT_LOOKBACK:]:
-        dx, dv = abs(states[i][1] - x), abs(states[i][2] - v)
-        if dx <= tol and dv <= tol:
-            size = max(abs(st[1] - x) + abs(st[2] - v) for st in states[i:])
-            if dx + dv <= FIXED_POINT_RTOL * size:
-                found = True
-                break
-    states.append((t, x, v, row))
-    seen.append(len(states) - 1)
-    return found
+    run = _Run(osc, stop, t_end, x0, v0, transition_cap)
+    status = Status.SUCCESS
+    if not run.step_until_done(max_events):
+        status, t_end = Status.EVENT_LIMIT, run.t  # the response is known up to here
+        if t_eval is not None:
+            t_eval = t_eval[t_eval <= t_end]
+    res = _assemble(run, t_end, n_samples, t_eval)
+    return res if status is Status.SUCCESS else dataclasses.replace(res, status=status)
+
+
+class _Run:
+    """The state of one exact solve: where the mass is, what it does next, what is known.
+
+    :meth:`step` advances by one event (or one impact) and returns True once the motion
+    is known up to ``t_end``: the horizon was reached, or a closed-form continuation (a
+    cycle, an impact sequence, a motion without end) covers the rest.
+    """
+
+    def __init__(
+        self,
+        osc: Oscillator,
+        stop: RigidStop | None,
+        t_end: float,
+        x0: float,
+        v0: float,
+        cap: int,
+    ) -> None:
+        self.osc, self.stop, self.t_end, self.x0, self.v0 = osc, stop, t_end, x0, v0
+        self.xb = stop.clearance if stop is not None else math.inf
+        self.r = stop.restitution if stop is not None else 1.0
+        self.scale = length_scale(osc, stop, x0, v0)
+        self.table = SegmentTable()
+        self.log = TransitionLog(cap)
+        self.detector = FixedPointDetector(self.scale)
+        self.tail: PeriodicTail | None = None
+        self.sequence: ImpactSequence | None = None
+        self.steady = Steady(SteadyKind.NONE)
+        self.t, self.x, self.xd = 0.0, x0, v0
+        self.motion = start_motion(osc, x0, v0)
+        at_stop = stop is not None and x0 >= self.xb
+        self.pending_impact = at_stop and v0 > 0.0
+        if self.pending_impact:  # keep the state before an impact at t = 0 for the samples
+            seg = Segment(Mode.SLIP, 0.0, 0.0, x0, v0, self.motion.s * osc.a)
+            self.table.add(seg, 0.0, osc.v)
+        if at_stop and v0 == 0.0 and osc.v > 0.0 and pressed_on_stop(osc, self.xb):
+            self.motion = Motion(Mode.CONTACT)  # starts pressed on the stop
+            self.log.add(TransitionKind.REST, 0.0, self.xb, 0.0, 0.0)
+
+    def step_until_done(self, max_events: int) -> bool:
+        """Advance until the motion is known up to ``t_end``; False at the event limit."""
+        for _ in range(max_events):
+            if self.step():
+                return True
+        return False
+
+    def step(self) -> bool:
+        if self.pending_impact:
+            self.pending_impact = False
+            return self._impact()
+        if self.motion.mode is Mode.CONTACT:  # pressed on the stop for good
+            self.table.add(
+                Segment(Mode.CONTACT, self.t, math.inf, self.xb, 0.0, self.osc.a),
+                self.t_end,
+                self.osc.v,
+            )
+            self.steady = Steady(SteadyKind.REST, x_max=self.xb, impact_speed=0.0, t_reached=self.t)
+            return True
+        seg, ev = free_flight(self.osc, self.t, self.x, self.xd, self.motion, self.xb)
+        if ev is None or ev.t >= self.t_end:
+            self.table.add(seg, self.t_end, self.osc.v)
+            if ev is None:
+                self.steady = _endless(seg, self.t)
+            return True
+        self.table.add(seg, ev.t, self.osc.v)
+        self.t, self.x, self.xd = ev.t, ev.x, ev.v
+        if ev.kind is TransitionKind.IMPACT:
+            self.pending_impact = True
+            return False
+        return self._friction_event(ev)
+
+    def _friction_event(self, ev: FreeEvent) -> bool:
+        self.log.add(ev.kind, ev.t, ev.x, ev.v, ev.v)
+        self.motion = after_event(self.osc, ev, self.motion)
+        return self._closes_cycle(ev.kind, ev.v)
+
+    def _impact(self) -> bool:
+        """Newton's law at the stop (Eq. 8), or rest when the mass stays pressed on it."""
+        osc, xb, r, t, w = self.osc, self.xb, self.r, self.t, self.xd
+        if comes_to_rest(osc, xb, w):
+            # Pressed on the stop, and the bounces left (an accumulation, or elastic
+            # bounces of a height below rounding) take less than ~w/|a - x_bar| of time.
+            self.table.add_loss(0.5 * w * w)
+            if w > 0.0:
+                self.log.add(TransitionKind.ACCUMULATION, t, xb, w, 0.0)
+            self.log.add(TransitionKind.REST, t, xb, 0.0, 0.0)
+            self.xd, self.motion = 0.0, Motion(Mode.CONTACT)
+            return False
+        stuck = self.motion.mode is Mode.STICK
+        kind = TransitionKind.STICK_IMPACT if stuck else TransitionKind.IMPACT
+        after = -r * w
+        self.log.add(kind, t, xb, w, after)
+        self.table.add_loss(0.5 * (1.0 - r * r) * w * w)
+        self.xd = after
+        if after == 0.0 and osc.v > 0.0 and pressed_on_stop(osc, xb):
+            self.log.add(TransitionKind.REST, t, xb, 0.0, 0.0)
+            self.motion = Motion(Mode.CONTACT)
+        else:
+            self.motion = start_motion(osc, self.x, after)
+            if 0.0 < r < 1.0 and osc.v > 0.0 and self._returns_to_stop():
+                self.sequence = impact_sequence(t, w, r, xb, osc.a, self.t_end, self.scale)
+                self.steady = _sequence_steady(self.sequence, self.log, self.t_end)
+                return True
+        return self._closes_cycle(kind, w)
+
+    def _returns_to_stop(self) -> bool:
+        """True when the rebound arc comes back to the stop before the horizon, with no
+        friction event between: the start of an endless impact sequence."""
+        _, ev = free_flight(self.osc, self.t, self.x, self.xd, self.motion, self.xb)
+        return ev is not None and ev.kind is TransitionKind.IMPACT and ev.t < self.t_end
+
+    def _closes_cycle(self, kind: TransitionKind, speed: float) -> bool:
+        cycle = self.detector.add(kind, self.t, self.x, speed, len(self.table))
+        if cycle is None:
+            return False
+        self.tail, self.steady = _periodic(cycle, self.table, self.log, self.t_end)
+        return True
 
 
 def _periodic(
-    states: list[tuple[float, float, float, int]],
-    seen: list[int],
-    table: SegmentTable,
-    rec: _Recorder,
-    kind: TransitionKind,
-    t_end: float,
+    cycle: Cycle, table: SegmentTable, log: TransitionLog, t_end: float
 ) -> tuple[PeriodicTail, Steady]:
-    """Close a detected cycle: the steady state and the periodic continuation."""
-    t_now, x_now, v_now, row_now = states[seen[-1]]
-    # The matching earlier state: the closest one in the look-back window.
-    j = min(
-        seen[-FIXED_POINT_LOOKBACK - 1 : -1],
-        key=lambda i: abs(states[i][1] - x_now) + abs(states[i][2] - v_now),
-    )
-    t_then, _, _, row_then = states[j]
-    period = t_now - t_then
-    cycle = [tr for tr in rec.stored if t_then < tr.t <= t_now]
-    n_cycle = len([s for s in states if t_then < s[0] <= t_now])
-    cycle_rows = range(row_then, row_now)
+    """Close a cycle found by the detector: the steady state, the periodic continuation,
+    and the transitions after it (the cycle's, shifted by whole periods)."""
+    t_then, t_now, row_then, row_now = cycle.t_then, cycle.t_now, cycle.tag_then, cycle.tag_now
+    period = cycle.period
+    in_cycle = [tr for tr in log.stored if t_then < tr.t <= t_now]
     x_max_cycle = max(
         Segment(
-            Mode(table.mode[i]),
-            table.t0[i],
-            table.t1[i],
-            table.x0[i],
-            table.v0[i],
+            Mode(table.mode[i]), table.t0[i], table.t1[i], table.x0[i], table.v0[i],
             table.centre[i],
         ).x_max()
-        for i in cycle_rows
+        for i in range(row_then, row_now)
     )
     work_then = table.work0[row_then]
     work_per_period = tuple(w1 - w0 for w0, w1 in zip(work_then, table.work, strict=True))
-    impact_speed = max(
-        (tr.v for tr in cycle if tr.kind in (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)),
-        default=math.nan,
-    )
+    impact_speed = max((tr.v for tr in in_cycle if tr.kind in IMPACT_KINDS), default=math.nan)
     steady = Steady(
         SteadyKind.PERIODIC,
         period=period,
-        transitions_per_period=n_cycle,
-        sequence=tuple(tr.kind.value for tr in cycle),
+        transitions_per_period=cycle.n_transitions,
+        sequence=tuple(tr.kind.value for tr in in_cycle),
         x_max=x_max_cycle,
         impact_speed=impact_speed,
         t_reached=t_then,
     )
-    # Transitions after t_now repeat the cycle's, shifted by whole periods.
-    if cycle and period > 0.0:
-        k = 1
-        while rec.total < 10**15:
-            t_shift = k * period
-            if cycle[0].t + t_shift > t_end:
-                break
-            if len(rec.stored) >= rec.cap:  # count the rest arithmetically
-                remaining = t_end - (cycle[0].t + t_shift)
-                full = int(remaining // period)
-                rec.total += full * len(cycle)
-                for tr in cycle:
-                    rec.counts[tr.kind.value] += full
-                last_start = cycle[0].t + t_shift + full * period
-                for tr in cycle:
-                    if tr.t - cycle[0].t + last_start <= t_end:
-                        rec.add_many(tr.kind, 1)
-                break
-            for tr in cycle:
-                ts = tr.t + t_shift
-                if ts > t_end:
-                    break
-                rec.add(tr.kind, ts, tr.x, tr.v, tr.v_after)
-            k += 1
+    log.tile(in_cycle, period, t_end)
     table.x_max = max(table.x_max, x_max_cycle)
     tail = PeriodicTail(t_now, t_then, period, work_per_period)  # type: ignore[arg-type]
     return tail, steady
 
 
-def _sequence_steady(seq: ImpactSequence, rec: _Recorder, t_end: float) -> Steady:
+def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> Steady:
     """Record the impacts of an endless sequence and say where it leads."""
-    n_explicit = len(seq.t_impacts) - 1
-    room = max(0, min(n_explicit, rec.cap - len(rec.stored)))
-    times = seq.t_impacts[1 : room + 1].tolist()
-    speeds = seq.speeds[1 : room + 1].tolist()
-    impact, xb, r = TransitionKind.IMPACT, seq.clearance, seq.r
-    pairs = list(zip(times, speeds, strict=True))
-    rec.stored.extend(Transition(impact, t, xb, w, -r * w) for t, w in pairs)
-    rec.impulses.extend((t, (1.0 + r) * w) for t, w in pairs)
-    rec.add_many(impact, n_explicit)
+    log.add_impacts(seq.t_impacts[1:], seq.clearance, seq.speeds[1:], seq.r)
     if seq.zeno:
         if seq.limit_follows and seq.t_accumulation <= t_end:
             for kind in (TransitionKind.ACCUMULATION, TransitionKind.REST):
-                rec.add(kind, seq.t_accumulation, seq.clearance, 0.0, 0.0)
+                log.add(kind, seq.t_accumulation, seq.clearance, 0.0, 0.0)
         return Steady(
             SteadyKind.REST, x_max=seq.clearance, impact_speed=0.0, t_reached=seq.t_accumulation
         )
@@ -310,7 +241,7 @@ def _sequence_steady(seq: ImpactSequence, rec: _Recorder, t_end: float) -> Stead
         # when it shrinks to the point at the stop): counted, not stored.
         d = seq.clearance - seq.a
         turn = 2.0 * math.pi if d > 0.0 else math.pi
-        rec.add_many(TransitionKind.IMPACT, int((t_end - float(seq.t_impacts[-1])) // turn))
+        log.count(TransitionKind.IMPACT, int((t_end - float(seq.t_impacts[-1])) // turn))
     return Steady(SteadyKind.GRAZING, period=2.0 * math.pi, x_max=seq.clearance, impact_speed=0.0)
 
 
@@ -327,19 +258,8 @@ def _endless(seg: Segment, t: float) -> Steady:
     return Steady(SteadyKind.EQUILIBRIUM, x_max=seg.x0, t_reached=t)
 
 
-def _rest_force(osc: Oscillator, stop: RigidStop | None) -> float:
-    """Contact force over ``k`` of the mass resting on the stop (SPEC §3): ``a - x_bar``
-    on a moving belt; on a still belt static friction is indeterminate and the least force
-    it allows, ``-x_bar - b``, is reported."""
-    if stop is None:
-        return 0.0
-    if osc.v > 0.0:
-        return max(osc.a - stop.clearance, 0.0)
-    return max(-stop.clearance - osc.b, 0.0)
-
-
 def _sample_times(
-    t_end: float, n_samples: int, rec: _Recorder, t_eval: np.ndarray | None
+    t_end: float, n_samples: int, log: TransitionLog, t_eval: np.ndarray | None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Uniform samples plus each stored transition (the state after it) and the state
     before every stored impact; or exactly ``t_eval`` when given. The second array is the
@@ -347,12 +267,8 @@ def _sample_times(
     if t_eval is not None:
         return t_eval, np.zeros(len(t_eval), np.int8)
     uniform = np.linspace(0.0, t_end, n_samples)
-    marks = [tr.t for tr in rec.stored if tr.t <= t_end]
-    impacts = [
-        tr.t
-        for tr in rec.stored
-        if tr.kind in (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT) and tr.t <= t_end
-    ]
+    marks = [tr.t for tr in log.stored if tr.t <= t_end]
+    impacts = [tr.t for tr in log.stored if tr.kind in IMPACT_KINDS and tr.t <= t_end]
     times = np.concatenate((uniform, marks, impacts))
     side = np.concatenate(
         (
@@ -365,61 +281,35 @@ def _sample_times(
     return times[order], side[order]
 
 
-def _assemble(
-    osc: Oscillator,
-    stop: RigidStop | None,
-    table: SegmentTable,
-    rec: _Recorder,
-    tail: PeriodicTail | None,
-    seq: ImpactSequence | None,
-    steady: Steady,
-    t_end: float,
-    x0: float,
-    v0: float,
-    n_samples: int,
-    t_eval: np.ndarray | None,
-) -> Result:
+def _assemble(run: _Run, t_end: float, n_samples: int, t_eval: np.ndarray | None) -> Result:
     """Evaluate the samples and build the :class:`Result`."""
-    times, side = _sample_times(t_end, n_samples, rec, t_eval)
+    osc, stop, table, log, seq = run.osc, run.stop, run.table, run.log, run.sequence
+    times, side = _sample_times(t_end, n_samples, log, t_eval)
     v = osc.v
     if len(table) == 0:  # the motion starts with an endless impact sequence
-        table.add(Segment(Mode.SLIP, 0.0, 0.0, x0, v0, osc.a), 0.0, v)
+        table.add(Segment(Mode.SLIP, 0.0, 0.0, run.x0, run.v0, osc.a), 0.0, v)
     x_max = table.x_max
-    stats: dict[str, float] = {"segments": float(len(table))}
-    late = np.zeros(len(times), bool)
+    info: dict[str, object] = {}
+    dense = ExactSolution(
+        table.arrays(v),
+        v,
+        t_end,
+        run.xb,
+        run.tail,
+        seq,
+        table.work,
+    )
+    # The samples are the solution evaluated on their side of each transition: before an
+    # impact the approach velocity, after it the rebound (docs/physics.md, "Rigid impacts").
+    out = dense.sample(times, side)
     if seq is not None:
-        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
-    early = ~late
-    out = {
-        name: np.empty(len(times), np.int8 if name == "mode" else float)
-        for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
-    }
-    if np.any(early):
-        part = evaluate(table.arrays(v), times[early], side[early], v, tail)
-        for name, values in part.items():
-            out[name][early] = values
-    if seq is not None:
-        if np.any(late):
-            part = evaluate_sequence(seq, times[late], v)
-            base = table.work
-            # table.work already holds the loss of the first impact of the sequence.
-            first_loss = 0.5 * (1.0 - seq.r**2) * seq.w**2
-            offsets = {
-                "friction_work": base[0],
-                "belt_input": base[1],
-                "stop_loss": base[2] - first_loss,
-            }
-            for name, values in part.items():
-                out[name][late] = values + offsets.get(name, 0.0)
         x_max = max(x_max, seq.clearance)
-        stats["impacts_evaluated"] = float(len(seq.t_impacts))
-        stats["last_impact_speed"] = float(seq.speeds[-1])
+        info["impacts_evaluated"] = len(seq.t_impacts)
+        info["last_impact_speed"] = float(seq.speeds[-1])
     x, xd = out["x"], out["v"]
-    if stop is not None:
-        # Rounding may put a sample a few ulps past the face; the exact solution never is.
-        np.minimum(x, stop.clearance, out=x)
     mechanical = 0.5 * (x * x + xd * xd)
-    contact_force = np.where(out["mode"] == Mode.CONTACT, _rest_force(osc, stop), 0.0)
+    pressing = rest_force(osc, stop.clearance) if stop is not None else 0.0
+    contact_force = np.where(out["mode"] == Mode.CONTACT, pressing, 0.0)
     energy = Energy(
         mechanical=mechanical,
         friction_work=out["friction_work"],
@@ -427,22 +317,22 @@ def _assemble(
         stop_loss=out["stop_loss"],
         stop_stored=np.zeros_like(x),
     )
-    impulses = np.array(rec.impulses, dtype=float).reshape(-1, 2)
+    impulses = np.array(log.impulses, dtype=float).reshape(-1, 2)
     return Result(
         t=times,
         x=x,
         v=xd,
         mode=out["mode"].astype(np.int8),
-        transitions=tuple(rec.stored),
-        transition_counts=dict(rec.counts),
-        n_transitions=rec.total,
+        **log.result_fields(),
         x_max=x_max,
-        steady=steady,
+        steady=run.steady,
         status=Status.SUCCESS,
         energy=energy,
         contact_force=contact_force,
         overlap=np.zeros_like(x),
         impulses=impulses,
         method="exact",
-        stats=stats,
+        stats=make_stats(segments=len(table), events=log.total),
+        info=info,
+        dense=dense,
     )

@@ -9,10 +9,26 @@ import numpy as np
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
 from core.rigid import simulate_rigid
-from core.validation import check_range, check_start
+from core.validation import (
+    check_choice,
+    check_integer,
+    check_options,
+    check_oscillator,
+    check_range,
+    check_start,
+    check_stop,
+    check_times,
+)
 
 #: Methods offered by :func:`simulate`.
 METHODS = ("exact", "switch", "event")
+#: Options each method uses; any other one given is refused.
+METHOD_OPTIONS = {
+    "exact": (),  # no stop or a rigid stop: closed form, nothing to tune
+    "exact-hysteretic": ("rtol", "atol"),  # exact flight, integrated contact phase
+    "switch": ("rtol", "atol", "eta"),
+    "event": ("rtol", "atol"),
+}
 #: Bounds of the sampling density and the transition store.
 MAX_SAMPLES = 10_000_000
 MAX_TRANSITION_CAP = 10_000_000
@@ -46,7 +62,8 @@ def simulate(
     x0, v0 : float
         Initial displacement and velocity; ``x0 <= clearance``.
     n_samples : int
-        Uniform samples in ``[0, t_end]``; the exact transition points are added.
+        Uniform samples in ``[0, t_end]``; the exact transition points are added. An
+        integer (``2.7`` is refused, not rounded).
     transition_cap : int
         Transitions stored at most; all are counted in ``Result.transition_counts``.
     method : {"exact", "switch", "event"}
@@ -54,10 +71,13 @@ def simulate(
         integrated contact phase (deformable stop). ``switch``: the paper's switch model
         with Runge-Kutta-Fehlberg 4(5). ``event``: ``solve_ivp`` with event location.
     rtol, atol, eta : float, optional
-        Tolerances of the numerical parts and the switch model's stick band.
+        Tolerances of the numerical parts and the switch model's stick band. Only the
+        options the method uses may be given (:func:`method_options`): ``exact`` with no
+        stop or a rigid stop uses none, with a hysteretic stop ``rtol`` and ``atol``;
+        ``event`` uses ``rtol`` and ``atol``; ``switch`` all three. Any other raises a
+        ``TypeError`` that names it.
     t_eval : array, optional
-        Exact method without a deformable stop: sample at these times in ``[0, t_end]``
-        instead of ``n_samples`` uniform ones (for comparisons with other methods).
+        Sample at these times in ``[0, t_end]`` instead of ``n_samples`` uniform ones.
 
     Examples
     --------
@@ -67,25 +87,25 @@ def simulate(
     >>> round(res.steady.period, 12) == round(2 * math.acos(1 - 0.3 / 0.2), 12)
     True
     """
-    if not isinstance(osc, Oscillator):
-        raise TypeError(f"osc must be an Oscillator; got {type(osc).__name__}")
-    if stop is not None and not isinstance(stop, (RigidStop, HystereticStop)):
-        raise TypeError(
-            f"stop must be None, a RigidStop or a HystereticStop; got {type(stop).__name__}"
-        )
+    check_oscillator(osc)
+    check_stop(stop)
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
     x0 = check_range("x0", x0)
     v0 = check_range("v0", v0)
     if stop is not None:
         soft = isinstance(stop, HystereticStop)
         check_start(x0, stop.clearance, stop.limit_overlap if soft else None)
-    n_samples = int(check_range("n_samples", n_samples, 2, MAX_SAMPLES))
-    transition_cap = int(check_range("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP))
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
+    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
+    check_choice("method", method, METHODS)
+    check_options(method, method_options(method, stop), {"rtol": rtol, "atol": atol, "eta": eta})
     for name, value in (("rtol", rtol), ("atol", atol), ("eta", eta)):
         if value is not None:
             check_range(name, value, 0.0, 1.0, low_open=True)
+    if t_eval is not None:
+        t_eval = check_times("t_eval", t_eval, t_end)
+    # t_eval reaches only the exact rigid solver for now; the numerical and hysteretic
+    # solvers take it once their functions accept it.
 
     if method == "switch":
         from core.switch import simulate_switch
@@ -108,14 +128,23 @@ def simulate(
             osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
             **_given(rtol=rtol, atol=atol),
         )
-    if t_eval is not None:
-        t_eval = np.asarray(t_eval, dtype=float)
-        if t_eval.ndim != 1 or np.any(t_eval < 0.0) or np.any(t_eval > t_end):
-            raise ValueError("t_eval must be a 1-D array of times in [0, t_end]")
     return simulate_rigid(
         osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
         t_eval=t_eval,
     )
+
+
+def method_options(method: str, stop: RigidStop | HystereticStop | None) -> tuple[str, ...]:
+    """Names of the options (``rtol``, ``atol``, ``eta``) that ``method`` uses for ``stop``.
+
+    Examples
+    --------
+    >>> method_options("exact", None), method_options("event", None)
+    ((), ('rtol', 'atol'))
+    """
+    if method == "exact" and isinstance(stop, HystereticStop):
+        return METHOD_OPTIONS["exact-hysteretic"]
+    return METHOD_OPTIONS[method]
 
 
 def _given(**kwargs: float | None) -> dict[str, float]:

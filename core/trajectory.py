@@ -13,15 +13,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core.flight import Segment
+from core.impact_sequence import ImpactSequence, evaluate_sequence
 from core.result import Mode
+from core.steady import fold_times
+from core.validation import check_side, check_times
 
-#: Samples within this fraction of a period of a cycle boundary are put on it (rounding of
-#: the repeated transition times is ~1e-16 of the horizon; 1e-9 of a period moves a sample
-#: by nanoseconds of dimensionless time).
-TILE_SNAP = 1e-9
-#: Time (dimensionless) by which a sample is nudged to pick the segment after, or before,
-#: a transition it lies on: far above the ulp of times up to ~1e6, far below any sampling.
-EVENT_NUDGE = 1e-9
+#: A time within this many ulps (of the time itself) of a transition is taken to lie on it:
+#: the transition times of a repeated cycle are formed as ``t_i + k*period`` and mapped
+#: back by ``t - k*period``, which rounds by a few ulps of the horizon. 64 ulps leaves a
+#: wide margin and moves a state by ~1e-14 of a time unit at t ~ 1.
+EVENT_SNAP_ULPS = 64.0
 #: Formula codes of a segment.
 CIRCLE = 0  # x = c + (x0 - c) cos(tau) + v0 sin(tau)
 LINE = 1  # x = x0 + v0 tau
@@ -147,33 +148,18 @@ def evaluate(
     """
     t = np.asarray(times, dtype=float)
     side = np.asarray(side, dtype=np.int8)
-    wf_off = np.zeros_like(t)
-    wb_off = np.zeros_like(t)
-    loss_off = np.zeros_like(t)
+    # One snap for all times, from the largest: the rounding it absorbs grows with the
+    # horizon, not with each time.
+    snap = EVENT_SNAP_ULPS * math.ulp(max(1.0, float(np.max(np.abs(t)))) if t.size else 1.0)
+    wf_off = wb_off = loss_off = 0.0
     if tail is not None:
-        # The state just after the repeated transition at t_from is the cycle's start.
-        late = (t > tail.t_from) | ((t == tail.t_from) & (side >= 0))
-        k = np.floor((t[late] - tail.t_from) / tail.period)
-        shift = t[late] - tail.t_from - k * tail.period
-        # A time on a cycle boundary (a repeated transition, e.g. an impact sampled on both
-        # sides) must map onto the cycle's start exactly, not a rounding error before it.
-        snap = TILE_SNAP * tail.period
-        wrap = shift >= tail.period - snap
-        k = np.where(wrap, k + 1.0, k)
-        shift = np.where(wrap | (shift <= snap), 0.0, shift)
-        t = t.copy()
-        t[late] = tail.cycle_t0 + shift
-        n = k + 1.0
+        t, n = fold_times(t, side, tail.t_from, tail.cycle_t0, tail.period)
         dwf, dwb, dloss = tail.work_per_period
-        wf_off[late], wb_off[late], loss_off[late] = n * dwf, n * dwb, n * dloss
+        wf_off, wb_off, loss_off = n * dwf, n * dwb, n * dloss
     t0 = table["t0"]
-    # A sample at a transition belongs to the segment after it, or before it when asked;
-    # the nudge makes that hold when rounding of repeated-cycle times puts the sample an
-    # ulp off the segment's start.
-    idx = np.searchsorted(t0, t + side * EVENT_NUDGE, side="right") - 1
-    if np.any(side < 0):  # exactly at a segment's start: the segment before it
-        at_start = (side < 0) & (idx > 0) & (t0[np.clip(idx, 0, None)] == t)
-        idx = idx - at_start
+    # A time at a transition belongs to the segment after it, or before it when asked
+    # (side -1); the snap makes that hold when rounding puts it an ulp off the start.
+    idx = np.searchsorted(t0, t + side * snap, side="right") - 1
     idx = np.clip(idx, 0, len(t0) - 1)
     tau = t - t0[idx]
     cos_t, sin_t = np.cos(tau), np.sin(tau)
@@ -192,3 +178,86 @@ def evaluate(
         "belt_input": table["wb0"][idx] + belt_input + wb_off,
         "stop_loss": table["loss0"][idx] + loss_off,
     }
+
+
+@dataclass(frozen=True)
+class ExactSolution:
+    """The exact solution with no stop or a rigid stop, as a function of time.
+
+    The :class:`~core.result.DenseSolution` of the exact method: the segment table, then
+    the periodic continuation (``tail``) or the endless impact sequence (``sequence``), all
+    evaluated in closed form. At an impact ``side = -1`` gives the state before it and
+    ``side = +1`` the state after it; elsewhere both sides agree.
+
+    Attributes
+    ----------
+    table : dict of ndarray
+        :meth:`SegmentTable.arrays` of the transient (and one period of a cycle).
+    belt_speed, t_end, clearance : float
+        ``clearance`` is ``inf`` without a stop.
+    tail : PeriodicTail or None
+    sequence : ImpactSequence or None
+    sequence_work : (float, float, float)
+        Energy terms accumulated up to the sequence's start, its first impact's loss
+        included.
+    """
+
+    table: dict[str, np.ndarray]
+    belt_speed: float
+    t_end: float
+    clearance: float = math.inf
+    tail: PeriodicTail | None = None
+    sequence: ImpactSequence | None = None
+    sequence_work: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def sample(self, times: np.ndarray, side: np.ndarray) -> dict[str, np.ndarray]:
+        """State, mode and cumulative energy terms at ``times`` (sides per time: -1 the
+        left limit, +1 or 0 the right limit)."""
+        times = np.asarray(times, dtype=float)
+        side = np.asarray(side, dtype=np.int8)
+        seq = self.sequence
+        if seq is None:
+            out = evaluate(self.table, times, side, self.belt_speed, self.tail)
+            if math.isfinite(self.clearance):
+                # Rounding may put a state a few ulps past the face; the exact solution
+                # never is.
+                np.minimum(out["x"], self.clearance, out=out["x"])
+            return out
+        late = (times > seq.t_start) | ((times == seq.t_start) & (side >= 0))
+        early = ~late
+        out = {
+            name: np.empty(len(times), np.int8 if name == "mode" else float)
+            for name in ("x", "v", "mode", "friction_work", "belt_input", "stop_loss")
+        }
+        if np.any(early):
+            part = evaluate(self.table, times[early], side[early], self.belt_speed, self.tail)
+            for name, values in part.items():
+                out[name][early] = values
+        if np.any(late):
+            part = evaluate_sequence(seq, times[late], self.belt_speed, side[late])
+            wf, wb, lost = self.sequence_work
+            # sequence_work already holds the loss of the first impact of the sequence.
+            first_loss = 0.5 * (1.0 - seq.r**2) * seq.w**2
+            offsets = {"friction_work": wf, "belt_input": wb, "stop_loss": lost - first_loss}
+            for name, values in part.items():
+                out[name][late] = values + offsets.get(name, 0.0)
+        # Rounding may put a state a few ulps past the face; the exact solution never is.
+        np.minimum(out["x"], self.clearance, out=out["x"])
+        return out
+
+    def evaluate(self, t: np.ndarray, side: int) -> tuple[np.ndarray, np.ndarray]:
+        """Position and velocity at times ``t`` in ``[0, t_end]`` (any shape).
+
+        Examples
+        --------
+        >>> from core import Oscillator, RigidStop, simulate
+        >>> res = simulate(Oscillator(0.3, 0.2, 0.5), RigidStop(0.3, 1.0), t_end=10.0)
+        >>> t_hit = res.transitions[0].t
+        >>> [round(float(res.evaluate(t_hit, side)[1]), 12) for side in (-1, 1)]
+        [0.173205080757, -0.173205080757]
+        """
+        check_side(side)
+        t = np.asarray(t, dtype=float)
+        flat = check_times("t", t.ravel(), self.t_end)
+        out = self.sample(flat, np.full(flat.shape, side, np.int8))
+        return out["x"].reshape(t.shape), out["v"].reshape(t.shape)

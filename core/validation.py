@@ -1,12 +1,16 @@
 """Input checks at the boundary of the core: one clear ``ValueError`` per bad value.
 
-Every message names the parameter, the allowed range and the value received, so the
-app can show it to the user unchanged.
+This module is the one place that writes the core's messages about bad input. Every
+message names the parameter, the allowed range and the value received, so the app can
+show it to the user unchanged.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
+
+import numpy as np
 
 
 def check_finite(name: str, value: float) -> float:
@@ -61,15 +65,137 @@ def _fmt(x: float) -> str:
 
 
 def check_start(x0: float, clearance: float, limit_overlap: float | None = None) -> None:
-    """The start must not lie inside a rigid stop (``x0 <= clearance``), nor beyond a
-    deformable stop's limit overlap (``x0 < clearance + limit_overlap``)."""
+    """The start must not lie beyond a rigid stop (``x0 <= clearance``), nor beyond a
+    deformable stop's limit overlap (``x0 < clearance + limit_overlap``).
+
+    Examples
+    --------
+    >>> check_start(0.4, 0.3)
+    Traceback (most recent call last):
+    ...
+    ValueError: x0 must not lie beyond the stop (...): x0 <= clearance = 0.3; got x0 = 0.4
+    """
     if limit_overlap is None:
         if x0 > clearance:
             raise ValueError(
-                f"x0 must not lie inside the stop: x0 <= clearance={clearance:.6g}; got {x0:.6g}"
+                "x0 must not lie beyond the stop (the stop must lie ahead of the start "
+                f"position): x0 <= clearance = {clearance:.6g}; got x0 = {x0:.6g}"
             )
     elif x0 - clearance >= limit_overlap:
         raise ValueError(
             "x0 must overlap the stop by less than its limit overlap: "
             f"x0 < clearance + limit_overlap = {clearance + limit_overlap:.6g}; got {x0:.6g}"
         )
+
+
+def check_oscillator(osc: object) -> None:
+    """``osc`` must be an :class:`~core.params.Oscillator`."""
+    from core.params import Oscillator  # params imports this module
+
+    if not isinstance(osc, Oscillator):
+        raise TypeError(f"osc must be an Oscillator; got {type(osc).__name__}")
+
+
+def check_stop(stop: object) -> None:
+    """``stop`` must be None, a :class:`~core.params.RigidStop` or a
+    :class:`~core.params.HystereticStop`."""
+    from core.params import HystereticStop, RigidStop
+
+    if stop is not None and not isinstance(stop, (RigidStop, HystereticStop)):
+        raise TypeError(
+            f"stop must be None, a RigidStop or a HystereticStop; got {type(stop).__name__}"
+        )
+
+
+def check_rigid_stop(stop: object, x0: float) -> None:
+    """For the closed forms: ``stop`` must be None or a RigidStop ahead of ``x0``."""
+    from core.params import RigidStop
+
+    if stop is None:
+        return
+    if not isinstance(stop, RigidStop):
+        raise TypeError(
+            "stop must be a RigidStop or None; the closed forms hold for a rigid stop only "
+            f"(got {type(stop).__name__}; for a hysteretic stop use "
+            "RigidStop(stop.clearance, stop.equivalent_restitution) as its rigid equivalent)"
+        )
+    check_start(x0, stop.clearance)
+
+
+def check_state(x0: float, v0: float) -> tuple[float, float]:
+    """The initial state as finite floats."""
+    return check_finite("x0", x0), check_finite("v0", v0)
+
+
+def check_integer(name: str, value: object, low: int, high: int) -> int:
+    """Return ``value`` as ``int`` if it is an integer in ``[low, high]``; a float such as
+    ``2.7`` (or ``2.0``) is refused rather than rounded.
+
+    Examples
+    --------
+    >>> check_integer("n_samples", 2000, 2, 10_000_000)
+    2000
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(
+            f"{name} must be an integer in [{low}, {high}]; got {value!r} "
+            f"({type(value).__name__})"
+        )
+    value = int(value)
+    if not low <= value <= high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high}]; got {value}")
+    return value
+
+
+def check_times(name: str, times: object, t_end: float) -> np.ndarray:
+    """Return ``times`` as a 1-D float array of finite times in ``[0, t_end]``."""
+    try:
+        t = np.asarray(times, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]") from None
+    if t.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]; got {t.ndim}-D")
+    outside = ~np.isfinite(t) | (t < 0.0) | (t > t_end)
+    if np.any(outside):
+        raise ValueError(
+            f"{name} must lie in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
+        )
+    return t
+
+
+def check_options(method: str, used: tuple[str, ...], given: dict[str, object]) -> None:
+    """Refuse an option the chosen method does not use, naming it (as ``solve_ivp`` warns
+    about extraneous options) instead of dropping it."""
+    for name, value in given.items():
+        if value is not None and name not in used:
+            uses = ", ".join(used) if used else "none of rtol, atol, eta"
+            raise TypeError(
+                f"{name} is not used by method {method!r} here (it uses {uses}); "
+                f"leave {name} unset"
+            )
+
+
+def check_choice(name: str, value: object, allowed: tuple) -> None:
+    """``value`` must be one of ``allowed``."""
+    if value not in allowed:
+        raise ValueError(
+            f"{name} must be one of {', '.join(str(a) for a in allowed)}; got {value!r}"
+        )
+
+
+def check_side(side: object) -> None:
+    """The side of a one-sided limit: -1 (left, before a jump) or +1 (right, after it)."""
+    if side not in (-1, 1):
+        raise ValueError(f"side must be -1 (left limit) or +1 (right limit); got {side!r}")
+
+
+def check_grid(name: str, values: np.ndarray, low: float = -math.inf) -> np.ndarray:
+    """A 1-D float array of finite values ``>= low`` (the axis of a regime map)."""
+    values = np.asarray(values, dtype=float).ravel()
+    bad = ~np.isfinite(values) | (values < low)
+    if np.any(bad):
+        raise ValueError(
+            f"{name} must lie in [{_fmt(low)}, inf) at every point of the grid; "
+            f"got {values[bad][0]!r}"
+        )
+    return values

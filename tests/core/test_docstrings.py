@@ -10,7 +10,7 @@ import pytest
 
 import core
 
-MODULES = sorted(m.name for m in pkgutil.iter_modules(core.__path__, "core."))
+MODULES = sorted(m.name for m in pkgutil.walk_packages(core.__path__, "core."))
 
 
 @pytest.mark.parametrize("name", ["core", *MODULES])

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
@@ -181,19 +180,6 @@ def test_through_simulate_and_result_fields():
     assert res.impulses.shape == (0, 2)
     assert len(res.contact_force) == len(res.t) == len(res.overlap)
     assert {"n_contacts", "rhs_evals", "effective_restitution"} <= set(res.stats)
-
-
-@pytest.mark.slow
-def test_paper_scene_timing_report():
-    """Median wall time of the default solve of the paper's Figs. 10 and 11 (printed)."""
-    for xb in (0.24, 0.15):
-        stop = HystereticStop(xb, **SCENE_STOP)
-        times = []
-        for _ in range(5):
-            t0 = time.perf_counter()
-            simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0)
-            times.append(time.perf_counter() - t0)
-        print(f"x_bar = {xb}: median {1e3 * float(np.median(times)):.1f} ms")
 
 
 #: The app's scene stop (app/scenes.py, Figs. 10-11): sharp transition, beta * overlap / D ~ 90.

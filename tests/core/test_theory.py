@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
 from scipy.integrate import quad, solve_ivp
 
@@ -262,7 +262,6 @@ def test_classify_rejects_bad_input():
         classify(SLOW, None, x0=math.nan)
 
 
-@settings(max_examples=200)
 @given(scene=st.one_of(slow_scenes(), fast_scenes()))
 def test_classify_is_total_and_consistent(scene):
     osc, stop = scene
@@ -293,7 +292,6 @@ def test_classify_is_total_and_consistent(scene):
 # ---------------------------------------------------------------- steady points (A.1-A.12)
 
 
-@settings(max_examples=200)
 @given(scene=st.one_of(slow_scenes(), fast_scenes()))
 def test_steady_points_lie_on_circles_lines_and_obey_the_impact_law(scene):
     osc, stop = scene

@@ -1,0 +1,206 @@
+"""What the motion settles to: one steady-state detector and one rule for rest at the stop.
+
+For every method (exact, hysteretic, switch, event; docs/physics.md, "Steady states"):
+
+* :class:`FixedPointDetector` finds a periodic steady state as a fixed point of the
+  friction-impact map (Eq. 20): a transition state that repeats an earlier one of the same
+  kind, with a period the times can resolve (``> 0``);
+* :func:`fold_times` tiles the rest of the horizon with the cycle found: a time after the
+  cycle maps into the stored period, with the number of whole periods it moved;
+* :func:`pressed_on_stop`, :func:`rest_force` and :func:`comes_to_rest` decide whether a
+  mass that has come to rest at the stop stays there, and with what force.
+
+The rule: at the stop ``x = x_bar`` with ``x' = 0`` the mass moves backwards relative to
+a moving belt, so kinetic friction ``+a`` acts and the net force without the stop is
+``a - x_bar``. The mass stays pressed on the stop iff that force does not pull it away,
+``a >= x_bar``. The same inequality decides whether the rebounds of an impact sequence
+come back to the stop ever faster (accumulation, ``x_bar < a``) or not (grazing).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from core.params import Oscillator
+from core.result import TransitionKind
+
+#: Two transition states closer than this (relative to the problem's length scale) are the
+#: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
+#: leaves room for the rounding of long transients without merging distinct states.
+FIXED_POINT_RTOL = 1e-11
+#: How many earlier transitions of the same kind are compared with each new one.
+FIXED_POINT_LOOKBACK = 64
+#: A cycle must last more than this many ulps of the time it closes at (a shorter one is a
+#: bounce below the resolution of time and cannot be tiled).
+PERIOD_ULPS = 1024
+#: Times within this fraction of a period of a cycle boundary are put on it (rounding of
+#: the repeated transition times is ~1e-16 of the horizon; 1e-9 of a period moves a time
+#: by nanoseconds of dimensionless time).
+TILE_SNAP = 1e-9
+
+#: An impact whose bounce would rise less than this fraction of the stop's length scale
+#: off the stop (height ``w^2 / (2 |a - x_bar|)``) cannot be told from rest: one ulp of
+#: ``x`` at a turning point next to the stop already gives a speed of that order. The
+#: threshold on the speed is ``REST_SPEED * sqrt(|a - x_bar| * L)``; 1e-7 is the square
+#: root of ~500 ulps of position.
+REST_SPEED = 1e-7
+
+
+def pressed_on_stop(osc: Oscillator, clearance: float) -> bool:
+    """True when a mass at rest at the stop stays pressed on it: ``a >= x_bar``.
+
+    Examples
+    --------
+    >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)
+    >>> pressed_on_stop(osc, 0.1), pressed_on_stop(osc, 0.3)
+    (True, False)
+    """
+    return osc.a >= clearance
+
+
+def rest_force(osc: Oscillator, clearance: float) -> float:
+    """Contact force over ``k`` (a length) of the mass resting on the stop.
+
+    On a moving belt kinetic friction presses it: ``a - x_bar``. On a still belt static
+    friction is indeterminate and the least force it allows, ``max(-x_bar - b, 0)``, is
+    reported. Zero when the mass is not pressed.
+
+    Examples
+    --------
+    >>> round(rest_force(Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5), 0.05), 12)
+    0.15
+    """
+    if osc.v > 0.0:
+        return max(osc.a - clearance, 0.0)
+    return max(-clearance - osc.b, 0.0)
+
+
+def comes_to_rest(osc: Oscillator, clearance: float, speed: float) -> bool:
+    """True when an impact at ``speed`` leaves the mass at rest at the stop to the
+    resolution of the numbers: it is pressed on the stop and the bounce it starts would
+    rise less than ``REST_SPEED**2`` of the stop's length scale (see :data:`REST_SPEED`).
+
+    Examples
+    --------
+    >>> osc = Oscillator(mu_s=1.0, mu_k=1.0, belt_speed=0.0)
+    >>> comes_to_rest(osc, 0.0, 1e-20), comes_to_rest(osc, 0.0, 1e-3)
+    (True, False)
+    """
+    if not pressed_on_stop(osc, clearance):
+        return False
+    if speed == 0.0:
+        return True
+    d = abs(osc.a - clearance)
+    scale = max(abs(clearance), d)
+    return speed <= REST_SPEED * math.sqrt(d * scale)
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """A periodic steady state found by :class:`FixedPointDetector`.
+
+    ``t_then``/``t_now`` are the times of the two equal transition states (``period =
+    t_now - t_then > 0``); ``tag_then``/``tag_now`` the caller's tags stored with them
+    (e.g. the row of a segment table); ``n_transitions`` the transitions per period.
+    """
+
+    t_then: float
+    t_now: float
+    tag_then: int
+    tag_now: int
+    n_transitions: int
+
+    @property
+    def period(self) -> float:
+        return self.t_now - self.t_then
+
+
+class FixedPointDetector:
+    """Fixed point of the friction-impact map ``P^j`` (Eq. 20) from transition states.
+
+    Feed every transition state with :meth:`add`; it returns the :class:`Cycle` when the
+    state repeats an earlier one of the same kind, else ``None``. A repeat must hold to
+    ``FIXED_POINT_RTOL * scale`` and also to ``FIXED_POINT_RTOL`` of the cycle's own size
+    (a sequence converging on a point, as in an accumulation, has consecutive states that
+    come within any absolute tolerance without ever repeating), and its period must be
+    resolvable in time (more than :data:`PERIOD_ULPS` ulps).
+
+    Examples
+    --------
+    >>> det = FixedPointDetector(scale=1.0)
+    >>> det.add(TransitionKind.IMPACT, 1.0, 0.3, 0.2) is None
+    True
+    >>> det.add(TransitionKind.IMPACT, 3.5, 0.3, 0.2).period
+    2.5
+    """
+
+    def __init__(self, scale: float) -> None:
+        self.tol = FIXED_POINT_RTOL * scale
+        self.states: list[tuple[float, float, float, int]] = []  # (t, x, v, tag)
+        self.by_kind: dict[str, list[int]] = {}
+
+    def add(self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0) -> Cycle | None:
+        """Record the state ``(x, v)`` of a transition of ``kind`` at ``t``."""
+        seen = self.by_kind.setdefault(kind.value, [])
+        j = self._match(seen, t, x, v)
+        self.states.append((t, x, v, tag))
+        seen.append(len(self.states) - 1)
+        if j is None:
+            return None
+        t_then, _, _, tag_then = self.states[j]
+        n = len(self.states) - 1 - j
+        return Cycle(t_then, t, tag_then, tag, n)
+
+    def _match(self, seen: list[int], t: float, x: float, v: float) -> int | None:
+        shortest = PERIOD_ULPS * math.ulp(max(abs(t), 1.0))
+        best, best_gap = None, math.inf
+        for i in seen[-FIXED_POINT_LOOKBACK:]:
+            ti, xi, vi, _ = self.states[i]
+            gap = abs(xi - x) + abs(vi - v)
+            near = abs(xi - x) <= self.tol and abs(vi - v) <= self.tol
+            if near and t - ti > shortest and gap < best_gap:
+                size = max(abs(st[1] - x) + abs(st[2] - v) for st in self.states[i:])
+                if gap <= FIXED_POINT_RTOL * size:
+                    best, best_gap = i, gap
+        return best
+
+
+def fold_times(
+    t: np.ndarray, side: np.ndarray, t_from: float, cycle_t0: float, period: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tile the horizon after ``t_from`` with the period ``[cycle_t0, cycle_t0 + period)``.
+
+    Returns the times mapped into the stored motion and how many whole periods each was
+    moved by (0 for times before the tiling). A time on a cycle boundary maps onto the
+    cycle's start exactly (its right limit) or, for ``side = -1``, onto ``t_from``, the
+    end of the stored motion (its left limit), never a rounding error beside them.
+
+    Examples
+    --------
+    >>> folded, n = fold_times(np.array([1.0, 7.0, 9.0]), np.array([1, 1, -1]), 5.0, 3.0, 2.0)
+    >>> folded.tolist(), n.tolist()
+    ([1.0, 3.0, 5.0], [0.0, 2.0, 2.0])
+    """
+    late = (t > t_from) | ((t == t_from) & (side >= 0))
+    tl = t[late]
+    k = np.floor((tl - t_from) / period)
+    shift = tl - t_from - k * period
+    snap = TILE_SNAP * period
+    wrap = shift >= period - snap
+    k += wrap
+    boundary = wrap | (shift <= snap)
+    shift[boundary] = 0.0
+    # Left limit at a boundary: the end of the previous period, where the stored motion
+    # itself ends, rather than the transient's arrival at the cycle's start.
+    end = boundary & (side[late] < 0)
+    k -= end
+    mapped = cycle_t0 + shift
+    mapped[end] = t_from
+    folded = np.array(t, dtype=float, copy=True)
+    folded[late] = mapped
+    n = np.zeros_like(folded)
+    n[late] = k + 1.0
+    return folded, n

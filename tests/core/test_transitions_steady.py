@@ -1,0 +1,68 @@
+"""The shared transition log and steady-state tools (core.transitions, core.steady)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from core.result import TransitionKind
+from core.steady import FixedPointDetector, fold_times
+from core.transitions import TransitionLog
+
+IMPACT, SLIP_STICK = TransitionKind.IMPACT, TransitionKind.SLIP_STICK
+
+
+@pytest.mark.parametrize("cap", [1, 3, 10, 10_000])
+def test_tiling_counts_every_repeat_whatever_the_cap(cap):
+    """A cycle of two transitions at 0.25 and 0.75 of a period 1, repeated to t = 100.3:
+    transitions at k + 0.25 and k + 0.75 for k = 0..99, and 100.25: 201, stored or
+    counted."""
+    log = TransitionLog(cap)
+    log.add(IMPACT, 0.25, 0.1, 0.2, -0.1)
+    log.add(SLIP_STICK, 0.75, 0.1, 0.2)
+    cycle = [tr for tr in log.stored]
+    if len(cycle) < 2:  # a cycle must be stored to be tiled (rigid stores at least that)
+        assert log.total == 2
+        return
+    log.tile(cycle, 1.0, 100.3)
+    assert log.total == 201
+    assert log.counts["impact"] == 101 and log.counts["slip->stick"] == 100
+    assert len(log.stored) == min(cap, 201)
+    times = [tr.t for tr in log.stored]
+    assert times == sorted(times)
+    np.testing.assert_allclose(times[2:4], [1.25, 1.75][: len(times) - 2], rtol=1e-15)
+
+
+def test_bulk_impacts_are_stored_up_to_the_cap_and_all_counted():
+    log = TransitionLog(cap=3)
+    log.add_impacts([1.0, 2.0, 3.0, 4.0, 5.0], 0.3, [0.5, 0.25, 0.125, 0.0625, 0.03], 0.5)
+    assert len(log.stored) == 3 and log.total == 5
+    assert log.stored[1].v_after == -0.125
+    assert log.impulses[0] == (1.0, 0.75)  # (1 + r) w
+
+
+def test_detector_needs_a_resolvable_period():
+    det = FixedPointDetector(scale=1.0)
+    assert det.add(IMPACT, 1.0, 0.3, 0.2) is None
+    assert det.add(IMPACT, 1.0 + 1e-14, 0.3, 0.2) is None  # 45 ulps: not a period
+    cycle = det.add(IMPACT, 4.0, 0.3, 0.2)
+    assert cycle is not None and cycle.period == 3.0 and cycle.n_transitions == 2
+
+
+def test_detector_ignores_a_converging_sequence():
+    """States r^k w approach a point without repeating (an accumulation)."""
+    det = FixedPointDetector(scale=1.0)
+    found = [det.add(IMPACT, float(k), 0.1, 0.5**k) for k in range(60)]
+    assert all(c is None for c in found)
+
+
+def test_fold_times_tiles_and_takes_both_limits_at_boundaries():
+    t_from, cycle_t0, period = 5.0, 3.0, 2.0
+    t = np.array([4.0, 5.0, 6.0, 7.0, 7.0, 100.5])
+    side = np.array([1, 1, 1, -1, 1, 1])
+    folded, n = fold_times(t, side, t_from, cycle_t0, period)
+    np.testing.assert_array_equal(folded, [4.0, 3.0, 4.0, 5.0, 3.0, 4.5])
+    np.testing.assert_array_equal(n, [0.0, 1.0, 1.0, 1.0, 2.0, 48.0])
+    # Rounding a few ulps off a boundary still lands on it.
+    folded, n = fold_times(np.array([7.0 - 4e-15, 7.0 + 4e-15]), np.array([1, 1]), 5.0, 3.0, 2.0)
+    np.testing.assert_array_equal(folded, [3.0, 3.0])
