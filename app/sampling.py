@@ -239,6 +239,8 @@ def _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends, last):
     end of the last piece, which is not a transition."""
     m = len(bt)
     xe, ve = last
+    if ends[-1] == bt[-1]:  # a transition at the end: the last piece is its state after
+        xe, ve = bx[-1:], bv_out[-1:]
     end_x = np.r_[bx[1:], xe]
     end_v = np.r_[bv_in[1:], ve]
     t = np.r_[bt, times, ends]

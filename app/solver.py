@@ -30,7 +30,7 @@ import numpy as np
 
 from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
-from core import HystereticStop, Mode, Result, RigidStop, simulate, theory
+from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
 from core.hysteretic import effective_restitutions
 
@@ -267,11 +267,10 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
         program, result = overlap_program(stop), None
     else:
         program = None
-        result = simulate(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
-            rtol=accuracy["rtol"], atol=accuracy["atol"],
-            eta=accuracy["eta"] if method == "switch" else None,
-        )
+        # Only the options the method uses: the core refuses the others.
+        options = {name: accuracy[name] for name in method_options(method, stop)}
+        result = simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
+                          **options)
     solve_time = time.perf_counter() - start
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
