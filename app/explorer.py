@@ -25,7 +25,7 @@ from panel.io.state import set_curdoc
 
 from app.animation import Animation
 from app.export import file_name, trajectory_csv, transitions_csv
-from app.plots import MAP_PALETTE, PlotSet
+from app.plots import MAP_PALETTE, PLOT_WIDTHS, PlotSet
 from app.readout import readout_html
 from app.scenes import (
     CUSTOM,
@@ -190,7 +190,8 @@ class Explorer(pn.viewable.Viewer):
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
         self._readout_scene: str | None = None
-        self.map_legend = pn.pane.HTML("", width=540, css_classes=["fie-map-legend"],
+        self.map_legend = pn.pane.HTML("", sizing_mode="stretch_width",
+                                       css_classes=["fie-map-legend"],
                                        stylesheets=[STYLESHEET])
         self.download = pn.widgets.FileDownload(
             callback=self._csv, filename="trajectory.csv", label="Download trajectory (CSV)",
@@ -302,12 +303,18 @@ class Explorer(pn.viewable.Viewer):
             if name == "anim":
                 body = self.anim.panel()
             elif name == "map":
-                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"]), self.map_legend,
-                                 margin=0)
+                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"],
+                                               sizing_mode="stretch_width"),
+                                 self.map_legend, margin=0, sizing_mode="stretch_width")
             else:
-                body = pn.pane.Bokeh(self.plots.panes[name])
+                body = pn.pane.Bokeh(self.plots.panes[name], sizing_mode="stretch_width")
+            # Responsive grid: each plot grows from its narrowest width to its widest, and
+            # the row wraps when two do not fit (app.plots.PLOT_WIDTHS).
             panes[name] = pn.Column(body, css_classes=["fie-plot", f"fie-plot-{name}"],
-                                    name=PLOT_TITLES[name], margin=(4, 8))
+                                    name=PLOT_TITLES[name], margin=(4, 8),
+                                    sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
+                                    max_width=PLOT_WIDTHS[1],
+                                    styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"})
         return panes
 
     # --- views ---------------------------------------------------------------------------
@@ -733,7 +740,8 @@ class Explorer(pn.viewable.Viewer):
         st = self.state
         scales = st.scales()
         visible = self.visible_plots()
-        map_data = regime_map(sol.values, compute=False) if "map" in visible else None
+        map_data = (regime_map(sol.values, compute=False, frame=self._map_frame(sol))
+                    if "map" in visible else None)
         # The values come from the solver and the plot code, valid by construction: Bokeh's
         # check of each of the ~100 properties set here is skipped (server time on the
         # critical path of every release).
@@ -791,12 +799,17 @@ class Explorer(pn.viewable.Viewer):
             return
         set_changed(self.readout, min_height=height)
 
+    def _map_frame(self, sol: Solution) -> tuple[float, float, float]:
+        """The regime map's axes, stable for a scene (:meth:`PlotSet.map_frame`)."""
+        return self.plots.map_frame({**sol.values, "scene": self.state.scene,
+                                     "units": self.state.units})
+
     def _draw_map(self, sol: Solution) -> None:
         """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
         if sol is not self.solution:
             return
         try:
-            data = regime_map(sol.values)
+            data = regime_map(sol.values, frame=self._map_frame(sol))
         except Exception:  # noqa: BLE001 - a map that fails leaves the old one
             log.exception("regime map failed")
             return
@@ -934,11 +947,27 @@ class _Deferred:
             fn()
 
 
+#: What the words of the regime map's legend mean (shown under it, for the words used).
+MAP_TERMS = {
+    "slow": "slow / fast belt: v below / above the critical speed v* (Eq. 25)",
+    "no impact": "no impact: the motion stays short of the stop",
+    "elastic": "elastic / inelastic / plastic: restitution r = 1 / 0 < r < 1 / r = 0",
+    "case": "case a / b / c: where the stick phase meets the stop (Sec. 4.2-4.4, Eq. 35)",
+    "grazing": "grazing: impacts fade towards a slip circle touching the stop",
+    "rest": "rest: the impacts accumulate and the mass stays pressed on the stop",
+}
+
+
 def _map_legend(labels: list[str]) -> str:
-    """Colour swatches naming the regimes of the map."""
+    """Colour swatches naming the regimes of the map, and what their words mean."""
     items = "".join(
         f"<span class='fie-swatch'><i style='background:{MAP_PALETTE[i % len(MAP_PALETTE)]}'>"
         f"</i>{html.escape(label)}</span>"
         for i, label in enumerate(labels)
     )
-    return f"<div class='fie-legend'>{items}</div>"
+    words = " ".join(labels)
+    terms = [text for word, text in MAP_TERMS.items()
+             if word in words or (word == "slow" and "fast" in words)
+             or (word == "elastic" and ("inelastic" in words or "plastic" in words))]
+    notes = "".join(f"<div class='fie-look'>{html.escape(t)}</div>" for t in terms)
+    return f"<div class='fie-legend'>{items}{notes}</div>"

@@ -3,14 +3,14 @@
 :class:`PlotSet` builds every figure once with empty ``ColumnDataSource`` objects; an update
 replaces each source's ``.data`` in one assignment (the caller batches them with
 ``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
-Arrays are float32 and decimated to about what the screen can show
-(:func:`decimation_indices`). The ``*_columns`` functions are pure: they turn a
-:class:`~app.solver.Solution` into the columns of one source and are tested without a
-browser.
+Arrays are float32 and sampled for the screen from the exact motion (:mod:`app.sampling`).
+The ``*_columns`` functions are pure: they turn a :class:`~app.solver.Solution` into the
+columns of one source and are tested without a browser.
 """
 
 from __future__ import annotations
 
+import html
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -20,10 +20,11 @@ from bokeh.layouts import column
 from bokeh.models import (
     BasicTickFormatter,
     ColumnDataSource,
+    DataRange1d,
+    Div,
+    GlyphRenderer,
     Label,
     LabelSet,
-    Legend,
-    LegendItem,
     LinearAxis,
     LinearColorMapper,
     Range1d,
@@ -31,10 +32,11 @@ from bokeh.models import (
 )
 from bokeh.plotting import figure
 
-from app.scenes import PLOTS
-from app.solver import Solution, mode_intervals
+from app import sampling
+from app.scenes import CUSTOM, PLOTS
+from app.solver import Solution, map_ranges
 from app.state import DIMENSIONLESS, Scales
-from core import Mode, RigidStop, TransitionKind
+from core import Mode, TransitionKind
 from core.hysteresis import phi_compression, phi_expansion
 
 #: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
@@ -84,18 +86,12 @@ ENERGY_COLORS: Mapping[str, str] = {
     "mechanical": "#000000", "belt_input": "#2ca02c", "friction_heat": "#1f5fbf",
     "stop_loss": "#c8102e", "stop_stored": "#9467bd",
 }
-#: Relative distance from the stop within which a sample pair at equal times is an impact.
-IMPACT_X_TOL = 1e-9
-#: Relative difference of times within which a sample pair belongs to an impulse.
-IMPACT_T_TOL = 1e-12
 #: Points of the full trajectory sent to the browser (a few per pixel of a plot's width).
 MAX_POINTS = 1600
 #: Points of the hysteresis loop sent at most (of many contacts, the latest loops).
 MAX_LOOP_POINTS = 4 * MAX_POINTS
 #: Transition markers drawn at most (the latest ones).
 MAX_MARKERS = 400
-#: Mode bands drawn at most (shorter bands are merged into their neighbours' gaps).
-MAX_BANDS = 600
 #: Operating points drawn on the friction law.
 MAX_OPERATING_POINTS = 500
 #: Gap [px] between a theory point and its label.
@@ -122,13 +118,43 @@ PHASE_X_PADDING = 0.15
 STOP_VIEW_REACH = 0.5
 #: Relative span below which data are a single value (the axis then spans one unit).
 EMPTY_SPAN = 1e-12
-#: Sizes of the figures [px].
+#: Heights of the figures [px]; their widths follow the page (:data:`PLOT_WIDTHS`).
 PHASE_SIZE = (540, 500)
-TIME_SIZE = (540, 215)
+TIME_SIZE = (540, 230)
 SMALL_SIZE = (540, 300)
 MAP_SIZE = (540, 380)
-#: Tag of the legend stand-ins (:func:`_legend_item`), which draw nothing in the frame.
-LEGEND_PROXY_TAG = "fie-legend-proxy"
+#: Narrowest and widest plot [px]: two columns side by side from ~1100 px of page, one
+#: column (readable, legends not cut) on an 800 px window, no stretched plots beyond.
+PLOT_WIDTHS = (360, 900)
+#: Font sizes: axis labels and the theory's labels readable from the back of a room.
+AXIS_LABEL_FONT, TICK_LABEL_FONT, TITLE_FONT = "13px", "12px", "14px"
+#: What the regime map's axes depend on besides the point: a change reframes the map.
+MAP_FRAME_KEYS = ("scene", "stop_type", "mu_s", "mu_k", "u_s", "units")
+#: Styles of the phase portrait's glyphs (drawn and in its HTML legend).
+PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
+    "gamma0": {"line_color": "#777777", "line_dash": "dashed", "line_width": 1},
+    "cycle": {"line_color": "#999999", "line_width": 1},
+    "removed": {"line_color": "#555555", "line_dash": "dotted", "line_width": 1.5},
+    **{name: {"line_color": MODE_COLORS[m], "line_width": 2} for m, name in MODE_NAMES.items()},
+    "points": {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
+               "line_color": "#000000", "line_width": 2},
+    "repeat": {"marker": "circle_dot", "size": 11, "fill_color": "#ffffff",
+               "line_color": "#2ca02c", "line_width": 2},
+    "start": {"marker": "circle", "size": 8, "fill_color": "#ffffff", "line_color": "#000000"},
+}
+#: Legend labels of the phase portrait's references, and what they are (tooltips).
+PHASE_LABELS: Mapping[str, tuple[str, str]] = {
+    "gamma0": ("Gamma_0", "Gamma_0 (Eq. 21): the disc about (a, 0) of radius v, touching "
+               "the stick line x' = v; a start inside it slips for ever (fast belt)"),
+    "cycle": ("impactless cycle", "Gamma_LC (Eqs. 23-24): the stick-slip cycle (or, for a "
+              "fast belt, the slip circle) the motion settles on without the stop"),
+    "points": ("theory (A.1-A.12)", "the steady-state points of the paper's appendix"),
+    "repeat": ("cycle closes", "the periodic steady state is drawn once: from here it "
+               "repeats; the label counts the repeats within the horizon"),
+    "start": ("start", "the initial state (x0, x'0); click the portrait to move it"),
+    "removed": ("stop removed", "Sec. 4.6: the pure slip circle about (a, 0) the mass "
+                "would follow if the stop were removed while it rests on it"),
+}
 #: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
 #: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
 TICK_POWER_LIMIT_LOW = -5
@@ -157,97 +183,115 @@ def _assign(source: ColumnDataSource, cols: Mapping[str, Any]) -> bool:
     return True
 
 
-def decimation_indices(t: np.ndarray, mode: np.ndarray, max_points: int) -> np.ndarray:
-    """Indices of the samples to draw: a uniform stride plus every mode change and both
-    sides of every jump (samples at equal time, i.e. impacts). Samples in contact
-    (:attr:`Mode.CONTACT`, short and sampled densely by the core) have a budget of
-    ``max_points`` of their own, so a contact is not thinned to a few chords.
-
-    >>> t = np.linspace(0, 1, 11); mode = np.zeros(11, dtype=int); mode[5:] = 1
-    >>> decimation_indices(t, mode, 4).tolist()
-    [0, 3, 4, 5, 6, 9, 10]
-    """
-    n = len(t)
-    if n <= max_points:
-        return np.arange(n)
-    step = int(math.ceil(n / max_points))
-    keep = [np.arange(0, n, step), [n - 1]]
-    contact = np.flatnonzero(np.asarray(mode) == int(Mode.CONTACT))
-    if len(contact):
-        keep.append(contact[::int(math.ceil(len(contact) / max_points))])
-    change = np.flatnonzero(np.diff(mode) != 0)
-    keep += [change, change + 1]
-    jump = np.flatnonzero(np.diff(t) <= 0.0)
-    keep += [jump, jump + 1]
-    return np.unique(np.concatenate(keep).astype(np.int64))
+#: The largest frame of the phase portrait [px] (the widest plot, and its height): the
+#: chord bound is set for it, so a wider window does not show chords.
+PHASE_FRAME_MAX = (PLOT_WIDTHS[1] - 80, PHASE_SIZE[1] - 80)
+#: Longest chord of the phase path on the largest frame [px]: below what the eye tells from
+#: a curve (a 2 px chord of a 100 px radius arc deviates from it by 0.005 px).
+CHORD_PX = 2.0
+#: Pixel columns the time histories are reduced to (a wide screen's plot, the largest).
+HISTORY_COLUMNS = 1600
 
 
-def impact_velocities(res: Any, stop: Any) -> np.ndarray:
-    """The sampled velocities with both sides of every rigid impact in place.
+def _drawing(sol: Solution):
+    """The solution as a function of time (:func:`app.sampling.evaluator`), cached on
+    the solution (one evaluator serves the phase portrait and the time histories)."""
+    res = sol.result
+    cache = _DRAWING_CACHE
+    key = id(sol)
+    hit = cache.get(key)
+    if hit is not None and hit[0] is sol:
+        return hit[1]
+    value = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0, sol.method)
+    cache.clear()  # one solution at a time: the last drawn
+    cache[key] = (sol, value)
+    return value
 
-    The core samples each impact twice at the same time, the state before and then after
-    (``core.rigid._sample_times``), but in the periodic continuation of a steady state it
-    can return the same side twice. The phase portrait then joins one side to the next
-    sample on the other side's arc with a chord, one per period, which draws a filled wedge
-    beside the stop (scene 5a). Each pair at an impact therefore gets its velocities from
-    the impact's impulse ``j = x'- - x'+`` and Newton's law ``x'+ = -r x'-``:
-    ``x'- = j / (1 + r)``, ``x'+ = -r j / (1 + r)``, so the impact draws as the vertical
-    jump at ``x = x_bar``.
 
-    >>> from types import SimpleNamespace
-    >>> from core import RigidStop
-    >>> res = SimpleNamespace(t=np.array([0.0, 1.0, 1.0]), x=np.array([0.1, 0.3, 0.3]),
-    ...                       v=np.array([0.2, 0.4, 0.4]), impulses=np.array([[1.0, 0.75]]))
-    >>> impact_velocities(res, RigidStop(clearance=0.3, restitution=0.5)).tolist()
-    [0.2, 0.5, -0.25]
-    """
-    t, v = np.asarray(res.t), np.asarray(res.v)
-    imp = np.asarray(res.impulses, dtype=float).reshape(-1, 2)
-    if not isinstance(stop, RigidStop) or len(t) < 2 or len(imp) == 0:
-        return v
-    pair = np.flatnonzero(np.diff(t) == 0.0)
-    pair = pair[np.abs(np.asarray(res.x)[pair] - stop.clearance)
-                <= IMPACT_X_TOL * max(1.0, abs(stop.clearance))]
-    k = np.clip(np.searchsorted(imp[:, 0], t[pair]), 0, len(imp) - 1)
-    k_prev = np.maximum(k - 1, 0)  # the nearest impulse time, from either side
-    k = np.where(np.abs(imp[k_prev, 0] - t[pair]) < np.abs(imp[k, 0] - t[pair]), k_prev, k)
-    hit = np.abs(imp[k, 0] - t[pair]) <= IMPACT_T_TOL * np.maximum(1.0, np.abs(t[pair]))
-    pair, k = pair[hit], k[hit]
-    if len(pair) == 0:
-        return v
-    r = stop.restitution
-    v = v.copy()
-    v[pair] = imp[k, 1] / (1.0 + r)
-    v[pair + 1] = -r * v[pair]
-    return v
+_DRAWING_CACHE: dict[int, tuple[Solution, Any]] = {}
+
+
+def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]
+               ) -> tuple[float, float]:
+    """Longest chord along each axis [data units] for :data:`CHORD_PX` on the largest
+    frame, for equal-aspect ranges that hold both bounds (dimensionless ``v``)."""
+    (x0, x1), (v0, v1) = x_bounds, v_bounds
+    per_px = max((x1 - x0) / PHASE_FRAME_MAX[0], (v1 - v0) / PHASE_FRAME_MAX[1], EMPTY_SPAN)
+    return CHORD_PX * per_px, CHORD_PX * per_px
 
 
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
-                       max_points: int = MAX_POINTS) -> dict[str, np.ndarray]:
-    """Columns of the trajectory source: ``t``, ``x``, ``v`` and ``v_slip``/``v_stick``/
-    ``v_contact`` (``v`` where the segment from the previous sample is in that mode, NaN
-    elsewhere, so each mode draws as its own broken line), plus ``t_raw`` (dimensionless
-    time, for the animation) and ``mode``."""
+                       columns: int = HISTORY_COLUMNS) -> dict[str, np.ndarray]:
+    """Columns of the trajectory source (time histories and the animation): ``t``
+    (shown units), ``t_raw`` (dimensionless, for the animation), ``x``, ``v`` and
+    ``mode``, reduced to the first, last, lowest and highest sample of each of
+    ``columns`` pixel columns from samples of the exact motion
+    (:func:`app.sampling.history`); ``bands`` holds the mode bands."""
     res = sol.result
     if res is None:
-        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick",
-                                         "v_contact")}, "mode": np.zeros(0, np.int8)}
-    idx = decimation_indices(res.t, res.mode, max_points)
-    v = impact_velocities(res, sol.stop)
-    t, x, v, mode = res.t[idx], res.x[idx], v[idx] * scales.velocity, res.mode[idx]
-    prev = np.concatenate(([mode[0]], mode[:-1])) if len(mode) else mode
-    cols = {"t": _f32(t * scales.time), "t_raw": _f32(t), "x": _f32(x), "v": _f32(v),
-            "mode": np.asarray(mode, dtype=np.int8)}
-    for m, name in MODE_NAMES.items():
-        # A sample closes the segment from its predecessor: draw it in both modes.
-        cols[f"v_{name}"] = _f32(np.where((mode == m) | (prev == m), v, np.nan))
-    return cols
+        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v")},
+                "mode": np.zeros(0, np.int8)}
+    evaluate, exact = _drawing(sol)
+    step = phase_step(*_sample_bounds(sol))
+    h = sampling.history(res, evaluate, sol.t_end, exact, columns, step)
+    return {"t": _f32(h.t * scales.time), "t_raw": _f32(h.t), "x": _f32(h.x),
+            "v": _f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
+            "bands": h.bands}
 
 
-def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, list]:
-    """Markers of the latest transitions (at most :data:`MAX_MARKERS`) by kind."""
+def _sample_bounds(sol: Solution) -> tuple[tuple[float, float], tuple[float, float]]:
     res = sol.result
-    trs = res.transitions[-MAX_MARKERS:] if res is not None else ()
+    x, v = np.asarray(res.x, float), np.asarray(res.v, float)
+    if len(x) == 0:
+        return (0.0, 1.0), (0.0, 1.0)
+    return (float(x.min()), float(x.max())), (float(v.min()), float(v.max()))
+
+
+def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
+                  step: tuple[float, float] | None = None) -> dict[str, Any]:
+    """The phase portrait's path up to the end of the first steady cycle
+    (:func:`app.sampling.draw_horizon`): per mode name the columns ``x``, ``v`` of its
+    pieces (NaN between pieces), each piece sampled so that no chord is longer than
+    ``step`` (default :func:`phase_step` of the samples' bounds); ``t_draw`` the time
+    drawn to, and ``repeat`` the state where a steady cycle closes (drawn once) with the
+    number of its repeats within the horizon."""
+    res = sol.result
+    empty = {"x": _f32([]), "v": _f32([])}
+    out: dict[str, Any] = {name: dict(empty) for name in MODE_NAMES.values()}
+    out["t_draw"], out["repeat"] = 0.0, {"x": _f32([]), "v": _f32([]), "text": []}
+    if res is None or len(res.t) == 0:
+        return out
+    if step is None:
+        step = phase_step(*_sample_bounds(sol))
+    evaluate, _ = _drawing(sol)
+    t_draw = sampling.draw_horizon(res, sol.t_end, step)
+    path = sampling.phase_path(res, evaluate, t_draw, step)
+    x, v, mode = path.x, path.v * scales.velocity, path.mode
+    # Consecutive pieces meet at their transition's state, so each mode's runs are drawn
+    # as they are, one NaN after each run to break the line.
+    for m, name in MODE_NAMES.items():
+        sel = mode == m
+        keep = sel | np.r_[False, sel[:-1]]
+        out[name] = {"x": _f32(np.where(sel, x, np.nan)[keep]),
+                     "v": _f32(np.where(sel, v, np.nan)[keep])}
+    out["t_draw"] = t_draw
+    steady = res.steady
+    if t_draw < sol.t_end and math.isfinite(steady.period) and steady.period > 0 and (
+            steady.kind.value == "periodic"):
+        repeats = int((sol.t_end - t_draw) // steady.period)
+        xr, vr = evaluate(np.array([t_draw]))
+        out["repeat"] = {"x": _f32(xr), "v": _f32(vr * scales.velocity),
+                         "text": [f"repeats {repeats}x"]}
+    return out
+
+
+def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
+                       t_draw: float = math.inf) -> dict[str, list]:
+    """Markers of the transitions the phase portrait draws (up to ``t_draw``; the later
+    ones repeat them)."""
+    res = sol.result
+    trs = [tr for tr in res.transitions if tr.t <= t_draw] if res is not None else []
+    trs = trs[-MAX_MARKERS:]
     styles = [TRANSITION_STYLE.get(tr.kind.value, ("circle", "#000000")) for tr in trs]
     return {
         "x": _f32([tr.x for tr in trs]),
@@ -259,18 +303,14 @@ def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[st
     }
 
 
-def band_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, Any]:
-    """Mode bands behind the time histories: ``left``, ``right``, ``color``."""
-    res = sol.result
-    if res is None:
-        return {"left": _f32([]), "right": _f32([]), "color": []}
-    left, right, mode = mode_intervals(res)
-    if len(left) > MAX_BANDS:  # keep the longest bands; the rest show as slip background
-        keep = np.sort(np.argsort(right - left)[-MAX_BANDS:])
-        left, right, mode = left[keep], right[keep], mode[keep]
+def band_columns(bands, scales: Scales = DIMENSIONLESS) -> dict[str, Any]:
+    """Mode bands behind the time histories: ``left``, ``right``, ``color``, from
+    :func:`app.sampling.mode_bands` (a stick interval narrower than a pixel column covers
+    the column)."""
+    left, right, mode = bands
     return {
-        "left": _f32(left * scales.time),
-        "right": _f32(right * scales.time),
+        "left": _f32(np.asarray(left) * scales.time),
+        "right": _f32(np.asarray(right) * scales.time),
         "color": [BAND_COLORS[int(m)] for m in mode],
     }
 
@@ -281,7 +321,8 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
     empty = {"x": _f32([]), "v": _f32([])}
     th = sol.theory
     if th is None:
-        return {"gamma0": empty, "cycle": empty, "points": _theory_points({}, math.inf, scales)}
+        return {"gamma0": empty, "cycle": empty, "removed": empty,
+                "points": _theory_points({}, math.inf, scales)}
     a, v = sol.osc.a, sol.osc.v
     phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
     gamma0 = {"x": _f32(a + th.gamma0_radius * np.cos(phi)),
@@ -304,8 +345,35 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
         cv = np.r_[cv, np.nan, v, v]
         cycle = {"x": _f32(cx), "v": _f32(cv * scales.velocity)}
     stop = sol.stop.clearance if sol.stop is not None else math.inf
-    return {"gamma0": gamma0, "cycle": cycle,
+    return {"gamma0": gamma0, "cycle": cycle, "removed": removed_circle(sol, scales),
             "points": _theory_points(th.points, stop, scales)}
+
+
+def _applicable_points(points: Mapping[str, list], sources: Mapping[str, Any]
+                       ) -> dict[str, list]:
+    """The theory's points that the drawn motion can have: no stick points when it never
+    sticks (a pure slip orbit), no impact points when it never reaches the stop."""
+    sticks = len(sources["path_stick"].data["x"]) > 0
+    impacts = any(k in ("impact", "stick->impact") for k in sources["trans"].data["kind"])
+    keep = [i for i, name in enumerate(points["name"])
+            if (sticks or "stick" not in name) and (impacts or "impact" not in name)]
+    return {k: [col[i] for i in keep] for k, col in points.items()}
+
+
+def removed_circle(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, np.ndarray]:
+    """The pure slip circle the mass would follow if the stop were removed once it rests
+    pressed on it (paper Sec. 4.6, dotted in Figs. 6b and 7d): centre ``(a, 0)`` through
+    the rest point ``(x_bar, 0)``. Empty unless the motion ends at rest on a rigid stop
+    short of ``a`` on a moving belt."""
+    res, stop = sol.result, sol.stop
+    a = sol.osc.a
+    if (res is None or stop is None or sol.values["stop_type"] != "rigid"
+            or res.steady.kind.value != "rest" or sol.osc.v <= 0 or stop.clearance >= a):
+        return {"x": _f32([]), "v": _f32([])}
+    radius = a - stop.clearance
+    phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
+    return {"x": _f32(a + radius * np.cos(phi)),
+            "v": _f32(radius * np.sin(phi) * scales.velocity)}
 
 
 def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
@@ -356,18 +424,28 @@ def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, di
     if prog is not None:
         line = {"t": _f32(prog.s), "phi": _f32(prog.force * scales.force)}
     elif res is not None and sol.values["stop_type"] == "rigid":
-        imp = np.asarray(res.impulses).reshape(-1, 2)[-MAX_MARKERS:]
+        # Every stored impact (the core stores the first ``transition_cap``).
+        imp = np.asarray(res.impulses).reshape(-1, 2)
         stems = {"t": _f32(imp[:, 0] * scales.time), "j": _f32(imp[:, 1] * scales.impulse)}
         pressed = np.asarray(res.mode) == int(Mode.CONTACT)
         if pressed.any():
-            idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+            idx = _columns(res, (np.asarray(res.contact_force),))
             f = np.where(pressed[idx], np.asarray(res.contact_force)[idx], np.nan)
             rest = {"t": _f32(res.t[idx] * scales.time), "f": _f32(f * scales.force)}
     elif res is not None and sol.values["stop_type"] == "hysteretic":
-        idx = decimation_indices(res.t, res.mode, MAX_POINTS)
+        idx = _columns(res, (np.asarray(res.contact_force),))
         line = {"t": _f32(res.t[idx] * scales.time),
                 "phi": _f32(np.asarray(res.contact_force)[idx] * scales.force)}
     return {"stems": stems, "line": line, "rest": rest}
+
+
+def _columns(res, series: tuple[np.ndarray, ...]) -> np.ndarray:
+    """Indices of the result's samples that draw ``series`` over time as every sample
+    would, on :data:`HISTORY_COLUMNS` pixel columns (:func:`app.sampling.m4`)."""
+    t = np.asarray(res.t, float)
+    if len(t) == 0:
+        return np.zeros(0, np.int64)
+    return sampling.m4(t, series, float(t[0]), float(t[-1]), HISTORY_COLUMNS)
 
 
 def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -431,8 +509,8 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
     names = tuple(ENERGY_COLORS)
     if res is None:
         return {"t": _f32([]), **{n: _f32([]) for n in names}}
-    idx = decimation_indices(res.t, res.mode, MAX_POINTS)
     e = res.energy
+    idx = _columns(res, (np.asarray(e.mechanical),))
     terms = {"mechanical": e.mechanical, "belt_input": e.belt_input,
              "friction_heat": np.asarray(e.belt_input) - np.asarray(e.friction_work),
              "stop_loss": e.stop_loss, "stop_stored": e.stop_stored}
@@ -461,6 +539,7 @@ class PlotSet:
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
+        self.legends: dict[str, Div] = {}
         self.panes: dict[str, Any] = {}
         self._build_phase(s)
         self._build_time(s)
@@ -469,6 +548,14 @@ class PlotSet:
         self._build_friction(s)
         self._build_energy(s)
         self._build_map(s)
+        # No selection tools and no muting legends: BokehJS derives the non-selection and
+        # muted glyphs itself ("auto") instead of receiving two more glyph models per
+        # renderer (~70 models of a page).
+        for fig in self.figures.values():
+            for r in fig.renderers:
+                if isinstance(r, GlyphRenderer):
+                    r.nonselection_glyph = "auto"
+                    r.muted_glyph = "auto"
         self._last: Solution | None = None
         self._updates = 0
         self._kinds_stop: str | None = None
@@ -476,6 +563,9 @@ class PlotSet:
         self._dirty: set[str] = set()
         self._map_shown: Mapping[str, Any] | None = None
         self._map_scales: Scales | None = None
+        self._map_frame: tuple[float, float, float] | None = None
+        self._map_frame_key: tuple | None = None
+        self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
 
     # --- building ------------------------------------------------------------------------
 
@@ -484,49 +574,50 @@ class PlotSet:
         kw.setdefault("x_range", Range1d(0.0, 1.0))
         kw.setdefault("y_range", Range1d(0.0, 1.0))
         fig = figure(title=title, width=size[0], height=size[1], tools=TOOLS,
-                     toolbar_location="right", output_backend="canvas", **kw)
-        fig.title.text_font_size = "13px"
+                     toolbar_location="right", output_backend="canvas",
+                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
+                     max_width=PLOT_WIDTHS[1], **kw)
+        fig.title.text_font_size = TITLE_FONT
         fig.toolbar.logo = None
         for axis in (*fig.xaxis, *fig.yaxis):
             axis.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
+            axis.axis_label_text_font_size = AXIS_LABEL_FONT
+            axis.major_label_text_font_size = TICK_LABEL_FONT
         return fig
 
     def _build_phase(self, s) -> None:
-        fig = self._figure("Phase portrait (x, x')", PHASE_SIZE,
-                           x_axis_label="x", y_axis_label="x'")
-        items = []
-        r = fig.line("x", "v", source=s["gamma0"], line_color="#777777", line_dash="dashed",
-                     line_width=1)
-        items.append(_legend_item(fig, r, "Gamma_0", "line", line_color="#777777",
-                                  line_dash="dashed", line_width=1))
-        r = fig.line("x", "v", source=s["cycle"], line_color="#999999", line_width=1)
-        items.append(_legend_item(fig, r, "impactless", "line", line_color="#999999",
-                                  line_width=1))
-        for m, name in MODE_NAMES.items():
-            r = fig.line("x", f"v_{name}", source=s["traj"], line_width=2,
-                         line_color=MODE_COLORS[m])
-            items.append(_legend_item(fig, r, name, "line", line_width=2,
-                                      line_color=MODE_COLORS[m]))
-        r = fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
-                        fill_alpha=0.6)
-        # One entry per transition kind, shown while the trajectory has that kind.
-        self.kind_items: dict[str, LegendItem] = {}
-        for kind, (marker, color) in TRANSITION_STYLE.items():
-            item = _legend_item(fig, r, TRANSITION_LABELS.get(kind, kind), "scatter",
-                                marker=marker, color=color, size=7, fill_alpha=0.6)
-            item.visible = False
-            self.kind_items[kind] = item
-            items.append(item)
-        style = {"marker": "diamond", "size": 13, "fill_color": "#ffffff",
-                 "line_color": "#000000", "line_width": 2}
-        r = fig.scatter("x", "v", source=s["points"], **style)
-        items.append(_legend_item(fig, r, "theory (A.1-A.12)", "scatter", **style))
-        fig.add_layout(LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                                text_align="align", y_offset="dy", text_font_size="10px"))
-        style = {"marker": "circle", "size": 8, "fill_color": "#ffffff",
-                 "line_color": "#000000"}
-        r = fig.scatter("x", "v", source=s["start"], **style)
-        items.append(_legend_item(fig, r, "start", "scatter", **style))
+        # Equal aspect: the browser fits the ranges to the frame it lays out
+        # (``match_aspect``; ``aspect_scale`` is omega in SI units, so that x and x'/omega
+        # share one scale). The server does not know the frame's size, so this figure's
+        # ranges are the one thing computed in the browser.
+        # One padding for both: BokehJS pads after fitting the aspect, each axis by a
+        # fraction of its own span, which keeps the ratio only if the fractions are equal.
+        x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
+        y_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
+        fig = self._figure("Phase portrait (x, x')", PHASE_SIZE, x_axis_label="x",
+                           y_axis_label="x'", x_range=x_range, y_range=y_range,
+                           match_aspect=True)
+        theory = self._theory_renderers = []
+        ranged = [fig.line("x", "v", source=s["gamma0"], **PHASE_STYLE["gamma0"]),
+                  fig.line("x", "v", source=s["cycle"], **PHASE_STYLE["cycle"]),
+                  fig.line("x", "v", source=s["removed"], **PHASE_STYLE["removed"])]
+        theory += ranged
+        for name in MODE_NAMES.values():
+            ranged.append(fig.line("x", "v", source=s[f"path_{name}"], **PHASE_STYLE[name]))
+        fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
+                    fill_alpha=0.6)
+        theory.append(fig.scatter("x", "v", source=s["points"], **PHASE_STYLE["points"]))
+        ranged.append(theory[-1])
+        # The stop, when near the motion (:func:`_stop_in_view`), is in the ranges too.
+        ranged.append(fig.scatter("x", "v", source=s["stop_pt"], size=0, alpha=0.0))
+        labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
+                          text_align="align", y_offset="dy", text_font_size="12px")
+        fig.add_layout(labels)
+        theory.append(labels)
+        # Where a periodic steady state closes: drawn once, its repeats counted.
+        fig.scatter("x", "v", source=s["repeat"], **PHASE_STYLE["repeat"])
+        ranged.append(fig.scatter("x", "v", source=s["start"], **PHASE_STYLE["start"]))
+        x_range.renderers = y_range.renderers = ranged
         # Underlay: the stick segment runs along the belt line and must stay visible.
         self.spans["stop"] = Span(location=0.0, dimension="height", line_color="#000000",
                                   line_width=3, level="underlay")
@@ -534,13 +625,11 @@ class PlotSet:
                                   line_dash="dotted", line_width=2, level="underlay")
         fig.add_layout(self.spans["stop"])
         fig.add_layout(self.spans["belt"])
-        # Below the frame, so it never hides the trajectory.
-        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
-                              ncols=5, label_text_font_size="10px", spacing=2, padding=2,
-                              margin=2, click_policy="hide", glyph_width=14,
-                              label_standoff=3), "below")
+        # The legend is HTML below the figure (one model, drawn by the browser's layout,
+        # not a Bokeh legend with a stand-in renderer per entry).
+        self.legends["phase"] = _legend_div()
         self.figures["phase"] = fig
-        self.panes["phase"] = fig
+        self.panes["phase"] = column(fig, self.legends["phase"], sizing_mode="stretch_width")
 
     def _build_time(self, s) -> None:
         fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
@@ -557,7 +646,7 @@ class PlotSet:
         fig_x.add_layout(self.spans["stop_t"])
         fig_v.add_layout(self.spans["belt_t"])
         self.figures["time_x"], self.figures["time_v"] = fig_x, fig_v
-        self.panes["time"] = column(fig_x, fig_v)
+        self.panes["time"] = column(fig_x, fig_v, sizing_mode="stretch_width")
 
     def _build_force(self, s) -> None:
         fig = self._figure("Contact force", SMALL_SIZE, x_axis_label="t",
@@ -570,6 +659,8 @@ class PlotSet:
         fig.extra_y_ranges = {"rest": Range1d(0.0, 1.0)}
         self.rest_axis = LinearAxis(y_range_name="rest", axis_label="force at rest",
                                     axis_label_text_color=REST_COLOR, visible=False,
+                                    axis_label_text_font_size=AXIS_LABEL_FONT,
+                                    major_label_text_font_size=TICK_LABEL_FONT,
                                     formatter=BasicTickFormatter(
                                         power_limit_low=TICK_POWER_LIMIT_LOW))
         fig.add_layout(self.rest_axis, "right")
@@ -587,11 +678,11 @@ class PlotSet:
             ("exp", "expansion envelope", {"line_color": "#888888", "line_dash": "dotdash"}),
             ("loop", "contact force", {"line_color": MODE_COLORS[2], "line_width": 2}),
         ):
-            r = fig.line("d", "phi", source=s[name], **style)
-            items.append(_legend_item(fig, r, label, "line", **style))
-        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="10px"))
+            fig.line("d", "phi", source=s[name], **style)
+            items.append((label, _swatch("line", **style), ""))
+        self.legends["loop"] = _legend_div(legend_html(items))
         self.figures["loop"] = fig
-        self.panes["loop"] = fig
+        self.panes["loop"] = column(fig, self.legends["loop"], sizing_mode="stretch_width")
 
     def _build_friction(self, s) -> None:
         fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
@@ -606,16 +697,12 @@ class PlotSet:
         fig = self._figure("Energy", SMALL_SIZE, x_axis_label="t", y_axis_label="energy / k")
         items = []
         for name, color in ENERGY_COLORS.items():
-            r = fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
-            items.append(_legend_item(fig, r, name.replace("_", " "), "line",
-                                      line_color=color, line_width=1.5))
-        # Below the frame, so it never hides a curve.
-        fig.add_layout(Legend(items=items, location="bottom_left", orientation="horizontal",
-                              label_text_font_size="10px", spacing=4, padding=2, margin=2,
-                              click_policy="hide", glyph_width=14, label_standoff=3),
-                       "below")
+            fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
+            items.append((name.replace("_", " "),
+                          _swatch("line", line_color=color, line_width=1.5), ""))
+        self.legends["energy"] = _legend_div(legend_html(items))
         self.figures["energy"] = fig
-        self.panes["energy"] = fig
+        self.panes["energy"] = column(fig, self.legends["energy"], sizing_mode="stretch_width")
 
     def _build_map(self, s) -> None:
         fig = self._figure("Regime map (tap to move there)", MAP_SIZE,
@@ -652,12 +739,75 @@ class PlotSet:
         self._kinds_stop = None
 
     def update_preview(self, sol: Solution, scales: Scales) -> None:
-        """Cheap update while a slider is dragged: the trajectory only."""
-        s = self.sources
-        _assign(s["traj"], trajectory_columns(sol, scales, max_points=len(sol.result.t)))
-        _assign(s["trans"], transition_columns(sol, scales))
+        """Cheap update while a slider is dragged: the motion, and the contact force of
+        the same state; the theory's overlays (points, reference curves), which a preview
+        does not compute, are hidden until the full solution arrives, so that nothing on
+        the plots belongs to another state."""
+        self._set_theory_visible(False)
+        _assign(self.sources["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+        self._draw_motion(sol, scales)
+        cols = force_columns(sol, scales)
+        _assign(self.sources["stems"], cols["stems"])
+        _assign(self.sources["force"], cols["line"])
+        _assign(self.sources["rest"], cols["rest"])
         self._set_spans(sol, scales)
-        self._set_ranges({"phase", "time"}, sol)
+        self._set_ranges({"phase", "time", "force"}, sol)
+
+    def _draw_motion(self, sol: Solution, scales: Scales) -> None:
+        """The phase path, the transitions it passes, and the time histories."""
+        s = self.sources
+        step = self._phase_step(sol, scales)
+        traj = trajectory_columns(sol, scales)
+        self._bands = traj.pop("bands", (np.zeros(0), np.zeros(0), np.zeros(0, np.int8)))
+        _assign(s["traj"], traj)
+        phase = phase_columns(sol, scales, step)
+        for name in MODE_NAMES.values():
+            _assign(s[f"path_{name}"], phase[name])
+        _assign(s["repeat"], phase["repeat"])
+        _assign(s["trans"], transition_columns(sol, scales, phase["t_draw"]))
+
+    def _phase_legend(self) -> list[tuple[str, str, str]]:
+        """Entries of what the phase portrait draws: ``(label, swatch, explanation)``."""
+        d = {name: src.data for name, src in self.sources.items()}
+        out = []
+        for key in ("gamma0", "cycle", "removed"):
+            if len(d[key]["x"]):
+                label, note = PHASE_LABELS[key]
+                out.append((label, _swatch("line", **PHASE_STYLE[key]), note))
+        for name in MODE_NAMES.values():
+            if len(d[f"path_{name}"]["x"]):
+                out.append((name, _swatch("line", **PHASE_STYLE[name]), ""))
+        for kind, (marker, color) in TRANSITION_STYLE.items():
+            if kind in self._kinds_shown:
+                out.append((TRANSITION_LABELS.get(kind, kind),
+                            _swatch(marker, fill_color=color, line_color=color), ""))
+        for key in ("points", "repeat", "start"):
+            if len(d[key]["x"]):
+                label, note = PHASE_LABELS[key]
+                if key == "repeat":  # with the count of repeats
+                    label = f"{label} ({d[key]['text'][0]})"
+                style = PHASE_STYLE[key]
+                out.append((label, _swatch(**style), note))
+        return out
+
+    def _set_theory_visible(self, visible: bool) -> None:
+        for r in self._theory_renderers:
+            if r.visible != visible:
+                r.visible = visible
+
+    def _phase_step(self, sol: Solution, scales: Scales) -> tuple[float, float]:
+        """Chord bound of the phase path (:func:`phase_step`) for a view that shows the
+        motion and the reference curves (dimensionless)."""
+        d = {name: self.sources[name].data for name in ("gamma0", "cycle")}
+        (x0, x1), (v0, v1) = _sample_bounds(sol)
+        for ref in d.values():
+            if len(ref["x"]):
+                x0, x1 = min(x0, float(np.min(ref["x"]))), max(x1, float(np.max(ref["x"])))
+                vr = np.asarray(ref["v"], float) / scales.velocity
+                vr = vr[np.isfinite(vr)]
+                if len(vr):
+                    v0, v1 = min(v0, float(vr.min())), max(v1, float(vr.max()))
+        return phase_step((x0, x1), (v0, v1))
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
@@ -669,24 +819,26 @@ class PlotSet:
         s = self.sources
         todo = self._dirty.intersection(visible)
         if todo & {"phase", "time", "anim", "friction"}:
-            _assign(s["traj"], trajectory_columns(sol, scales))
-            _assign(s["trans"], transition_columns(sol, scales))
+            self._set_theory_visible(True)
+            refs = reference_columns(sol, scales)
+            _assign(s["gamma0"], refs["gamma0"])
+            _assign(s["cycle"], refs["cycle"])
+            _assign(s["removed"], refs["removed"])
+            _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+            self._draw_motion(sol, scales)
+            _assign(s["points"], _applicable_points(refs["points"], s))
             # Entries stay once shown (until the stop type changes): a legend that changes
             # size relayouts and repaints its figure once more after each release.
             stop_type = sol.values["stop_type"]
             if stop_type != self._kinds_stop:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
-            for kind, item in self.kind_items.items():
-                item.visible = kind in self._kinds_shown
-            refs = reference_columns(sol, scales)
-            _assign(s["gamma0"], refs["gamma0"])
-            _assign(s["cycle"], refs["cycle"])
-            _assign(s["points"], refs["points"])
-            _assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+            text = legend_html(self._phase_legend())
+            if self.legends["phase"].text != text:
+                self.legends["phase"].text = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
-            _assign(s["bands"], band_columns(sol, scales))
+            _assign(s["bands"], band_columns(self._bands, scales))
             self._dirty.discard("time")
         if "force" in todo:
             cols = force_columns(sol, scales)
@@ -715,6 +867,25 @@ class PlotSet:
         self._set_labels(sol, scales)
         self._set_ranges(todo, sol)
 
+    def map_frame(self, values: Mapping[str, Any]) -> tuple[float, float, float]:
+        """Axes ``(v_hi, x_lo, x_hi)`` of the regime map, stable for a scene: computed
+        (:func:`app.solver.map_ranges`) when what the map's axes depend on besides the
+        point changes (scene, stop type, friction, units), kept when the point moves (a
+        tap, a slider) or the start moves, and widened only to keep the point in view."""
+        key = tuple(values.get(name) for name in MAP_FRAME_KEYS)
+        if values.get("scene") == CUSTOM and self._map_frame_key is not None:
+            # A parameter moved off the scene: the scene's frame stays.
+            key = (self._map_frame_key[0], *key[1:])
+        v, x = values["belt_speed"], values["clearance"]
+        frame = self._map_frame
+        if frame is None or key != self._map_frame_key:
+            frame = map_ranges(values)
+        elif not (0.0 <= v <= frame[0] and frame[1] <= x <= frame[2]):
+            new = map_ranges(values)
+            frame = (max(frame[0], new[0]), min(frame[1], new[1]), max(frame[2], new[2]))
+        self._map_frame, self._map_frame_key = frame, key
+        return frame
+
     def show_map(self, map_data: Mapping[str, Any]) -> None:
         """Draw the regime map of the last solution, computed after the rest of its update
         was sent (:meth:`app.explorer.Explorer._draw`); call under ``pn.io.hold``."""
@@ -730,10 +901,8 @@ class PlotSet:
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
-        if "phase" in plots:
-            traj, pts = d["traj"], d["points"]
-            _set_range(f["phase"].x_range, (traj["x"], pts["x"], stop), PHASE_X_PADDING)
-            _set_range(f["phase"].y_range, (traj["v"], pts["v"]), RANGE_PADDING)
+        if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
+            _assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
         if "time" in plots:
             traj = d["traj"]
             _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
@@ -772,6 +941,8 @@ class PlotSet:
         f = self.figures
         f["phase"].xaxis.axis_label = scales.length_label
         f["phase"].yaxis.axis_label = scales.velocity_label
+        if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
+            f["phase"].aspect_scale = scales.velocity
         f["time_x"].yaxis.axis_label = scales.length_label
         f["time_v"].yaxis.axis_label = scales.velocity_label
         f["time_v"].xaxis.axis_label = scales.time_label
@@ -801,29 +972,60 @@ class PlotSet:
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)
+        # Without a stop the regime does not depend on the clearance: no clearance axis.
+        has_stop = sol.values["stop_type"] != "none"
+        if fig.yaxis[0].visible != has_stop:
+            fig.yaxis[0].visible = has_stop
         clearance = sol.values["clearance"]
         _assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
 
 
-def _legend_item(fig: Any, renderer: Any, label: str, glyph: str, **style) -> LegendItem:
-    """A legend entry for ``renderer`` drawn from a stand-in glyph with no data.
+def _swatch(marker: str = "line", **style: Any) -> str:
+    """A small inline SVG of a line style or a marker, for an HTML legend."""
+    color = style.get("line_color", style.get("color", "#000000"))
+    fill = style.get("fill_color", style.get("color", color))
+    width = style.get("line_width", 1.5)
+    if marker == "line":
+        dash = {"dashed": "4 3", "dotted": "1 2", "dotdash": "1 2 4 2"}.get(
+            style.get("line_dash", ""), "")
+        shape = (f'<line x1="1" y1="6" x2="17" y2="6" stroke="{color}" '
+                 f'stroke-width="{width}" stroke-dasharray="{dash}"/>')
+    else:
+        shape = {
+            "triangle": '<polygon points="9,1 15,11 3,11"',
+            "inverted_triangle": '<polygon points="3,1 15,1 9,11"',
+            "diamond": '<polygon points="9,0 15,6 9,12 3,6"',
+            "square": '<rect x="4" y="2" width="9" height="9"',
+            "square_pin": '<rect x="4" y="2" width="9" height="9"',
+        }.get(marker, '<circle cx="9" cy="6" r="4.5"')
+        shape += f' fill="{fill}" stroke="{color}" stroke-width="{min(width, 2)}"/>'
+    return (f'<svg width="18" height="12" viewBox="0 0 18 12" aria-hidden="true" '
+            f'style="vertical-align:-1px;margin-right:4px">{shape}</svg>')
 
-    A legend redraws every entry whenever anything reachable from its items changes, so
-    entries that pointed at the data renderers were redrawn for each source a release
-    updates (~15 times per message in the phase portrait). The stand-in never changes;
-    hiding it from the legend hides the renderer it stands for, through the server (a
-    ``js_link`` would make the renderer, and so its data, reachable from the legend).
+
+def legend_html(entries: list[tuple[str, str, str]]) -> str:
+    """An HTML legend: each entry's swatch and label, its explanation as a tooltip.
+
+    >>> legend_html([("slip", "<svg/>", "")])
+    '<span style="display:inline-block;margin-right:12px;white-space:nowrap"><svg/>slip</span>'
     """
-    # One point off the canvas: the legend draws the glyph of a data index.
-    source = ColumnDataSource({"x": [math.nan], "y": [math.nan]})
-    draw = fig.line if glyph == "line" else fig.scatter
-    proxy = draw("x", "y", source=source, **style)
-    # The renderer is tagged (a ``tags`` argument of ``fig.line`` would tag its glyph), so
-    # that the page skips painting it in the frame and draws its legend entry once
-    # (static/bokeh_paint.js, patches 7 and 8).
-    proxy.tags = [LEGEND_PROXY_TAG]
-    proxy.on_change("visible", lambda attr, old, new: setattr(renderer, "visible", new))
-    return LegendItem(label=label, renderers=[proxy])
+    parts = []
+    for label, swatch, note in entries:
+        title = f' title="{html.escape(note)}"' if note else ""
+        parts.append(f'<span style="display:inline-block;margin-right:12px;'
+                     f'white-space:nowrap"{title}>{swatch}{html.escape(label)}</span>')
+    return "".join(parts)
+
+
+#: Lines of an HTML legend's height kept free (20 px each): entries that come and go
+#: with the state do not move the plots below on every release.
+LEGEND_LINES = 3
+
+
+def _legend_div(text: str = "") -> Div:
+    return Div(text=text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
+               min_height=20 * LEGEND_LINES,
+               styles={"font-size": "12px", "line-height": "20px"})
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
@@ -880,11 +1082,14 @@ def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {
-    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "v_slip", "v_stick", "v_contact",
-                             "mode")},
+    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "mode")},
+    **{f"path_{name}": {"x": [], "v": []} for name in MODE_NAMES.values()},
+    "repeat": {"x": [], "v": [], "text": []},
+    "stop_pt": {"x": [], "v": []},
     "trans": {k: [] for k in ("x", "v", "t", "kind", "marker", "color")},
     "bands": {"left": [], "right": [], "color": []},
     "gamma0": {"x": [], "v": []},
+    "removed": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
     "points": {"x": [], "v": [], "name": [], "align": [], "dx": [], "dy": []},
     "start": {"x": [], "v": []},

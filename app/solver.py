@@ -29,6 +29,7 @@ import numpy as np
 import panel as pn
 from panel.io.state import set_curdoc
 
+from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
@@ -457,6 +458,10 @@ def _solve(key: tuple, preview: bool) -> Solution:
     accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
     method = choose_method(values["method"], values["stop_type"])
     n_samples = PREVIEW_SAMPLES if preview else accuracy["n_samples"]
+    if not preview and (method != "exact" or isinstance(stop, HystereticStop)):
+        # Drawn from its samples (app/sampling.py): dense enough for any horizon (a
+        # preview stays cheap).
+        n_samples = samples_for(t_end, n_samples)
     start = time.perf_counter()
     if values.get("program") and isinstance(stop, HystereticStop):
         program, result = overlap_program(stop), None
@@ -547,20 +552,22 @@ def overlap_program(stop: HystereticStop) -> Program:
     return Program(s=s, overlap=delta, force=force)
 
 
-def regime_map(values: Mapping[str, Any], *, compute: bool = True) -> dict[str, Any] | None:
+def regime_map(values: Mapping[str, Any], *, compute: bool = True,
+               frame: tuple[float, float, float] | None = None) -> dict[str, Any] | None:
     """Regime codes over a (belt speed, clearance) grid for the current friction, stop and
     start (:func:`core.theory.classify`); cached on what the map depends on.
 
     A new map is :data:`MAP_CELLS` squared classifications at once (~4 ms at 128 x 128,
     :func:`core.theory.classify_grid`); with ``compute=False`` only a cached one is
-    returned, else ``None`` (the page then draws the rest first).
+    returned, else ``None`` (the page then draws the rest first). ``frame`` gives the axes
+    ``(v_hi, x_lo, x_hi)`` (default :func:`map_ranges` of ``values``).
     """
     key = tuple(
         (name, values[name])
         for name in ("mu_s", "mu_k", "u_s", "stop_type", "restitution", "k_c0", "k_e0",
                      "limit_overlap", "beta_c", "beta_e", "x0", "v0")
     )
-    v_hi, x_lo, x_hi = map_ranges(values)
+    v_hi, x_lo, x_hi = frame if frame is not None else map_ranges(values)
     key += (("v_hi", v_hi), ("x_lo", x_lo), ("x_hi", x_hi))
     with _MAP_LOCK:
         data = _MAP_CACHE.get(key)

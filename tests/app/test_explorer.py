@@ -108,12 +108,14 @@ def test_typed_entry_commits_and_widens_the_slider(ex):
 
 
 def test_drag_previews_without_committing(ex):
-    n_full = len(_traj(ex)["x"])
+    before = _traj(ex)["x"]
+    theory = ex.plots._theory_renderers
     ex.sliders["belt_speed"].slider.value = 0.15
     assert ex.state.belt_speed == 0.1  # not committed
-    assert len(_traj(ex)["x"]) < n_full  # a draft preview was drawn
+    assert not np.array_equal(_traj(ex)["x"], before)  # a preview was drawn
+    assert not any(r.visible for r in theory)  # without the last state's theory
     _release(ex, "belt_speed", 0.15)
-    assert ex.state.belt_speed == 0.15 and len(_traj(ex)["x"]) >= n_full
+    assert ex.state.belt_speed == 0.15 and all(r.visible for r in theory)
 
 
 def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypatch):
@@ -147,7 +149,8 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
     slider.value = 0.2
     [draw_preview] = deferred
     draw_preview()
-    assert len(_traj(ex)["x"]) < len(full["x"])
+    assert not np.array_equal(_traj(ex)["x"], full["x"])
+    assert not ex.plots._theory_renderers[0].visible  # a preview is shown
 
 
 def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_value(ex):

@@ -1,0 +1,435 @@
+"""What the plots draw of a solution: arrays sampled from the exact motion for the screen.
+
+A fixed number of samples over the horizon cannot draw a long run: at ``t_end = 5000`` a
+slip circle gets a sample every few radians, so the phase portrait turns into chords and
+the time histories alias into false envelopes. The plots are therefore drawn from the
+solution as a function of time (:func:`evaluator`), sampled for the screen:
+
+* the phase portrait (:func:`phase_path`) shows the motion up to the end of its first
+  steady cycle (a periodic steady state is drawn once, as a closed orbit; its repeats are
+  only counted), each piece between two transitions sampled so that no chord is longer
+  than a given length on the screen. A slip arc is a circle traversed at one radian per
+  unit of dimensionless time (paper Eq. 7), so equal times are equal arc lengths and a
+  chord bound is a bound on the curvature error too;
+* the time histories (:func:`history`) are decimated per pixel column to the first, last,
+  lowest and highest sample of the column (an "M4" reduction), so that the drawn line
+  covers exactly what a line through every sample would cover, whatever the horizon; the
+  periodic part of a steady state is evaluated for one cycle and tiled;
+* the mode bands (:func:`history` too) keep every stick or contact interval: one narrower
+  than a pixel column is widened to the column, so it stays visible as a stated aggregate.
+
+The functions are pure (arrays in, arrays out) and tested without a browser
+(tests/app/test_sampling.py).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from core import HystereticStop, Mode, Result, SteadyKind, TransitionKind, simulate
+
+#: Largest time step [dimensionless time = radians of a slip arc] of the first pass over a
+#: piece of the phase path; the second pass subdivides where a chord is still too long.
+PATH_DT = 0.05
+#: Points of the phase path at most (a run that never settles, at a long horizon).
+MAX_PATH_POINTS = 60_000
+#: Step [radians] of the fine samples the time histories are reduced from: a sampled
+#: extremum of a slip arc of radius R misses the true one by at most ``R (1 - cos(dt/2))``,
+#: 1.2e-3 R at 0.1, a tenth of a pixel in a 200 px high plot.
+HISTORY_DT = 0.1
+#: Fine samples of the time histories at most; past it the step grows with the horizon.
+MAX_HISTORY_SAMPLES = 60_000
+#: Duration of one turn of a slip circle (dimensionless time): what is drawn after the last
+#: transition of a motion that settles on a circle.
+TURN = 2.0 * math.pi
+#: The mode that follows each kind of transition.
+MODE_AFTER: dict[str, int] = {
+    TransitionKind.SLIP_STICK.value: int(Mode.STICK),
+    TransitionKind.STICK_SLIP.value: int(Mode.SLIP),
+    TransitionKind.SIGN_CHANGE.value: int(Mode.SLIP),
+    TransitionKind.IMPACT.value: int(Mode.SLIP),
+    TransitionKind.STICK_IMPACT.value: int(Mode.SLIP),
+    TransitionKind.ACCUMULATION.value: int(Mode.CONTACT),
+    TransitionKind.REST.value: int(Mode.CONTACT),
+    TransitionKind.CONTACT.value: int(Mode.CONTACT),
+    TransitionKind.SEPARATION.value: int(Mode.SLIP),
+    TransitionKind.REVERSAL.value: int(Mode.CONTACT),
+    TransitionKind.FAILURE.value: int(Mode.SLIP),
+}
+
+Evaluate = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def evaluator(result: Result, osc, stop, t_end: float, x0: float, v0: float,
+              method: str) -> tuple[Evaluate, bool]:
+    """``f(t) -> (x, v)`` on the solution, and whether it is exact.
+
+    The result's own dense solution (:meth:`core.Result.evaluate`) when it has one; for the
+    closed-form method without a deformable stop, the same closed form evaluated at the
+    asked times (``simulate(..., t_eval=t)``, which stores no transitions, so it costs only
+    the evaluation); otherwise linear interpolation between the result's samples, which
+    the solve then takes dense enough (:func:`samples_for`).
+    """
+    if result.dense is not None:
+        return (lambda t: result.evaluate(np.asarray(t, dtype=float), -1)), True
+    if method == "exact" and not isinstance(stop, HystereticStop):
+        def exact(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            t = np.asarray(t, dtype=float)
+            if len(t) == 0:
+                return np.zeros(0), np.zeros(0)
+            res = simulate(osc, stop, t_end, x0, v0, t_eval=np.clip(t, 0.0, t_end),
+                           transition_cap=0)
+            return np.asarray(res.x), np.asarray(res.v)
+        return exact, True
+    ts, xs, vs = (np.asarray(a, dtype=float) for a in (result.t, result.x, result.v))
+
+    def interpolate(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        t = np.asarray(t, dtype=float)
+        return np.interp(t, ts, xs), np.interp(t, ts, vs)
+    return interpolate, False
+
+
+def samples_for(t_end: float, n_samples: int) -> int:
+    """Samples a method that offers only samples must return for the pictures: at least
+    ``n_samples``, and one per :data:`HISTORY_DT` / 2 of the horizon (so that interpolated
+    slip arcs stay within a pixel), at most :data:`MAX_HISTORY_SAMPLES`.
+
+    >>> samples_for(60.0, 1600), samples_for(5000.0, 1600)
+    (1600, 60000)
+    """
+    return int(max(n_samples, min(MAX_HISTORY_SAMPLES, math.ceil(2.0 * t_end / HISTORY_DT))))
+
+
+def draw_horizon(result: Result, t_end: float, step: tuple[float, float]) -> float:
+    """Time up to which the phase portrait draws the motion: the end of its first steady
+    cycle. Periodic: the end of the first period; a mass that comes to rest: the time it
+    stops; otherwise (grazing, a pure slip circle, nothing found) one more turn after the
+    transitions have come within half a ``step`` (the chord bound, in data units per axis)
+    of the last one of their kind, from where the picture would only retrace itself."""
+    steady = result.steady
+    kind = steady.kind
+    if kind is SteadyKind.PERIODIC and math.isfinite(steady.period) and math.isfinite(
+            steady.t_reached):
+        t_draw = steady.t_reached + steady.period
+    elif kind in (SteadyKind.REST, SteadyKind.EQUILIBRIUM) and math.isfinite(
+            steady.t_reached):
+        t_draw = max(steady.t_reached, *(tr.t for tr in result.transitions[-1:]))
+    else:
+        t_draw = _converged(result, step) + TURN
+    return float(min(t_end, max(t_draw, 0.0)))
+
+
+def _converged(result: Result, step: tuple[float, float]) -> float:
+    """Time of the first transition from which every later transition of the last one's
+    kind lies within half a step of the last one (``inf`` if there are none)."""
+    trs = result.transitions
+    if not trs:
+        return math.inf if result.steady.kind is SteadyKind.NONE else 0.0
+    last = trs[-1]
+    same = [tr for tr in trs if tr.kind is last.kind]
+    x = np.array([tr.x for tr in same])
+    v = np.array([tr.v for tr in same])
+    far = np.hypot((x - last.x) / step[0], (v - last.v) / step[1]) >= 0.5
+    beyond = np.flatnonzero(far)
+    first = int(beyond[-1]) + 1 if len(beyond) else 0
+    if result.steady.kind is SteadyKind.NONE and first == len(same) - 1:
+        return math.inf  # the last one is new: no sign of settling
+    return same[first].t
+
+
+@dataclass(frozen=True)
+class Path:
+    """The phase path: samples ``t, x, v`` in time order and the ``mode`` of the piece
+    that ends at each sample (a transition is one sample of each side; an impact two
+    samples at one time, before and after)."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    mode: np.ndarray
+
+
+def _pieces(result: Result, t_hi: float):
+    """Breakpoints in ``[0, t_hi]`` with the exact states on both sides of each transition,
+    and the mode of the piece after each breakpoint."""
+    t0 = float(result.t[0]) if len(result.t) else 0.0
+    mode0 = int(result.mode[0]) if len(result.mode) else int(Mode.SLIP)
+    x0 = float(result.x[0]) if len(result.x) else 0.0
+    v0 = float(result.v[0]) if len(result.v) else 0.0
+    bt, bx, bv_in, bv_out, bmode = [t0], [x0], [v0], [v0], [mode0]
+    mode = mode0
+    for tr in result.transitions:
+        if tr.t > t_hi:
+            break
+        mode = MODE_AFTER.get(tr.kind.value, mode)
+        if tr.t == bt[-1]:  # several transitions at one time: one breakpoint
+            bv_out[-1], bmode[-1] = tr.v_after, mode
+            continue
+        bt.append(tr.t)
+        bx.append(tr.x)
+        bv_in.append(tr.v)
+        bv_out.append(tr.v_after)
+        bmode.append(mode)
+    return (np.array(bt), np.array(bx), np.array(bv_in), np.array(bv_out),
+            np.array(bmode, dtype=np.int8))
+
+
+def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
+               step: tuple[float, float]) -> Path:
+    """The motion over ``[0, t_hi]`` in the phase plane, each piece between transitions
+    sampled so that consecutive samples are at most one ``step`` apart, where ``step =
+    (dx, dv)`` is the length in data units of the longest chord allowed along each axis
+    (the caller derives it from the frame's pixels per unit)."""
+    bt, bx, bv_in, bv_out, bmode = _pieces(result, t_hi)
+    ends = np.r_[bt[1:], t_hi]
+    length = np.maximum(ends - bt, 0.0)
+    # First pass: PATH_DT at most, within the point budget.
+    dt = max(PATH_DT, float(length.sum()) / MAX_PATH_POINTS)
+    n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
+    times, piece = _interior(bt, length, n)
+    x, v = evaluate(np.r_[times, t_hi])
+    x, v, last = x[:-1], v[:-1], (x[-1:], v[-1:])
+    # Second pass: subdivide each interval whose chord is longer than a step.
+    if len(times):
+        full_t, full_x, full_v, full_p = _with_ends(times, x, v, piece, bt, bx, bv_in,
+                                                    bv_out, ends, last)
+        chord = np.hypot(np.diff(full_x) / step[0], np.diff(full_v) / step[1])
+        same = np.diff(full_p) == 0
+        extra = np.where(same & np.isfinite(chord), np.maximum(np.ceil(chord) - 1, 0), 0
+                         ).astype(np.int64)
+        room = MAX_PATH_POINTS - len(times)
+        if extra.sum() > room:  # within the budget: fewer points everywhere
+            extra = np.floor(extra * (max(room, 0) / extra.sum())).astype(np.int64)
+        if extra.sum() > 0:
+            k = np.repeat(np.arange(len(extra)), extra)
+            frac = (_ranks(extra) + 1.0) / (extra[k] + 1.0)
+            new_t = full_t[k] + frac * (full_t[k + 1] - full_t[k])
+            nx, nv = evaluate(new_t)
+            times = np.r_[times, new_t]
+            x, v = np.r_[x, nx], np.r_[v, nv]
+            piece = np.r_[piece, full_p[k]]
+    t_all, x_all, v_all, p_all = _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends,
+                                            last)
+    return Path(t=t_all, x=x_all, v=v_all, mode=bmode[p_all])
+
+
+def _ranks(counts: np.ndarray) -> np.ndarray:
+    """0, 1, ..., c-1 for each count ``c``, concatenated."""
+    total = int(counts.sum())
+    starts = np.repeat(np.cumsum(counts) - counts, counts)
+    return np.arange(total) - starts
+
+
+def _interior(bt: np.ndarray, length: np.ndarray, n: np.ndarray):
+    """Times strictly inside each piece, ``n - 1`` equal steps, and the piece of each."""
+    inner = n - 1
+    piece = np.repeat(np.arange(len(bt)), inner)
+    frac = (_ranks(inner) + 1.0) / n[piece]
+    return bt[piece] + frac * length[piece], piece
+
+
+def _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends, last):
+    """Interior samples plus the exact states at each piece's ends, in time order: the
+    state after the transition that opens a piece and the one before the transition that
+    closes it (at an impact the two differ in velocity only); ``last`` is the state at the
+    end of the last piece, which is not a transition."""
+    m = len(bt)
+    xe, ve = last
+    if ends[-1] == bt[-1]:  # a transition at the end: the last piece is its state after
+        xe, ve = bx[-1:], bv_out[-1:]
+    end_x = np.r_[bx[1:], xe]
+    end_v = np.r_[bv_in[1:], ve]
+    t = np.r_[bt, times, ends]
+    xx = np.r_[bx, x, end_x]
+    vv = np.r_[bv_out, v, end_v]
+    pp = np.r_[np.arange(m), piece, np.arange(m)]
+    # Order: by piece, then start, interior by time, end.
+    rank = np.r_[np.zeros(m), np.ones(len(times)), np.full(m, 2.0)]
+    order = np.lexsort((t, rank, pp))
+    t, xx, vv, pp = t[order], xx[order], vv[order], pp[order]
+    return t, xx, vv, pp
+
+
+@dataclass(frozen=True)
+class History:
+    """Time histories reduced to what ``columns`` pixel columns show: samples ``t, x, v``
+    in time order and the ``mode`` at each; the mode ``bands`` (``left, right, mode``)."""
+
+    t: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    mode: np.ndarray
+    bands: tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def steady_cycle(result: Result, t_end: float, step: tuple[float, float]
+                 ) -> tuple[float, float] | None:
+    """``(t0, period)`` of a cycle that the motion repeats from ``t0`` on, to the horizon.
+
+    Periodic: the steady state's cycle, exactly (paper Eq. 20). Grazing or a pure slip
+    circle: from the time the transitions have settled within half a ``step`` of the last
+    one (:func:`draw_horizon`), the last interval between two transitions of one kind, or
+    one turn of a slip circle; the motion then differs from the repeats by less than that
+    (sub-pixel) bound. ``None`` otherwise.
+    """
+    steady = result.steady
+    if steady.kind is SteadyKind.PERIODIC:
+        if (math.isfinite(steady.period) and steady.period > 0
+                and math.isfinite(steady.t_reached)
+                and steady.t_reached + steady.period < t_end):
+            return steady.t_reached, steady.period
+        return None
+    if steady.kind not in (SteadyKind.GRAZING, SteadyKind.PURE_SLIP):
+        return None
+    t0 = _converged(result, step)
+    trs = result.transitions
+    same = [tr.t for tr in trs if trs and tr.kind is trs[-1].kind and tr.t >= t0]
+    period = same[-1] - same[-2] if len(same) >= 2 else TURN
+    if not math.isfinite(t0) or t0 + period >= t_end or period <= 0:
+        return None
+    return t0, period
+
+
+def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
+                 cycle: tuple[float, float] | None = None, column_width: float = 0.0):
+    """Samples of the whole horizon at :data:`HISTORY_DT` or finer, with the exact states
+    on both sides of each transition. A steady ``cycle`` (:func:`steady_cycle`) is
+    evaluated for one period and tiled; a mass at rest (on the stop or in equilibrium) is
+    evaluated up to the time it stops. Returns ``t, x, v, mode``.
+
+    When a pixel column (``column_width``) is at least a period long, every column holds
+    every phase of the cycle, so its extremes are the cycle's: the tiles then carry only
+    the cycle's extreme samples and the ends of its mode runs."""
+    if not exact:
+        return (np.asarray(result.t, float), np.asarray(result.x, float),
+                np.asarray(result.v, float), np.asarray(result.mode, np.int8))
+    steady = result.steady
+    periodic = cycle is not None
+    still = (steady.kind in (SteadyKind.REST, SteadyKind.EQUILIBRIUM)
+             and math.isfinite(steady.t_reached) and steady.t_reached < t_end)
+    if periodic:
+        t_hi = cycle[0] + cycle[1]
+        # The tiles add (t_end - t_reached) / period copies of the cycle's samples.
+        dt = max(HISTORY_DT, t_end / MAX_HISTORY_SAMPLES)
+    else:
+        t_hi = steady.t_reached if still else t_end
+        dt = max(HISTORY_DT, t_hi / MAX_HISTORY_SAMPLES)
+    bt, bx, bv_in, bv_out, bmode = _pieces(result, t_hi)
+    ends = np.r_[bt[1:], t_hi]
+    length = np.maximum(ends - bt, 0.0)
+    n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
+    times, piece = _interior(bt, length, n)
+    x, v = evaluate(np.r_[times, t_hi, t_end])
+    tail_x, tail_v = x[-1:], v[-1:]
+    x, v, last = x[:-2], v[:-2], (x[-2:-1], v[-2:-1])
+    t, x, v, p = _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends, last)
+    mode = bmode[p]
+    if still:  # the state at t_reached holds to the horizon
+        return (np.r_[t, t_end], np.r_[x, tail_x], np.r_[v, tail_v],
+                np.r_[mode, mode[-1:]])
+    if not periodic:
+        return t, x, v, mode
+    t0, period = cycle
+    cyc = t >= t0
+    # One copy of the cycle without its closing end (it is the next copy's start).
+    ct, cx, cv, cm = t[cyc], x[cyc], v[cyc], mode[cyc]
+    keep = ct < t0 + period * (1.0 - 1e-12)
+    ct, cx, cv, cm = ct[keep] - t0, cx[keep], cv[keep], cm[keep]
+    if column_width >= period and len(ct) > 2:
+        run = np.flatnonzero(cm[1:] != cm[:-1])
+        key = np.unique(np.r_[0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),
+                              np.argmin(cv), np.argmax(cv)])
+        ct, cx, cv, cm = ct[key], cx[key], cv[key], cm[key]
+    copies = int(math.ceil((t_end - t0) / period))
+    tt = (ct[None, :] + (t0 + period * np.arange(copies))[:, None]).ravel()
+    n_in = int(np.searchsorted(tt, t_end, side="right"))
+    pre = ~cyc
+
+    def join(head, cycle, tail):
+        return np.concatenate((head[pre], np.tile(cycle, copies)[:n_in], tail))
+    return (np.concatenate((t[pre], tt[:n_in], [t_end])), join(x, cx, tail_x),
+            join(v, cv, tail_v), join(mode, cm, cm[-1:]))
+
+
+def m4(t: np.ndarray, series: tuple[np.ndarray, ...], t_lo: float, t_hi: float,
+       columns: int) -> np.ndarray:
+    """Indices to keep so that a line through them fills each of ``columns`` pixel
+    columns over ``[t_lo, t_hi]`` exactly as a line through every sample would: per column
+    the first and last sample and the lowest and highest of each series.
+
+    >>> t = np.linspace(0.0, 1.0, 101); y = np.sin(40 * t)
+    >>> idx = m4(t, (y,), 0.0, 1.0, 5)
+    >>> len(idx) <= 4 * 5, float(y[idx].max()) == float(y.max())
+    (True, True)
+    """
+    n = len(t)
+    if n <= 4 * columns:
+        return np.arange(n)
+    width = (t_hi - t_lo) / columns if t_hi > t_lo else 1.0
+    col = np.clip(((t - t_lo) / width).astype(np.int64), 0, columns - 1)
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
+    ends = np.r_[starts[1:], n] - 1
+    keep = np.zeros(n, dtype=bool)
+    keep[starts] = keep[ends] = True
+    group = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, n)))
+    for y in series:
+        y = np.where(np.isfinite(y), y, 0.0)
+        for red in (np.maximum, np.minimum):
+            hit = np.flatnonzero(y == red.reduceat(y, starts)[group])
+            # The first sample of each column that attains the column's extreme.
+            first = np.ones(len(hit), dtype=bool)
+            first[1:] = group[hit][1:] != group[hit][:-1]
+            keep[hit[first]] = True
+    return np.flatnonzero(keep)
+
+
+def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, columns: int):
+    """Mode bands ``(left, right, mode)`` of the samples: every run of one mode; a stick or
+    contact run narrower than a pixel column covers its column (drawn above the slip
+    bands, which come first), so that no such interval vanishes at a long horizon."""
+    if len(t) == 0:
+        return np.zeros(0), np.zeros(0), np.zeros(0, np.int8)
+    change = np.flatnonzero(np.diff(mode) != 0) + 1
+    starts = np.r_[0, change]
+    stops = np.r_[change, len(t) - 1]
+    left, right, m = t[starts].astype(float), t[stops].astype(float), mode[starts]
+    width = (t_hi - t_lo) / columns
+    other = m != int(Mode.SLIP)
+    narrow = other & (right - left < width)
+    col = np.floor((left[narrow] - t_lo) / width)
+    left[narrow] = t_lo + col * width
+    right[narrow] = t_lo + (col + 1.0) * width
+    order = np.argsort(other, kind="stable")  # slip first, the others over it
+    left, right, m = left[order], right[order], m[order]
+    # Merge neighbouring bands of one mode that touch or overlap (a column of stick per
+    # period of a long run becomes a few wide bands instead of thousands).
+    out_l, out_r, out_m = [], [], []
+    for mode_k in np.unique(m):
+        sel = m == mode_k
+        ll, rr = left[sel], right[sel]
+        o = np.argsort(ll, kind="stable")
+        ll, rr = ll[o], np.maximum.accumulate(rr[o])
+        new = np.r_[True, ll[1:] > rr[:-1] + 1e-9 * width]
+        grp = np.cumsum(new) - 1
+        out_l.append(ll[new])
+        out_r.append(np.maximum.reduceat(rr, np.flatnonzero(new)))
+        out_m.append(np.full(int(grp[-1]) + 1, mode_k, np.int8))
+    left, right, m = np.concatenate(out_l), np.concatenate(out_r), np.concatenate(out_m)
+    order = np.argsort(m != int(Mode.SLIP), kind="stable")
+    return left[order], right[order], m[order]
+
+
+def history(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
+            columns: int, step: tuple[float, float]) -> History:
+    """The time histories and mode bands for a plot ``columns`` pixels wide (``step``:
+    the phase portrait's chord bound, see :func:`steady_cycle`)."""
+    cycle = steady_cycle(result, t_end, step) if exact else None
+    t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle, t_end / columns)
+    t_lo = float(t[0]) if len(t) else 0.0
+    idx = m4(t, (x, v), t_lo, t_end, columns)
+    bands = mode_bands(t, mode, t_lo, t_end, columns)
+    return History(t=t[idx], x=x[idx], v=v[idx], mode=mode[idx], bands=bands)
