@@ -21,6 +21,7 @@ from core.hysteretic_base import (
     _HERMITE,
     _LINE,
     _OSC,
+    _TRAIN,
     FIXED_POINT_RTOL,
     _dpoly,
     _poly,
@@ -273,14 +274,14 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         kinds = np.array(c.kind, dtype=np.int8)[rows]
         branch_rows = np.array(c.branch, dtype=int)[rows]
         is_arc = kinds == _ARC
-        is_osc = kinds == _OSC
+        is_osc = (kinds == _OSC) | (kinds == _TRAIN)
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
         osc_stored: dict[int, float] = {}
         for j, r in zip(idx[is_osc], rows[is_osc], strict=True):
             model, x_s, m_s, loss_s = c.data[r]
             tau = t[j] - c.t0[r]
-            xj, uj, amp = (float(q) for q in model.state(tau))
+            xj, uj, amp = (float(np.ravel(q)[0]) for q in model.state(tau))
             wf, wb, ws = c.work0[r]
             dwf = c.friction[r] * (xj - x_s)
             x[j], xd[j] = xj, uj
@@ -315,6 +316,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             x[j], xd[j] = xj, uj
             work[j, 0], work[j, 1] = wf, wb
         mode[idx] = Mode.CONTACT
+        # A reduced train's flights are slip towards the stop.
+        mode[idx[(kinds == _TRAIN) & (x[idx] < xb)]] = Mode.SLIP
         brs = c.branches
         delta = x[idx] - xb
         loading = np.array([brs[i].loading for i in branch_rows])
