@@ -318,6 +318,9 @@ def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillatio
 TRAIN_PER_RTOL = 1e4
 #: ... and at most a pixel of a plot 1000 pixels high (the draft preset).
 TRAIN_MAX_BAND = 1e-3
+#: Contacts the loss law of a train is fitted to (a train that nears its elastic limit
+#: changes its approach speed by 1e-4 per contact: six contacts do not tell the law).
+TRAIN_FIT = 32
 #: Contacts laid out per block while the model is advanced to the horizon.
 TRAIN_BLOCK = 65_536
 #: Most contacts the model lays out (memory: three float arrays of this length).
@@ -328,14 +331,14 @@ class Train(NamedTuple):
     """A train of contacts of a pressed mass advanced by its contact-to-contact map.
 
     Contact ``k`` (``k = 0`` at the switch) starts ``start[k]`` after the switch with the
-    approach speed ``w[k]`` (the fitted decay law) and lasts ``dur[k]`` (linear in ``w``,
-    fitted over the same contacts); it ends with the separation speed ``w[k + 1]`` (the
-    flight between two contacts is a slip circle about ``(a, 0)`` through the stop, so it
-    returns at the speed it left with), and the flight lasts ``2 atan(w[k + 1] / (a -
-    x_bar))`` exactly (paper Eqs. 3-6). Inside a contact the overlap is the cubic Hermite
-    curve through its ends; the model's position error is bounded by the band of the
-    train at the switch (both motions stay in it), its velocity error by twice the
-    approach speed (the phase of a long train, not resolved step by step either).
+    approach speed ``w[k]`` (the fitted loss law, :class:`TrainDecay`) and lasts
+    ``dur[k]`` (linear in ``w``, fitted over the same contacts). It ends with the
+    separation speed ``w[k + 1]``: the flight between two contacts is a slip circle about
+    ``(a, 0)`` through the stop, so it returns at the speed it left with, and lasts
+    ``2 atan(w[k + 1] / (a - x_bar))`` exactly (paper Eqs. 3-6). Inside a contact the
+    overlap is the cubic Hermite curve through its ends. The position error is bounded by
+    the band of the train at the switch (both motions stay in it), the velocity error by
+    twice the approach speed (the phase of a long train, not resolved step by step either).
     """
 
     a: float
@@ -386,40 +389,94 @@ def train_band(sv: _Solver) -> float:
     return min(max(TRAIN_PER_RTOL * sv.rtol, PAGE_RESOLUTION), TRAIN_MAX_BAND) * sv.scale()
 
 
+class TrainDecay(NamedTuple):
+    """Loss of approach speed per contact of a shrinking train, ``w_k - w_{k+1} = c (w_k -
+    w_inf)^n``, advanced in closed form as ``dw/dk = -c (w - w_inf)^n``.
+
+    It covers the geometric decay (``n = 1``), the ``1/k`` decay of contacts that lose
+    energy like the cube of their size (``n = 2``, ``w_inf = 0``) and trains whose contacts
+    turn elastic as their overlap falls below ``D / beta`` (Eq. 13): their loss vanishes
+    as ``w`` nears a limit ``w_inf > 0``, with a large ``n`` (slow algebraic approach).
+    """
+
+    c: float
+    n: float
+    limit: float
+
+    def speed(self, w0: float, k):
+        """Approach speed ``k`` contacts after one at ``w0``."""
+        k = np.asarray(k, dtype=float)
+        u0 = w0 - self.limit
+        if abs(self.n - 1.0) < 1e-6:
+            return self.limit + u0 * (1.0 - self.c) ** k
+        base = u0 ** (1.0 - self.n) + (self.n - 1.0) * self.c * k
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            u = np.where(base > 0.0, np.abs(base) ** (1.0 / (1.0 - self.n)), 0.0)
+        return self.limit + u
+
+
+def fit_train_decay(ws) -> TrainDecay | None:
+    """The loss law of :class:`TrainDecay` fitted to consecutive approach speeds ``ws``
+    (least squares on ``log(w_k - w_{k+1})`` against ``log(w_k - w_inf)`` for a grid of
+    ``w_inf``), or ``None`` if they do not shrink or the best fit misses a loss by more
+    than :data:`DECAY_SPREAD`.
+
+    Examples
+    --------
+    >>> w = 1.0 / (10.0 + 0.5 * np.arange(32))
+    >>> law = fit_train_decay(w)
+    >>> round(law.n, 2), round(law.limit, 3)
+    (2.0, 0.0)
+    """
+    w = np.asarray(ws, dtype=float)
+    loss = w[:-1] - w[1:]
+    if len(w) < 8 or np.any(loss <= 0.0):
+        return None
+    limits = np.concatenate(([0.0], w[-1] * (1.0 - np.geomspace(1e-6, 1.0, 48)[:-1])))
+    u = w[None, :-1] - limits[:, None]
+    x, y = np.log(u), np.log(loss)[None, :]
+    xm, ym = x.mean(axis=1, keepdims=True), y.mean(axis=1, keepdims=True)
+    n = ((x - xm) * (y - ym)).sum(axis=1) / ((x - xm) ** 2).sum(axis=1)
+    logc = ym[:, 0] - n * xm[:, 0]
+    miss = np.abs(np.expm1(logc[:, None] + n[:, None] * x - y)).max(axis=1)
+    best = int(np.argmin(miss))
+    if miss[best] > DECAY_SPREAD or not 0.5 <= n[best] <= 200.0:
+        return None
+    return TrainDecay(float(np.exp(logc[best])), float(n[best]), float(limits[best]))
+
+
 def fit_train(sv: _Solver, train: list) -> Train | None:
-    """The reduced model of a shrinking train from its last :data:`DECAY_FIT` contacts,
-    or ``None`` while the train is not regular (another transition than one reversal per
-    contact, a decay law that does not fit), too wide, or could stick in flight.
+    """The reduced model of a shrinking train from its last :data:`TRAIN_FIT` contacts,
+    or ``None`` while the train is too wide, could stick in flight, or is not regular
+    (another transition than one reversal per contact, a loss law that does not fit).
 
     ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of the contacts;
     the last entry is the contact just started.
     """
-    if not (sv.use_reduced and sv.pressed()) or len(train) < DECAY_FIT + 1:
+    if not (sv.use_reduced and sv.pressed()) or len(train) < TRAIN_FIT + 1:
         return None
-    window = train[-(DECAY_FIT + 1):]
+    gap = sv.a - sv.xb
+    w_now = train[-1][1]
+    band = train[-2][2] - (sv.a - math.hypot(gap, w_now))
+    if not band <= train_band(sv) or w_now >= sv.vb:
+        return None
+    window = train[-(TRAIN_FIT + 1):]
     if any(n1 - n0 != 3 for (_, _, _, n0), (_, _, _, n1) in zip(window[:-1], window[1:],
                                                                    strict=True)):
         return None
-    if any(math.isnan(peak) for _, _, peak, _ in window[:-1]):
-        return None
-    ws = [w for _, w, _, _ in window]
-    decay = fit_decay(ws[1:])
-    if decay is None or decay.law == LIMIT or ws[-1] >= sv.vb:
-        return None
-    gap = sv.a - sv.xb
-    band = window[-2][2] - (sv.a - math.hypot(gap, ws[-1]))
-    if band > train_band(sv):
+    w_arr = np.array([w for _, w, _, _ in window])
+    decay = fit_train_decay(w_arr)
+    if decay is None:
         return None
     times = np.array([t for t, _, _, _ in window])
-    w_arr = np.array(ws)
     durs = np.diff(times) - 2.0 * np.arctan(w_arr[1:] / gap)
     if np.any(durs <= 0.0):
         return None
-    slope, icpt = np.polyfit(w_arr[:-1], durs, 1) if np.ptp(w_arr) > 0 else (0.0, durs[-1])
-    return _lay_out(sv, decay, ws[-1], float(slope), float(icpt), band, train[-1][0])
+    slope, icpt = np.polyfit(w_arr[:-1], durs, 1)
+    return _lay_out(sv, decay, w_now, float(slope), float(icpt), band, train[-1][0])
 
 
-def _lay_out(sv, decay: Decay, w0: float, slope: float, icpt: float, band: float,
+def _lay_out(sv, decay: TrainDecay, w0: float, slope: float, icpt: float, band: float,
              t_s: float) -> Train | None:
     """Contacts from the switch to the horizon, or up to the first whose band is below the
     rest amplitude (the train has settled on the stop: the model ends at its start)."""
@@ -429,7 +486,7 @@ def _lay_out(sv, decay: Decay, w0: float, slope: float, icpt: float, band: float
     starts, speeds, durs = [], [], []
     t_next, k0 = 0.0, 0
     while True:
-        w = decay.amplitude(w0, np.arange(k0, k0 + TRAIN_BLOCK + 1, dtype=float))
+        w = decay.speed(w0, np.arange(k0, k0 + TRAIN_BLOCK + 1, dtype=float))
         d = icpt + slope * w[:-1]
         if np.any(d <= 0.0) or k0 > TRAIN_MAX_CONTACTS:
             return None
