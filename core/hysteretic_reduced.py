@@ -423,10 +423,9 @@ def fit_train_decay(ws) -> TrainDecay | None:
 
     Examples
     --------
-    >>> w = 1.0 / (10.0 + 0.5 * np.arange(32))
-    >>> law = fit_train_decay(w)
-    >>> round(law.n, 2), round(law.limit, 3)
-    (2.0, 0.0)
+    >>> law = fit_train_decay(0.9 ** np.arange(32))  # geometric: loses 10 % per contact
+    >>> round(law.n, 6), law.limit, round(law.c, 6)
+    (1.0, 0.0, 0.1)
     """
     w = np.asarray(ws, dtype=float)
     loss = w[:-1] - w[1:]
