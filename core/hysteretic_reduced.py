@@ -415,6 +415,19 @@ class TrainDecay(NamedTuple):
         return self.limit + u
 
 
+def _fit_losses(w, loss, limits):
+    """Least-squares ``n`` and ``log c`` of ``log loss = log c + n log(w - w_inf)`` for each
+    limit ``w_inf``, and the largest relative miss of the fitted losses."""
+    u = np.maximum(w[None, :-1] - limits[:, None], 1e-300)
+    x, y = np.log(u), np.log(loss)[None, :]
+    xm, ym = x.mean(axis=1, keepdims=True), y.mean(axis=1, keepdims=True)
+    n = ((x - xm) * (y - ym)).sum(axis=1) / ((x - xm) ** 2).sum(axis=1)
+    logc = ym[:, 0] - n * xm[:, 0]
+    with np.errstate(over="ignore"):
+        miss = np.abs(np.expm1(logc[:, None] + n[:, None] * x - y)).max(axis=1)
+    return n, logc, miss
+
+
 def fit_train_decay(ws) -> TrainDecay | None:
     """The loss law of :class:`TrainDecay` fitted to consecutive approach speeds ``ws``
     (least squares on ``log(w_k - w_{k+1})`` against ``log(w_k - w_inf)`` for a grid of
@@ -432,12 +445,13 @@ def fit_train_decay(ws) -> TrainDecay | None:
     if len(w) < 8 or np.any(loss <= 0.0):
         return None
     limits = np.concatenate(([0.0], w[-1] * (1.0 - np.geomspace(1e-6, 1.0, 48)[:-1])))
-    u = w[None, :-1] - limits[:, None]
-    x, y = np.log(u), np.log(loss)[None, :]
-    xm, ym = x.mean(axis=1, keepdims=True), y.mean(axis=1, keepdims=True)
-    n = ((x - xm) * (y - ym)).sum(axis=1) / ((x - xm) ** 2).sum(axis=1)
-    logc = ym[:, 0] - n * xm[:, 0]
-    miss = np.abs(np.expm1(logc[:, None] + n[:, None] * x - y)).max(axis=1)
+    n, logc, miss = _fit_losses(w, loss, limits)
+    best = int(np.argmin(miss))
+    # A finer grid between the neighbours of the best limit (the coarse one is 34 % apart
+    # in w - w_inf).
+    lo, hi = limits[max(best - 1, 0)], limits[min(best + 1, len(limits) - 1)]
+    limits = np.linspace(min(lo, hi), max(lo, hi), 49)
+    n, logc, miss = _fit_losses(w, loss, limits)
     best = int(np.argmin(miss))
     if miss[best] > DECAY_SPREAD or not 0.5 <= n[best] <= 200.0:
         return None
