@@ -113,3 +113,30 @@ def test_loss_law_is_recovered_from_its_own_train(n, limit):
     # limit itself is only known to ~1e-3 of w from 40 contacts losing 5e-4 of w.
     model = law.speed(w[0], np.arange(len(w)))
     assert np.abs(model - w).max() <= 0.05 * (w[0] - w[-1])
+
+
+def test_train_that_dies_out_rests_at_the_pressed_equilibrium():
+    """A stiff stop with a loss per contact that stays a fixed fraction (``beta`` so large
+    that every overlap leaves the compression envelope; ``k_e0 = 0.9 k_c0``): the approach
+    speed falls geometrically to zero and the train ends at rest on the stop."""
+    stop = HystereticStop(FACE, 1e6, 9e5, limit_overlap=1e-3, beta_c=1e5, beta_e=1e5)
+    reduced = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, **STANDARD)
+    full = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, reduce=False, **STANDARD)
+    sw = _switch(reduced)
+    rests = [tr.t for tr in reduced.transitions if tr.kind is TransitionKind.REST]
+    full_rests = [tr.t for tr in full.transitions if tr.kind is TransitionKind.REST]
+    assert reduced.steady.kind.value == full.steady.kind.value == "rest"
+    assert len(rests) == 1 and rests[0] > sw.t
+    # Rest at the equilibrium: the stop's force balances the kinetic friction, phi = a - x
+    # (to the root's tolerance, 1e-16 of the scale; 1e-9 relative is the promise).
+    assert reduced.info["rest_force"] == pytest.approx(PRESSING.a - reduced.x[-1], rel=1e-9)
+    # ... which is where the full solve rests, within the rest amplitude (10 rtol of the
+    # scale) its last loops leave.
+    assert abs(reduced.x[-1] - full.x[-1]) <= 10.0 * STANDARD["rtol"] * _scale(stop)
+    # The time of rest: the model ends the train once its band is below the rest amplitude;
+    # the full solve's last contacts stop separating a little earlier and die out as loops
+    # on the stop (measured 0.23 apart, out of ~46, and ~1.3 after the switch).
+    assert rests[0] == pytest.approx(full_rests[0], abs=0.5)
+    t = np.linspace(sw.t, rests[0], 20_001)
+    assert np.abs(reduced.dense.evaluate(t)[0] - full.dense.evaluate(t)[0]).max() <= (
+        reduced.info["reduced_error"])
