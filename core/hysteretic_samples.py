@@ -278,17 +278,23 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
         osc_stored: dict[int, float] = {}
-        for j, r in zip(idx[is_osc], rows[is_osc], strict=True):
+        # A reduced model's samples, one call per row (a train's lays out its contacts by
+        # a search over thousands: vectorised, not per sample).
+        for r in np.unique(rows[is_osc]):
+            js = idx[is_osc][rows[is_osc] == r]
             model, x_s, m_s, loss_s = c.data[r]
-            tau = t[j] - c.t0[r]
-            xj, uj, amp = (float(np.ravel(q)[0]) for q in model.state(tau))
+            tau = t[js] - c.t0[r]
+            xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
+                           for q in model.state(tau))
             wf, wb, ws = c.work0[r]
             dwf = c.friction[r] * (xj - x_s)
-            x[j], xd[j] = xj, uj
-            work[j] = (wf + dwf, wb + c.friction[r] * sv.vb * tau,
-                       ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s))
+            x[js], xd[js] = xj, uj
+            work[js, 0] = wf + dwf
+            work[js, 1] = wb + c.friction[r] * sv.vb * tau
+            work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
             dissipated = model.energy(model.amp0) - model.energy(amp)
-            osc_stored[j] = work[j, 2] - (loss_s + dissipated)
+            osc_stored.update(zip(js.tolist(), (work[js, 2] - (loss_s + dissipated)).tolist(),
+                                  strict=True))
         plain = ~is_arc & ~is_osc
         for j, r in zip(idx[plain], rows[plain], strict=True):
             kind = c.kind[r]
