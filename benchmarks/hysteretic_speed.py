@@ -16,8 +16,10 @@ loop and contact (``reduce=False``) at rtol 1e-11, atol 1e-14:
   the candidate's rest amplitude).
 
 Also: the steady state's label, the time of the switch into a reduced model (``-`` if
-none), the reduced model's stated error bound (``Result.stats['reduced_error']`` over the
-scale) and whether the energy balance closes.
+none), the reduced model's stated error bound (``Result.info['reduced_error']`` over the
+scale; for a train of contacts, the band it moves in at the switch, which bounds the
+position error, the velocity's being up to twice the approach speed) and whether the energy
+balance closes.
 
     PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
         [--no-reference] [--cells k_c0,beta,D ...]

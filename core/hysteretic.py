@@ -116,7 +116,13 @@ from core.hysteretic_base import (
     _poly,
     _State,
 )
-from core.hysteretic_reduced import creep_end, reduce_oscillation, reduce_train
+from core.hysteretic_reduced import (
+    advance_train,
+    creep_end,
+    fit_train,
+    reduce_oscillation,
+    reduce_train,
+)
 from core.hysteretic_samples import _assemble
 from core.params import HystereticStop, Oscillator
 from core.result import (
@@ -266,8 +272,9 @@ class _Solver:
         """
         stop, xb = self.stop, self.xb
         w_in = st.v
-        if self.start_contact(st):
-            return "periodic"
+        started = self.start_contact(st)
+        if started:
+            return started
         branch = FIRST_LOADING
         self.new_branch(branch, 0.0, st.work[2])
         d_branch0 = 0.0
@@ -317,15 +324,22 @@ class _Solver:
                 self.close_branch(branch, d_branch0, delta, st)
                 return outcome
 
-    def start_contact(self, st: _State) -> bool:
-        """Record a contact's start; ``True`` if the motion is periodic from here (a fixed
-        point of the friction-impact map, or of a pressed train's contact-to-contact map)."""
+    def start_contact(self, st: _State) -> str | None:
+        """Record a contact's start; ``"periodic"`` if the motion is periodic from here (a
+        fixed point of the friction-impact map, or of a pressed train's contact-to-contact
+        map), ``"horizon"`` or ``"rest"`` if a shrinking train is advanced by its reduced
+        model from here (:func:`core.hysteretic_reduced.fit_train`)."""
         self.n_contacts += 1
         self.record(TransitionKind.CONTACT, st, st.v)
         if self.steady is not None:
-            return True
+            return "periodic"
         self.train.append((st.t, st.v, math.nan, self.log.total))
-        return reduce_train(self, st, self.train) is not None
+        if reduce_train(self, st, self.train) is not None:
+            return "periodic"
+        model = fit_train(self, self.train)
+        if model is None:
+            return None
+        return advance_train(self, st, model)
 
     def belt_speed_reached(self, st: _State, s: int, s_new: int, branch: Branch,
                            d_branch0: float):

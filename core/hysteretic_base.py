@@ -83,7 +83,7 @@ EVENT_HALVINGS = 60
 STEADY_TAIL = 64
 
 
-_HERMITE, _LINE, _REST, _ARC, _OSC = 0, 1, 2, 3, 4
+_HERMITE, _LINE, _REST, _ARC, _OSC, _TRAIN = 0, 1, 2, 3, 4, 5
 
 
 @dataclass

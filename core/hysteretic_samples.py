@@ -21,6 +21,7 @@ from core.hysteretic_base import (
     _HERMITE,
     _LINE,
     _OSC,
+    _TRAIN,
     FIXED_POINT_RTOL,
     _dpoly,
     _poly,
@@ -273,21 +274,27 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         kinds = np.array(c.kind, dtype=np.int8)[rows]
         branch_rows = np.array(c.branch, dtype=int)[rows]
         is_arc = kinds == _ARC
-        is_osc = kinds == _OSC
+        is_osc = (kinds == _OSC) | (kinds == _TRAIN)
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
         osc_stored: dict[int, float] = {}
-        for j, r in zip(idx[is_osc], rows[is_osc], strict=True):
+        # A reduced model's samples, one call per row (a train's lays out its contacts by
+        # a search over thousands: vectorised, not per sample).
+        for r in np.unique(rows[is_osc]):
+            js = idx[is_osc][rows[is_osc] == r]
             model, x_s, m_s, loss_s = c.data[r]
-            tau = t[j] - c.t0[r]
-            xj, uj, amp = (float(q) for q in model.state(tau))
+            tau = t[js] - c.t0[r]
+            xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
+                           for q in model.state(tau))
             wf, wb, ws = c.work0[r]
             dwf = c.friction[r] * (xj - x_s)
-            x[j], xd[j] = xj, uj
-            work[j] = (wf + dwf, wb + c.friction[r] * sv.vb * tau,
-                       ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s))
+            x[js], xd[js] = xj, uj
+            work[js, 0] = wf + dwf
+            work[js, 1] = wb + c.friction[r] * sv.vb * tau
+            work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
             dissipated = model.energy(model.amp0) - model.energy(amp)
-            osc_stored[j] = work[j, 2] - (loss_s + dissipated)
+            osc_stored.update(zip(js.tolist(), (work[js, 2] - (loss_s + dissipated)).tolist(),
+                                  strict=True))
         plain = ~is_arc & ~is_osc
         for j, r in zip(idx[plain], rows[plain], strict=True):
             kind = c.kind[r]
@@ -315,6 +322,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             x[j], xd[j] = xj, uj
             work[j, 0], work[j, 1] = wf, wb
         mode[idx] = Mode.CONTACT
+        # A reduced train's flights are slip towards the stop.
+        mode[idx[(kinds == _TRAIN) & (x[idx] < xb)]] = Mode.SLIP
         brs = c.branches
         delta = x[idx] - xb
         loading = np.array([brs[i].loading for i in branch_rows])
