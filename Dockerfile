@@ -1,7 +1,7 @@
 # Friction-Impact Explorer: one image a teacher runs for a class.
 #
 #   docker build -t friction-explorer .
-#   docker run --rm -p 5006:5006 -e NUM_PROCS=0 \
+#   docker run --rm -p 5006:5006 -e NUM_PROCS=1 \
 #       -e ALLOW_WEBSOCKET_ORIGIN=explorer.school.example friction-explorer
 #
 # The install and start steps live in scripts/install.sh and scripts/serve.sh, which CI also
