@@ -66,7 +66,7 @@ Evaluate = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 def evaluator(result: Result, osc, stop, t_end: float, x0: float, v0: float,
               method: str) -> tuple[Evaluate, bool]:
-    """``f(t) -> (x, v)`` on the solution, and whether it is exact.
+    """``f(t) -> (x, v)`` on the solution, and whether it is the exact closed form.
 
     The result's own dense solution (:meth:`core.Result.evaluate`) when it has one; for the
     closed-form method without a deformable stop, the same closed form evaluated at the
@@ -74,9 +74,12 @@ def evaluator(result: Result, osc, stop, t_end: float, x0: float, v0: float,
     the evaluation); otherwise linear interpolation between the result's samples, which
     the solve then takes dense enough (:func:`samples_for`).
     """
+    closed_form = method == "exact" and not isinstance(stop, HystereticStop)
     if result.dense is not None:
-        return (lambda t: result.evaluate(np.asarray(t, dtype=float), -1)), True
-    if method == "exact" and not isinstance(stop, HystereticStop):
+        # An integrated solution's interpolant is not the closed form: its grazing tail is
+        # no exact repeat of a cycle, so it is drawn from its samples, not tiled.
+        return (lambda t: result.evaluate(np.asarray(t, dtype=float), -1)), closed_form
+    if closed_form:
         def exact(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             t = np.asarray(t, dtype=float)
             if len(t) == 0:
