@@ -1,9 +1,9 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
 The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
-steady-state search on them (:func:`steady_from_transitions`) stays here because it works
-to the tolerance of a numerical method, which the fixed-point detector of
-:mod:`core.steady` does not take.
+steady state read off them (:func:`steady_from_transitions`) finds fixed points with the
+project's one detector (:class:`core.steady.FixedPointDetector`) at the tolerance of the
+numerical method.
 
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
@@ -50,6 +50,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
+from core.steady import FixedPointDetector
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -156,7 +157,8 @@ def _energy_at_samples(
 def steady_from_transitions(
     tail: Sequence[Transition],
     *,
-    tol: float,
+    scale: float,
+    rtol: float,
     t_end: float,
     final_mode: int,
     final_v: float,
@@ -168,9 +170,11 @@ def steady_from_transitions(
     ----------
     tail : sequence of Transition
         The most recent transitions, oldest first.
-    tol : float
-        Absolute tolerance on the transition states ``(x, x')`` for a fixed point of the
-        friction-impact map ``P^j`` (and, divided by the speed scale, on the times).
+    scale : float
+        Length scale of the states ``(x, x')``.
+    rtol : float
+        Tolerance, relative to ``scale``, of a fixed point of the friction-impact map
+        ``P^j`` (:class:`core.steady.FixedPointDetector`).
     t_end : float
         The horizon.
     final_mode, final_v : int, float
@@ -199,32 +203,9 @@ def steady_from_transitions(
         if quiet is not None:
             return quiet
 
-    n = len(tail)
-    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
-        pairs = ((tail[n - 1 - i], tail[n - 1 - i - j]) for i in range(STEADY_PERIODS * j))
-        if not all(_same(p, q, tol) for p, q in pairs):
-            continue
-        period = tail[-1].t - tail[-1 - j].t
-        if period <= 0.0:
-            continue
-        k = n - 1 - STEADY_PERIODS * j
-        while k - j >= 0 and _same(tail[k], tail[k - j], tol):
-            k -= 1
-        last = tail[n - j :]
-        speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
-        if speeds and max(speeds) <= tol:
-            # impacts of vanishing speed: the grazing limit, reached to the tolerance
-            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
-        return Steady(
-            SteadyKind.PERIODIC,
-            period=period,
-            transitions_per_period=j,
-            sequence=tuple(tr.kind.value for tr in last),
-            x_max=xmax(tail[-1].t - period, tail[-1].t),
-            impact_speed=max(speeds) if speeds else math.nan,
-            t_reached=tail[k].t,
-        )
-
+    periodic = _periodic_tail(tail, scale, rtol, xmax)
+    if periodic is not None:
+        return periodic
     falling = _falling_contacts(tail)
     if falling is not None:
         kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
@@ -254,12 +235,41 @@ def _quiet_steady(
     return None
 
 
-def _same(p: Transition, q: Transition, tol: float) -> bool:
-    return (
-        p.kind is q.kind
-        and abs(p.x - q.x) <= tol
-        and abs(p.v - q.v) <= tol
-        and abs(p.v_after - q.v_after) <= tol
+def _periodic_tail(tail: list[Transition], scale: float, rtol: float, xmax) -> Steady | None:
+    """The periodic steady state (or its grazing limit) the transitions end on, or ``None``.
+
+    Every transition goes through :class:`core.steady.FixedPointDetector`; the tail is
+    periodic when each transition of its last ``STEADY_PERIODS`` periods of ``j``
+    transitions repeats the state ``j`` transitions earlier (the smallest such ``j``).
+    """
+    det = FixedPointDetector(scale, rtol=rtol, min_cycle_size=scale)
+    for i, tr in enumerate(tail):
+        det.add(tr.kind, tr.t, tr.x, tr.v, i)
+    n = len(tail)
+    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
+        if not all(j in det.repeats[n - 1 - i] for i in range(STEADY_PERIODS * j)):
+            continue
+        period = tail[-1].t - tail[-1 - j].t
+        if period > 0.0:
+            break
+    else:
+        return None
+    k = n - 1 - STEADY_PERIODS * j
+    while k - j >= 0 and j in det.repeats[k]:
+        k -= 1
+    last = tail[-j:]
+    speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
+    if speeds and max(speeds) <= det.tol:
+        # impacts of vanishing speed: the grazing limit, reached to the tolerance
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    return Steady(
+        SteadyKind.PERIODIC,
+        period=period,
+        transitions_per_period=j,
+        sequence=tuple(tr.kind.value for tr in last),
+        x_max=xmax(tail[-1].t - period, tail[-1].t),
+        impact_speed=max(speeds) if speeds else math.nan,
+        t_reached=tail[k].t,
     )
 
 
@@ -479,10 +489,12 @@ def result_from_dense(
         x_max = hermite_max(t, x, v) if n else math.nan
 
     if steady is None:
-        tol = steady_tol
-        if tol is None:
-            tol = _default_steady_tol(x, v, belt_speed, rtol)
-        steady = _steady_of(log, t, x, v, mode, tol, t_stop)
+        scale = _state_scale(x, v, belt_speed)
+        if steady_tol is None:
+            steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)
+        else:
+            steady_rtol = steady_tol / scale
+        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop)
 
     return Result(
         t=ts,
@@ -551,14 +563,14 @@ def result_from_track(
     )
 
 
-def _default_steady_tol(x: np.ndarray, v: np.ndarray, belt_speed: float, rtol: float) -> float:
-    """``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale."""
+def _state_scale(x: np.ndarray, v: np.ndarray, belt_speed: float) -> float:
+    """Largest of ``|x|``, ``|x'|`` and the belt speed: the scale of the transition states."""
     scale = max(
         float(np.max(np.abs(x))) if len(x) else 0.0,
         float(np.max(np.abs(v))) if len(v) else 0.0,
         abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
     )
-    return max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
+    return max(scale, 1e-300)
 
 
 def _steady_of(
@@ -567,7 +579,8 @@ def _steady_of(
     x: np.ndarray,
     v: np.ndarray,
     mode: np.ndarray,
-    tol: float,
+    scale: float,
+    rtol: float,
     t_stop: float,
 ) -> Steady:
     """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
@@ -582,7 +595,8 @@ def _steady_of(
 
     return steady_from_transitions(
         log.recent,
-        tol=tol,
+        scale=scale,
+        rtol=rtol,
         t_end=t_stop,
         final_mode=int(mode[-1]) if n else int(Mode.SLIP),
         final_v=float(v[-1]) if n else math.nan,

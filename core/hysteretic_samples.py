@@ -381,7 +381,8 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     tail = list(sv.log.recent)
     return steady_from_transitions(
         tail,
-        tol=FIXED_POINT_RTOL * sv.scale(),
+        scale=sv.scale(),
+        rtol=FIXED_POINT_RTOL,
         t_end=t_end,
         final_mode=int(mode[-1]) if len(mode) else 0,
         final_v=float(xd[-1]) if len(xd) else 0.0,

@@ -128,6 +128,13 @@ class FixedPointDetector:
     come within any absolute tolerance without ever repeating), and its period must be
     resolvable in time (more than :data:`PERIOD_ULPS` ulps).
 
+    ``rtol`` replaces ``FIXED_POINT_RTOL`` for states known only to a tolerance: the
+    transition states of a numerical method repeat to about its own accuracy, never to
+    the few ulps of the exact solution. Such states cannot tell a cycle from a converging
+    sequence by the cycle's own size either (a cycle of one impact has the size of its
+    own drift); ``min_cycle_size`` (e.g. ``scale``) is then the size the repeat is
+    measured against, and an accumulation must be recognised by the caller.
+
     Examples
     --------
     >>> det = FixedPointDetector(scale=1.0)
@@ -137,35 +144,49 @@ class FixedPointDetector:
     2.5
     """
 
-    def __init__(self, scale: float) -> None:
-        self.tol = FIXED_POINT_RTOL * scale
+    def __init__(
+        self, scale: float, rtol: float = FIXED_POINT_RTOL, min_cycle_size: float = 0.0
+    ) -> None:
+        if not rtol > 0.0:
+            raise ValueError(f"rtol must be > 0, got {rtol!r}")
+        self.rtol = rtol
+        self.tol = rtol * scale
+        self.min_cycle_size = min_cycle_size
+        #: For each state, how many transitions back each earlier state it repeats lies.
+        self.repeats: list[frozenset[int]] = []
         self.states: list[tuple[float, float, float, int]] = []  # (t, x, v, tag)
         self.by_kind: dict[str, list[int]] = {}
 
     def add(self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0) -> Cycle | None:
-        """Record the state ``(x, v)`` of a transition of ``kind`` at ``t``."""
+        """Record the state ``(x, v)`` of a transition of ``kind`` at ``t``; the cycle it
+        closes with the closest earlier state it repeats, or ``None``."""
         seen = self.by_kind.setdefault(kind.value, [])
-        j = self._match(seen, t, x, v)
+        matches = self._matches(seen, t, x, v)
+        n_now = len(self.states)
         self.states.append((t, x, v, tag))
-        seen.append(len(self.states) - 1)
-        if j is None:
+        seen.append(n_now)
+        self.repeats.append(frozenset(n_now - i for i, _ in matches))
+        if not matches:
             return None
+        j = min(matches, key=lambda m: m[1])[0]
         t_then, _, _, tag_then = self.states[j]
-        n = len(self.states) - 1 - j
-        return Cycle(t_then, t, tag_then, tag, n)
+        return Cycle(t_then, t, tag_then, tag, n_now - j)
 
-    def _match(self, seen: list[int], t: float, x: float, v: float) -> int | None:
+    def _matches(
+        self, seen: list[int], t: float, x: float, v: float
+    ) -> list[tuple[int, float]]:
+        """The earlier states ``(index, gap)`` that ``(x, v)`` at ``t`` repeats."""
         shortest = PERIOD_ULPS * math.ulp(max(abs(t), 1.0))
-        best, best_gap = None, math.inf
+        found = []
         for i in seen[-FIXED_POINT_LOOKBACK:]:
             ti, xi, vi, _ = self.states[i]
             gap = abs(xi - x) + abs(vi - v)
             near = abs(xi - x) <= self.tol and abs(vi - v) <= self.tol
-            if near and t - ti > shortest and gap < best_gap:
+            if near and t - ti > shortest:
                 size = max(abs(st[1] - x) + abs(st[2] - v) for st in self.states[i:])
-                if gap <= FIXED_POINT_RTOL * size:
-                    best, best_gap = i, gap
-        return best
+                if gap <= self.rtol * max(size, self.min_cycle_size):
+                    found.append((i, gap))
+        return found
 
 
 def fold_times(
