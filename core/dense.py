@@ -50,7 +50,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
-from core.steady import FixedPointDetector
+from core.steady import FixedPointDetector, pressed_on_stop, pressed_steady
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -163,6 +163,7 @@ def steady_from_transitions(
     final_mode: int,
     final_v: float,
     x_max_between=None,
+    pressed: bool = False,
 ) -> Steady:
     """The steady state read off the most recent transitions (``docs/physics.md``).
 
@@ -181,6 +182,10 @@ def steady_from_transitions(
         Mode and velocity at ``t_end`` (for motions without transitions).
     x_max_between : callable, optional
         ``x_max_between(t0, t1)``: maximum displacement over a time interval.
+    pressed : bool
+        The belt presses the mass on the stop (:func:`core.steady.pressed_on_stop`). No
+        slip circle grazes the stop then, so impacts of vanishing speed are rest at the
+        stop and, without a fixed point, :func:`core.steady.pressed_steady` decides.
 
     Returns
     -------
@@ -199,13 +204,15 @@ def steady_from_transitions(
     t_last = tail[-1].t if tail else 0.0
     if not tail or t_end - t_last > 2.0 * math.pi:
         # no transition for more than a full slip circle: nothing will happen any more
-        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax)
+        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax, pressed)
         if quiet is not None:
             return quiet
 
-    periodic = _periodic_tail(tail, scale, rtol, xmax)
+    periodic = _periodic_tail(tail, scale, rtol, xmax, pressed)
     if periodic is not None:
         return periodic
+    if pressed:
+        return pressed_steady(tail)
     falling = _falling_contacts(tail)
     if falling is not None:
         kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
@@ -214,13 +221,19 @@ def steady_from_transitions(
 
 
 def _quiet_steady(
-    tail: list[Transition], t_last: float, t_end: float, final_mode: int, final_v: float, xmax
+    tail: list[Transition],
+    t_last: float,
+    t_end: float,
+    final_mode: int,
+    final_v: float,
+    xmax,
+    pressed: bool,
 ) -> Steady | None:
     """The steady state of a motion without transitions over the last full slip circle
     (from ``t_last`` to ``t_end``), or ``None`` if its final mode does not tell."""
     if final_mode == Mode.STICK and final_v == 0.0:
         return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
-    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
+    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS and not pressed:
         # impacts died out on a slip circle that touches the stop: grazing (paper §4)
         return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
     if final_mode == Mode.SLIP:
@@ -235,7 +248,9 @@ def _quiet_steady(
     return None
 
 
-def _periodic_tail(tail: list[Transition], scale: float, rtol: float, xmax) -> Steady | None:
+def _periodic_tail(
+    tail: list[Transition], scale: float, rtol: float, xmax, pressed: bool
+) -> Steady | None:
     """The periodic steady state (or its grazing limit) the transitions end on, or ``None``.
 
     Every transition goes through :class:`core.steady.FixedPointDetector`; the tail is
@@ -260,7 +275,10 @@ def _periodic_tail(tail: list[Transition], scale: float, rtol: float, xmax) -> S
     last = tail[-j:]
     speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
     if speeds and max(speeds) <= det.tol:
-        # impacts of vanishing speed: the grazing limit, reached to the tolerance
+        # impacts of vanishing speed: the grazing limit, reached to the tolerance, or, on a
+        # stop the belt presses the mass on (no slip circle touches it), rest there
+        if pressed:
+            return Steady(SteadyKind.REST, x_max=last[-1].x, impact_speed=0.0, t_reached=math.nan)
         return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
     return Steady(
         SteadyKind.PERIODIC,
@@ -331,6 +349,8 @@ def result_from_dense(
     steady: Steady | None = None,
     steady_tol: float | None = None,
     rtol: float = 1e-6,
+    model_rtol: float = 0.0,
+    pressed: bool = False,
     belt_speed: float = math.nan,
     x_max: float | None = None,
     x_upper: float | None = None,
@@ -383,6 +403,12 @@ def result_from_dense(
         ``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale.
     rtol : float
         The integrator's relative tolerance (for the default ``steady_tol``).
+    model_rtol : float
+        Relative error of the model itself, located anew at every transition (the switch
+        model's stick band): a floor of the default ``steady_tol``. Unlike the integration
+        error it does not grow with the horizon.
+    pressed : bool
+        The belt presses the mass on the stop (see :func:`steady_from_transitions`).
     belt_speed : float
         ``v`` (for the belt's work).
     x_max : float, optional
@@ -491,10 +517,10 @@ def result_from_dense(
     if steady is None:
         scale = _state_scale(x, v, belt_speed)
         if steady_tol is None:
-            steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)
+            steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
         else:
             steady_rtol = steady_tol / scale
-        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop)
+        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed)
 
     return Result(
         t=ts,
@@ -527,6 +553,7 @@ def result_from_track(
     t_end: float,
     n_samples: int,
     rtol: float,
+    model_rtol: float = 0.0,
     status: Status,
     method: str,
     stats: dict[str, int],
@@ -552,6 +579,8 @@ def result_from_track(
         overlap=[xx - c for xx in track.x] if soft else None,
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,
+        model_rtol=model_rtol,
+        pressed=stop is not None and pressed_on_stop(osc, c),
         belt_speed=osc.v,
         x_upper=c if isinstance(stop, RigidStop) else None,
         status=status,
@@ -582,6 +611,7 @@ def _steady_of(
     scale: float,
     rtol: float,
     t_stop: float,
+    pressed: bool,
 ) -> Steady:
     """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
     n = len(t)
@@ -601,6 +631,7 @@ def _steady_of(
         final_mode=int(mode[-1]) if n else int(Mode.SLIP),
         final_v=float(v[-1]) if n else math.nan,
         x_max_between=x_max_between,
+        pressed=pressed,
     )
 
 

@@ -8,7 +8,8 @@ For every method (exact, hysteretic, switch, event; docs/physics.md, "Steady sta
 * :func:`fold_times` tiles the rest of the horizon with the cycle found: a time after the
   cycle maps into the stored period, with the number of whole periods it moved;
 * :func:`pressed_on_stop`, :func:`rest_force` and :func:`comes_to_rest` decide whether a
-  mass that has come to rest at the stop stays there, and with what force.
+  mass that has come to rest at the stop stays there, and with what force;
+  :func:`pressed_steady` labels a pressed mass's motion when no fixed point is found.
 
 The rule: at the stop ``x = x_bar`` with ``x' = 0`` the mass moves backwards relative to
 a moving belt, so kinetic friction ``+a`` acts and the net force without the stop is
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.params import Oscillator
-from core.result import TransitionKind
+from core.result import Steady, SteadyKind, Transition, TransitionKind
 
 #: Two transition states closer than this (relative to the problem's length scale) are the
 #: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
@@ -96,6 +97,36 @@ def comes_to_rest(osc: Oscillator, clearance: float, speed: float) -> bool:
     d = abs(osc.a - clearance)
     scale = max(abs(clearance), d)
     return speed <= REST_SPEED * math.sqrt(d * scale)
+
+
+def pressed_steady(tail: list[Transition]) -> Steady:
+    """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
+    latest transitions when no fixed point was found.
+
+    No slip circle misses or grazes the stop then (the circles about ``(a, 0)`` all cross
+    it), so neither pure slip nor grazing can be the limit: the motion ends at rest on the
+    stop, or goes on as a train of contacts, or as an oscillation on the stop. A train is
+    labelled with the measured ratio of successive approach speeds; a sustained oscillation
+    whose swings shrink is rest approached, with the measured ratio of successive swings.
+    """
+    speeds = [tr.v for tr in tail if tr.kind is TransitionKind.CONTACT]
+    if len(speeds) >= 2 and any(tr.kind is TransitionKind.SEPARATION for tr in tail[-4:]):
+        ratio = float(np.median(np.array(speeds[1:]) / np.array(speeds[:-1])))
+        return Steady(
+            SteadyKind.CONTACT_TRAIN,
+            impact_speed=speeds[-1],
+            decay_rate=ratio,
+            x_max=max(tr.x for tr in tail),
+        )
+    xs = [tr.x for tr in tail if tr.kind is TransitionKind.REVERSAL]
+    swings = np.abs(np.diff(xs))
+    if len(swings) >= 4 and np.all(swings[-4:] > 0.0):
+        ratio = float(np.median(swings[-4:][1:] / swings[-4:][:-1]))
+        if ratio < 1.0:
+            return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0, decay_rate=ratio)
+    if tail and tail[-1].kind is TransitionKind.REDUCED:
+        return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
+    return Steady(SteadyKind.NONE)
 
 
 @dataclass(frozen=True)
