@@ -166,6 +166,9 @@ class FixedPointDetector:
     own drift); ``min_cycle_size`` (e.g. ``scale``) is then the size the repeat is
     measured against, and an accumulation must be recognised by the caller.
 
+    A deformable stop adds the contact force ``phi`` (over ``k``, a length times the stop's
+    stiffness ratio) to the state; it must repeat to ``phi_scale`` times the tolerance.
+
     Examples
     --------
     >>> det = FixedPointDetector(scale=1.0)
@@ -176,25 +179,34 @@ class FixedPointDetector:
     """
 
     def __init__(
-        self, scale: float, rtol: float = FIXED_POINT_RTOL, min_cycle_size: float = 0.0
+        self,
+        scale: float,
+        rtol: float = FIXED_POINT_RTOL,
+        min_cycle_size: float = 0.0,
+        phi_scale: float = 1.0,
     ) -> None:
         if not rtol > 0.0:
             raise ValueError(f"rtol must be > 0, got {rtol!r}")
         self.rtol = rtol
         self.tol = rtol * scale
         self.min_cycle_size = min_cycle_size
+        self.phi_tol = self.tol * phi_scale
+        self.phis: list[float] = []
         #: For each state, how many transitions back each earlier state it repeats lies.
         self.repeats: list[frozenset[int]] = []
         self.states: list[tuple[float, float, float, int]] = []  # (t, x, v, tag)
         self.by_kind: dict[str, list[int]] = {}
 
-    def add(self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0) -> Cycle | None:
-        """Record the state ``(x, v)`` of a transition of ``kind`` at ``t``; the cycle it
-        closes with the closest earlier state it repeats, or ``None``."""
+    def add(
+        self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0, phi: float = 0.0
+    ) -> Cycle | None:
+        """Record the state ``(x, v, phi)`` of a transition of ``kind`` at ``t``; the cycle
+        it closes with the closest earlier state it repeats, or ``None``."""
         seen = self.by_kind.setdefault(kind.value, [])
-        matches = self._matches(seen, t, x, v)
+        matches = self._matches(seen, t, x, v, phi)
         n_now = len(self.states)
         self.states.append((t, x, v, tag))
+        self.phis.append(phi)
         seen.append(n_now)
         self.repeats.append(frozenset(n_now - i for i, _ in matches))
         if not matches:
@@ -204,15 +216,16 @@ class FixedPointDetector:
         return Cycle(t_then, t, tag_then, tag, n_now - j)
 
     def _matches(
-        self, seen: list[int], t: float, x: float, v: float
+        self, seen: list[int], t: float, x: float, v: float, phi: float
     ) -> list[tuple[int, float]]:
-        """The earlier states ``(index, gap)`` that ``(x, v)`` at ``t`` repeats."""
+        """The earlier states ``(index, gap)`` that ``(x, v, phi)`` at ``t`` repeats."""
         shortest = PERIOD_ULPS * math.ulp(max(abs(t), 1.0))
         found = []
         for i in seen[-FIXED_POINT_LOOKBACK:]:
             ti, xi, vi, _ = self.states[i]
             gap = abs(xi - x) + abs(vi - v)
             near = abs(xi - x) <= self.tol and abs(vi - v) <= self.tol
+            near = near and abs(self.phis[i] - phi) <= self.phi_tol
             if near and t - ti > shortest:
                 size = max(abs(st[1] - x) + abs(st[2] - v) for st in self.states[i:])
                 if gap <= self.rtol * max(size, self.min_cycle_size):
