@@ -1,9 +1,9 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
 The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
-steady-state search on them (:func:`steady_from_transitions`) stays here because it works
-to the tolerance of a numerical method, which the fixed-point detector of
-:mod:`core.steady` does not take.
+steady state read off them (:func:`steady_from_transitions`) finds fixed points with the
+project's one detector (:class:`core.steady.FixedPointDetector`) at the tolerance of the
+numerical method.
 
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
@@ -50,6 +50,7 @@ from core.result import (
     Transition,
     TransitionKind,
 )
+from core.steady import FixedPointDetector, pressed_on_stop, pressed_steady
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -156,11 +157,13 @@ def _energy_at_samples(
 def steady_from_transitions(
     tail: Sequence[Transition],
     *,
-    tol: float,
+    scale: float,
+    rtol: float,
     t_end: float,
     final_mode: int,
     final_v: float,
     x_max_between=None,
+    pressed: bool = False,
 ) -> Steady:
     """The steady state read off the most recent transitions (``docs/physics.md``).
 
@@ -168,15 +171,21 @@ def steady_from_transitions(
     ----------
     tail : sequence of Transition
         The most recent transitions, oldest first.
-    tol : float
-        Absolute tolerance on the transition states ``(x, x')`` for a fixed point of the
-        friction-impact map ``P^j`` (and, divided by the speed scale, on the times).
+    scale : float
+        Length scale of the states ``(x, x')``.
+    rtol : float
+        Tolerance, relative to ``scale``, of a fixed point of the friction-impact map
+        ``P^j`` (:class:`core.steady.FixedPointDetector`).
     t_end : float
         The horizon.
     final_mode, final_v : int, float
         Mode and velocity at ``t_end`` (for motions without transitions).
     x_max_between : callable, optional
         ``x_max_between(t0, t1)``: maximum displacement over a time interval.
+    pressed : bool
+        The belt presses the mass on the stop (:func:`core.steady.pressed_on_stop`). No
+        slip circle grazes the stop then, so impacts of vanishing speed are rest at the
+        stop and, without a fixed point, :func:`core.steady.pressed_steady` decides.
 
     Returns
     -------
@@ -195,36 +204,15 @@ def steady_from_transitions(
     t_last = tail[-1].t if tail else 0.0
     if not tail or t_end - t_last > 2.0 * math.pi:
         # no transition for more than a full slip circle: nothing will happen any more
-        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax)
+        quiet = _quiet_steady(tail, t_last, t_end, final_mode, final_v, xmax, pressed)
         if quiet is not None:
             return quiet
 
-    n = len(tail)
-    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
-        pairs = ((tail[n - 1 - i], tail[n - 1 - i - j]) for i in range(STEADY_PERIODS * j))
-        if not all(_same(p, q, tol) for p, q in pairs):
-            continue
-        period = tail[-1].t - tail[-1 - j].t
-        if period <= 0.0:
-            continue
-        k = n - 1 - STEADY_PERIODS * j
-        while k - j >= 0 and _same(tail[k], tail[k - j], tol):
-            k -= 1
-        last = tail[n - j :]
-        speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
-        if speeds and max(speeds) <= tol:
-            # impacts of vanishing speed: the grazing limit, reached to the tolerance
-            return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
-        return Steady(
-            SteadyKind.PERIODIC,
-            period=period,
-            transitions_per_period=j,
-            sequence=tuple(tr.kind.value for tr in last),
-            x_max=xmax(tail[-1].t - period, tail[-1].t),
-            impact_speed=max(speeds) if speeds else math.nan,
-            t_reached=tail[k].t,
-        )
-
+    periodic = _periodic_tail(tail, scale, rtol, xmax, pressed)
+    if periodic is not None:
+        return periodic
+    if pressed:
+        return pressed_steady(tail)
     falling = _falling_contacts(tail)
     if falling is not None:
         kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
@@ -233,13 +221,19 @@ def steady_from_transitions(
 
 
 def _quiet_steady(
-    tail: list[Transition], t_last: float, t_end: float, final_mode: int, final_v: float, xmax
+    tail: list[Transition],
+    t_last: float,
+    t_end: float,
+    final_mode: int,
+    final_v: float,
+    xmax,
+    pressed: bool,
 ) -> Steady | None:
     """The steady state of a motion without transitions over the last full slip circle
     (from ``t_last`` to ``t_end``), or ``None`` if its final mode does not tell."""
     if final_mode == Mode.STICK and final_v == 0.0:
         return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
-    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS:
+    if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS and not pressed:
         # impacts died out on a slip circle that touches the stop: grazing (paper §4)
         return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
     if final_mode == Mode.SLIP:
@@ -254,12 +248,46 @@ def _quiet_steady(
     return None
 
 
-def _same(p: Transition, q: Transition, tol: float) -> bool:
-    return (
-        p.kind is q.kind
-        and abs(p.x - q.x) <= tol
-        and abs(p.v - q.v) <= tol
-        and abs(p.v_after - q.v_after) <= tol
+def _periodic_tail(
+    tail: list[Transition], scale: float, rtol: float, xmax, pressed: bool
+) -> Steady | None:
+    """The periodic steady state (or its grazing limit) the transitions end on, or ``None``.
+
+    Every transition goes through :class:`core.steady.FixedPointDetector`; the tail is
+    periodic when each transition of its last ``STEADY_PERIODS`` periods of ``j``
+    transitions repeats the state ``j`` transitions earlier (the smallest such ``j``).
+    """
+    det = FixedPointDetector(scale, rtol=rtol, min_cycle_size=scale)
+    for i, tr in enumerate(tail):
+        det.add(tr.kind, tr.t, tr.x, tr.v, i)
+    n = len(tail)
+    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
+        if not all(j in det.repeats[n - 1 - i] for i in range(STEADY_PERIODS * j)):
+            continue
+        period = tail[-1].t - tail[-1 - j].t
+        if period > 0.0:
+            break
+    else:
+        return None
+    k = n - 1 - STEADY_PERIODS * j
+    while k - j >= 0 and j in det.repeats[k]:
+        k -= 1
+    last = tail[-j:]
+    speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
+    if speeds and max(speeds) <= det.tol:
+        # impacts of vanishing speed: the grazing limit, reached to the tolerance, or, on a
+        # stop the belt presses the mass on (no slip circle touches it), rest there
+        if pressed:
+            return Steady(SteadyKind.REST, x_max=last[-1].x, impact_speed=0.0, t_reached=math.nan)
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    return Steady(
+        SteadyKind.PERIODIC,
+        period=period,
+        transitions_per_period=j,
+        sequence=tuple(tr.kind.value for tr in last),
+        x_max=xmax(tail[-1].t - period, tail[-1].t),
+        impact_speed=max(speeds) if speeds else math.nan,
+        t_reached=tail[k].t,
     )
 
 
@@ -321,6 +349,8 @@ def result_from_dense(
     steady: Steady | None = None,
     steady_tol: float | None = None,
     rtol: float = 1e-6,
+    model_rtol: float = 0.0,
+    pressed: bool = False,
     belt_speed: float = math.nan,
     x_max: float | None = None,
     x_upper: float | None = None,
@@ -373,6 +403,12 @@ def result_from_dense(
         ``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale.
     rtol : float
         The integrator's relative tolerance (for the default ``steady_tol``).
+    model_rtol : float
+        Relative error of the model itself, located anew at every transition (the switch
+        model's stick band): a floor of the default ``steady_tol``. Unlike the integration
+        error it does not grow with the horizon.
+    pressed : bool
+        The belt presses the mass on the stop (see :func:`steady_from_transitions`).
     belt_speed : float
         ``v`` (for the belt's work).
     x_max : float, optional
@@ -479,10 +515,12 @@ def result_from_dense(
         x_max = hermite_max(t, x, v) if n else math.nan
 
     if steady is None:
-        tol = steady_tol
-        if tol is None:
-            tol = _default_steady_tol(x, v, belt_speed, rtol)
-        steady = _steady_of(log, t, x, v, mode, tol, t_stop)
+        scale = _state_scale(x, v, belt_speed)
+        if steady_tol is None:
+            steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
+        else:
+            steady_rtol = steady_tol / scale
+        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed)
 
     return Result(
         t=ts,
@@ -515,6 +553,7 @@ def result_from_track(
     t_end: float,
     n_samples: int,
     rtol: float,
+    model_rtol: float = 0.0,
     status: Status,
     method: str,
     stats: dict[str, int],
@@ -540,6 +579,8 @@ def result_from_track(
         overlap=[xx - c for xx in track.x] if soft else None,
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,
+        model_rtol=model_rtol,
+        pressed=stop is not None and pressed_on_stop(osc, c),
         belt_speed=osc.v,
         x_upper=c if isinstance(stop, RigidStop) else None,
         status=status,
@@ -551,14 +592,14 @@ def result_from_track(
     )
 
 
-def _default_steady_tol(x: np.ndarray, v: np.ndarray, belt_speed: float, rtol: float) -> float:
-    """``max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR)`` times the state scale."""
+def _state_scale(x: np.ndarray, v: np.ndarray, belt_speed: float) -> float:
+    """Largest of ``|x|``, ``|x'|`` and the belt speed: the scale of the transition states."""
     scale = max(
         float(np.max(np.abs(x))) if len(x) else 0.0,
         float(np.max(np.abs(v))) if len(v) else 0.0,
         abs(belt_speed) if math.isfinite(belt_speed) else 0.0,
     )
-    return max(STEADY_TOL_PER_RTOL * rtol, STEADY_TOL_FLOOR) * max(scale, 1e-300)
+    return max(scale, 1e-300)
 
 
 def _steady_of(
@@ -567,8 +608,10 @@ def _steady_of(
     x: np.ndarray,
     v: np.ndarray,
     mode: np.ndarray,
-    tol: float,
+    scale: float,
+    rtol: float,
     t_stop: float,
+    pressed: bool,
 ) -> Steady:
     """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
     n = len(t)
@@ -582,11 +625,13 @@ def _steady_of(
 
     return steady_from_transitions(
         log.recent,
-        tol=tol,
+        scale=scale,
+        rtol=rtol,
         t_end=t_stop,
         final_mode=int(mode[-1]) if n else int(Mode.SLIP),
         final_v=float(v[-1]) if n else math.nan,
         x_max_between=x_max_between,
+        pressed=pressed,
     )
 
 

@@ -133,7 +133,7 @@ from core.result import (
     SteadyKind,
     TransitionKind,
 )
-from core.steady import pressed_on_stop
+from core.steady import FixedPointDetector, pressed_on_stop
 from core.trajectory import SegmentTable
 from core.transitions import TransitionLog
 
@@ -141,10 +141,6 @@ from core.transitions import TransitionLog
 #: never crossed (the force there is ``k_c0 D / LIMIT_MARGIN``, the tangent stiffness
 #: ``k_c0 / LIMIT_MARGIN^2``, far beyond any physical stop).
 LIMIT_MARGIN = 1e-6
-
-
-#: Earlier transitions of the same kind compared with each new one.
-FIXED_POINT_LOOKBACK = 64
 
 
 #: Default limit on the number of transitions (a guard against an endless event loop);
@@ -197,7 +193,7 @@ class _Solver:
         self.n_contacts = 0
         self.steady: Steady | None = None
         self.tail: tuple[float, float, float, tuple[float, float, float]] | None = None
-        self.history: dict[str, list[tuple[float, float, float, float, int]]] = {}
+        self.detector: FixedPointDetector | None = None
         self.reduced_error = 0.0  # bound of the reduced models' error in the state
         self.train: list[tuple[float, float, float, int]] = []  # contacts: t, w, peak, n
         self.rest_force = math.nan
@@ -633,17 +629,18 @@ class _Solver:
         if kind in (TransitionKind.FAILURE, TransitionKind.REST, TransitionKind.REVERSAL,
                     TransitionKind.REDUCED):
             return
-        tol = FIXED_POINT_RTOL * self.scale()
-        seen = self.history.setdefault(kind.value, [])
-        for t_then, x_then, v_then, phi_then, n_then in reversed(seen[-FIXED_POINT_LOOKBACK:]):
-            if (
-                abs(x_then - st.x) <= tol
-                and abs(v_then - st.v) <= tol
-                and abs(phi_then - phi) <= tol * max(1.0, self.stop.k_c0)
-            ):
-                self.periodic(t_then, n_then, st)
-                break
-        seen.append((st.t, st.x, st.v, phi, self.log.total))
+        if self.detector is None:
+            # states repeat to the contact integration's accuracy (FIXED_POINT_RTOL) and a
+            # cycle's own size tells nothing at that tolerance; the force is ~k_c0 times a
+            # length
+            scale = self.scale()
+            self.detector = FixedPointDetector(
+                scale, rtol=FIXED_POINT_RTOL, min_cycle_size=scale,
+                phi_scale=max(1.0, self.stop.k_c0),
+            )
+        cycle = self.detector.add(kind, st.t, st.x, st.v, self.log.total, phi)
+        if cycle is not None:
+            self.periodic(cycle.t_then, cycle.tag_then, st)
 
     def periodic(self, t_then: float, n_then: int, st: _State) -> None:
         period = st.t - t_then

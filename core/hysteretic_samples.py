@@ -34,10 +34,10 @@ from core.result import (
     Status,
     Steady,
     SteadyKind,
-    Transition,
     TransitionKind,
     make_stats,
 )
+from core.steady import pressed_steady
 from core.trajectory import evaluate
 
 if TYPE_CHECKING:
@@ -365,7 +365,7 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
     if sv.pressed():
-        return _pressed_steady(list(sv.log.recent))
+        return pressed_steady(list(sv.log.recent))
     endless = getattr(sv, "endless", None)
     if endless is not None:
         if endless.mode is Mode.SLIP:
@@ -381,38 +381,9 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     tail = list(sv.log.recent)
     return steady_from_transitions(
         tail,
-        tol=FIXED_POINT_RTOL * sv.scale(),
+        scale=sv.scale(),
+        rtol=FIXED_POINT_RTOL,
         t_end=t_end,
         final_mode=int(mode[-1]) if len(mode) else 0,
         final_v=float(xd[-1]) if len(xd) else 0.0,
     )
-
-
-def _pressed_steady(tail: list[Transition]) -> Steady:
-    """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
-    latest transitions when no fixed point was found.
-
-    No slip circle misses or grazes the stop then (the circles about ``(a, 0)`` all cross
-    it), so neither pure slip nor grazing can be the limit: the motion ends at rest on the
-    stop, or goes on as a train of contacts, or as an oscillation on the stop. A train is
-    labelled with the measured ratio of successive approach speeds; a sustained oscillation
-    whose swings shrink is rest approached, with the measured ratio of successive swings.
-    """
-    speeds = [tr.v for tr in tail if tr.kind is TransitionKind.CONTACT]
-    if len(speeds) >= 2 and any(tr.kind is TransitionKind.SEPARATION for tr in tail[-4:]):
-        ratio = float(np.median(np.array(speeds[1:]) / np.array(speeds[:-1])))
-        return Steady(
-            SteadyKind.CONTACT_TRAIN,
-            impact_speed=speeds[-1],
-            decay_rate=ratio,
-            x_max=max(tr.x for tr in tail),
-        )
-    xs = [tr.x for tr in tail if tr.kind is TransitionKind.REVERSAL]
-    swings = np.abs(np.diff(xs))
-    if len(swings) >= 4 and np.all(swings[-4:] > 0.0):
-        ratio = float(np.median(swings[-4:][1:] / swings[-4:][:-1]))
-        if ratio < 1.0:
-            return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0, decay_rate=ratio)
-    if tail and tail[-1].kind is TransitionKind.REDUCED:
-        return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
-    return Steady(SteadyKind.NONE)

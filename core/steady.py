@@ -8,7 +8,8 @@ For every method (exact, hysteretic, switch, event; docs/physics.md, "Steady sta
 * :func:`fold_times` tiles the rest of the horizon with the cycle found: a time after the
   cycle maps into the stored period, with the number of whole periods it moved;
 * :func:`pressed_on_stop`, :func:`rest_force` and :func:`comes_to_rest` decide whether a
-  mass that has come to rest at the stop stays there, and with what force.
+  mass that has come to rest at the stop stays there, and with what force;
+  :func:`pressed_steady` labels a pressed mass's motion when no fixed point is found.
 
 The rule: at the stop ``x = x_bar`` with ``x' = 0`` the mass moves backwards relative to
 a moving belt, so kinetic friction ``+a`` acts and the net force without the stop is
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core.params import Oscillator
-from core.result import TransitionKind
+from core.result import Steady, SteadyKind, Transition, TransitionKind
 
 #: Two transition states closer than this (relative to the problem's length scale) are the
 #: same point of the friction-impact map. The exact solution repeats to a few ulps; 1e-11
@@ -98,6 +99,36 @@ def comes_to_rest(osc: Oscillator, clearance: float, speed: float) -> bool:
     return speed <= REST_SPEED * math.sqrt(d * scale)
 
 
+def pressed_steady(tail: list[Transition]) -> Steady:
+    """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
+    latest transitions when no fixed point was found.
+
+    No slip circle misses or grazes the stop then (the circles about ``(a, 0)`` all cross
+    it), so neither pure slip nor grazing can be the limit: the motion ends at rest on the
+    stop, or goes on as a train of contacts, or as an oscillation on the stop. A train is
+    labelled with the measured ratio of successive approach speeds; a sustained oscillation
+    whose swings shrink is rest approached, with the measured ratio of successive swings.
+    """
+    speeds = [tr.v for tr in tail if tr.kind is TransitionKind.CONTACT]
+    if len(speeds) >= 2 and any(tr.kind is TransitionKind.SEPARATION for tr in tail[-4:]):
+        ratio = float(np.median(np.array(speeds[1:]) / np.array(speeds[:-1])))
+        return Steady(
+            SteadyKind.CONTACT_TRAIN,
+            impact_speed=speeds[-1],
+            decay_rate=ratio,
+            x_max=max(tr.x for tr in tail),
+        )
+    xs = [tr.x for tr in tail if tr.kind is TransitionKind.REVERSAL]
+    swings = np.abs(np.diff(xs))
+    if len(swings) >= 4 and np.all(swings[-4:] > 0.0):
+        ratio = float(np.median(swings[-4:][1:] / swings[-4:][:-1]))
+        if ratio < 1.0:
+            return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0, decay_rate=ratio)
+    if tail and tail[-1].kind is TransitionKind.REDUCED:
+        return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
+    return Steady(SteadyKind.NONE)
+
+
 @dataclass(frozen=True)
 class Cycle:
     """A periodic steady state found by :class:`FixedPointDetector`.
@@ -128,6 +159,16 @@ class FixedPointDetector:
     come within any absolute tolerance without ever repeating), and its period must be
     resolvable in time (more than :data:`PERIOD_ULPS` ulps).
 
+    ``rtol`` replaces ``FIXED_POINT_RTOL`` for states known only to a tolerance: the
+    transition states of a numerical method repeat to about its own accuracy, never to
+    the few ulps of the exact solution. Such states cannot tell a cycle from a converging
+    sequence by the cycle's own size either (a cycle of one impact has the size of its
+    own drift); ``min_cycle_size`` (e.g. ``scale``) is then the size the repeat is
+    measured against, and an accumulation must be recognised by the caller.
+
+    A deformable stop adds the contact force ``phi`` (over ``k``, a length times the stop's
+    stiffness ratio) to the state; it must repeat to ``phi_scale`` times the tolerance.
+
     Examples
     --------
     >>> det = FixedPointDetector(scale=1.0)
@@ -137,35 +178,59 @@ class FixedPointDetector:
     2.5
     """
 
-    def __init__(self, scale: float) -> None:
-        self.tol = FIXED_POINT_RTOL * scale
+    def __init__(
+        self,
+        scale: float,
+        rtol: float = FIXED_POINT_RTOL,
+        min_cycle_size: float = 0.0,
+        phi_scale: float = 1.0,
+    ) -> None:
+        if not rtol > 0.0:
+            raise ValueError(f"rtol must be > 0, got {rtol!r}")
+        self.rtol = rtol
+        self.tol = rtol * scale
+        self.min_cycle_size = min_cycle_size
+        self.phi_tol = self.tol * phi_scale
+        self.phis: list[float] = []
+        #: For each state, how many transitions back each earlier state it repeats lies.
+        self.repeats: list[frozenset[int]] = []
         self.states: list[tuple[float, float, float, int]] = []  # (t, x, v, tag)
         self.by_kind: dict[str, list[int]] = {}
 
-    def add(self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0) -> Cycle | None:
-        """Record the state ``(x, v)`` of a transition of ``kind`` at ``t``."""
+    def add(
+        self, kind: TransitionKind, t: float, x: float, v: float, tag: int = 0, phi: float = 0.0
+    ) -> Cycle | None:
+        """Record the state ``(x, v, phi)`` of a transition of ``kind`` at ``t``; the cycle
+        it closes with the closest earlier state it repeats, or ``None``."""
         seen = self.by_kind.setdefault(kind.value, [])
-        j = self._match(seen, t, x, v)
+        matches = self._matches(seen, t, x, v, phi)
+        n_now = len(self.states)
         self.states.append((t, x, v, tag))
-        seen.append(len(self.states) - 1)
-        if j is None:
+        self.phis.append(phi)
+        seen.append(n_now)
+        self.repeats.append(frozenset(n_now - i for i, _ in matches))
+        if not matches:
             return None
+        j = min(matches, key=lambda m: m[1])[0]
         t_then, _, _, tag_then = self.states[j]
-        n = len(self.states) - 1 - j
-        return Cycle(t_then, t, tag_then, tag, n)
+        return Cycle(t_then, t, tag_then, tag, n_now - j)
 
-    def _match(self, seen: list[int], t: float, x: float, v: float) -> int | None:
+    def _matches(
+        self, seen: list[int], t: float, x: float, v: float, phi: float
+    ) -> list[tuple[int, float]]:
+        """The earlier states ``(index, gap)`` that ``(x, v, phi)`` at ``t`` repeats."""
         shortest = PERIOD_ULPS * math.ulp(max(abs(t), 1.0))
-        best, best_gap = None, math.inf
+        found = []
         for i in seen[-FIXED_POINT_LOOKBACK:]:
             ti, xi, vi, _ = self.states[i]
             gap = abs(xi - x) + abs(vi - v)
             near = abs(xi - x) <= self.tol and abs(vi - v) <= self.tol
-            if near and t - ti > shortest and gap < best_gap:
+            near = near and abs(self.phis[i] - phi) <= self.phi_tol
+            if near and t - ti > shortest:
                 size = max(abs(st[1] - x) + abs(st[2] - v) for st in self.states[i:])
-                if gap <= FIXED_POINT_RTOL * size:
-                    best, best_gap = i, gap
-        return best
+                if gap <= self.rtol * max(size, self.min_cycle_size):
+                    found.append((i, gap))
+        return found
 
 
 def fold_times(

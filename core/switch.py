@@ -490,7 +490,7 @@ class SwitchSolver:
 
     # --- the result ---------------------------------------------------------------------------
     def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
-        tr, eta, vb = self.track, self.opts.eta, self.osc.v
+        tr, eta = self.track, self.opts.eta
         stats = make_stats(
             segments=1,
             steps=self.steps,
@@ -505,8 +505,10 @@ class SwitchSolver:
             self.stop,
             t_end=self.t_end,
             n_samples=n_samples,
-            # the steady-state search allows for the stick band's model error as well
-            rtol=max(self.opts.rtol, eta / max(vb, eta)),
+            rtol=self.opts.rtol,
+            # the stick band's model error (~eta / v) moves each transition state by about
+            # that much; it does not grow with the horizon as the integration error does
+            model_rtol=eta / max(self.osc.v, eta),
             status=self.status,
             method="switch",
             stats=stats,

@@ -66,3 +66,51 @@ def test_fold_times_tiles_and_takes_both_limits_at_boundaries():
     # Rounding a few ulps off a boundary still lands on it.
     folded, n = fold_times(np.array([7.0 - 4e-15, 7.0 + 4e-15]), np.array([1, 1]), 5.0, 3.0, 2.0)
     np.testing.assert_array_equal(folded, [3.0, 3.0])
+
+
+def test_detector_rtol_accepts_a_repeat_to_a_numerical_tolerance():
+    # A one-impact cycle whose state drifts by 1e-9 per period (a numerical method's
+    # global error): no repeat to the exact tolerance (1e-11), a repeat to rtol 1e-6
+    # once the cycle is measured against the state scale, as the numerical methods do.
+    exact = FixedPointDetector(scale=1.0)
+    loose = FixedPointDetector(scale=1.0, rtol=1e-6, min_cycle_size=1.0)
+    found_exact = found_loose = None
+    for k in range(4):
+        state = (TransitionKind.IMPACT, 2.0 * k, 0.3, 0.2 + 1e-9 * k)
+        found_exact = exact.add(*state) or found_exact
+        found_loose = loose.add(*state) or found_loose
+    assert found_exact is None
+    assert found_loose is not None and found_loose.period == 2.0
+    # every earlier state within the tolerance is recorded as repeated, n transitions back
+    assert loose.repeats[-1] == frozenset({1, 2, 3})
+
+
+def test_detector_rejects_a_non_positive_rtol():
+    with pytest.raises(ValueError, match="rtol"):
+        FixedPointDetector(scale=1.0, rtol=0.0)
+
+
+def test_numerical_steady_search_uses_the_detector_and_needs_whole_periods():
+    # dense's search: periodic only when each transition of two whole periods repeats the
+    # one j transitions earlier; a near-duplicate pair inside a period (same kind, states
+    # within the tolerance, 1e-5 apart in time) is not a period of its own.
+    from core.dense import steady_from_transitions
+    from core.result import Mode, SteadyKind, Transition
+
+    def tr(kind, t, x, v):
+        return Transition(kind, t, x, v, v)
+
+    period = []
+    for p in range(4):
+        t0 = 3.0 * p
+        period += [
+            tr(TransitionKind.SLIP_STICK, t0, 0.1, 0.5),
+            tr(TransitionKind.STICK_SLIP, t0 + 1.0, 0.2, 0.5),
+            tr(TransitionKind.STICK_SLIP, t0 + 1.0 + 1e-5, 0.2, 0.5 + 1e-9),
+        ]
+    steady = steady_from_transitions(
+        period, scale=1.0, rtol=1e-6, t_end=12.0, final_mode=int(Mode.SLIP), final_v=0.5
+    )
+    assert steady.kind is SteadyKind.PERIODIC
+    assert steady.transitions_per_period == 3
+    assert steady.period == pytest.approx(3.0, rel=1e-12)
