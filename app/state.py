@@ -25,8 +25,7 @@ from typing import Any
 import param
 
 from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
-from core import HystereticStop, Oscillator, RigidStop
-from core.validation import check_range
+from core import HystereticStop, Oscillator, RigidStop, check_range
 
 #: Stop types offered in the page.
 STOP_TYPES = ("none", "rigid", "hysteretic")

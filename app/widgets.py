@@ -16,7 +16,7 @@ import panel as pn
 import param
 
 from app.perf.slider import keep_released_value, release_bases
-from core.validation import check_range
+from core import check_range
 
 
 def set_changed(obj: param.Parameterized, **values) -> None:

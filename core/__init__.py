@@ -27,6 +27,7 @@ from core.result import (
 )
 from core.simulate import METHODS, method_options, simulate
 from core.steady import pressed_on_stop, rest_force
+from core.validation import check_range
 
 __all__ = [
     "FIRST_LOADING",
@@ -44,6 +45,7 @@ __all__ = [
     "SteadyKind",
     "Transition",
     "TransitionKind",
+    "check_range",
     "contact_force",
     "effective_restitutions",
     "method_options",
