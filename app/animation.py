@@ -173,10 +173,13 @@ class Animation:
         self.back.jscallback(clicks=_JS_STEP, args={**args, "dir": -1})
         self.forward.jscallback(clicks=_JS_STEP, args={**args, "dir": 1})
 
-    def attach(self, phase_fig: Any, time_figs: tuple[Any, ...]) -> None:
-        """Show the animated state in the phase portrait and a cursor in the time plots."""
+    def attach_phase(self, phase_fig: Any) -> None:
+        """Show the animated state in the phase portrait."""
         phase_fig.scatter("x", "v", source=self.marker, size=11, marker="circle",
                           fill_color="#ffd400", line_color="#000000", line_width=1.5)
+
+    def attach_time(self, time_figs: tuple[Any, ...]) -> None:
+        """Show the animation time as a cursor in the time histories."""
         for fig in time_figs:
             fig.add_layout(self.cursor)
 

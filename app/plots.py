@@ -1,6 +1,7 @@
 """The Bokeh figures of the explorer, created per session and updated in place.
 
-:class:`PlotSet` builds every figure once with empty ``ColumnDataSource`` objects; an update
+:class:`PlotSet` builds each figure when it is first shown, on ``ColumnDataSource`` objects made
+with the set (a figure built later receives the current data); an update
 replaces each source's ``.data`` in one assignment (the caller batches them with
 ``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
 Arrays are float32 and sampled for the screen from the exact motion (:mod:`app.sampling`).
@@ -16,6 +17,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from bokeh.core.properties import validate
 from bokeh.layouts import column
 from bokeh.models import (
     BasicTickFormatter,
@@ -158,6 +160,8 @@ PHASE_LABELS: Mapping[str, tuple[str, str]] = {
 #: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
 #: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
 TICK_POWER_LIMIT_LOW = -5
+#: The plots this module builds (the mechanism is :mod:`app.animation`'s).
+BUILT_HERE = tuple(p for p in PLOTS if p != "anim")
 #: Tools of every figure (SaveTool exports the PNG).
 TOOLS = "pan,wheel_zoom,box_zoom,reset,save"
 
@@ -533,7 +537,7 @@ class PlotSet:
     """
 
     def __init__(self) -> None:
-        s = self.sources = {
+        self.sources = {
             name: ColumnDataSource(data=cols) for name, cols in _EMPTY.items()
         }
         self.spans: dict[str, Span] = {}
@@ -541,21 +545,8 @@ class PlotSet:
         self.figures: dict[str, Any] = {}
         self.legends: dict[str, Div] = {}
         self.panes: dict[str, Any] = {}
-        self._build_phase(s)
-        self._build_time(s)
-        self._build_force(s)
-        self._build_loop(s)
-        self._build_friction(s)
-        self._build_energy(s)
-        self._build_map(s)
-        # No selection tools and no muting legends: BokehJS derives the non-selection and
-        # muted glyphs itself ("auto") instead of receiving two more glyph models per
-        # renderer (~70 models of a page).
-        for fig in self.figures.values():
-            for r in fig.renderers:
-                if isinstance(r, GlyphRenderer):
-                    r.nonselection_glyph = "auto"
-                    r.muted_glyph = "auto"
+        self._theory_renderers: list[Any] = []
+        self.rest_axis: LinearAxis | None = None
         self._last: Solution | None = None
         self._updates = 0
         self._kinds_stop: str | None = None
@@ -568,6 +559,35 @@ class PlotSet:
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
 
     # --- building ------------------------------------------------------------------------
+
+    def build(self, name: str) -> Any:
+        """The Bokeh layout of the plot ``name``, built on its first call.
+
+        A figure is built when it is first shown: a new page holds only the figures its
+        scene shows (each figure is some 20-40 models to build, send and render). The
+        new figure is filled from the last solution by the next :meth:`refresh`.
+        """
+        if name not in self.panes:
+            before = set(self.figures)
+            # Built with Bokeh's checks on, also under a caller's ``validate(False)``: they
+            # turn values such as a title's text into models.
+            with validate(True):
+                getattr(self, f"_build_{name}")(self.sources)
+            # No selection tools and no muting legends: BokehJS derives the non-selection
+            # and muted glyphs itself ("auto") instead of receiving two more glyph models
+            # per renderer.
+            for key in set(self.figures) - before:
+                for r in self.figures[key].renderers:
+                    if isinstance(r, GlyphRenderer):
+                        r.nonselection_glyph = "auto"
+                        r.muted_glyph = "auto"
+            self._dirty.add(name)
+        return self.panes[name]
+
+    @property
+    def built(self) -> frozenset[str]:
+        """The plots built so far."""
+        return frozenset(self.panes)
 
     @staticmethod
     def _figure(title: str, size: tuple[int, int], **kw) -> Any:
@@ -751,7 +771,7 @@ class PlotSet:
         _assign(self.sources["force"], cols["line"])
         _assign(self.sources["rest"], cols["rest"])
         self._set_spans(sol, scales)
-        self._set_ranges({"phase", "time", "force"}, sol)
+        self._set_ranges({"phase", "time", "force"} & self.built, sol)
 
     def _draw_motion(self, sol: Solution, scales: Scales) -> None:
         """The phase path, the transitions it passes, and the time histories."""
@@ -811,13 +831,19 @@ class PlotSet:
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
-        """Fill the stale sources of the ``visible`` plots from the last solution."""
+        """Fill the stale sources of the ``visible`` plots from the last solution (building
+        those not built yet)."""
+        for name in visible:
+            if name in BUILT_HERE:
+                self.build(name)
         sol = self._last
         if sol is None:
             return
         scales = self._scales
         s = self.sources
-        todo = self._dirty.intersection(visible)
+        # Only built figures (and the mechanism, which reads the trajectory) are filled;
+        # a plot built later is stale until the refresh after it (:meth:`build`).
+        todo = self._dirty.intersection(visible).intersection({*self.panes, "anim"})
         if todo & {"phase", "time", "anim", "friction"}:
             self._set_theory_visible(True)
             refs = reference_columns(sol, scales)
@@ -834,7 +860,7 @@ class PlotSet:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
             text = legend_html(self._phase_legend())
-            if self.legends["phase"].text != text:
+            if "phase" in self.legends and self.legends["phase"].text != text:
                 self.legends["phase"].text = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
@@ -889,7 +915,7 @@ class PlotSet:
     def show_map(self, map_data: Mapping[str, Any]) -> None:
         """Draw the regime map of the last solution, computed after the rest of its update
         was sent (:meth:`app.explorer.Explorer._draw`); call under ``pn.io.hold``."""
-        if self._last is not None:
+        if self._last is not None and "map" in self.panes:
             self._set_map(self._last, self._scales, map_data)
             self._dirty.discard("map")
 
@@ -900,6 +926,7 @@ class PlotSet:
         them back, which costs further messages and repaints."""
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
+        plots = set(plots) & self.built
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
         if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
             _assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
@@ -931,35 +958,44 @@ class PlotSet:
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None
         for name in ("stop", "stop_t"):
-            span = self.spans[name]
-            span.visible = has_stop
-            span.location = sol.stop.clearance if has_stop else 0.0
+            if name in self.spans:
+                span = self.spans[name]
+                span.visible = has_stop
+                span.location = sol.stop.clearance if has_stop else 0.0
         for name in ("belt", "belt_t"):
-            self.spans[name].location = sol.osc.v * scales.velocity
+            if name in self.spans:
+                self.spans[name].location = sol.osc.v * scales.velocity
 
     def _set_labels(self, sol: Solution, scales: Scales) -> None:
         f = self.figures
-        f["phase"].xaxis.axis_label = scales.length_label
-        f["phase"].yaxis.axis_label = scales.velocity_label
-        if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
-            f["phase"].aspect_scale = scales.velocity
-        f["time_x"].yaxis.axis_label = scales.length_label
-        f["time_v"].yaxis.axis_label = scales.velocity_label
-        f["time_v"].xaxis.axis_label = scales.time_label
-        f["energy"].xaxis.axis_label = scales.time_label
-        f["energy"].yaxis.axis_label = scales.energy_label
-        f["friction"].yaxis.axis_label = scales.friction_label
-        program = sol.program is not None
-        f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
-        f["force"].left[0].axis_label = (scales.impulse_label
-                                         if sol.values["stop_type"] == "rigid"
-                                         else scales.force_label)
-        self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
-        f["loop"].yaxis.axis_label = scales.force_label
-        f["loop"].xaxis.axis_label = "overlap x - x_bar" + (" (m)" if scales.si else "")
-        f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
-                                     else "belt speed v")
-        f["map"].yaxis.axis_label = "clearance x_bar" + (" (m)" if scales.si else "")
+        if "phase" in f:
+            f["phase"].xaxis.axis_label = scales.length_label
+            f["phase"].yaxis.axis_label = scales.velocity_label
+            if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
+                f["phase"].aspect_scale = scales.velocity
+        if "time_x" in f:
+            f["time_x"].yaxis.axis_label = scales.length_label
+            f["time_v"].yaxis.axis_label = scales.velocity_label
+            f["time_v"].xaxis.axis_label = scales.time_label
+        if "energy" in f:
+            f["energy"].xaxis.axis_label = scales.time_label
+            f["energy"].yaxis.axis_label = scales.energy_label
+        if "friction" in f:
+            f["friction"].yaxis.axis_label = scales.friction_label
+        if "force" in f:
+            program = sol.program is not None
+            f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
+            f["force"].left[0].axis_label = (scales.impulse_label
+                                             if sol.values["stop_type"] == "rigid"
+                                             else scales.force_label)
+            self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
+        if "loop" in f:
+            f["loop"].yaxis.axis_label = scales.force_label
+            f["loop"].xaxis.axis_label = "overlap x - x_bar" + (" (m)" if scales.si else "")
+        if "map" in f:
+            f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
+                                         else "belt speed v")
+            f["map"].yaxis.axis_label = "clearance x_bar" + (" (m)" if scales.si else "")
 
     def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
         v_hi = data["v_hi"] * scales.velocity
