@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 import panel as pn
-from bokeh.models import ColumnDataSource, Label, Range1d, Span
+from bokeh.models import ColumnDataSource, Grid, Label, Range1d, Span
 from bokeh.plotting import figure
 
-from app.plots import MODE_COLORS
+from app.plots import MODE_COLORS, SharedModels
 from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
 
@@ -115,7 +115,9 @@ class Animation:
         ``v``, ``mode``).
     """
 
-    def __init__(self, traj: ColumnDataSource) -> None:
+    def __init__(self, traj: ColumnDataSource, shared: SharedModels | None = None) -> None:
+        shared = shared if shared is not None else SharedModels()
+        policy = shared.policy
         self.figure = fig = figure(
             width=ANIM_SIZE[0], height=ANIM_SIZE[1], tools="save", toolbar_location="right",
             x_range=Range1d(-1, 1), y_range=Range1d(BELT_BOTTOM - 0.05, 1.0),
@@ -123,19 +125,24 @@ class Animation:
         )
         fig.toolbar.logo = None
         fig.title.text_font_size = "13px"
-        fig.yaxis.visible = False
+        # No y axis and no grid (a drawing, not a graph): not built rather than hidden.
+        fig.left = []
+        fig.center = [r for r in fig.center if not isinstance(r, Grid)]
         fig.xaxis.axis_label = "x"
-        fig.grid.visible = False
-        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS))
+        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS),
+                                     selection_policy=policy)
         self.static = ColumnDataSource({"left": [], "right": [], "bottom": [], "top": [],
-                                        "color": []})
+                                        "color": []}, selection_policy=policy)
         self.mass = ColumnDataSource({"left": [-0.1], "right": [0.1], "bottom": [MASS_BOTTOM],
                                       "top": [MASS_TOP], "color": [MODE_COLORS[0]]},
-                                     syncable=False)
-        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False)
-        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False)
+                                     syncable=False, selection_policy=policy)
+        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False,
+                                       selection_policy=policy)
+        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False,
+                                     selection_policy=policy)
         #: Current state marker for the phase portrait (added by :meth:`attach`).
-        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False)
+        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False,
+                                       selection_policy=policy)
         fig.quad(left="left", right="right", bottom="bottom", top="top", color="color",
                  source=self.static)
         fig.segment(x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
@@ -150,6 +157,7 @@ class Animation:
                            background_fill_color="#ffffff", background_fill_alpha=0.85,
                            syncable=False)
         fig.add_layout(self.clock)
+        shared.lighten(fig)
         self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
                            line_dash="dashed", syncable=False)
         self.play = pn.widgets.Toggle(label="Play / pause", color="primary", width=120)

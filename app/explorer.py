@@ -171,7 +171,7 @@ class Explorer(pn.viewable.Viewer):
         self._solves = SolveRunner(self._solve_failed, self._show_busy)
         self._previews = SolveRunner(lambda exc: None, preview=True)
         self.plots = PlotSet()
-        self.anim = Animation(self.plots.sources["traj"])
+        self.anim = Animation(self.plots.sources["traj"], self.plots.shared)
         self._build_widgets()
         # An HTML pane whose text is always escaped (a Markdown alert rendered the HTML of a
         # URL's value: a shared link could run script in the page).

@@ -20,17 +20,22 @@ import numpy as np
 from bokeh.core.properties import validate
 from bokeh.layouts import column
 from bokeh.models import (
+    AllIndices,
+    AllLabels,
+    BasicTicker,
     BasicTickFormatter,
     ColumnDataSource,
     DataRange1d,
     Div,
     GlyphRenderer,
+    Grid,
     Label,
     LabelSet,
     LinearAxis,
     LinearColorMapper,
     Range1d,
     Span,
+    UnionRenderers,
 )
 from bokeh.plotting import figure
 
@@ -524,6 +529,35 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
     return cols
 
 
+class SharedModels:
+    """Models without state in the browser that every figure of a page can share: one
+    ticker, tick formatter and label policy for all axes, one index filter for all
+    renderers and one selection policy for all sources (each was one model per axis,
+    renderer or source: ~80 models of a page)."""
+
+    def __init__(self) -> None:
+        self.ticker = BasicTicker()
+        self.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
+        self.labels = AllLabels()
+        self.filter = AllIndices()
+        self.policy = UnionRenderers()
+
+    def lighten(self, fig: Any) -> None:
+        """Give ``fig``'s axes and renderers the shared models, and let BokehJS derive
+        the non-selection and muted glyphs ("auto": no selection tools, no muting
+        legends) instead of receiving two more glyph models per renderer."""
+        for axis in (*fig.left, *fig.right, *fig.above, *fig.below):
+            if isinstance(axis, LinearAxis):
+                axis.ticker = self.ticker
+                axis.formatter = self.formatter
+                axis.major_label_policy = self.labels
+        for r in fig.renderers:
+            if isinstance(r, GlyphRenderer):
+                r.nonselection_glyph = "auto"
+                r.muted_glyph = "auto"
+                r.view.filter = self.filter
+
+
 class PlotSet:
     """All figures of one session and their sources.
 
@@ -537,8 +571,10 @@ class PlotSet:
     """
 
     def __init__(self) -> None:
+        self.shared = SharedModels()
         self.sources = {
-            name: ColumnDataSource(data=cols) for name, cols in _EMPTY.items()
+            name: ColumnDataSource(data=cols, selection_policy=self.shared.policy)
+            for name, cols in _EMPTY.items()
         }
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
@@ -573,14 +609,8 @@ class PlotSet:
             # turn values such as a title's text into models.
             with validate(True):
                 getattr(self, f"_build_{name}")(self.sources)
-            # No selection tools and no muting legends: BokehJS derives the non-selection
-            # and muted glyphs itself ("auto") instead of receiving two more glyph models
-            # per renderer.
             for key in set(self.figures) - before:
-                for r in self.figures[key].renderers:
-                    if isinstance(r, GlyphRenderer):
-                        r.nonselection_glyph = "auto"
-                        r.muted_glyph = "auto"
+                self.shared.lighten(self.figures[key])
             self._dirty.add(name)
         return self.panes[name]
 
@@ -735,7 +765,7 @@ class PlotSet:
         # Overlay level: moving the marker repaints only the overlay canvas, not the image.
         fig.scatter("v", "x", source=s["here"], marker="circle_cross", size=14,
                     fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
-        fig.xgrid.visible = fig.ygrid.visible = False
+        fig.center = [r for r in fig.center if not isinstance(r, Grid)]  # a map: no grid
         self.figures["map"] = fig
         self.panes["map"] = fig
 
