@@ -1,12 +1,11 @@
 """The mechanism drawn and animated in the browser: belt, spring, mass, stop.
 
 The animation runs entirely client-side: a ``requestAnimationFrame`` loop in BokehJS reads
-the trajectory source (``t_raw``, ``x``, ``v``, ``mode``) that the phase portrait already
-received, interpolates the state at the animation time and moves the mass, the spring, the
-belt's marks, a marker in the phase portrait and a cursor in the time histories. The sources
-and annotations it writes are ``syncable=False``, so a playing animation sends nothing to the
-server; only Play/Pause and the speed slider are widgets.
-"""
+the trajectory source (``t`` in the shown units, ``x``, ``v``, ``mode``) that the phase
+portrait already received, interpolates the state at the animation time and moves the mass,
+the spring, the belt's marks, a marker in the phase portrait and a cursor in the time
+histories. The sources and annotations it writes are ``syncable=False``, so a playing
+animation sends nothing to the server; only Play/Pause and the speed slider are widgets."""
 
 from __future__ import annotations
 
@@ -37,7 +36,8 @@ MASS_BOTTOM, MASS_TOP = 0.02, 0.62
 SPRING_Y, SPRING_AMPLITUDE = 0.32, 0.12
 STOP_TOP = 0.85
 
-#: The drawing of the mechanism at the animation time ``st.t`` (shared by the frame loop,
+#: The drawing of the mechanism at the animation time ``st.t``, in the time histories' units
+#: (``tscale`` per dimensionless time unit; shared by the frame loop,
 #: the time slider and the step buttons). ``state`` lives on ``window`` so that all the
 #: callbacks share it.
 _JS_DRAW = """
@@ -49,7 +49,7 @@ function interp(T, Y, t, lo, hi) {
   return dt > 0 ? Y[lo] + (Y[hi] - Y[lo]) * (t - T[lo]) / dt : Y[lo];
 }
 function draw() {
-  const d = traj.data, T = d.t_raw, X = d.x, V = d.v, M = d.mode;
+  const d = traj.data, T = d.t, X = d.x, V = d.v, M = d.mode;
   const n = T.length;
   if (n < 2) { return; }
   if (st.t > T[n - 1] || st.t < T[0]) { st.t = T[0]; }
@@ -63,20 +63,21 @@ function draw() {
   const sp = spring.data, k = sp.x.length;
   for (let i = 0; i < k; i++) { sp.x[i] = wall + (x - w / 2 - wall) * i / (k - 1); }
   spring.change.emit();
-  const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t) % gap + gap) % gap;
+  const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t / g.tscale[0]) % gap + gap) % gap;
   for (let i = 0; i < b.x0.length; i++) { b.x0[i] = b.x1[i] = g.belt0[0] + i * gap + shift; }
   belt.change.emit();
   marker.data.x[0] = x; marker.data.v[0] = v; marker.change.emit();
-  cursor.location = st.t * g.tscale[0];
-  const total = (T[n - 1] * g.tscale[0]).toPrecision(4);
-  clock.text = "t = " + (st.t * g.tscale[0]).toFixed(2) + " of " + total + g.tunit[0];
+  cursor.location = st.t;
+  clock.text = "t = " + st.t.toFixed(2) + " of " + T[n - 1].toPrecision(4) + g.tunit[0];
 }
 """
 #: The frame loop (one per mass source; Play toggles it).
 _JS_PLAY = _JS_DRAW + """
 function frame(now) {
   if (!st.running) { return; }
-  if (st.last !== null) { st.t += (now - st.last) / 1000 * rate * speed.value; }
+  if (st.last !== null) {
+    st.t += (now - st.last) / 1000 * rate * speed.value * geom.data.tscale[0];
+  }
   draw();
   st.last = now;
   window.requestAnimationFrame(frame);
@@ -88,13 +89,13 @@ if (st.running) { window.requestAnimationFrame(frame); }
 #: The time slider: pause and show the fraction ``scrub.value`` of the run.
 _JS_SCRUB = _JS_DRAW + """
 st.running = false; play.active = false;
-const T = traj.data.t_raw;
+const T = traj.data.t;
 if (T.length > 1) { st.t = T[0] + scrub.value * (T[T.length - 1] - T[0]); draw(); }
 """
 #: A step button: pause and move by ``dir`` steps of the run's length over ``steps``.
 _JS_STEP = _JS_DRAW + """
 st.running = false; play.active = false;
-const T = traj.data.t_raw, n = T.length;
+const T = traj.data.t, n = T.length;
 if (n > 1) {
   const t = st.t + dir * (T[n - 1] - T[0]) / steps;
   st.t = Math.min(Math.max(t, T[0]), T[n - 1]);
@@ -111,7 +112,7 @@ class Animation:
     Parameters
     ----------
     traj : ColumnDataSource
-        The trajectory source of :class:`app.plots.PlotSet` (columns ``t_raw``, ``x``,
+        The trajectory source of :class:`app.plots.PlotSet` (columns ``t``, ``x``,
         ``v``, ``mode``).
     """
 

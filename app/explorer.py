@@ -209,6 +209,12 @@ class Explorer(pn.viewable.Viewer):
         #: The solve values the trade table describes.
         self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
+        #: Tells the page that a full solution arrived (its text counts them): the browser
+        #: holds the figures' repaints after a slider's release until then
+        #: (static/perf/release_hold.js). One small hidden model of its own.
+        self.arrived = pn.pane.HTML("0", visible=False, margin=0,
+                                    css_classes=["fie-solution-arrived"])
+        self._arrivals = 0
         self._show_plots(self.visible_plots())
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
@@ -356,7 +362,7 @@ class Explorer(pn.viewable.Viewer):
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
-        return [self.alert, self.caption, self.readout, self.trade,
+        return [self.alert, self.caption, self.readout, self.trade, self.arrived,
                 pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                            css_classes=["fie-plots"])]
 
@@ -780,6 +786,8 @@ class Explorer(pn.viewable.Viewer):
                 set_changed(self.alert, visible=False)
                 if self.trade.visible and self._trade_values != sol.values:
                     set_changed(self.trade, visible=False)  # it described another run
+                self._arrivals += 1  # last: the page's figures hold their paints until it
+                self.arrived.object = str(self._arrivals)
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.

@@ -232,18 +232,18 @@ def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
                        columns: int = HISTORY_COLUMNS) -> dict[str, np.ndarray]:
     """Columns of the trajectory source (time histories and the animation): ``t``
-    (shown units), ``t_raw`` (dimensionless, for the animation), ``x``, ``v`` and
+    (shown units, also read by the animation), ``x``, ``v`` and
     ``mode``, reduced to the first, last, lowest and highest sample of each of
     ``columns`` pixel columns from samples of the exact motion
     (:func:`app.sampling.history`); ``bands`` holds the mode bands."""
     res = sol.result
     if res is None:
-        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v")},
+        return {**{k: _f32([]) for k in ("t", "x", "v")},
                 "mode": np.zeros(0, np.int8)}
     evaluate, exact = _drawing(sol)
     step = phase_step(*_sample_bounds(sol))
     h = sampling.history(res, evaluate, sol.t_end, exact, columns, step)
-    return {"t": _f32(h.t * scales.time), "t_raw": _f32(h.t), "x": _f32(h.x),
+    return {"t": _f32(h.t * scales.time), "x": _f32(h.x),
             "v": _f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
             "bands": h.bands}
 
@@ -584,7 +584,6 @@ class PlotSet:
         self._theory_renderers: list[Any] = []
         self.rest_axis: LinearAxis | None = None
         self._last: Solution | None = None
-        self._updates = 0
         self._kinds_stop: str | None = None
         self._kinds_shown: set[str] = set()
         self._dirty: set[str] = set()
@@ -780,9 +779,6 @@ class PlotSet:
         self._last, self._scales = sol, scales
         self._dirty = set(PLOTS)
         self.refresh(visible, map_data)
-        # Tells the page a full solution arrived (static/release_hold.js).
-        self._updates += 1
-        self.sources["traj"].tags = [self._updates]
 
     def forget_transition_kinds(self) -> None:
         """List only the next solution's transition kinds in the legend (a new scene)."""
@@ -1148,7 +1144,7 @@ def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {
-    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "mode")},
+    "traj": {k: [] for k in ("t", "x", "v", "mode")},
     **{f"path_{name}": {"x": [], "v": []} for name in MODE_NAMES.values()},
     "repeat": {"x": [], "v": [], "text": []},
     "stop_pt": {"x": [], "v": []},
