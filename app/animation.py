@@ -5,7 +5,8 @@ the trajectory source (``t`` in the shown units, ``x``, ``v``, ``mode``) that th
 portrait already received, interpolates the state at the animation time and moves the mass,
 the spring, the belt's marks, a marker in the phase portrait and a cursor in the time
 histories. The sources and annotations it writes are ``syncable=False``, so a playing
-animation sends nothing to the server; only Play/Pause and the speed slider are widgets."""
+animation sends nothing to the server; only Play/Pause and the speed slider are widgets.
+"""
 
 from __future__ import annotations
 
