@@ -324,6 +324,7 @@ class Explorer(pn.viewable.Viewer):
         if name == "phase":
             self.anim.attach_phase(figs["phase"])
             figs["phase"].on_event(Tap, self._on_phase_tap)
+            self.plots.shared.lighten(figs["phase"])  # the animation's marker too
         elif name == "time":
             self.anim.attach_time((figs["time_x"], figs["time_v"]))
         elif name == "map":

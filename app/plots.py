@@ -33,6 +33,7 @@ from bokeh.models import (
     LabelSet,
     LinearAxis,
     LinearColorMapper,
+    LinearScale,
     Range1d,
     Span,
     UnionRenderers,
@@ -532,10 +533,13 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
 class SharedModels:
     """Models without state in the browser that every figure of a page can share: one
     ticker, tick formatter and label policy for all axes, one index filter for all
-    renderers and one selection policy for all sources (each was one model per axis,
-    renderer or source: ~80 models of a page)."""
+    renderers, one selection policy for all sources and one linear scale for all axes
+    (each was one model per axis, renderer, source or figure: ~90 models of a page).
+    BokehJS derives each frame's scales from a copy of the figure's scale (the shared
+    model stays as sent)."""
 
     def __init__(self) -> None:
+        self.scale = LinearScale()
         self.ticker = BasicTicker()
         self.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
         self.labels = AllLabels()
@@ -546,6 +550,7 @@ class SharedModels:
         """Give ``fig``'s axes and renderers the shared models, and let BokehJS derive
         the non-selection and muted glyphs ("auto": no selection tools, no muting
         legends) instead of receiving two more glyph models per renderer."""
+        fig.x_scale = fig.y_scale = self.scale
         for axis in (*fig.left, *fig.right, *fig.above, *fig.below):
             if isinstance(axis, LinearAxis):
                 axis.ticker = self.ticker
