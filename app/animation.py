@@ -1,11 +1,11 @@
 """The mechanism drawn and animated in the browser: belt, spring, mass, stop.
 
 The animation runs entirely client-side: a ``requestAnimationFrame`` loop in BokehJS reads
-the trajectory source (``t_raw``, ``x``, ``v``, ``mode``) that the phase portrait already
-received, interpolates the state at the animation time and moves the mass, the spring, the
-belt's marks, a marker in the phase portrait and a cursor in the time histories. The sources
-and annotations it writes are ``syncable=False``, so a playing animation sends nothing to the
-server; only Play/Pause and the speed slider are widgets.
+the trajectory source (``t`` in the shown units, ``x``, ``v``, ``mode``) that the phase
+portrait already received, interpolates the state at the animation time and moves the mass,
+the spring, the belt's marks, a marker in the phase portrait and a cursor in the time
+histories. The sources and annotations it writes are ``syncable=False``, so a playing
+animation sends nothing to the server; only Play/Pause and the speed slider are widgets.
 """
 
 from __future__ import annotations
@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 import panel as pn
-from bokeh.models import ColumnDataSource, Label, Range1d, Span
+from bokeh.models import ColumnDataSource, Grid, Label, Range1d, Span
 from bokeh.plotting import figure
 
-from app.plots import MODE_COLORS
+from app.plots import MODE_COLORS, SharedModels
 from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
 
@@ -37,7 +37,8 @@ MASS_BOTTOM, MASS_TOP = 0.02, 0.62
 SPRING_Y, SPRING_AMPLITUDE = 0.32, 0.12
 STOP_TOP = 0.85
 
-#: The drawing of the mechanism at the animation time ``st.t`` (shared by the frame loop,
+#: The drawing of the mechanism at the animation time ``st.t``, in the time histories' units
+#: (``tscale`` per dimensionless time unit; shared by the frame loop,
 #: the time slider and the step buttons). ``state`` lives on ``window`` so that all the
 #: callbacks share it.
 _JS_DRAW = """
@@ -49,7 +50,7 @@ function interp(T, Y, t, lo, hi) {
   return dt > 0 ? Y[lo] + (Y[hi] - Y[lo]) * (t - T[lo]) / dt : Y[lo];
 }
 function draw() {
-  const d = traj.data, T = d.t_raw, X = d.x, V = d.v, M = d.mode;
+  const d = traj.data, T = d.t, X = d.x, V = d.v, M = d.mode;
   const n = T.length;
   if (n < 2) { return; }
   if (st.t > T[n - 1] || st.t < T[0]) { st.t = T[0]; }
@@ -63,20 +64,21 @@ function draw() {
   const sp = spring.data, k = sp.x.length;
   for (let i = 0; i < k; i++) { sp.x[i] = wall + (x - w / 2 - wall) * i / (k - 1); }
   spring.change.emit();
-  const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t) % gap + gap) % gap;
+  const b = belt.data, gap = g.gap[0], shift = ((g.v[0] * st.t / g.tscale[0]) % gap + gap) % gap;
   for (let i = 0; i < b.x0.length; i++) { b.x0[i] = b.x1[i] = g.belt0[0] + i * gap + shift; }
   belt.change.emit();
   marker.data.x[0] = x; marker.data.v[0] = v; marker.change.emit();
-  cursor.location = st.t * g.tscale[0];
-  const total = (T[n - 1] * g.tscale[0]).toPrecision(4);
-  clock.text = "t = " + (st.t * g.tscale[0]).toFixed(2) + " of " + total + g.tunit[0];
+  cursor.location = st.t;
+  clock.text = "t = " + st.t.toFixed(2) + " of " + T[n - 1].toPrecision(4) + g.tunit[0];
 }
 """
 #: The frame loop (one per mass source; Play toggles it).
 _JS_PLAY = _JS_DRAW + """
 function frame(now) {
   if (!st.running) { return; }
-  if (st.last !== null) { st.t += (now - st.last) / 1000 * rate * speed.value; }
+  if (st.last !== null) {
+    st.t += (now - st.last) / 1000 * rate * speed.value * geom.data.tscale[0];
+  }
   draw();
   st.last = now;
   window.requestAnimationFrame(frame);
@@ -88,13 +90,13 @@ if (st.running) { window.requestAnimationFrame(frame); }
 #: The time slider: pause and show the fraction ``scrub.value`` of the run.
 _JS_SCRUB = _JS_DRAW + """
 st.running = false; play.active = false;
-const T = traj.data.t_raw;
+const T = traj.data.t;
 if (T.length > 1) { st.t = T[0] + scrub.value * (T[T.length - 1] - T[0]); draw(); }
 """
 #: A step button: pause and move by ``dir`` steps of the run's length over ``steps``.
 _JS_STEP = _JS_DRAW + """
 st.running = false; play.active = false;
-const T = traj.data.t_raw, n = T.length;
+const T = traj.data.t, n = T.length;
 if (n > 1) {
   const t = st.t + dir * (T[n - 1] - T[0]) / steps;
   st.t = Math.min(Math.max(t, T[0]), T[n - 1]);
@@ -111,11 +113,13 @@ class Animation:
     Parameters
     ----------
     traj : ColumnDataSource
-        The trajectory source of :class:`app.plots.PlotSet` (columns ``t_raw``, ``x``,
+        The trajectory source of :class:`app.plots.PlotSet` (columns ``t``, ``x``,
         ``v``, ``mode``).
     """
 
-    def __init__(self, traj: ColumnDataSource) -> None:
+    def __init__(self, traj: ColumnDataSource, shared: SharedModels | None = None) -> None:
+        shared = shared if shared is not None else SharedModels()
+        policy = shared.policy
         self.figure = fig = figure(
             width=ANIM_SIZE[0], height=ANIM_SIZE[1], tools="save", toolbar_location="right",
             x_range=Range1d(-1, 1), y_range=Range1d(BELT_BOTTOM - 0.05, 1.0),
@@ -123,19 +127,24 @@ class Animation:
         )
         fig.toolbar.logo = None
         fig.title.text_font_size = "13px"
-        fig.yaxis.visible = False
+        # No y axis and no grid (a drawing, not a graph): not built rather than hidden.
+        fig.left = []
+        fig.center = [r for r in fig.center if not isinstance(r, Grid)]
         fig.xaxis.axis_label = "x"
-        fig.grid.visible = False
-        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS))
+        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS),
+                                     selection_policy=policy)
         self.static = ColumnDataSource({"left": [], "right": [], "bottom": [], "top": [],
-                                        "color": []})
+                                        "color": []}, selection_policy=policy)
         self.mass = ColumnDataSource({"left": [-0.1], "right": [0.1], "bottom": [MASS_BOTTOM],
                                       "top": [MASS_TOP], "color": [MODE_COLORS[0]]},
-                                     syncable=False)
-        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False)
-        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False)
+                                     syncable=False, selection_policy=policy)
+        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False,
+                                       selection_policy=policy)
+        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False,
+                                     selection_policy=policy)
         #: Current state marker for the phase portrait (added by :meth:`attach`).
-        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False)
+        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False,
+                                       selection_policy=policy)
         fig.quad(left="left", right="right", bottom="bottom", top="top", color="color",
                  source=self.static)
         fig.segment(x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
@@ -150,6 +159,7 @@ class Animation:
                            background_fill_color="#ffffff", background_fill_alpha=0.85,
                            syncable=False)
         fig.add_layout(self.clock)
+        shared.lighten(fig)
         self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
                            line_dash="dashed", syncable=False)
         self.play = pn.widgets.Toggle(label="Play / pause", color="primary", width=120)
@@ -173,10 +183,13 @@ class Animation:
         self.back.jscallback(clicks=_JS_STEP, args={**args, "dir": -1})
         self.forward.jscallback(clicks=_JS_STEP, args={**args, "dir": 1})
 
-    def attach(self, phase_fig: Any, time_figs: tuple[Any, ...]) -> None:
-        """Show the animated state in the phase portrait and a cursor in the time plots."""
+    def attach_phase(self, phase_fig: Any) -> None:
+        """Show the animated state in the phase portrait."""
         phase_fig.scatter("x", "v", source=self.marker, size=11, marker="circle",
                           fill_color="#ffd400", line_color="#000000", line_width=1.5)
+
+    def attach_time(self, time_figs: tuple[Any, ...]) -> None:
+        """Show the animation time as a cursor in the time histories."""
         for fig in time_figs:
             fig.add_layout(self.cursor)
 

@@ -171,11 +171,7 @@ class Explorer(pn.viewable.Viewer):
         self._solves = SolveRunner(self._solve_failed, self._show_busy)
         self._previews = SolveRunner(lambda exc: None, preview=True)
         self.plots = PlotSet()
-        self.anim = Animation(self.plots.sources["traj"])
-        self.anim.attach(self.plots.figures["phase"],
-                         (self.plots.figures["time_x"], self.plots.figures["time_v"]))
-        self.plots.figures["phase"].on_event(Tap, self._on_phase_tap)
-        self.plots.figures["map"].on_event(Tap, self._on_map_tap)
+        self.anim = Animation(self.plots.sources["traj"], self.plots.shared)
         self._build_widgets()
         # An HTML pane whose text is always escaped (a Markdown alert rendered the HTML of a
         # URL's value: a shared link could run script in the page).
@@ -213,6 +209,13 @@ class Explorer(pn.viewable.Viewer):
         #: The solve values the trade table describes.
         self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
+        #: Tells the page that a full solution arrived (its text counts them): the browser
+        #: holds the figures' repaints after a slider's release until then
+        #: (static/perf/release_hold.js). One small hidden model of its own.
+        self.arrived = pn.pane.HTML("0", visible=False, margin=0,
+                                    css_classes=["fie-solution-arrived"])
+        self._arrivals = 0
+        self._show_plots(self.visible_plots())
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
         self._sync_widgets()
@@ -298,24 +301,46 @@ class Explorer(pn.viewable.Viewer):
               for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
 
     def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
+        """An empty, hidden pane per plot; :meth:`_show_plots` builds a plot into its pane
+        the first time it is shown."""
         panes: dict[str, pn.viewable.Viewable] = {}
         for name in PLOTS:
-            if name == "anim":
-                body = self.anim.panel()
-            elif name == "map":
-                body = pn.Column(pn.pane.Bokeh(self.plots.panes["map"],
-                                               sizing_mode="stretch_width"),
-                                 self.map_legend, margin=0, sizing_mode="stretch_width")
-            else:
-                body = pn.pane.Bokeh(self.plots.panes[name], sizing_mode="stretch_width")
             # Responsive grid: each plot grows from its narrowest width to its widest, and
             # the row wraps when two do not fit (app.plots.PLOT_WIDTHS).
-            panes[name] = pn.Column(body, css_classes=["fie-plot", f"fie-plot-{name}"],
-                                    name=PLOT_TITLES[name], margin=(4, 8),
+            panes[name] = pn.Column(css_classes=["fie-plot", f"fie-plot-{name}"],
+                                    name=PLOT_TITLES[name], margin=(4, 8), visible=False,
                                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
                                     max_width=PLOT_WIDTHS[1],
                                     styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"})
         return panes
+
+    def _build_plot(self, name: str) -> pn.viewable.Viewable:
+        """The body of the pane of plot ``name``, its figures built now (with their links
+        to the animation and their tap handlers)."""
+        if name == "anim":
+            return self.anim.panel()
+        layout = self.plots.build(name)
+        figs = self.plots.figures
+        if name == "phase":
+            self.anim.attach_phase(figs["phase"])
+            figs["phase"].on_event(Tap, self._on_phase_tap)
+            self.plots.shared.lighten(figs["phase"])  # the animation's marker too
+        elif name == "time":
+            self.anim.attach_time((figs["time_x"], figs["time_v"]))
+        elif name == "map":
+            figs["map"].on_event(Tap, self._on_map_tap)
+            return pn.Column(pn.pane.Bokeh(layout, sizing_mode="stretch_width"),
+                             self.map_legend, margin=0, sizing_mode="stretch_width")
+        return pn.pane.Bokeh(layout, sizing_mode="stretch_width")
+
+    def _show_plots(self, visible: tuple[str, ...]) -> None:
+        """Show the panes of ``visible`` (building those shown for the first time), hide
+        the others (call under ``pn.io.hold``; a new figure is filled by the next
+        :meth:`PlotSet.refresh`)."""
+        for name, pane in self.plot_panes.items():
+            if name in visible and not pane.objects:
+                pane.objects = [self._build_plot(name)]
+            set_changed(pane, visible=name in visible)
 
     # --- views ---------------------------------------------------------------------------
 
@@ -338,7 +363,7 @@ class Explorer(pn.viewable.Viewer):
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
-        return [self.alert, self.caption, self.readout, self.trade,
+        return [self.alert, self.caption, self.readout, self.trade, self.arrived,
                 pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                            css_classes=["fie-plots"])]
 
@@ -745,21 +770,25 @@ class Explorer(pn.viewable.Viewer):
         # The values come from the solver and the plot code, valid by construction: Bokeh's
         # check of each of the ~100 properties set here is skipped (server time on the
         # critical path of every release).
-        with pn.io.hold(), validate(False):
-            self.plots.update(sol, scales, visible, map_data)
-            if "anim" in visible:
-                self.anim.update(sol, scales)
-            self.readout.object = readout = readout_html(sol, scales)
-            self._reserve_readout(readout.count("<tr>"))
-            self.caption.object = self._caption_html()
-            if map_data is not None:
-                self.map_legend.object = _map_legend(map_data["labels"])
-            for name, pane in self.plot_panes.items():
-                set_changed(pane, visible=name in visible)
-            set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
-            set_changed(self.alert, visible=False)
-            if self.trade.visible and self._trade_values != sol.values:
-                set_changed(self.trade, visible=False)  # it described another run
+        with pn.io.hold():
+            # Figures shown for the first time are built with the checks on (they also
+            # turn values such as a title's text into models).
+            self._show_plots(visible)
+            with validate(False):
+                self.plots.update(sol, scales, visible, map_data)
+                if "anim" in visible:
+                    self.anim.update(sol, scales)
+                self.readout.object = readout = readout_html(sol, scales)
+                self._reserve_readout(readout.count("<tr>"))
+                self.caption.object = self._caption_html()
+                if map_data is not None:
+                    self.map_legend.object = _map_legend(map_data["labels"])
+                set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
+                set_changed(self.alert, visible=False)
+                if self.trade.visible and self._trade_values != sol.values:
+                    set_changed(self.trade, visible=False)  # it described another run
+                self._arrivals += 1  # last: the page's figures hold their paints until it
+                self.arrived.object = str(self._arrivals)
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.

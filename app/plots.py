@@ -1,6 +1,7 @@
 """The Bokeh figures of the explorer, created per session and updated in place.
 
-:class:`PlotSet` builds every figure once with empty ``ColumnDataSource`` objects; an update
+:class:`PlotSet` builds each figure when it is first shown, on ``ColumnDataSource`` objects made
+with the set (a figure built later receives the current data); an update
 replaces each source's ``.data`` in one assignment (the caller batches them with
 ``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
 Arrays are float32 and sampled for the screen from the exact motion (:mod:`app.sampling`).
@@ -16,19 +17,26 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from bokeh.core.properties import validate
 from bokeh.layouts import column
 from bokeh.models import (
+    AllIndices,
+    AllLabels,
+    BasicTicker,
     BasicTickFormatter,
     ColumnDataSource,
     DataRange1d,
     Div,
     GlyphRenderer,
+    Grid,
     Label,
     LabelSet,
     LinearAxis,
     LinearColorMapper,
+    LinearScale,
     Range1d,
     Span,
+    UnionRenderers,
 )
 from bokeh.plotting import figure
 
@@ -158,6 +166,8 @@ PHASE_LABELS: Mapping[str, tuple[str, str]] = {
 #: Tick labels are decimals down to this power of ten (Bokeh's default, -3, wrote the
 #: hysteresis loop's overlaps as 5.000e-4, 1.000e-3, ...).
 TICK_POWER_LIMIT_LOW = -5
+#: The plots this module builds (the mechanism is :mod:`app.animation`'s).
+BUILT_HERE = tuple(p for p in PLOTS if p != "anim")
 #: Tools of every figure (SaveTool exports the PNG).
 TOOLS = "pan,wheel_zoom,box_zoom,reset,save"
 
@@ -223,18 +233,18 @@ def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
                        columns: int = HISTORY_COLUMNS) -> dict[str, np.ndarray]:
     """Columns of the trajectory source (time histories and the animation): ``t``
-    (shown units), ``t_raw`` (dimensionless, for the animation), ``x``, ``v`` and
+    (shown units, also read by the animation), ``x``, ``v`` and
     ``mode``, reduced to the first, last, lowest and highest sample of each of
     ``columns`` pixel columns from samples of the exact motion
     (:func:`app.sampling.history`); ``bands`` holds the mode bands."""
     res = sol.result
     if res is None:
-        return {**{k: _f32([]) for k in ("t", "t_raw", "x", "v")},
+        return {**{k: _f32([]) for k in ("t", "x", "v")},
                 "mode": np.zeros(0, np.int8)}
     evaluate, exact = _drawing(sol)
     step = phase_step(*_sample_bounds(sol))
     h = sampling.history(res, evaluate, sol.t_end, exact, columns, step)
-    return {"t": _f32(h.t * scales.time), "t_raw": _f32(h.t), "x": _f32(h.x),
+    return {"t": _f32(h.t * scales.time), "x": _f32(h.x),
             "v": _f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
             "bands": h.bands}
 
@@ -520,6 +530,39 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
     return cols
 
 
+class SharedModels:
+    """Models without state in the browser that every figure of a page can share: one
+    ticker, tick formatter and label policy for all axes, one index filter for all
+    renderers, one selection policy for all sources and one linear scale for all axes
+    (each was one model per axis, renderer, source or figure: ~90 models of a page).
+    BokehJS derives each frame's scales from a copy of the figure's scale (the shared
+    model stays as sent)."""
+
+    def __init__(self) -> None:
+        self.scale = LinearScale()
+        self.ticker = BasicTicker()
+        self.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
+        self.labels = AllLabels()
+        self.filter = AllIndices()
+        self.policy = UnionRenderers()
+
+    def lighten(self, fig: Any) -> None:
+        """Give ``fig``'s axes and renderers the shared models, and let BokehJS derive
+        the non-selection and muted glyphs ("auto": no selection tools, no muting
+        legends) instead of receiving two more glyph models per renderer."""
+        fig.x_scale = fig.y_scale = self.scale
+        for axis in (*fig.left, *fig.right, *fig.above, *fig.below):
+            if isinstance(axis, LinearAxis):
+                axis.ticker = self.ticker
+                axis.formatter = self.formatter
+                axis.major_label_policy = self.labels
+        for r in fig.renderers:
+            if isinstance(r, GlyphRenderer):
+                r.nonselection_glyph = "auto"
+                r.muted_glyph = "auto"
+                r.view.filter = self.filter
+
+
 class PlotSet:
     """All figures of one session and their sources.
 
@@ -533,31 +576,19 @@ class PlotSet:
     """
 
     def __init__(self) -> None:
-        s = self.sources = {
-            name: ColumnDataSource(data=cols) for name, cols in _EMPTY.items()
+        self.shared = SharedModels()
+        self.sources = {
+            name: ColumnDataSource(data=cols, selection_policy=self.shared.policy)
+            for name, cols in _EMPTY.items()
         }
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
         self.legends: dict[str, Div] = {}
         self.panes: dict[str, Any] = {}
-        self._build_phase(s)
-        self._build_time(s)
-        self._build_force(s)
-        self._build_loop(s)
-        self._build_friction(s)
-        self._build_energy(s)
-        self._build_map(s)
-        # No selection tools and no muting legends: BokehJS derives the non-selection and
-        # muted glyphs itself ("auto") instead of receiving two more glyph models per
-        # renderer (~70 models of a page).
-        for fig in self.figures.values():
-            for r in fig.renderers:
-                if isinstance(r, GlyphRenderer):
-                    r.nonselection_glyph = "auto"
-                    r.muted_glyph = "auto"
+        self._theory_renderers: list[Any] = []
+        self.rest_axis: LinearAxis | None = None
         self._last: Solution | None = None
-        self._updates = 0
         self._kinds_stop: str | None = None
         self._kinds_shown: set[str] = set()
         self._dirty: set[str] = set()
@@ -568,6 +599,29 @@ class PlotSet:
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
 
     # --- building ------------------------------------------------------------------------
+
+    def build(self, name: str) -> Any:
+        """The Bokeh layout of the plot ``name``, built on its first call.
+
+        A figure is built when it is first shown: a new page holds only the figures its
+        scene shows (each figure is some 20-40 models to build, send and render). The
+        new figure is filled from the last solution by the next :meth:`refresh`.
+        """
+        if name not in self.panes:
+            before = set(self.figures)
+            # Built with Bokeh's checks on, also under a caller's ``validate(False)``: they
+            # turn values such as a title's text into models.
+            with validate(True):
+                getattr(self, f"_build_{name}")(self.sources)
+            for key in set(self.figures) - before:
+                self.shared.lighten(self.figures[key])
+            self._dirty.add(name)
+        return self.panes[name]
+
+    @property
+    def built(self) -> frozenset[str]:
+        """The plots built so far."""
+        return frozenset(self.panes)
 
     @staticmethod
     def _figure(title: str, size: tuple[int, int], **kw) -> Any:
@@ -715,7 +769,7 @@ class PlotSet:
         # Overlay level: moving the marker repaints only the overlay canvas, not the image.
         fig.scatter("v", "x", source=s["here"], marker="circle_cross", size=14,
                     fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
-        fig.xgrid.visible = fig.ygrid.visible = False
+        fig.center = [r for r in fig.center if not isinstance(r, Grid)]  # a map: no grid
         self.figures["map"] = fig
         self.panes["map"] = fig
 
@@ -730,9 +784,6 @@ class PlotSet:
         self._last, self._scales = sol, scales
         self._dirty = set(PLOTS)
         self.refresh(visible, map_data)
-        # Tells the page a full solution arrived (static/release_hold.js).
-        self._updates += 1
-        self.sources["traj"].tags = [self._updates]
 
     def forget_transition_kinds(self) -> None:
         """List only the next solution's transition kinds in the legend (a new scene)."""
@@ -751,7 +802,7 @@ class PlotSet:
         _assign(self.sources["force"], cols["line"])
         _assign(self.sources["rest"], cols["rest"])
         self._set_spans(sol, scales)
-        self._set_ranges({"phase", "time", "force"}, sol)
+        self._set_ranges({"phase", "time", "force"} & self.built, sol)
 
     def _draw_motion(self, sol: Solution, scales: Scales) -> None:
         """The phase path, the transitions it passes, and the time histories."""
@@ -811,13 +862,19 @@ class PlotSet:
 
     def refresh(self, visible: tuple[str, ...], map_data: Mapping[str, Any] | None = None
                 ) -> None:
-        """Fill the stale sources of the ``visible`` plots from the last solution."""
+        """Fill the stale sources of the ``visible`` plots from the last solution (building
+        those not built yet)."""
+        for name in visible:
+            if name in BUILT_HERE:
+                self.build(name)
         sol = self._last
         if sol is None:
             return
         scales = self._scales
         s = self.sources
-        todo = self._dirty.intersection(visible)
+        # Only built figures (and the mechanism, which reads the trajectory) are filled;
+        # a plot built later is stale until the refresh after it (:meth:`build`).
+        todo = self._dirty.intersection(visible).intersection({*self.panes, "anim"})
         if todo & {"phase", "time", "anim", "friction"}:
             self._set_theory_visible(True)
             refs = reference_columns(sol, scales)
@@ -834,7 +891,7 @@ class PlotSet:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
             text = legend_html(self._phase_legend())
-            if self.legends["phase"].text != text:
+            if "phase" in self.legends and self.legends["phase"].text != text:
                 self.legends["phase"].text = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
@@ -889,7 +946,7 @@ class PlotSet:
     def show_map(self, map_data: Mapping[str, Any]) -> None:
         """Draw the regime map of the last solution, computed after the rest of its update
         was sent (:meth:`app.explorer.Explorer._draw`); call under ``pn.io.hold``."""
-        if self._last is not None:
+        if self._last is not None and "map" in self.panes:
             self._set_map(self._last, self._scales, map_data)
             self._dirty.discard("map")
 
@@ -900,6 +957,7 @@ class PlotSet:
         them back, which costs further messages and repaints."""
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
+        plots = set(plots) & self.built
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
         if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
             _assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
@@ -931,35 +989,44 @@ class PlotSet:
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None
         for name in ("stop", "stop_t"):
-            span = self.spans[name]
-            span.visible = has_stop
-            span.location = sol.stop.clearance if has_stop else 0.0
+            if name in self.spans:
+                span = self.spans[name]
+                span.visible = has_stop
+                span.location = sol.stop.clearance if has_stop else 0.0
         for name in ("belt", "belt_t"):
-            self.spans[name].location = sol.osc.v * scales.velocity
+            if name in self.spans:
+                self.spans[name].location = sol.osc.v * scales.velocity
 
     def _set_labels(self, sol: Solution, scales: Scales) -> None:
         f = self.figures
-        f["phase"].xaxis.axis_label = scales.length_label
-        f["phase"].yaxis.axis_label = scales.velocity_label
-        if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
-            f["phase"].aspect_scale = scales.velocity
-        f["time_x"].yaxis.axis_label = scales.length_label
-        f["time_v"].yaxis.axis_label = scales.velocity_label
-        f["time_v"].xaxis.axis_label = scales.time_label
-        f["energy"].xaxis.axis_label = scales.time_label
-        f["energy"].yaxis.axis_label = scales.energy_label
-        f["friction"].yaxis.axis_label = scales.friction_label
-        program = sol.program is not None
-        f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
-        f["force"].left[0].axis_label = (scales.impulse_label
-                                         if sol.values["stop_type"] == "rigid"
-                                         else scales.force_label)
-        self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
-        f["loop"].yaxis.axis_label = scales.force_label
-        f["loop"].xaxis.axis_label = "overlap x - x_bar" + (" (m)" if scales.si else "")
-        f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
-                                     else "belt speed v")
-        f["map"].yaxis.axis_label = "clearance x_bar" + (" (m)" if scales.si else "")
+        if "phase" in f:
+            f["phase"].xaxis.axis_label = scales.length_label
+            f["phase"].yaxis.axis_label = scales.velocity_label
+            if f["phase"].aspect_scale != scales.velocity:  # x'/omega and x on one scale
+                f["phase"].aspect_scale = scales.velocity
+        if "time_x" in f:
+            f["time_x"].yaxis.axis_label = scales.length_label
+            f["time_v"].yaxis.axis_label = scales.velocity_label
+            f["time_v"].xaxis.axis_label = scales.time_label
+        if "energy" in f:
+            f["energy"].xaxis.axis_label = scales.time_label
+            f["energy"].yaxis.axis_label = scales.energy_label
+        if "friction" in f:
+            f["friction"].yaxis.axis_label = scales.friction_label
+        if "force" in f:
+            program = sol.program is not None
+            f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
+            f["force"].left[0].axis_label = (scales.impulse_label
+                                             if sol.values["stop_type"] == "rigid"
+                                             else scales.force_label)
+            self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
+        if "loop" in f:
+            f["loop"].yaxis.axis_label = scales.force_label
+            f["loop"].xaxis.axis_label = "overlap x - x_bar" + (" (m)" if scales.si else "")
+        if "map" in f:
+            f["map"].xaxis.axis_label = ("belt speed v_dr (m/s)" if scales.si
+                                         else "belt speed v")
+            f["map"].yaxis.axis_label = "clearance x_bar" + (" (m)" if scales.si else "")
 
     def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
         v_hi = data["v_hi"] * scales.velocity
@@ -1082,7 +1149,7 @@ def _set_range(rng: Range1d, arrays: tuple[Any, ...], padding: float) -> None:
 
 
 _EMPTY: Mapping[str, Mapping[str, list]] = {
-    "traj": {k: [] for k in ("t", "t_raw", "x", "v", "mode")},
+    "traj": {k: [] for k in ("t", "x", "v", "mode")},
     **{f"path_{name}": {"x": [], "v": []} for name in MODE_NAMES.values()},
     "repeat": {"x": [], "v": [], "text": []},
     "stop_pt": {"x": [], "v": []},

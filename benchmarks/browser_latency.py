@@ -66,7 +66,7 @@ POLL_MS = 100
 #: poll.
 JS_PROBE = """([minPoints, settle]) => {
   const doc = Bokeh.documents[0];
-  const traj = [...doc.all_models].find(m => m.data && "t_raw" in m.data);
+  const traj = [...doc.all_models].find(m => m.data && "mode" in m.data);
   const lat = (window.__lat = {up: null, painted: [], paints: [], pending: null});
   document.addEventListener("pointerup", () => { lat.up = performance.now(); }, true);
   document.addEventListener("pointerdown", () => { lat.up = null; }, true);
@@ -105,7 +105,7 @@ JS_PROBE = """([minPoints, settle]) => {
     return out;
   };
   traj.properties.data.change.connect(() => {
-    if (lat.up === null || traj.data.t_raw.length < minPoints) return;
+    if (lat.up === null || traj.data.t.length < minPoints) return;
     lat.pending = lat.up;
     lat.up = null;
     lat.count = 0;

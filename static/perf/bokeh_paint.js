@@ -26,7 +26,7 @@
  *      renderer's glyph data (screen-independent arrays, spatial index, visuals of six
  *      glyph variants) on the source's `change`, again when the row count changed (the
  *      view's `indices`), and again for any other property of the source (the explorer
- *      marks each full solution in the trajectory source's `tags`): 43 recomputations for
+ *      then marked each full solution in the trajectory source's `tags`): 43 recomputations for
  *      22 renderers on one release of scene 5b. The recomputation now starts in a promise
  *      callback, after the message has been applied, and every request made until then
  *      joins it. (It already ran in promise callbacks after its first few lines, and the

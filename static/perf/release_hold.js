@@ -4,8 +4,9 @@
  * While a slider is dragged the server sends cheap previews; the one for the drag's last
  * value is often still on its way when the slider is released, and painting it (~30 ms of
  * figure repaints on this page) delays the full solution right behind it. From the release
- * of a slider's handle until the full solution arrives (the trajectory source's `tags`
- * change with every full update, see app.plots.PlotSet.update) the figures' paints are
+ * of a slider's handle until the full solution arrives (the hidden model with the CSS class
+ * `fie-solution-arrived` changes its text with every full update, see
+ * app.explorer.Explorer._draw) the figures' paints are
  * deferred; then each deferred figure paints once, with the full solution. Past
  * HOLD_MS (a slow numerical solve, an input the server rejects) the figures paint what
  * they have. `window.__fie_hold.released` settles when the hold ends: bokeh_paint.js
@@ -86,15 +87,18 @@
       clearTimeout(hold.timer);
       hold.timer = setTimeout(resume, HOLD_MS);
     }, true);
-    (function watch() {
+    (function watch(tries) {
       const doc = B.documents && B.documents[0];
-      const traj = doc && [...doc.all_models].find((m) => m.data && "t_raw" in m.data);
-      if (traj == null) {
-        setTimeout(watch, 50);
+      const arrived = doc && [...doc.all_models].find(
+        (m) => Array.isArray(m.css_classes) && m.css_classes.includes("fie-solution-arrived"));
+      if (arrived == null || arrived.properties.text == null) {
+        // Not there yet (the page is loading); a page without it (after 10 s) holds
+        // nothing longer than HOLD_MS.
+        if (tries > 0) setTimeout(() => watch(tries - 1), 50);
         return;
       }
-      traj.properties.tags.change.connect(() => { if (hold.active) resume(); });
-    })();
+      arrived.properties.text.change.connect(() => { if (hold.active) resume(); });
+    })(200);
   }
 
   const INERT_BODY_STYLE = ["cursor", "userSelect", "webkitUserSelect"];

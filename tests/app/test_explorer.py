@@ -223,8 +223,10 @@ def test_si_units_convert_the_view(ex):
     assert ex.plots.figures["phase"].yaxis.axis_label == "dx/dt (m/s)"
     omega = ex.state.omega
     t = np.array(ex.plots.sources["traj"].data["t"])
-    t_raw = np.array(ex.plots.sources["traj"].data["t_raw"])
-    np.testing.assert_allclose(t, t_raw / omega, rtol=1e-6)
+    from app.plots import trajectory_columns
+
+    t_dimensionless = trajectory_columns(ex.solution)["t"]  # float32: rtol 1e-6
+    np.testing.assert_allclose(t, t_dimensionless / omega, rtol=1e-6)
     _release(ex, "normal_force", 2 * phys["normal_force"])
     assert ex.state.u_s == pytest.approx(2.0)
 
@@ -460,3 +462,51 @@ def test_trade_table_measures_every_method_and_marks_a_changed_verdict():
     assert rows["switch", "draft"].verdict == "periodic"
     assert "verdict differs" in rows["switch", "draft"].note
     assert "verdict differs" in trade_html(list(rows.values()))
+
+
+def test_a_plot_is_built_when_first_shown_and_shows_the_current_solution(ex):
+    from app.plots import energy_columns, friction_columns
+
+    hidden = {"loop", "friction", "energy"}
+    assert not hidden & ex.plots.built  # the rigid scene does not show them
+    assert not any(ex.plot_panes[n].objects for n in hidden)
+    ex.show_all.value = True  # no new solve: the last solution fills the new figures
+    assert {"friction", "energy"} <= ex.plots.built and "loop" not in ex.plots.built
+    sol, scales = ex.solution, ex.state.scales()
+    energy = ex.plots.sources["energy"].data
+    for name, col in energy_columns(sol, scales).items():
+        assert _same(energy[name], col), name
+    law = friction_columns(sol, scales)["law"]
+    assert _same(ex.plots.sources["law"].data["f"], law["f"])
+    fig = ex.plots.figures["energy"]
+    # The pane holds the new figure, its axes span the run and are labelled.
+    assert ex.plot_panes["energy"].objects[0].object is ex.plots.panes["energy"]
+    assert fig.x_range.end >= float(np.max(energy["t"])) > fig.x_range.start
+    assert fig.xaxis[0].axis_label == scales.time_label
+
+
+def test_a_stop_type_change_builds_the_hysteresis_loop_with_its_solution(ex):
+    from app.plots import loop_columns
+
+    assert "loop" not in ex.plots.built
+    ex.stop_type.value = "hysteretic"
+    assert "loop" in ex.plots.built and ex.plot_panes["loop"].visible
+    loop = loop_columns(ex.solution, ex.state.scales())["loop"]
+    assert len(loop["d"]) and _same(ex.plots.sources["loop"].data["d"], loop["d"])
+    # Built once: shown again later, the same figure is kept.
+    fig = ex.plots.figures["loop"]
+    ex.stop_type.value = "rigid"
+    assert not ex.plot_panes["loop"].visible
+    ex.stop_type.value = "hysteretic"
+    assert ex.plots.figures["loop"] is fig
+
+
+def test_each_full_solution_is_signalled_by_its_own_model(ex):
+    """The page holds its repaints after a release until the hidden pane's text changes
+    (static/perf/release_hold.js); no source carries the signal."""
+    before = ex.arrived.object
+    _release(ex, "belt_speed", 0.3)
+    assert ex.arrived.object != before and not ex.arrived.visible
+    assert "fie-solution-arrived" in ex.arrived.css_classes
+    assert not any(src.tags for src in ex.plots.sources.values())
+    assert "t_raw" not in ex.plots.sources["traj"].data  # one time column, in shown units

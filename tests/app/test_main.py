@@ -17,7 +17,7 @@ def test_a_page_attached_in_one_pass_lists_every_model_of_its_roots():
         template = main.create_app()
         main.serve(template, doc)
     reachable = {m.id for root in doc.roots for m in root.references()}
-    assert len(doc.roots) >= 2 and len(reachable) > 500
+    assert len(doc.roots) >= 2 and len(reachable) > 200  # a whole page, not a stub
     assert {m.id for m in doc.models} == reachable
     figure = template.explorer.plots.figures["phase"]
     assert doc.get_model_by_id(figure.id) is figure

@@ -221,9 +221,11 @@ def test_energy_plot_is_a_budget_of_the_belt_input(key):
 def test_tick_labels_of_the_loop_overlaps_are_decimals(key):
     """The hysteresis loop's overlaps are a few 1e-3 and its ticks a few 1e-4: every axis
     writes such ticks as decimals (Bokeh switches to 5.000e-4 below its power limit)."""
-    from app.plots import PlotSet, loop_columns
+    from app.plots import BUILT_HERE, PlotSet, loop_columns
 
     plots = PlotSet()
+    for name in BUILT_HERE:
+        plots.build(name)
     d = np.asarray(loop_columns(solve(scene_values(key)))["loop"]["d"], float)
     tick = (np.nanmax(d) - np.nanmin(d)) / 10  # Bokeh aims at ~10 ticks or fewer
     axes = [a for f in plots.figures.values() for a in (*f.xaxis, *f.yaxis)]

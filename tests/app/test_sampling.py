@@ -121,7 +121,7 @@ def test_time_history_envelope_matches_the_exact_extremes(key):
                          phase_step(*_sample_bounds(sol)))
     t, x, v = h.t, h.x, h.v
     np.testing.assert_array_equal(traj["x"], x.astype(np.float32))
-    np.testing.assert_array_equal(traj["t_raw"], t.astype(np.float32))
+    np.testing.assert_array_equal(traj["t"], t.astype(np.float32))  # dimensionless
     width = sol.t_end / columns
     res = sol.result
     span_x = float(np.ptp(res.x))

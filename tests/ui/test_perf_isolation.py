@@ -70,11 +70,11 @@ runpy.run_path({str(ROOT / "app" / "main.py")!r})
 #: trajectory (more points than a preview's) arrives from the server.
 JS_REPLY_PROBE = """(minPoints) => {
   const doc = Bokeh.documents[0];
-  const traj = [...doc.all_models].find(m => m.data && "t_raw" in m.data);
+  const traj = [...doc.all_models].find(m => m.data && "mode" in m.data);
   const r = (window.__reply = {up: null, ms: []});
   document.addEventListener("pointerup", () => { r.up = performance.now(); }, true);
   traj.properties.data.change.connect(() => {
-    if (r.up !== null && traj.data.t_raw.length >= minPoints) {
+    if (r.up !== null && traj.data.t.length >= minPoints) {
       r.ms.push(performance.now() - r.up);
       r.up = null;
     }

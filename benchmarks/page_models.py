@@ -1,0 +1,47 @@
+"""Bokeh models and server CPU of a new session's default page, built in one process.
+
+Each page is built and attached as the server does (``app.main.create_app`` then
+``app.main.serve`` into a fresh ``Document``); the CPU time of the process per page is
+measured (``time.process_time``), the first page (imports, caches) is reported apart.
+
+    PYTHONPATH=. python benchmarks/page_models.py [pages]
+"""
+
+from __future__ import annotations
+
+import importlib
+import statistics
+import sys
+import time
+
+from bokeh.document import Document
+from panel.io.state import set_curdoc
+
+
+def build_page() -> int:
+    """Build one session's page; return its model count."""
+    main = importlib.import_module("app.main")
+    doc = Document()
+    with set_curdoc(doc):
+        main.serve(main.create_app(), doc)
+    return len(doc.models)
+
+
+def main(pages: int = 20) -> None:
+    t0 = time.process_time()
+    models = build_page()
+    first = time.process_time() - t0
+    cpu = []
+    for _ in range(pages):
+        t0 = time.process_time()
+        build_page()
+        cpu.append(time.process_time() - t0)
+    cpu.sort()
+    print("| pages | models | first page cpu [s] | cpu/open median [s] | p90 [s] |")
+    print("|---|---|---|---|---|")
+    print(f"| {pages} | {models} | {first:.3f} | {statistics.median(cpu):.3f} | "
+          f"{cpu[int(0.9 * (len(cpu) - 1))]:.3f} |")
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 20)
