@@ -160,20 +160,40 @@ class PointTrack:
         self.phi.append(float(phi))
 
 
-def ode_piece(sol) -> Piece:
-    """A piece from a ``scipy.integrate`` dense output (``sol(t)`` of shape ``(2, n)``)."""
+# The pieces are module-level classes, not closures, so that a dense solution pickles (a
+# server solves in worker processes and sends the result back).
+class _OdePiece:
+    __slots__ = ("sol",)
 
-    def piece(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        y = np.asarray(sol(t), dtype=float).reshape(2, -1)
+    def __init__(self, sol) -> None:
+        self.sol = sol
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        y = np.asarray(self.sol(t), dtype=float).reshape(2, -1)
         return y[0], y[1]
 
-    return piece
+    def __reduce__(self):
+        return _OdePiece, (self.sol,)
+
+
+class _LinePiece:
+    __slots__ = ("t0", "x0", "v")
+
+    def __init__(self, t0: float, x0: float, v: float) -> None:
+        self.t0, self.x0, self.v = t0, x0, v
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self.x0 + self.v * (t - self.t0), np.full(t.shape, self.v)
+
+    def __reduce__(self):
+        return _LinePiece, (self.t0, self.x0, self.v)
+
+
+def ode_piece(sol) -> Piece:
+    """A piece from a ``scipy.integrate`` dense output (``sol(t)`` of shape ``(2, n)``)."""
+    return _OdePiece(sol)
 
 
 def line_piece(t0: float, x0: float, v: float) -> Piece:
     """A piece of uniform motion ``x = x0 + v (t - t0)`` (stick on the belt, rest)."""
-
-    def piece(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return x0 + v * (t - t0), np.full(t.shape, v)
-
-    return piece
+    return _LinePiece(t0, x0, v)
