@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from core import RigidStop
 from core.numerics.dense_output import HermiteDense, PiecewiseDense, line_piece
 from core.numerics.hermite import hermite, hermite_max, root, x_crossing
 from core.numerics.limits import WorkLimit
@@ -92,3 +93,25 @@ def test_work_limit_counts_steps_and_time():
         WorkLimit(max_steps="10")
     with pytest.raises(ValueError, match="time_budget"):
         WorkLimit(time_budget=0.0)
+
+
+@pytest.mark.parametrize(
+    ("method", "stop"),
+    [("exact", RigidStop(0.25, 0.7)), ("event", RigidStop(0.25, 0.7)),
+     ("switch", RigidStop(0.25, 0.7)), ("exact", "hysteretic")],
+)
+def test_a_result_pickles_with_its_dense_solution(method, stop):
+    """A result crosses a process boundary whole (a server may solve in worker processes):
+    after a pickle round trip it evaluates exactly as before."""
+    import pickle
+
+    from core import HystereticStop, Oscillator, simulate
+
+    if stop == "hysteretic":
+        stop = HystereticStop(0.25, 1000.0, 500.0, limit_overlap=1e-3, beta_c=10, beta_e=10)
+    res = simulate(Oscillator(0.3, 0.2, 0.1), stop, t_end=40.0, method=method)
+    again = pickle.loads(pickle.dumps(res))
+    times = np.linspace(0.0, 40.0, 97)
+    for side in (-1, 1):
+        np.testing.assert_array_equal(again.evaluate(times, side)[0], res.evaluate(times, side)[0])
+    assert repr(again.steady) == repr(res.steady) and again.stats == res.stats  # nan != nan
