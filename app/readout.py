@@ -13,7 +13,14 @@ import numpy as np
 
 from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
-from core import Mode, Status
+from core import HystereticStop, Mode, Status
+
+#: What the page says of each reading of the contact law (docs/contact-law.md).
+CONTACT_LAW_TEXT = {
+    "paper": "the paper's reading of Eqs. 12-13 (reproduces Fig. 2b); not passive: some "
+             "closed overlap programs return energy (docs/contact-law.md)",
+    "passive": "the passive reading of Eqs. 12-13: no closed overlap program returns energy",
+}
 
 #: Significant digits of the numbers shown.
 DIGITS = 4
@@ -47,6 +54,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         rows.append(("Stop", f"{stiffness}, "
                              f"D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
                              f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"))
+        rows.append(("Contact law", CONTACT_LAW_TEXT[stop.law]))
         area = float(np.trapezoid(sol.program.force, sol.program.overlap))
         rows.append(("Energy lost", f"{_num(area * scales.energy)}"
                                     f"{' J' if scales.si else ' (per unit k)'} "
@@ -87,6 +95,8 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                       else f"{_num(measured[0])} (one contact)")
             rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
                          "holds only for beta * overlap / D >> 1"))
+        if isinstance(sol.stop, HystereticStop):
+            rows.append(("Contact law", CONTACT_LAW_TEXT[sol.stop.law]))
         if res.status is not Status.SUCCESS:
             rows.append(("Status", res.status.message))
         if res.truncated:

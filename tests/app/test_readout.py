@@ -50,3 +50,18 @@ def test_the_restitution_of_deformable_contacts_is_shown_first_to_last():
     assert row.startswith(f"{measured[0]:.4g} at the first contact, {measured[-1]:.4g} at the "
                           f"last of {len(measured)}")
     assert "0.3" in row  # r_eq = sqrt(36 / 400)
+
+
+def test_the_readout_names_the_contact_law_of_a_deformable_stop():
+    """The page says which reading of Eqs. 12-13 its deformable stop follows (and that the
+    paper's is not passive); a rigid stop has no such row; every law has its sentence."""
+    from app.readout import CONTACT_LAW_TEXT
+    from core.params import CONTACT_LAWS
+
+    assert set(CONTACT_LAW_TEXT) == set(CONTACT_LAWS)
+    for key in ("10", "2b"):
+        sol = solve(scene_values(key))
+        rows = dict(readout_rows(sol))
+        assert rows["Contact law"] == CONTACT_LAW_TEXT[sol.stop.law]
+        assert "not passive" in rows["Contact law"]
+    assert "Contact law" not in dict(readout_rows(solve(scene_values("5a"))))
