@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
@@ -80,7 +80,6 @@ def _program(fractions):
     return turns
 
 
-@settings(max_examples=150, deadline=None, derandomize=True)
 @given(
     turns=PROGRAMS,
     log_beta_c=st.floats(-1.0, 3.0),

