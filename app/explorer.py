@@ -743,7 +743,11 @@ class Explorer(pn.viewable.Viewer):
     def _solved(self, sol: Solution) -> None:
         self.solution = sol
         self.error = None
-        self._draw(sol)
+        try:
+            self._draw(sol)
+        except Exception as exc:  # noqa: BLE001 - a drawing fault must not go unsaid
+            log.error("drawing failed", exc_info=exc)
+            self._show_error(f"The picture could not be drawn: {type(exc).__name__}: {exc}")
 
     def _solve_failed(self, exc: Exception) -> None:
         if isinstance(exc, ValueError):

@@ -120,7 +120,8 @@ def draw_horizon(result: Result, t_end: float, step: tuple[float, float]) -> flo
         t_draw = steady.t_reached + steady.period
     elif kind in (SteadyKind.REST, SteadyKind.EQUILIBRIUM) and math.isfinite(
             steady.t_reached):
-        t_draw = max(steady.t_reached, *(tr.t for tr in result.transitions[-1:]))
+        # (no transition at all when the mass starts at rest)
+        t_draw = max([steady.t_reached, *(tr.t for tr in result.transitions[-1:])])
     else:
         t_draw = _converged(result, step) + TURN
     return float(min(t_end, max(t_draw, 0.0)))

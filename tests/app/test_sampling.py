@@ -223,3 +223,17 @@ def test_the_first_slip_arc_is_smooth():
         angle = np.unwrap(np.arctan2(dv[keep], dx[keep]))
         assert len(angle) > 50
         assert np.max(np.abs(np.diff(angle))) < math.radians(5)
+
+
+def test_a_mass_at_rest_from_the_start_is_drawn():
+    """A still belt and a start inside the stick zone: equilibrium from t = 0 with no
+    transition at all (drawing it raised a TypeError in the server, seen under load)."""
+    from core import Oscillator
+
+    res = simulate(Oscillator(0.3, 0.2, 0.0), None, 50.0)
+    assert res.steady.kind is SteadyKind.EQUILIBRIUM and not res.transitions
+    assert sampling.draw_horizon(res, 50.0, (0.01, 0.01)) == 0.0
+    plots = PlotSet()
+    plots.update(solve({**scene_values("4a"), "belt_speed": 0.0, "x0": 0.0, "v0": 0.0}),
+                 DIMENSIONLESS, ("phase", "time", "force"))
+    assert len(plots.sources["traj"].data["x"]) > 0
