@@ -22,6 +22,7 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
+from app.solve_process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
@@ -74,4 +75,5 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
 
 if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:  # served
     report()  # logs each perf patch left out (app.perf)
+    warm_up()  # the solver's child processes (once per server process)
     serve(create_app(), pn.state.curdoc)

@@ -29,6 +29,7 @@ import numpy as np
 import panel as pn
 from panel.io.state import set_curdoc
 
+from app import solve_process
 from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
@@ -78,9 +79,9 @@ SOLVE_BUDGET_S = 2.0
 #: Budget [s] of a preview solve (a late preview is just skipped).
 PREVIEW_BUDGET_S = 0.25
 #: Solves that integrate (a deformable stop's contact, ``event``, ``switch``) and may run at
-#: once in the background, per server process. A solve past its budget cannot be stopped
-#: (unless the core takes a ``time_budget``); it finishes in the background and lands in
-#: the cache, so asking again later is instant.
+#: once, per server process, each in a child process of its own (:mod:`app.solve_process`):
+#: they stop themselves at their budget (the core's ``time_budget``), and a solve every
+#: requester has given up (a newer slider move) is stopped at once.
 SOLVE_WORKERS = 2
 #: Integrating solves that may wait for a worker; past that further ones are refused at
 #: once (the server is saturated) instead of queueing behind them.
@@ -247,46 +248,88 @@ def solve(values: Mapping[str, Any], *, preview: bool = False,
 
 
 class _Lane:
-    """A pool of worker threads for one kind of solve; one future per distinct solve."""
+    """A pool of worker threads for one kind of solve; one future per distinct solve,
+    shared by every session that asks for it while it runs.
 
-    def __init__(self, name: str, workers: int, queue: int | None) -> None:
+    With ``isolated``, each solve runs in a child process of its own
+    (:mod:`app.solve_process`; the worker thread only waits), and a running solve that
+    every session asking for it has given up is stopped.
+    """
+
+    def __init__(self, name: str, workers: int, queue: int | None, *,
+                 isolated: bool = False) -> None:
         self.executor = ThreadPoolExecutor(max_workers=workers,
                                            thread_name_prefix=f"fie-{name}")
         self.limit = None if queue is None else workers + queue
+        self.isolated = isolated
         self.futures: dict[tuple, Future] = {}
+        #: Per solve: how many requests wait for it, and the event that stops it.
+        self.waiters: dict[tuple, int] = {}
+        self.stops: dict[tuple, threading.Event] = {}
         self.lock = threading.Lock()
 
     def submit(self, key: tuple, preview: bool) -> Future:
+        item = (key, preview)
         with self.lock:
-            future = self.futures.get((key, preview))
+            future = self.futures.get(item)
             if future is not None:
+                self.waiters[item] += 1
                 return future
             if self.limit is not None and len(self.futures) >= self.limit:
                 raise SolveTooSlow(
                     "the server is busy with other long solves; try again in a moment, or "
                     "choose a shorter horizon t_end or a looser accuracy.")
-            # Looked up at each call: tests replace it with a slow stand-in.
-            future = self.executor.submit(_solve_cached, key, preview)
-            self.futures[(key, preview)] = future
+            stop = threading.Event()
+            future = self.executor.submit(self._run, key, preview, stop)
+            self.futures[item], self.waiters[item], self.stops[item] = future, 1, stop
 
         def done(_: Future) -> None:
             with self.lock:
-                if self.futures.get((key, preview)) is future:
-                    del self.futures[(key, preview)]
+                self._forget(item, future)
 
         future.add_done_callback(done)
         return future
 
+    def _run(self, key: tuple, preview: bool, stop: threading.Event) -> Solution:
+        # A preview stays in this thread: the core stops it at its budget (a quarter of a
+        # second), less than a child process would add to every drag step (~30 ms).
+        _WORKER.isolated, _WORKER.stop = self.isolated and not preview, stop
+        try:
+            # Looked up at each call: tests replace it with a slow stand-in.
+            return _solve_cached(key, preview)
+        finally:
+            _WORKER.isolated, _WORKER.stop = False, None
+
+    def _forget(self, item: tuple, future: Future) -> None:
+        if self.futures.get(item) is future:
+            del self.futures[item], self.waiters[item], self.stops[item]
+
     def drop(self, key: tuple, preview: bool, future: Future) -> None:
-        """Nobody waits for ``future`` any more: cancel it if it has not started."""
-        if future.cancel():
-            with self.lock:
-                if self.futures.get((key, preview)) is future:
-                    del self.futures[(key, preview)]
+        """One request no longer waits for ``future``: when none does, a solve that has
+        not started is cancelled and a running one in a child process is stopped (a new
+        request for it starts afresh)."""
+        item = (key, preview)
+        with self.lock:
+            if self.futures.get(item) is not future:
+                return
+            self.waiters[item] -= 1
+            if self.waiters[item] > 0:
+                return
+            stop = self.stops[item]
+            if self.isolated:
+                self._forget(item, future)
+        # Outside the lock: a cancelled future runs its done callbacks (which take it) here.
+        if not future.cancel() and self.isolated:
+            stop.set()
+
+
+#: The worker thread's solve: whether it runs in a child process, and what stops it.
+_WORKER = threading.local()
+_WORKER.isolated, _WORKER.stop = False, None
 
 
 _closed_form = _Lane("closed-form", CLOSED_FORM_WORKERS, None)
-_integrating = _Lane("integrating", SOLVE_WORKERS, SOLVE_QUEUE)
+_integrating = _Lane("integrating", SOLVE_WORKERS, SOLVE_QUEUE, isolated=True)
 
 
 def _lane(values: Mapping[str, Any]) -> _Lane:
@@ -316,8 +359,9 @@ def submit(values: Mapping[str, Any], *, preview: bool = False) -> Future:
 
 
 def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False) -> None:
-    """The caller no longer needs ``future`` (a newer request replaced it): a solve that
-    has not started yet is cancelled."""
+    """The caller no longer needs ``future`` (a newer request replaced it): a solve nobody
+    else waits for is cancelled if it has not started, stopped if it runs in a child
+    process."""
     _lane(values).drop(_key(values), preview, future)
 
 
@@ -473,9 +517,8 @@ def _solve(key: tuple, preview: bool) -> Solution:
         options = {k: accuracy[k] for k in used if k in accuracy}
         if "time_budget" in used:
             options["time_budget"] = _budget(preview, None)
-        result = simulate(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method, **options,
-        )
+        result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
+                           **options)
     solve_time = time.perf_counter() - start
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
@@ -488,6 +531,15 @@ def _solve(key: tuple, preview: bool) -> Solution:
         restitution_measured=measured_restitution(result),
         preview=preview,
     )
+
+
+def _simulate(*args: Any, **kwargs: Any) -> Result:
+    """:func:`core.simulate`, in a child process of its own when the worker's lane is
+    isolated (:mod:`app.solve_process`)."""
+    if getattr(_WORKER, "isolated", False):
+        # ``simulate`` looked up at each call: the isolation test replaces it.
+        return solve_process.call(simulate, *args, cancelled=_WORKER.stop, **kwargs)
+    return simulate(*args, **kwargs)
 
 
 def equivalent_rigid(stop) -> RigidStop | None:
