@@ -15,6 +15,7 @@ platform without ``fork``, or to compare).
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
 import sys
@@ -22,6 +23,8 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
+
+log = logging.getLogger(__name__)
 
 #: The environment variable that turns the child processes off.
 SWITCH = "FIE_SOLVE_PROCESSES"
@@ -106,9 +109,13 @@ def warm_up(wait: bool = False) -> None:
 
     def start() -> None:
         _project_on_path()
-        process = _context().Process(target=_nothing, daemon=True, name="fie-warm-up")
-        process.start()
-        process.join(JOIN_S * 10)
+        try:
+            process = _context().Process(target=_nothing, daemon=True, name="fie-warm-up")
+            process.start()
+            process.join(JOIN_S * 10)
+        except (OSError, RuntimeError) as exc:  # no fork server here: threads it is
+            log.warning("solves run in the server's threads: no child process (%s)", exc)
+            return
         _ready.set()
 
     if wait:
