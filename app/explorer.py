@@ -37,7 +37,16 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import ACCURACY, Solution, SolveRunner, SolveTooSlow, regime_map
+from app.solver import (
+    ACCURACY,
+    MAX_SOLVE_BUDGET_S,
+    Solution,
+    SolveRunner,
+    SolveTooSlow,
+    cut_short,
+    regime_map,
+    retry_budget,
+)
 from app.state import (
     ACCURACIES,
     METHODS,
@@ -53,6 +62,7 @@ from app.state import (
 )
 from app.trade import measure, trade_html
 from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
+from core import Status
 
 log = logging.getLogger(__name__)
 
@@ -169,6 +179,13 @@ class Explorer(pn.viewable.Viewer):
         self._commits = 0
         #: Full solves and drag previews, in the worker pool (the latest request wins).
         self._solves = SolveRunner(self._solve_failed, self._show_busy)
+        #: The budget [s] that the solve on screen overran (None: it did not).
+        self._ran_out: float | None = None
+        #: "Retry with more time": built, and put below the alert, the first time a solve
+        #: runs out of time (a new page carries no model for it).
+        self.retry: pn.widgets.Button | None = None
+        #: The main area's column (:meth:`main_panel`).
+        self._main: pn.Column | None = None
         self._previews = SolveRunner(lambda exc: None, preview=True)
         self.plots = PlotSet()
         self.anim = Animation(self.plots.sources["traj"], self.plots.shared)
@@ -367,9 +384,13 @@ class Explorer(pn.viewable.Viewer):
                 pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                            css_classes=["fie-plots"])]
 
+    def main_panel(self) -> pn.Column:
+        """The main area (:meth:`main`) in one column, which later notices join."""
+        self._main = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        return self._main
+
     def __panel__(self) -> pn.viewable.Viewable:
-        return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30),
-                      pn.Column(*self.main(), sizing_mode="stretch_width"))
+        return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30), self.main_panel())
 
     # --- URL -----------------------------------------------------------------------------
 
@@ -738,7 +759,39 @@ class Explorer(pn.viewable.Viewer):
     def _update(self) -> None:
         """Full solve of the state, then redraw (:meth:`_solved`); on failure show why and
         keep the picture. The solve runs in the worker pool, not on the event loop."""
+        self._show_retry(None)
         self._solves.request(self.state.values(), self._solved)
+
+    def _retry_solve(self, event: Any = None) -> None:
+        """Solve the state on screen again with :func:`~app.solver.retry_budget` of the
+        budget that ran out; the picture stays until the answer comes."""
+        budget = retry_budget(self._ran_out or MAX_SOLVE_BUDGET_S)
+        if self.retry is not None:
+            self.retry.param.update(disabled=True, label=f"Solving (up to {budget:g} s)…")
+        self._solves.request(self.state.values(), self._solved, budget=budget)
+
+    def _show_retry(self, ran_out: float | None) -> None:
+        """Offer to solve again with more time after ``ran_out`` seconds were not enough
+        (hide the offer with None, or when the budget cannot grow)."""
+        self._ran_out = ran_out
+        offer = ran_out is not None and ran_out < MAX_SOLVE_BUDGET_S
+        if self.retry is None:
+            if not offer:
+                return
+            self.retry = pn.widgets.Button(
+                label="Retry with more time", color="primary", css_classes=["fie-retry"],
+                visible=False, margin=(0, 10, 8, 10))
+            self.retry.on_click(self._retry_solve)
+            if self._main is not None:
+                at = next(i for i, obj in enumerate(self._main.objects) if obj is self.alert)
+                self._main.insert(at + 1, self.retry)
+        if offer:
+            self.retry.param.update(
+                visible=True, disabled=False, label="Retry with more time",
+                description=f"Solve this run again with up to {retry_budget(ran_out):g} s "
+                            "(the plots stay until it is done).")
+        else:
+            set_changed(self.retry, visible=False)
 
     def _solved(self, sol: Solution) -> None:
         self.solution = sol
@@ -753,7 +806,11 @@ class Explorer(pn.viewable.Viewer):
         if isinstance(exc, ValueError):
             self._show_error(str(exc))
         elif isinstance(exc, SolveTooSlow):
-            self._show_error(f"The solve was too slow: {exc}")
+            more = ("" if exc.budget is None or exc.budget < MAX_SOLVE_BUDGET_S else
+                    f" Even {exc.budget:g} s were not enough.")
+            self._show_error(f"The solve was too slow: {exc}{more}", lead="Not solved in time:",
+                             tail="The plots still show the previous run.")
+            self._show_retry(exc.budget)
         else:
             log.error("solve failed", exc_info=exc)
             self._show_error(f"The solver failed: {type(exc).__name__}: {exc}")
@@ -793,10 +850,29 @@ class Explorer(pn.viewable.Viewer):
                     set_changed(self.trade, visible=False)  # it described another run
                 self._arrivals += 1  # last: the page's figures hold their paints until it
                 self.arrived.object = str(self._arrivals)
+        if cut_short(sol):
+            self._say_cut_short(sol)
+        else:
+            self._show_retry(None)
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    def _say_cut_short(self, sol: Solution) -> None:
+        """Say that the core stopped ``sol`` before its horizon, and offer more time."""
+        res, scales = sol.result, self.state.scales()
+        unit = " s" if scales.si else ""
+        why = (f"its time budget of {sol.budget:g} s ran out" if res.status is Status.TIME_BUDGET
+               else "it reached its limit on integration steps")
+        more = ("" if sol.budget < MAX_SOLVE_BUDGET_S else
+                " More time cannot be given: a shorter horizon t_end or a looser accuracy "
+                "answers sooner.")
+        self._show_error(
+            f"the {sol.method} method stopped at t = {float(res.t[-1]) * scales.time:.4g}"
+            f"{unit} of t_end = {sol.t_end * scales.time:.4g}{unit}: {why}.{more}",
+            lead="Solved only in part:", tail="The plots show the run up to there.")
+        self._show_retry(sol.budget)
 
     async def _measure(self, event: Any = None) -> None:
         """Measure the speed/accuracy trade of the run on screen, off the event loop."""
@@ -860,14 +936,15 @@ class Explorer(pn.viewable.Viewer):
         return (f"<div class='fie-title'>{html.escape(scene.title)}</div>"
                 f"<div class='fie-look'>{html.escape(scene.caption)}</div>")
 
-    def _show_error(self, message: str) -> None:
-        """Show ``message`` as text (it may echo a URL's or a user's value)."""
+    def _show_error(self, message: str, lead: str = "Input not applied:",
+                    tail: str = "The plots still show the last valid parameters.") -> None:
+        """Show ``message`` as text (it may echo a URL's or a user's value), after ``lead``
+        and before ``tail``."""
         self.error = message
         with pn.io.hold():
             self.alert.object = (
-                f"<div class='fie-alert-box' role='alert'><b>Input not applied:</b> "
-                f"{html.escape(message)}<br>The plots still show the last valid parameters."
-                "</div>")
+                f"<div class='fie-alert-box' role='alert'><b>{html.escape(lead)}</b> "
+                f"{html.escape(message)}<br>{html.escape(tail)}</div>")
             self.alert.visible = True
 
     def _csv(self):

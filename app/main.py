@@ -44,7 +44,7 @@ def create_app() -> pn.template.BaseTemplate:
         title=TITLE,
         # One root each: every extra root makes Bokeh re-walk the whole document.
         sidebar=[pn.Column(*explorer.sidebar(), sizing_mode="stretch_width", margin=0)],
-        main=[pn.Column(*explorer.main(), sizing_mode="stretch_width", margin=0)],
+        main=[explorer.main_panel()],
         sidebar_width=WIDGET_WIDTH + 40,
         favicon=f"{ASSETS}/favicon.svg",
         css_files=[f"{ASSETS}/explorer.css"],

@@ -23,9 +23,9 @@ def _thread_of_solve(monkeypatch, values) -> str:
     seen = []
     real = solver_module._solve_cached
 
-    def spy(key, preview):
+    def spy(key, preview, budget=None):
         seen.append(threading.current_thread().name)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", spy)
     solve(values)
@@ -46,9 +46,9 @@ def test_the_exact_deformable_stop_solve_has_a_budget(monkeypatch):
     release = threading.Event()
     real = solver_module._solve_cached
 
-    def slow(key, preview):
+    def slow(key, preview, budget=None):
         release.wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", slow)
     values = _unique(dict(scene_values("10")), method="exact", t_end=61.234)
@@ -101,9 +101,9 @@ def _gated(monkeypatch) -> dict[float, threading.Event]:
     gates: dict[float, threading.Event] = {}
     real = solver_module._solve_cached
 
-    def gated(key, preview):
+    def gated(key, preview, budget=None):
         gates.setdefault(dict(key)["t_end"], threading.Event()).wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", gated)
     return gates

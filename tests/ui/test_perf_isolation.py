@@ -10,13 +10,9 @@ from __future__ import annotations
 
 import itertools
 import statistics
-import subprocess
-import sys
-import time
-import urllib.request
 
 import pytest
-from conftest import ROOT, SERVER_TIMEOUT, free_port
+from conftest import ROOT, free_port, panel_server
 from uipage import Page
 
 pytestmark = pytest.mark.ui
@@ -102,26 +98,8 @@ def slow_server(tmp_path_factory):
     done_file = script.with_name("slow-solve-done")
     script.write_text(SLOW_APP.replace("{DONE_FILE}", repr(str(done_file))))
     port = free_port()
-    log = script.with_suffix(".log")
-    with open(log, "w") as out:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "panel", "serve", str(script), "--port", str(port),
-             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
-             "--static-dirs", f"assets={ROOT / 'static'}", "--liveness"],
-            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
-    deadline = time.monotonic() + SERVER_TIMEOUT
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
-                break
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                raise RuntimeError(f"panel serve did not start; see {log}") from None
-            time.sleep(0.2)
-    yield f"http://127.0.0.1:{port}/slow", done_file
-    proc.terminate()
-    proc.wait(timeout=10)
+    with panel_server(script, port, script.with_suffix(".log")):
+        yield f"http://127.0.0.1:{port}/slow", done_file
 
 
 def _release(p: Page) -> float:
