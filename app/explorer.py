@@ -49,6 +49,7 @@ from app.solver import (
 )
 from app.state import (
     ACCURACIES,
+    CONTACT_LAWS,
     METHODS,
     SOLVE_PARAMS,
     STOP_TYPES,
@@ -109,6 +110,15 @@ TOOLTIPS: Mapping[str, str] = {
     "t_end_si": "Length of the simulated run in seconds.",
     "k_c0_si": "Stiffness of the stop when first compressed.",
     "k_e0_si": "Stiffness of the stop when first expanding (at most k_c0).",
+}
+#: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
+CONTACT_LAW_TIPS: Mapping[str, str] = {
+    "paper": "the paper's reading of Eqs. 12-13, which reproduces Fig. 2b; each reversal "
+             "restarts the exponential from the reversal point. Not passive: some closed "
+             "overlap programs give back more energy than they took",
+    "passive": "the same envelopes and exponential, but loading inside the band retraces "
+               "the unloading curve (elastic inside the band, loss on the envelope): no "
+               "closed overlap program returns energy",
 }
 #: What each method models (the method selector's tooltip).
 METHOD_TIPS: Mapping[str, str] = {
@@ -305,6 +315,9 @@ class Explorer(pn.viewable.Viewer):
         #: The paper's figure the reset button returns to (the last scene loaded).
         self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
         self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
+        #: The contact law's selector: built, at the top of the deformable stop's widgets,
+        #: the first time a deformable stop is shown (a new page carries no model for it).
+        self.contact_law: pn.widgets.Select | None = None
         for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
                               (self.accuracy, "accuracy"), (self.method, "method"),
                               (self.show_all, "show_all"), (self.program, "program")):
@@ -316,6 +329,16 @@ class Explorer(pn.viewable.Viewer):
         self.si_box = pn.Column(
             *(self.sliders[n].layout
               for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
+
+    def _build_contact_law(self) -> None:
+        """The contact law's selector, first in the deformable stop's widgets."""
+        self.contact_law = pn.widgets.Select(
+            label="Contact law", options=list(CONTACT_LAWS), value=self.state.contact_law,
+            width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
+            description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
+                        + " (docs/contact-law.md).")
+        self.contact_law.param.watch(lambda e: self._commit({"contact_law": e.new}), "value")
+        self.hysteretic_box.insert(0, self.contact_law)
 
     def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
         """An empty, hidden pane per plot; :meth:`_show_plots` builds a plot into its pane
@@ -729,6 +752,10 @@ class Explorer(pn.viewable.Viewer):
         has_stop = st.stop_type != "none"
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
+        if st.stop_type == "hysteretic" and self.contact_law is None:
+            self._build_contact_law()
+        if self.contact_law is not None:
+            set_changed(self.contact_law, value=st.contact_law)
         set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
         set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
