@@ -62,7 +62,7 @@ from app.state import (
     scene_values,
 )
 from app.trade import measure, trade_html
-from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
+from app.widgets import ShownLater, TypedSlider, bounds_reason, format_number, set_changed
 from core import Status
 
 log = logging.getLogger(__name__)
@@ -315,30 +315,26 @@ class Explorer(pn.viewable.Viewer):
         #: The paper's figure the reset button returns to (the last scene loaded).
         self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
         self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
-        #: The contact law's selector: built, at the top of the deformable stop's widgets,
-        #: the first time a deformable stop is shown (a new page carries no model for it).
-        self.contact_law: pn.widgets.Select | None = None
-        for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
-                              (self.accuracy, "accuracy"), (self.method, "method"),
-                              (self.show_all, "show_all"), (self.program, "program")):
-            widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
-        self.hysteretic_box = pn.Column(
-            *(self.sliders[n].layout
-              for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c",
-                      "beta_e")), margin=0)
-        self.si_box = pn.Column(
-            *(self.sliders[n].layout
-              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
-
-    def _build_contact_law(self) -> None:
-        """The contact law's selector, first in the deformable stop's widgets."""
+        # First in the deformable stop's group, and like it in the page once first shown.
         self.contact_law = pn.widgets.Select(
-            label="Contact law", options=list(CONTACT_LAWS), value=self.state.contact_law,
+            label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
             width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
             description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
                         + " (docs/contact-law.md).")
-        self.contact_law.param.watch(lambda e: self._commit({"contact_law": e.new}), "value")
-        self.hysteretic_box.insert(0, self.contact_law)
+        for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
+                              (self.accuracy, "accuracy"), (self.method, "method"),
+                              (self.show_all, "show_all"), (self.program, "program"),
+                              (self.contact_law, "contact_law")):
+            widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
+        # Groups shown only in some states join the page when first shown.
+        self.hysteretic_box = ShownLater(self.contact_law, *(
+            self.sliders[n].layout
+            for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")))
+        self.si_box = ShownLater(
+            *(self.sliders[n].layout
+              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")))
+        #: The SI twins outside those groups, each in a column of its own.
+        self.si_start = {n: ShownLater(self.sliders[n].layout) for n in ("v0_si", "t_end_si")}
 
     def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
         """An empty, hidden pane per plot; :meth:`_show_plots` builds a plot into its pane
@@ -396,7 +392,7 @@ class Explorer(pn.viewable.Viewer):
             pn.pane.HTML("<b>Units</b>", margin=(8, 10, 0, 10)), self.units, self.si_box,
             pn.pane.HTML("<b>Start and horizon</b> (or click the phase portrait)",
                          margin=(8, 10, 0, 10)),
-            w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
+            w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
             self.measure, self.show_all, self.download, self.download_transitions,
         ]
@@ -740,23 +736,21 @@ class Explorer(pn.viewable.Viewer):
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
                               (self.accuracy, st.accuracy), (self.method, st.method),
                               (self.show_all, st.show_all), (self.scene_select, st.scene),
-                              (self.program, st.program)):
+                              (self.program, st.program), (self.contact_law, st.contact_law)):
             set_changed(widget, value=value)
         si = st.units == "SI"
-        set_changed(self.si_box, visible=si)
+        self.si_box.show(si)
         for name, (twin, _, _) in SI_TWINS.items():
             self.sliders[name].visible = si
             self.sliders[twin].visible = not si
+        for box in self.si_start.values():
+            box.show(si)
         self.sliders["u_s"].visible = not si
         self.sliders["belt_speed"].visible = not si
         has_stop = st.stop_type != "none"
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
-        if st.stop_type == "hysteretic" and self.contact_law is None:
-            self._build_contact_law()
-        if self.contact_law is not None:
-            set_changed(self.contact_law, value=st.contact_law)
-        set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
+        self.hysteretic_box.show(st.stop_type == "hysteretic")
         set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))

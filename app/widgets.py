@@ -31,6 +31,41 @@ def set_changed(obj: param.Parameterized, **values) -> None:
         obj.param.update(**changed)
 
 
+class ShownLater(pn.Column):
+    """A column whose contents join the page the first time it is shown.
+
+    Hidden widgets still cost a new session their Bokeh models (built and sent with the
+    page): a rigid-stop scene in dimensionless units never shows the deformable stop's or
+    the SI sliders, 13 of the 22. Their Python objects exist from the start (the explorer
+    keeps every widget in step with the state); only their models wait.
+
+    Parameters
+    ----------
+    *objects
+        The contents, added on the first :meth:`show`.
+    **params
+        Passed to :class:`panel.Column` (hidden until shown).
+    """
+
+    def __init__(self, *objects, **params) -> None:
+        params.setdefault("margin", 0)
+        super().__init__(visible=False, **params)
+        self._later = list(objects)
+
+    def show(self, visible: bool) -> None:
+        """Show (adding the contents if still waiting) or hide the column."""
+        if visible and self._later:
+            contents, self._later = self._later, []
+            set_changed(self, objects=contents, visible=True)
+        else:
+            set_changed(self, visible=visible)
+
+    @property
+    def built(self) -> bool:
+        """Whether the contents are in the page."""
+        return not self._later
+
+
 class _Slider(*release_bases(), pn.widgets.FloatSlider):
     """A float slider whose release, where :mod:`app.perf.slider` applies, is handled as
     soon as it arrives instead of after the drag's debounce."""
@@ -126,8 +161,9 @@ class TypedSlider:
         self.message = pn.pane.HTML("", visible=False, width=width - 20, margin=(0, 10, 2, 10),
                                     css_classes=["fie-input-message"],
                                     stylesheets=[MESSAGE_CSS])
+        # The message joins the layout when first needed (a model less per slider shown).
         self.layout = pn.Column(
-            self.input, self.message, self.slider, width=width, margin=(2, 0),
+            self.input, self.slider, width=width, margin=(2, 0),
             css_classes=["fie-typed", css_class],
         )
 
@@ -200,6 +236,8 @@ class TypedSlider:
         the message when empty."""
         body = (f"<div class='fie-msg{' fie-msg-error' if error else ''}' role='status'>"
                 f"{html.escape(text)}</div>") if text else ""
+        if text and self.message not in self.layout.objects:
+            self.layout.insert(1, self.message)
         set_changed(self.message, object=body, visible=bool(text))
 
     def refuse(self, message: str) -> None:

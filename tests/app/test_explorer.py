@@ -201,6 +201,34 @@ def test_scene_selector_loads_the_scene_and_its_plots(ex):
     assert ex.hysteretic_box.visible and not ex.sliders["restitution"].visible
 
 
+def test_hidden_slider_groups_join_the_page_when_first_shown(ex):
+    # A rigid scene in dimensionless units: the deformable-stop and SI sliders are not in
+    # the page (their models would be built and sent for nothing) until a state shows them.
+    assert ex.state.stop_type == "rigid" and ex.state.units != "SI"
+    waiting = (ex.hysteretic_box, ex.si_box, *ex.si_start.values())
+    assert not any(box.built or box.objects for box in waiting)
+    ex.stop_type.value = "hysteretic"
+    assert ex.hysteretic_box.built and ex.hysteretic_box.visible
+    assert ex.sliders["k_c0"].layout in ex.hysteretic_box.objects
+    # Kept in step while it waited: the widget shows the state's value when it joins.
+    assert ex.sliders["k_c0"].value == ex.state.k_c0
+    ex.units.value = "SI"
+    assert all(box.built and box.visible for box in (ex.si_box, *ex.si_start.values()))
+    ex.units.value = "dimensionless"
+    assert ex.si_box.built and not ex.si_box.visible  # built once, then only hidden
+    ex.stop_type.value = "rigid"
+    assert not ex.hysteretic_box.visible
+
+
+def test_a_slider_message_joins_its_widget_when_first_needed(ex):
+    w = ex.sliders["restitution"]
+    assert w.message not in w.layout.objects
+    w.input.value = "1.5"
+    assert w.message in w.layout.objects and w.message.visible and w.invalid
+    w.input.value = "0.5"
+    assert not w.message.visible and not w.invalid
+
+
 def test_tap_in_the_phase_plane_sets_the_start(ex):
     fig = ex.plots.figures["phase"]
     ex._on_phase_tap(Tap(fig, x=-0.2, y=0.05))
