@@ -151,7 +151,7 @@ class TypedSlider:
         # The slider's title is its handle's accessible name (static/a11y.js), not shown:
         # the box above it carries the visible label.
         self.slider = _Slider(
-            name=label, value=value, start=start, end=end, step=key_step(start, end, step),
+            label=label, value=value, start=start, end=end, step=key_step(start, end, step),
             show_value=False, width=width - 20, margin=(0, 10, 4, 10),
             css_classes=["fie-slider"], stylesheets=[SLIDER_CSS],
         )
@@ -188,7 +188,7 @@ class TypedSlider:
 
     def set_label(self, label: str) -> None:
         set_changed(self.input, label=label)
-        set_changed(self.slider, name=label)
+        set_changed(self.slider, label=label)
 
     def _describe(self) -> str:
         low, high = self.bounds
