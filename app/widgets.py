@@ -148,8 +148,10 @@ class TypedSlider:
             css_classes=["fie-input"], stylesheets=[INPUT_CSS],
             description=self._describe(),
         )
+        # The slider's title is its handle's accessible name (static/a11y.js), not shown:
+        # the box above it carries the visible label.
         self.slider = _Slider(
-            value=value, start=start, end=end, step=key_step(start, end, step),
+            label=label, value=value, start=start, end=end, step=key_step(start, end, step),
             show_value=False, width=width - 20, margin=(0, 10, 4, 10),
             css_classes=["fie-slider"], stylesheets=[SLIDER_CSS],
         )
@@ -186,6 +188,7 @@ class TypedSlider:
 
     def set_label(self, label: str) -> None:
         set_changed(self.input, label=label)
+        set_changed(self.slider, label=label)
 
     def _describe(self) -> str:
         low, high = self.bounds
@@ -316,8 +319,10 @@ INPUT_CSS = """
                                 box-shadow: 0 0 0 1px #c0392b; }
 .bk-input:focus-visible { outline: 3px solid #1f6feb; outline-offset: 1px; }
 """
-#: A visible focus ring on the slider's handle (the keyboard moves it).
+#: A visible focus ring on the slider's handle (the keyboard moves it); the title (the
+#: handle's accessible name) is not shown.
 SLIDER_CSS = """
+.bk-slider-title { display: none; }
 .noUi-handle:focus-visible, .noUi-handle:focus { outline: 3px solid #1f6feb;
                                                  outline-offset: 2px; }
 """

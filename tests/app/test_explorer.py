@@ -78,7 +78,7 @@ def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
 def test_a_crashing_solver_does_not_take_the_session_down(ex, monkeypatch):
     before = ex.solution
 
-    def boom(key, preview=False):
+    def boom(key, preview=False, budget=None):
         raise RuntimeError("numerical trouble")
 
     monkeypatch.setattr(solver_module, "_solve_cached", boom)  # in the worker thread
@@ -369,9 +369,9 @@ def test_a_too_slow_numerical_solve_keeps_the_picture_and_says_so(ex, monkeypatc
     release = threading.Event()
     real = solver_module._solve_cached
 
-    def slow(key, preview):
+    def slow(key, preview, budget=None):
         release.wait(5.0)  # a Zeno scene with the event method takes minutes
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", slow)
     monkeypatch.setattr(solver_module, "SOLVE_BUDGET_S", 0.2)

@@ -28,9 +28,9 @@ def _thread_of_solve(monkeypatch, values) -> str:
     seen = []
     real = solver_module._solve_cached
 
-    def spy(key, preview):
+    def spy(key, preview, budget=None):
         seen.append(threading.current_thread().name)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", spy)
     solve(values)
@@ -51,9 +51,9 @@ def test_the_exact_deformable_stop_solve_has_a_budget(monkeypatch):
     release = threading.Event()
     real = solver_module._solve_cached
 
-    def slow(key, preview):
+    def slow(key, preview, budget=None):
         release.wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", slow)
     values = _unique(dict(scene_values("10")), method="exact", t_end=61.234)
@@ -106,9 +106,9 @@ def _gated(monkeypatch) -> dict[float, threading.Event]:
     gates: dict[float, threading.Event] = {}
     real = solver_module._solve_cached
 
-    def gated(key, preview):
+    def gated(key, preview, budget=None):
         gates.setdefault(dict(key)["t_end"], threading.Event()).wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", gated)
     return gates
@@ -159,6 +159,35 @@ def test_without_a_session_a_request_is_answered_before_it_returns():
     solved = []
     SolveRunner(pytest.fail).request(dict(scene_values("5b")), solved.append)
     assert len(solved) == 1 and solved[0].result is not None
+
+
+def test_a_retry_gets_more_time_and_no_answer_cut_short(monkeypatch):
+    """A solve the core stopped at its budget is not cached; a retry with a larger budget
+    solves again with that budget (and a step limit in proportion), and its full answer
+    then serves the default budget too."""
+    from app.solver import cut_short, retry_budget, submit
+    from core import Status
+
+    seen = []
+    real = solver_module._solve
+
+    def recording(key, preview, budget=None):
+        seen.append(budget)
+        return real(key, preview, budget)
+
+    monkeypatch.setattr(solver_module, "_solve", recording)
+    # The switch model over a few hundred periods: ~0.15 s unloaded, far more than 1 ms.
+    values = _unique(dict(scene_values("10")), method="switch", t_end=300.0 + 1.234e-4)
+    short = submit(values, budget=1e-3).result(timeout=60)
+    assert cut_short(short) and short.result.status is Status.TIME_BUDGET
+    assert short.result.t[-1] < values["t_end"] and short.budget == 1e-3
+    more = retry_budget(6.0)  # 60 s, the largest a retry gets
+    full = submit(values, budget=more).result(timeout=120)
+    assert full.result.status is Status.SUCCESS and full.budget == more
+    assert seen == [1e-3, more]
+    # Now cached: the default budget is answered at once with the full solution.
+    again = submit(values)
+    assert again.done() and again.result() is full and seen == [1e-3, more]
 
 
 # --- solves in child processes (app/solve_process.py) ---------------------------------------

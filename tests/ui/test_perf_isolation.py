@@ -13,13 +13,9 @@ from __future__ import annotations
 import itertools
 import os
 import statistics
-import subprocess
-import sys
-import time
-import urllib.request
 
 import pytest
-from conftest import ROOT, SERVER_TIMEOUT, free_port
+from conftest import ROOT, free_port, panel_server
 from slow_solve import SLOW_T_END
 from uipage import Page
 
@@ -91,30 +87,12 @@ def slow_server(tmp_path_factory):
     done_file = script.with_name("slow-solve-done")
     script.write_text(SLOW_APP)
     port = free_port()
-    log = script.with_suffix(".log")
-    with open(log, "w") as out:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "panel", "serve", str(script), "--port", str(port),
-             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
-             "--static-dirs", f"assets={ROOT / 'static'}", "--liveness"],
-            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT,
-            # The server's solver processes import the stand-in from tests/ui (Bokeh
-            # restores sys.path after each run of the script, so the path goes here).
-            env={**os.environ, "FIE_SLOW_DONE_FILE": str(done_file),
-                 "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "tests" / "ui")])})
-    deadline = time.monotonic() + SERVER_TIMEOUT
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
-                break
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                raise RuntimeError(f"panel serve did not start; see {log}") from None
-            time.sleep(0.2)
-    yield f"http://127.0.0.1:{port}/slow", done_file
-    proc.terminate()
-    proc.wait(timeout=10)
+    # The server's solver processes import the stand-in from tests/ui (Bokeh restores
+    # sys.path after each run of the script, so the path goes in the environment).
+    env = {"FIE_SLOW_DONE_FILE": str(done_file),
+           "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "tests" / "ui")])}
+    with panel_server(script, port, script.with_suffix(".log"), env=env):
+        yield f"http://127.0.0.1:{port}/slow", done_file
 
 
 def _release(p: Page) -> float:
