@@ -148,7 +148,8 @@ def check_integer(name: str, value: object, low: int, high: int) -> int:
 
 
 def check_times(name: str, times: object, t_end: float) -> np.ndarray:
-    """Return ``times`` as a 1-D float array of finite times in ``[0, t_end]``."""
+    """Return ``times`` as a 1-D float array of finite, non-decreasing times in
+    ``[0, t_end]``."""
     try:
         t = np.asarray(times, dtype=float)
     except (TypeError, ValueError):
@@ -160,6 +161,8 @@ def check_times(name: str, times: object, t_end: float) -> np.ndarray:
         raise ValueError(
             f"{name} must lie in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
         )
+    if np.any(np.diff(t) < 0.0):
+        raise ValueError(f"{name} must be non-decreasing; got {t!r}")
     return t
 
 
