@@ -109,7 +109,8 @@ def solve_entry(method: Callable[..., Result]) -> Callable[..., Result]:
     the shared inputs and then ``method``'s own options.
     """
 
-    @functools.wraps(method)
+    # the entry's own annotations stay: they describe the shared inputs
+    @functools.wraps(method, assigned=("__module__", "__name__", "__qualname__", "__doc__"))
     def entry(
         osc: Oscillator,
         stop: RigidStop | HystereticStop | None = None,
