@@ -31,10 +31,20 @@ from panel.io.state import set_curdoc
 
 from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
-from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
-from core.hysteresis import FIRST_LOADING, contact_force, reverse
-from core.hysteretic import effective_restitutions
-from core.result import Status
+from core import (
+    FIRST_LOADING,
+    HystereticStop,
+    Mode,
+    Result,
+    RigidStop,
+    Status,
+    contact_force,
+    effective_restitutions,
+    method_options,
+    reverse,
+    simulate,
+    theory,
+)
 
 #: Accuracy presets -> method settings, and the error each gives, from the work-precision
 #: measurements of ``benchmarks/README.md`` (largest of the relative errors of the state at

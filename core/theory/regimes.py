@@ -309,29 +309,12 @@ def _slow_case_a(osc: Oscillator, stop: RigidStop, label: str, kind: SteadyKind)
         )
         return _decay(osc, stop, w, "slow", "a", where, where, kind)
     x_stick = a - math.sqrt(max(disc, 0.0))
-    stick_time = (b - x_stick) / v
     arc_in = math.atan2(v, b - a) - math.atan2(w, x_bar - a)
-    arc_out = _arc_to_stick(a, x_bar, r * w, x_stick, v)
     ref = "Sec. 4.2, Fig. 5a" if label == "elastic" else "Sec. 4.4, Fig. 7a"
-    return Analysis(
-        "slow",
-        label,
-        "a",
-        False,
-        SteadyKind.PERIODIC,
-        f"Slow belt, {label} impact, case a (b <= x_bar < x_max): periodic stick-slip-"
-        f"impact-slip cycle ({ref})",
-        period=stick_time + arc_in + arc_out,
-        x_max=x_bar,
-        impact_speed=w,
+    return _stick_impact_cycle(
+        osc, stop, label, "a", "b <= x_bar < x_max", "stick-slip-impact-slip", ref,
+        x_stick=x_stick, stick_end=b, w=w, arc_in=arc_in,
         sequence=(STICK_SLIP, IMPACT, SLIP_STICK),
-        points={
-            "P_stick_start": (x_stick, v),
-            "P_stick_end": (b, v),
-            "P_impact_in": (x_bar, w),
-            "P_impact_out": (x_bar, -r * w),
-        },
-        first_impact_speed=w,
     )
 
 
@@ -346,25 +329,50 @@ def _slow_case_b(osc: Oscillator, stop: RigidStop, label: str) -> Analysis:
         bound, ref = "a", "Sec. 4.2, Fig. 5b"
     else:
         bound, ref = "x*", "Sec. 4.4, Fig. 7b"
+    return _stick_impact_cycle(
+        osc, stop, label, "b", f"{bound} <= x_bar < b", "stick-impact-slip", ref,
+        x_stick=x_stick, stick_end=x_bar, w=v, arc_in=0.0, sequence=(STICK_IMPACT, SLIP_STICK),
+    )
+
+
+def _stick_impact_cycle(
+    osc: Oscillator,
+    stop: RigidStop,
+    label: str,
+    case: str,
+    bounds: str,
+    cycle: str,
+    ref: str,
+    *,
+    x_stick: float,
+    stick_end: float,
+    w: float,
+    arc_in: float,
+    sequence: tuple[str, ...],
+) -> Analysis:
+    """The slow belt's periodic cycles of cases a and b: stick from ``x_stick`` to
+    ``stick_end``, (case a: slip along ``arc_in``,) impact at ``x_bar`` with speed ``w``,
+    rebound at ``-r w`` and slip back to the stick line at ``x_stick`` (A.8-A.11)."""
+    a, v = osc.a, osc.v
+    x_bar, r = stop.clearance, stop.restitution
     return Analysis(
         "slow",
         label,
-        "b",
+        case,
         False,
         SteadyKind.PERIODIC,
-        f"Slow belt, {label} impact, case b ({bound} <= x_bar < b): periodic stick-"
-        f"impact-slip cycle ({ref})",
-        period=(x_bar - x_stick) / v + _arc_to_stick(a, x_bar, r * v, x_stick, v),
+        f"Slow belt, {label} impact, case {case} ({bounds}): periodic {cycle} cycle ({ref})",
+        period=(stick_end - x_stick) / v + arc_in + _arc_to_stick(a, x_bar, r * w, x_stick, v),
         x_max=x_bar,
-        impact_speed=v,
-        sequence=(STICK_IMPACT, SLIP_STICK),
+        impact_speed=w,
+        sequence=sequence,
         points={
             "P_stick_start": (x_stick, v),
-            "P_stick_end": (x_bar, v),
-            "P_impact_in": (x_bar, v),
-            "P_impact_out": (x_bar, -r * v),
+            "P_stick_end": (stick_end, v),
+            "P_impact_in": (x_bar, w),
+            "P_impact_out": (x_bar, -r * w),
         },
-        first_impact_speed=v,
+        first_impact_speed=w,
     )
 
 
