@@ -218,31 +218,24 @@ class _Solver:
         kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
         r = branch.delta_r
         exp, cap = math.exp, EXP_CAP
+        # Eq. 13 on either branch: phi = k_own h + g exp(rate (d - r)), h = d / (D - d),
+        # held between the envelopes (Eq. 11): at least phi_E while loading, at most phi_C
+        # while unloading. ``side`` turns "at least" into "at most" without a branch.
         if branch.loading:
-            c = kc * r / (d_lim - r) - branch.phi_r
-            rate = stop.beta_c / d_lim
-
-            def acc(x: float) -> float:
-                d = x - xb
-                if d <= 0.0:
-                    return sa - x
-                hyper = d / (d_lim - d)
-                lower = ke * hyper
-                phi = kc * hyper - c * exp(min(rate * (r - d), cap))
-                return sa - x - (phi if phi > lower else lower)
-
+            k_own, k_env, side = kc, ke, -1.0
+            gap, rate = branch.phi_r - kc * r / (d_lim - r), -stop.beta_c / d_lim
         else:
-            c = branch.phi_r - ke * r / (d_lim - r)
-            rate = stop.beta_e / d_lim
+            k_own, k_env, side = ke, kc, 1.0
+            gap, rate = branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
 
-            def acc(x: float) -> float:
-                d = x - xb
-                if d <= 0.0:
-                    return sa - x
-                hyper = d / (d_lim - d)
-                upper = kc * hyper
-                phi = ke * hyper + c * exp(min(rate * (d - r), cap))
-                return sa - x - (phi if phi < upper else upper)
+        def acc(x: float) -> float:
+            d = x - xb
+            if d <= 0.0:
+                return sa - x
+            hyper = d / (d_lim - d)
+            envelope = k_env * hyper
+            phi = k_own * hyper + gap * exp(min(rate * (d - r), cap))
+            return sa - x - (phi if side * (phi - envelope) < 0.0 else envelope)
 
         return acc
 

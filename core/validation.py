@@ -122,8 +122,10 @@ def check_rigid_stop(stop: object, x0: float) -> None:
     check_start(x0, stop.clearance)
 
 
-def check_state(x0: float, v0: float) -> tuple[float, float]:
-    """The initial state as finite floats."""
+def check_state(osc: object, x0: float, v0: float) -> tuple[float, float]:
+    """``osc`` must be an :class:`~core.params.Oscillator`; returns the initial state as
+    finite floats."""
+    check_oscillator(osc)
     return check_finite("x0", x0), check_finite("v0", v0)
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from core.params import Oscillator, RigidStop
 from core.theory.impactless import rest_position_still_belt
 from core.theory.values import RegimeGrid
-from core.validation import check_grid, check_oscillator, check_rigid_stop, check_state
+from core.validation import check_grid, check_rigid_stop, check_state
 
 #: Branch codes of :func:`decide`: which closed form describes the point.
 IMPACTLESS = 0  # the stop is never reached (or there is none)
@@ -183,8 +183,7 @@ def classify_grid(
     >>> grid.expected_steady.tolist()
     [['periodic', 'grazing'], ['periodic', 'pure_slip']]
     """
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    x0, v0 = check_state(osc, x0, v0)
     if stop is not None and not isinstance(stop, RigidStop):
         check_rigid_stop(stop, x0)  # raises: the closed forms speak of a rigid stop
     speeds = check_grid("belt_speed", speeds, 0.0)

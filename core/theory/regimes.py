@@ -89,8 +89,7 @@ def analyse(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) -> An
     """Everything the public functions report about a scene, computed once: the regime
     from :func:`core.theory.grid.decide` (the one decision tree), then the closed forms
     of that regime."""
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    x0, v0 = check_state(osc, x0, v0)
     check_rigid_stop(stop, x0)
     x_bar = stop.clearance if stop is not None else 0.0
     d = decide(osc, stop, np.array([osc.v]), np.array([x_bar]), x0, v0)
@@ -140,53 +139,36 @@ def _impactless(
     kind: SteadyKind,
 ) -> Analysis:
     where = "no stop" if no_stop else "the stop lies beyond x_max"
+    cycle: dict = {}
     if kind is SteadyKind.EQUILIBRIUM and osc.v == 0.0:
-        return Analysis(
-            belt,
-            "none",
-            None,
-            True,
-            SteadyKind.EQUILIBRIUM,
+        text = (
             f"Belt at rest (v = 0), {where}: the mass comes to rest (equilibrium; the "
-            "limit v -> 0 of Sec. 3.1)",
-            x_max=x_max,
+            "limit v -> 0 of Sec. 3.1)"
         )
-    if kind is not SteadyKind.PERIODIC:
-        if kind is SteadyKind.EQUILIBRIUM:  # a fast belt, started at the centre (a, 0)
-            return Analysis(
-                belt,
-                "none",
-                None,
-                True,
-                SteadyKind.EQUILIBRIUM,
-                f"Fast belt, {where}: the start is the centre (a, 0) of the slip circles, "
-                "the mass stays at rest (Sec. 3.1)",
-                x_max=x_max,
-            )
-        return Analysis(
-            belt,
-            "none",
-            None,
-            True,
-            SteadyKind.PURE_SLIP,
+    elif kind is SteadyKind.EQUILIBRIUM:  # a fast belt, started at the centre (a, 0)
+        text = (
+            f"Fast belt, {where}: the start is the centre (a, 0) of the slip circles, "
+            "the mass stays at rest (Sec. 3.1)"
+        )
+    elif kind is not SteadyKind.PERIODIC:
+        kind, cycle = SteadyKind.PURE_SLIP, {"period": TWO_PI}
+        text = (
             f"Fast belt (v > v*), {where}: pure slip on the circle about (a, 0) through "
-            "the start, period 2 pi (Sec. 3.1, Eq. 22, Fig. 3a)",
-            period=TWO_PI,
-            x_max=x_max,
+            "the start, period 2 pi (Sec. 3.1, Eq. 22, Fig. 3a)"
         )
-    lc = impactless_limit_cycle(osc)
-    return Analysis(
-        belt,
-        "none",
-        None,
-        True,
-        SteadyKind.PERIODIC,
-        f"Slow belt (v <= v*), {where}: stick-slip limit cycle (Sec. 3.1, Eqs. 23-24, Fig. 3a)",
-        period=lc.period,
-        x_max=lc.x_max,
-        sequence=(STICK_SLIP, SLIP_STICK),
-        points={"P_stick_start": lc.stick_start, "P_stick_end": lc.stick_end},
-    )
+    else:
+        lc = impactless_limit_cycle(osc)
+        x_max = lc.x_max
+        cycle = {
+            "period": lc.period,
+            "sequence": (STICK_SLIP, SLIP_STICK),
+            "points": {"P_stick_start": lc.stick_start, "P_stick_end": lc.stick_end},
+        }
+        text = (
+            f"Slow belt (v <= v*), {where}: stick-slip limit cycle (Sec. 3.1, Eqs. 23-24, "
+            "Fig. 3a)"
+        )
+    return Analysis(belt, "none", None, True, kind, text, x_max=x_max, **cycle)
 
 
 def _impact_cycle_or_decay(
