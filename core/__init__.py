@@ -37,6 +37,7 @@ from core.simulate import simulate as simulate
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
 from core.validation import check_range as check_range
+from core.validation import check_start as check_start
 
 __all__ = [
     "FIRST_LOADING",
@@ -55,6 +56,7 @@ __all__ = [
     "Transition",
     "TransitionKind",
     "check_range",
+    "check_start",
     "contact_force",
     "effective_restitutions",
     "method_options",
