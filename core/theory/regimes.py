@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from core.params import Oscillator, RigidStop
 from core.result import SteadyKind
 from core.theory.accumulation import accumulation_time
@@ -22,7 +20,7 @@ from core.theory.grid import (
     IMPACTLESS,
     STEADY_NAMES,
     STILL,
-    decide,
+    decide_point,
     impact_label,
 )
 from core.theory.impactless import critical_speed, impactless_limit_cycle, x_max_impactless
@@ -87,14 +85,14 @@ def _impact_slip_cycle(a: float, x_bar: float, w: float) -> float:
 
 def analyse(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) -> Analysis:
     """Everything the public functions report about a scene, computed once: the regime
-    from :func:`core.theory.grid.decide` (the one decision tree), then the closed forms
-    of that regime."""
+    from :func:`core.theory.grid.decide_point` (the one decision tree, on one point),
+    then the closed forms of that regime."""
     x0, v0 = check_state(osc, x0, v0)
     check_rigid_stop(stop, x0)
     x_bar = stop.clearance if stop is not None else 0.0
-    d = decide(osc, stop, np.array([osc.v]), np.array([x_bar]), x0, v0)
-    branch, kind = int(d.branch[0, 0]), SteadyKind(STEADY_NAMES[d.steady[0, 0]])
-    belt = "fast" if d.fast[0, 0] else "slow"
+    d = decide_point(osc, stop, x0, v0)
+    branch, kind = d.branch, SteadyKind(STEADY_NAMES[d.steady])
+    belt = "fast" if d.fast else "slow"
     if branch == IMPACTLESS:
         return _impactless(osc, x0, v0, belt, x_max_impactless(osc, x0, v0), stop is None, kind)
     a = osc.a
