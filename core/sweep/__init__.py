@@ -23,6 +23,7 @@ or a numerical method solves each point with :func:`core.simulate`;
 
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -160,6 +161,19 @@ def plan_grid(
     return GridPlan(lanes, values, quantity, t_end, method, x0, v0)
 
 
+def takes_plan_options(fn):
+    """Show ``fn(..., **options)`` with :func:`plan_grid`'s keyword options in its signature
+    (``help``, ``inspect``), as if it listed them itself; the options are checked by
+    :func:`plan_grid`, which ``fn`` calls."""
+    own = [p for p in inspect.signature(fn).parameters.values() if p.kind is not p.VAR_KEYWORD]
+    options = [
+        p for p in inspect.signature(plan_grid).parameters.values() if p.kind is p.KEYWORD_ONLY
+    ]
+    fn.__signature__ = inspect.signature(fn).replace(parameters=own + options)
+    return fn
+
+
+@takes_plan_options
 def sweep(
     osc: Oscillator, stop: RigidStop | HystereticStop | None, parameter: str, values, **options
 ) -> SweepResult:
@@ -181,6 +195,7 @@ def sweep(
     return sweep_grid(osc, stop, {parameter: values}, **options)
 
 
+@takes_plan_options
 def sweep_grid(
     osc: Oscillator, stop: RigidStop | HystereticStop | None, axes: dict, **options
 ) -> SweepResult:

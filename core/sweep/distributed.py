@@ -19,7 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
-from core.sweep import GridPlan, plan_grid, solve_block, vectorised
+from core.sweep import GridPlan, plan_grid, solve_block, takes_plan_options, vectorised
 from core.sweep.lanes import Lanes
 from core.sweep.result import LaneRecords, SweepResult
 
@@ -93,6 +93,7 @@ def run_chunks(
     return LaneRecords.concat(parts), info
 
 
+@takes_plan_options
 def sweep_distributed(
     osc: Oscillator,
     stop: RigidStop | HystereticStop | None,
