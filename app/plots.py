@@ -44,8 +44,7 @@ from app import sampling
 from app.scenes import CUSTOM, PLOTS
 from app.solver import Solution, map_ranges
 from app.state import DIMENSIONLESS, Scales
-from core import Mode, TransitionKind
-from core.hysteresis import phi_compression, phi_expansion
+from core import Mode, TransitionKind, phi_compression, phi_expansion
 
 #: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
 MODE_COLORS: Mapping[int, str] = {

@@ -32,11 +32,21 @@ from panel.io.state import set_curdoc
 from app import solve_process
 from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
-from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
-from core.hysteresis import FIRST_LOADING, contact_force, reverse
-from core.hysteretic import effective_restitutions
-from core.numerics.limits import MAX_STEPS
-from core.result import Status
+from core import (
+    DEFAULT_MAX_STEPS,
+    FIRST_LOADING,
+    HystereticStop,
+    Mode,
+    Result,
+    RigidStop,
+    Status,
+    contact_force,
+    effective_restitutions,
+    method_options,
+    reverse,
+    simulate,
+    theory,
+)
 
 #: How a solve that stopped early says so: the page offers to retry it with more time.
 CUT_SHORT = (Status.TIME_BUDGET, Status.STEP_LIMIT)
@@ -582,7 +592,7 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
             options["time_budget"] = _budget(preview, budget)
         if "max_steps" in used and budget is not None and budget > SOLVE_BUDGET_S:
             # A retry with more time may take as many more steps.
-            options["max_steps"] = int(MAX_STEPS * budget / SOLVE_BUDGET_S)
+            options["max_steps"] = int(DEFAULT_MAX_STEPS * budget / SOLVE_BUDGET_S)
         result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
                            **options)
     solve_time = time.perf_counter() - start

@@ -25,7 +25,7 @@ from typing import Any
 import param
 
 from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
-from core import HystereticStop, Oscillator, RigidStop, check_range
+from core import HystereticStop, Oscillator, RigidStop, check_range, check_start
 
 #: Stop types offered in the page.
 STOP_TYPES = ("none", "rigid", "hysteretic")
@@ -280,8 +280,7 @@ def core_inputs(values: Mapping[str, Any]):
     """Build ``(osc, stop, x0, v0, t_end)`` from state values; raises ``ValueError``.
 
     The core validates every value (:mod:`core.validation`), so its messages name the
-    parameter and the allowed range; the one check added here is the stop's position
-    relative to the start, in the domain's words.
+    parameter and the allowed range, the stop's position relative to the start included.
     """
     osc = Oscillator(mu_s=values["mu_s"], mu_k=values["mu_k"],
                      belt_speed=values["belt_speed"], u_s=values["u_s"])
@@ -297,11 +296,10 @@ def core_inputs(values: Mapping[str, Any]):
     else:
         stop = None
     x0, v0 = float(values["x0"]), float(values["v0"])
-    if stop is not None and not values.get("program") and x0 > stop.clearance:
-        raise ValueError(
-            f"the stop must lie ahead of the start position: clearance {stop.clearance:.6g} "
-            f"< x0 {x0:.6g}"
-        )
+    if stop is not None and not values.get("program"):
+        # The explorer starts the mass outside either stop (its scenes and sliders are
+        # laid out so), hence the rigid stop's rule, in the core's words, for both.
+        check_start(x0, stop.clearance)
     t_end = float(values["t_end"])
     check_range("t_end", t_end, 0.0, low_open=True)
     return osc, stop, x0, v0, t_end

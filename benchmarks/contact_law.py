@@ -26,9 +26,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from core import HystereticStop  # noqa: E402
 from core.hysteresis import (  # noqa: E402
     FIRST_LOADING,
-    branch_work,
     contact_force,
     force_and_slope,
+    program_work,
     reverse,
 )
 
@@ -59,19 +59,6 @@ def one_contact(stop: HystereticStop, w: float) -> tuple[float, float]:
     out.terminal, out.direction = True, -1
     down = solve_ivp(rhs(branch), (0.0, 100 * t_scale), [d_max, 0.0], events=out, **opts)
     return -float(down.y_events[0][0][1]) / w, d_max
-
-
-def program_work(stop: HystereticStop, turns) -> float:
-    """Work done on the stop along 0 -> turns... -> 0."""
-    delta, branch, work = 0.0, FIRST_LOADING, 0.0
-    for target in [*turns, 0.0]:
-        if target == delta:
-            continue
-        if (target > delta) != branch.loading:
-            branch = reverse(delta, float(contact_force(delta, branch, stop)), branch)
-        work += branch_work(delta, target, branch, stop)
-        delta = target
-    return work
 
 
 def fig2b_turns(d_lim: float) -> list[float]:

@@ -37,7 +37,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from core import HystereticStop, Oscillator, RigidStop  # noqa: E402
-from core.sweep import sweep_grid  # noqa: E402
+from core.sweep import plan_grid, sweep_grid  # noqa: E402
 from core.sweep.lanes import make_lanes  # noqa: E402
 from core.sweep.scalar import solve_lanes  # noqa: E402
 
@@ -153,16 +153,16 @@ def deformable(n: int) -> None:
     )
     t_end = 100.0
     axes = {"belt_speed": np.linspace(0.02, 0.3, n)}
-    lanes = make_lanes(osc, stop, axes, 0.0)
-    cost = pilot_cost(lanes, t_end, 0.0, 0.0, "exact")
+    plan = plan_grid(osc, stop, axes, t_end=t_end)
+    cost = pilot_cost(plan.lanes, t_end, 0.0, 0.0, "exact")
     start = time.perf_counter()
-    serial, _ = run_chunks(lanes, t_end, 0.0, 0.0, "exact")
+    serial, _ = run_chunks(plan)
     wall_serial = time.perf_counter() - start
     start = time.perf_counter()
     with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None) as cluster:
         with Client(cluster) as client:
             up = time.perf_counter() - start
-            rec, info = run_chunks(lanes, t_end, 0.0, 0.0, "exact", client=client)
+            rec, info = run_chunks(plan, client=client)
     wall_dask = time.perf_counter() - start
     same = all(
         np.array_equal(getattr(serial, f), getattr(rec, f), equal_nan=True)

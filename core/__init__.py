@@ -9,27 +9,39 @@
 ``core`` imports neither panel, bokeh nor param; ``app`` is built on top of it.
 """
 
-from core import theory
-from core.hysteresis import FIRST_LOADING, contact_force, phi_compression, phi_expansion, reverse
-from core.hysteretic import effective_restitutions
-from core.params import HystereticStop, Oscillator, RigidStop
-from core.result import (
-    STATS_KEYS,
-    DenseSolution,
-    Energy,
-    Mode,
-    Result,
-    Status,
-    Steady,
-    SteadyKind,
-    Transition,
-    TransitionKind,
-)
-from core.simulate import METHODS, method_options, simulate
-from core.steady import pressed_on_stop, rest_force
-from core.validation import check_range
+# Each public name is re-exported explicitly (``import X as X``, PEP 484), so a reader
+# and a type checker see where it lives; ``app`` imports from here only.
+from core import theory as theory
+from core.hysteresis import FIRST_LOADING as FIRST_LOADING
+from core.hysteresis import contact_force as contact_force
+from core.hysteresis import phi_compression as phi_compression
+from core.hysteresis import phi_expansion as phi_expansion
+from core.hysteresis import reverse as reverse
+from core.hysteretic import effective_restitutions as effective_restitutions
+from core.numerics.limits import MAX_STEPS as DEFAULT_MAX_STEPS
+from core.params import HystereticStop as HystereticStop
+from core.params import Oscillator as Oscillator
+from core.params import RigidStop as RigidStop
+from core.result import STATS_KEYS as STATS_KEYS
+from core.result import DenseSolution as DenseSolution
+from core.result import Energy as Energy
+from core.result import Mode as Mode
+from core.result import Result as Result
+from core.result import Status as Status
+from core.result import Steady as Steady
+from core.result import SteadyKind as SteadyKind
+from core.result import Transition as Transition
+from core.result import TransitionKind as TransitionKind
+from core.simulate import METHODS as METHODS
+from core.simulate import method_options as method_options
+from core.simulate import simulate as simulate
+from core.steady import pressed_on_stop as pressed_on_stop
+from core.steady import rest_force as rest_force
+from core.validation import check_range as check_range
+from core.validation import check_start as check_start
 
 __all__ = [
+    "DEFAULT_MAX_STEPS",
     "FIRST_LOADING",
     "METHODS",
     "STATS_KEYS",
@@ -46,6 +58,7 @@ __all__ = [
     "Transition",
     "TransitionKind",
     "check_range",
+    "check_start",
     "contact_force",
     "effective_restitutions",
     "method_options",

@@ -38,7 +38,6 @@ import numpy as np
 from core.hysteresis import stored_energy
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
-from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import (
     DenseSolution,
     Energy,
@@ -50,7 +49,8 @@ from core.result import (
     Transition,
     TransitionKind,
 )
-from core.steady import FixedPointDetector, pressed_on_stop, pressed_steady
+from core.solve_inputs import SolveInputs, StopFacts
+from core.steady import FixedPointDetector, pressed_steady
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -547,32 +547,28 @@ def result_from_dense(
 def result_from_track(
     track: PointTrack,
     log: TransitionLog,
-    osc: Oscillator,
-    stop: RigidStop | HystereticStop | None,
+    inputs: SolveInputs,
     *,
-    t_end: float,
-    n_samples: int,
     rtol: float,
     model_rtol: float = 0.0,
-    status: Status,
-    method: str,
-    stats: dict[str, int],
-    info: dict[str, object],
-    t_eval: np.ndarray | None,
-    dense: DenseSolution | None,
+    **result: object,
 ) -> Result:
     """:func:`result_from_dense` for an integrator's :class:`PointTrack` on a scene: the
-    contact force, overlap and stored energy of a deformable stop, the face of a rigid one."""
-    soft = isinstance(stop, HystereticStop)
-    c = stop.clearance if stop is not None else math.inf
+    contact force, overlap and stored energy of a deformable stop, the face of a rigid one,
+    sampled as ``inputs`` asks. ``result`` holds ``status``, ``method``, ``stats``, ``info``
+    and ``dense`` for the :class:`~core.result.Result`."""
+    osc, stop = inputs.osc, inputs.stop
+    facts = StopFacts.of(osc, stop)
+    soft, c = facts.soft, facts.c
     return result_from_dense(
         track.t,
         track.x,
         track.v,
         track.mode,
         log,
-        t_end=t_end,
-        n_samples=n_samples,
+        t_end=inputs.t_end,
+        n_samples=inputs.n_samples,
+        t_eval=inputs.t_eval,
         transition_cap=log.cap,
         acc=track.acc,
         contact_force=track.phi if soft else None,
@@ -580,15 +576,10 @@ def result_from_track(
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,
         model_rtol=model_rtol,
-        pressed=stop is not None and pressed_on_stop(osc, c),
+        pressed=facts.pressed,
         belt_speed=osc.v,
-        x_upper=c if isinstance(stop, RigidStop) else None,
-        status=status,
-        method=method,
-        stats=stats,
-        info=info,
-        t_eval=t_eval,
-        dense=dense,
+        x_upper=c if facts.rigid else None,
+        **result,
     )
 
 

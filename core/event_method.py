@@ -60,11 +60,10 @@ from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
-from core.params import HystereticStop, Oscillator, RigidStop
+from core.params import HystereticStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
-from core.simulate import MAX_SAMPLES, MAX_TRANSITION_CAP
-from core.steady import pressed_on_stop
-from core.validation import check_integer, check_range, check_start, check_times
+from core.solve_inputs import SolveInputs, StopFacts, solve_entry
+from core.validation import check_integer, check_range
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
 #: contact, and LSODA's automatic stiffness switching.
@@ -111,24 +110,13 @@ class EventSolver:
     position, velocity, friction state, contact and branch of the contact law), the dense
     track and the work counts. :meth:`run` advances it to the horizon or a limit."""
 
-    def __init__(
-        self,
-        osc: Oscillator,
-        stop: RigidStop | HystereticStop | None,
-        t_end: float,
-        x0: float,
-        v0: float,
-        opts: EventOptions,
-        limit: WorkLimit,
-        transition_cap: int,
-    ) -> None:
-        self.osc, self.stop, self.t_end, self.opts, self.limit = osc, stop, t_end, opts, limit
-        self.rigid = isinstance(stop, RigidStop)
-        self.soft = isinstance(stop, HystereticStop)
-        self.c = stop.clearance if stop is not None else math.inf
-        self.r = stop.restitution if self.rigid else 1.0
-        # the project's one rule for a mass that may rest at the stop (docs/physics.md)
-        self.pressed = stop is not None and pressed_on_stop(osc, self.c)
+    def __init__(self, inputs: SolveInputs, opts: EventOptions, limit: WorkLimit) -> None:
+        osc, stop, x0, v0 = inputs.osc, inputs.stop, inputs.x0, inputs.v0
+        self.inputs, self.osc, self.stop, self.t_end = inputs, osc, stop, inputs.t_end
+        self.opts, self.limit = opts, limit
+        facts = StopFacts.of(osc, stop)
+        self.rigid, self.soft, self.c, self.r = facts.rigid, facts.soft, facts.c, facts.r
+        self.pressed = facts.pressed
         a = osc.a
         if opts.rest_speed is not None:
             self.rest_speed = opts.rest_speed
@@ -136,7 +124,7 @@ class EventSolver:
             self.rest_speed = (
                 math.sqrt(2.0 * opts.atol * max(a - self.c, 0.0)) if self.rigid else 0.0
             )
-        self.log = new_log(transition_cap)
+        self.log = new_log(inputs.transition_cap)
         self.track = PointTrack()
         self.dense = PiecewiseDense(self.c if self.rigid else None)
         self.t, self.x, self.v = 0.0, x0, v0
@@ -399,23 +387,19 @@ class EventSolver:
         self.point(self.t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)
 
     # --- the result ---------------------------------------------------------------------------
-    def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
+    def result(self) -> Result:
         stats = make_stats(
             segments=self.n_seg, steps=self.n_steps, rhs_evals=self.n_eval, events=self.log.total
         )
         return result_from_track(
             self.track,
             self.log,
-            self.osc,
-            self.stop,
-            t_end=self.t_end,
-            n_samples=n_samples,
+            self.inputs,
             rtol=self.opts.rtol,
             status=self.status,
             method="event",
             stats=stats,
             info={"solver": self.opts.solver},
-            t_eval=t_eval,
             dense=self.dense if self.dense.pieces else None,
         )
 
@@ -482,20 +466,13 @@ def _stick_contact_end(stop: HystereticStop, branch: Branch, x: float, b: float)
     return kind, x_e
 
 
-def simulate_event(
-    osc: Oscillator,
-    stop: RigidStop | HystereticStop | None = None,
-    t_end: float = 100.0,
-    x0: float = 0.0,
-    v0: float = 0.0,
+def solve_event(
+    inputs: SolveInputs,
     *,
-    n_samples: int = 2000,
-    transition_cap: int = 10_000,
     rtol: float = 1e-8,
     atol: float = 1e-10,
     solver: str = "RK45",
     rest_speed: float | None = None,
-    t_eval=None,
     max_steps: int = MAX_STEPS,
     time_budget: float | None = None,
     max_events: int = MAX_EVENTS,
@@ -503,18 +480,14 @@ def simulate_event(
     """Response by event location on the non-smooth model (SciPy's solvers, see the module
     docstring).
 
+    :func:`simulate_event` takes the scene, horizon, start and sampling as
+    :func:`core.simulate` does (:class:`~core.solve_inputs.SolveInputs`); ``t_eval`` is
+    sampled on the solvers' dense output (after an early stop, only the times it reached).
+
     Parameters
     ----------
-    osc : Oscillator
-    stop : RigidStop, HystereticStop or None
-    t_end : float
-        Horizon (dimensionless time), ``> 0``.
-    x0, v0 : float
-        Initial state (``x0 <= clearance`` for a rigid stop).
-    n_samples : int
-        Uniform samples of the result (transition points are added).
-    transition_cap : int
-        Transitions stored (all are counted).
+    inputs : SolveInputs
+        The checked scene, horizon, start and sampling.
     rtol, atol : float
         Tolerances of the solver (as in ``solve_ivp``).
     solver : {"RK45", "DOP853", "Radau", "LSODA"}
@@ -522,10 +495,6 @@ def simulate_event(
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop rests there (Zeno guard);
         default ``sqrt(2 atol (a - clearance))``.
-    t_eval : array_like, optional
-        Sample exactly at these sorted times in ``[0, t_end]`` (the solver's dense output)
-        instead of ``n_samples`` uniform ones and the transitions; after an early stop only
-        the times it reached are sampled.
     max_steps : int
         Largest number of solver steps. When it is reached the solve stops with
         ``Status.STEP_LIMIT``; the result covers the time up to that point.
@@ -549,25 +518,18 @@ def simulate_event(
 
     Examples
     --------
+    >>> from core import Oscillator
     >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
     >>> res = simulate_event(osc, t_end=2.0)
     >>> tr = res.transitions[0]     # Eq. (30): first stick at x = a - sqrt(a^2 - v^2)
     >>> tr.kind.value, round(tr.x, 8)
     ('slip->stick', 0.02679492)
     """
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
-    x0 = check_range("x0", x0)
-    v0 = check_range("v0", v0)
-    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
-    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
     opts = EventOptions(rtol, atol, solver, rest_speed, max_steps, time_budget, max_events)
-    limit = WorkLimit(max_steps, time_budget)
-    if t_eval is not None:
-        t_eval = check_times("t_eval", t_eval, t_end)
-    if stop is not None:
-        check_start(
-            x0, stop.clearance, stop.limit_overlap if isinstance(stop, HystereticStop) else None
-        )
-    run = EventSolver(osc, stop, t_end, x0, v0, opts, limit, transition_cap)
+    run = EventSolver(inputs, opts, WorkLimit(max_steps, time_budget))
     run.run()
-    return run.result(n_samples, t_eval)
+    return run.result()
+
+
+#: :func:`solve_event` with the inputs of :func:`core.simulate`.
+simulate_event = solve_entry(solve_event)

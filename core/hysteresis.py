@@ -495,6 +495,46 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
     return total
 
 
+def program_work(stop: HystereticStop, turns) -> float:
+    """Work done on the stop along the overlap program ``0 -> turns[0] -> ... -> 0``.
+
+    The overlap moves monotonically between successive turning points; at each change of
+    direction the branch reverses at the force reached (Eqs. 12-13), and an overlap back at
+    ``0`` (separation) starts the next loading on the virgin branch. A closed program that
+    returns a negative work shows a law that is not passive (docs/physics.md, "The
+    deformable stop"; the two readings compared in docs/contact-law.md).
+
+    Parameters
+    ----------
+    stop : HystereticStop
+    turns : sequence of float
+        Turning points of the overlap (lengths in ``[0, D)``).
+
+    Returns
+    -------
+    float
+        ``sum of int phi(delta) d delta`` over the program, per unit ``k``.
+
+    Examples
+    --------
+    >>> stop = HystereticStop(0.0, k_c0=100.0, k_e0=25.0, limit_overlap=0.1)
+    >>> program_work(stop, [0.05]) > 0.0      # one load and unload dissipates
+    True
+    """
+    delta, branch, work = 0.0, FIRST_LOADING, 0.0
+    for target in [*turns, 0.0]:
+        target = float(target)
+        if target == delta:
+            continue
+        if (target > delta) != branch.loading:
+            branch = reverse(delta, float(contact_force(delta, branch, stop)), branch)
+        work += branch_work(delta, target, branch, stop)
+        delta = target
+        if delta <= 0.0:
+            branch = FIRST_LOADING
+    return work
+
+
 def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> float:
     """``int_lo^hi phi`` on a branch of the passive law, in closed form: its curves are
     ``phi_C``, or the paper's clipped unloading curve through an anchor point (below ``s+``

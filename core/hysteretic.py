@@ -124,15 +124,9 @@ from core.hysteretic_reduced import (
     reduce_train,
 )
 from core.hysteretic_samples import _assemble
-from core.params import HystereticStop, Oscillator
-from core.result import (
-    Mode,
-    Result,
-    Status,
-    Steady,
-    SteadyKind,
-    TransitionKind,
-)
+from core.params import HystereticStop
+from core.result import Mode, Result, Status, Steady, SteadyKind, TransitionKind
+from core.solve_inputs import SolveInputs, solve_entry
 from core.steady import FixedPointDetector, pressed_on_stop
 from core.trajectory import SegmentTable
 from core.transitions import TransitionLog
@@ -224,31 +218,24 @@ class _Solver:
         kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
         r = branch.delta_r
         exp, cap = math.exp, EXP_CAP
+        # Eq. 13 on either branch: phi = k_own h + g exp(rate (d - r)), h = d / (D - d),
+        # held between the envelopes (Eq. 11): at least phi_E while loading, at most phi_C
+        # while unloading. ``side`` turns "at least" into "at most" without a branch.
         if branch.loading:
-            c = kc * r / (d_lim - r) - branch.phi_r
-            rate = stop.beta_c / d_lim
-
-            def acc(x: float) -> float:
-                d = x - xb
-                if d <= 0.0:
-                    return sa - x
-                hyper = d / (d_lim - d)
-                lower = ke * hyper
-                phi = kc * hyper - c * exp(min(rate * (r - d), cap))
-                return sa - x - (phi if phi > lower else lower)
-
+            k_own, k_env, side = kc, ke, -1.0
+            gap, rate = branch.phi_r - kc * r / (d_lim - r), -stop.beta_c / d_lim
         else:
-            c = branch.phi_r - ke * r / (d_lim - r)
-            rate = stop.beta_e / d_lim
+            k_own, k_env, side = ke, kc, 1.0
+            gap, rate = branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
 
-            def acc(x: float) -> float:
-                d = x - xb
-                if d <= 0.0:
-                    return sa - x
-                hyper = d / (d_lim - d)
-                upper = kc * hyper
-                phi = ke * hyper + c * exp(min(rate * (d - r), cap))
-                return sa - x - (phi if phi < upper else upper)
+        def acc(x: float) -> float:
+            d = x - xb
+            if d <= 0.0:
+                return sa - x
+            hyper = d / (d_lim - d)
+            envelope = k_env * hyper
+            phi = k_own * hyper + gap * exp(min(rate * (d - r), cap))
+            return sa - x - (phi if side * (phi - envelope) < 0.0 else envelope)
 
         return acc
 
@@ -659,46 +646,31 @@ class _Solver:
         self.tail_start = (t_then, st.t)
 
 
-def simulate_hysteretic(
-    osc: Oscillator,
-    stop: HystereticStop,
-    t_end: float,
-    x0: float,
-    v0: float,
+def solve_hysteretic(
+    inputs: SolveInputs,
     *,
-    n_samples: int = 2000,
-    transition_cap: int = 10_000,
     rtol: float = 1e-9,
     atol: float = 1e-12,
     arcs: bool = True,
     reduce: bool = True,
-    t_eval=None,
     max_events: int = MAX_EVENTS,
 ) -> Result:
     """Response with a hysteretic stop: exact free flight and integrated contact phases.
 
+    :func:`simulate_hysteretic` takes the scene, horizon, start and sampling as
+    :func:`core.simulate` does (:class:`~core.solve_inputs.SolveInputs`); the stop must be
+    a :class:`~core.params.HystereticStop` (paper Eqs. 9-13, docs/contact-law.md).
+
     Parameters
     ----------
-    osc : Oscillator
-    stop : HystereticStop
-        The deformable stop (paper Eqs. 9-13, docs/contact-law.md).
-    t_end : float
-        Horizon (dimensionless time), ``> 0``.
-    x0, v0 : float
-        Initial state, ``x0 <= stop.clearance`` (inputs are checked by :func:`core.simulate`).
-    n_samples : int
-        Uniform samples in ``[0, t_end]``; the transition points are added.
-    transition_cap : int
-        Transitions stored at most; all are counted.
+    inputs : SolveInputs
+        The checked scene, horizon, start and sampling.
     rtol, atol : float
         Tolerances of the contact integration (position and velocity).
     arcs : bool
         Take the slip between two reversals of a contact semi-analytically where that is
         exact (:meth:`_Solver.arc`); ``False`` integrates every contact step by step (the
         reference of the tests and ``benchmarks/hysteretic_speed.py``).
-    t_eval : array_like, optional
-        Sample times (1-D, increasing, in ``[0, t_end]``) instead of ``n_samples`` uniform
-        ones and the transition points.
     max_events : int
         Limit on the number of transitions; past it the result ends there with
         ``Status.EVENT_LIMIT``.
@@ -729,12 +701,10 @@ def simulate_hysteretic(
     >>> res.status.value, res.info["n_contacts"] > 0
     ('success', True)
     """
-    if t_eval is not None:
-        t_eval = np.asarray(t_eval, dtype=float)
-        if t_eval.ndim != 1 or np.any(t_eval < 0.0) or np.any(t_eval > t_end) or np.any(
-            np.diff(t_eval) < 0.0
-        ):
-            raise ValueError("t_eval must be a 1-D increasing array of times in [0, t_end]")
+    osc, stop, t_end, x0, v0 = inputs.osc, inputs.stop, inputs.t_end, inputs.x0, inputs.v0
+    if not isinstance(stop, HystereticStop):
+        raise TypeError(f"stop must be a HystereticStop; got {type(stop).__name__}")
+    transition_cap, n_samples, t_eval = inputs.transition_cap, inputs.n_samples, inputs.t_eval
     sv = _Solver(osc, stop, t_end, rtol, atol, transition_cap)
     sv.max_events = max_events
     sv.use_arcs = arcs and stop.law == "paper"  # the arcs' closed forms are the paper's
@@ -773,6 +743,10 @@ def simulate_hysteretic(
     else:
         sv.status = Status.EVENT_LIMIT
     return _assemble(sv, osc, stop, t_end, x0, v0, n_samples, t_eval)
+
+
+#: :func:`solve_hysteretic` with the inputs of :func:`core.simulate`.
+simulate_hysteretic = solve_entry(solve_hysteretic)
 
 
 def effective_restitutions(res: Result) -> np.ndarray:

@@ -27,16 +27,7 @@ from core.hysteretic_base import (
     _poly,
 )
 from core.params import HystereticStop
-from core.result import (
-    Energy,
-    Mode,
-    Result,
-    Status,
-    Steady,
-    SteadyKind,
-    TransitionKind,
-    make_stats,
-)
+from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.steady import pressed_steady
 from core.trajectory import evaluate
 

@@ -21,17 +21,9 @@ import numpy as np
 
 from core.flight import FreeEvent, Motion, Segment, after_event, free_flight, start_motion
 from core.impact_sequence import ImpactSequence, impact_sequence
-from core.params import Oscillator, RigidStop
-from core.result import (
-    Energy,
-    Mode,
-    Result,
-    Status,
-    Steady,
-    SteadyKind,
-    TransitionKind,
-    make_stats,
-)
+from core.params import HystereticStop, Oscillator, RigidStop
+from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
+from core.solve_inputs import SolveInputs, solve_entry
 from core.steady import Cycle, FixedPointDetector, comes_to_rest, pressed_on_stop, rest_force
 from core.trajectory import ExactSolution, PeriodicTail, SegmentTable
 from core.transitions import IMPACT_KINDS, TransitionLog
@@ -48,31 +40,28 @@ def length_scale(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) 
     return max(osc.a, osc.b, osc.v, xb, abs(x0), abs(v0), 1e-300)
 
 
-def simulate_rigid(
-    osc: Oscillator,
-    stop: RigidStop | None,
-    t_end: float,
-    x0: float,
-    v0: float,
-    *,
-    n_samples: int,
-    transition_cap: int,
-    t_eval: np.ndarray | None = None,
-    max_events: int = MAX_EVENTS,
-) -> Result:
-    """Exact response over ``[0, t_end]`` (inputs already validated by ``simulate``).
+def solve_rigid(inputs: SolveInputs, *, max_events: int = MAX_EVENTS) -> Result:
+    """Exact response over ``[0, t_end]`` with no stop or a rigid stop.
 
     After ``max_events`` events without reaching ``t_end`` or a steady state, the result
     covers ``[0, t]`` up to the last event and has ``status = Status.EVENT_LIMIT``.
     """
-    run = _Run(osc, stop, t_end, x0, v0, transition_cap)
+    osc, stop, t_end, t_eval = inputs.osc, inputs.stop, inputs.t_end, inputs.t_eval
+    if isinstance(stop, HystereticStop):
+        raise TypeError("the exact rigid solver takes no stop or a RigidStop; got a "
+                        "HystereticStop (use core.simulate)")
+    run = _Run(osc, stop, t_end, inputs.x0, inputs.v0, inputs.transition_cap)
     status = Status.SUCCESS
     if not run.step_until_done(max_events):
         status, t_end = Status.EVENT_LIMIT, run.t  # the response is known up to here
         if t_eval is not None:
             t_eval = t_eval[t_eval <= t_end]
-    res = _assemble(run, t_end, n_samples, t_eval)
+    res = _assemble(run, t_end, inputs.n_samples, t_eval)
     return res if status is Status.SUCCESS else dataclasses.replace(res, status=status)
+
+
+#: :func:`solve_rigid` with the inputs of :func:`core.simulate`.
+simulate_rigid = solve_entry(solve_rigid)
 
 
 class _Run:

@@ -4,21 +4,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
-from core.params import HystereticStop, Oscillator, RigidStop
+from core.params import HystereticStop, RigidStop
 from core.result import Result
-from core.rigid import simulate_rigid
-from core.validation import (
-    check_choice,
-    check_integer,
-    check_options,
-    check_oscillator,
-    check_range,
-    check_start,
-    check_stop,
-    check_times,
-)
+from core.rigid import solve_rigid
+from core.solve_inputs import SolveInputs, solve_entry
+from core.validation import check_choice, check_integer, check_options, check_range
 
 #: Methods offered by :func:`simulate`.
 METHODS = ("exact", "switch", "event")
@@ -29,27 +19,18 @@ METHOD_OPTIONS = {
     "switch": ("rtol", "atol", "eta", "max_steps", "time_budget"),
     "event": ("rtol", "atol", "max_steps", "time_budget"),
 }
-#: Bounds of the sampling density and the transition store.
-MAX_SAMPLES = 10_000_000
-MAX_TRANSITION_CAP = 10_000_000
 #: Upper bound of a numerical method's step limit.
 MAX_STEPS = 1_000_000_000
 
 
+@solve_entry
 def simulate(
-    osc: Oscillator,
-    stop: RigidStop | HystereticStop | None = None,
-    t_end: float = 100.0,
-    x0: float = 0.0,
-    v0: float = 0.0,
+    inputs: SolveInputs,
     *,
-    n_samples: int = 2000,
-    transition_cap: int = 10_000,
     method: str = "exact",
     rtol: float | None = None,
     atol: float | None = None,
     eta: float | None = None,
-    t_eval: np.ndarray | None = None,
     max_steps: int | None = None,
     time_budget: float | None = None,
 ) -> Result:
@@ -96,19 +77,9 @@ def simulate(
     >>> round(res.steady.period, 12) == round(2 * math.acos(1 - 0.3 / 0.2), 12)
     True
     """
-    check_oscillator(osc)
-    check_stop(stop)
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
-    x0 = check_range("x0", x0)
-    v0 = check_range("v0", v0)
-    if stop is not None:
-        soft = isinstance(stop, HystereticStop)
-        check_start(x0, stop.clearance, stop.limit_overlap if soft else None)
-    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
-    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
     check_choice("method", method, METHODS)
     check_options(
-        method, method_options(method, stop),
+        method, method_options(method, inputs.stop),
         {"rtol": rtol, "atol": atol, "eta": eta, "max_steps": max_steps,
          "time_budget": time_budget},
     )
@@ -120,34 +91,19 @@ def simulate(
         limits["max_steps"] = check_integer("max_steps", max_steps, 1, MAX_STEPS)
     if time_budget is not None:
         limits["time_budget"] = check_range("time_budget", time_budget, 0.0, low_open=True)
-    if t_eval is not None:
-        t_eval = check_times("t_eval", t_eval, t_end)
-
     if method == "switch":
-        from core.switch import simulate_switch
+        from core.switch import solve_switch
 
-        return simulate_switch(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            t_eval=t_eval, **limits, **_given(rtol=rtol, atol=atol, eta=eta),
-        )
+        return solve_switch(inputs, **limits, **_given(rtol=rtol, atol=atol, eta=eta))
     if method == "event":
-        from core.event_method import simulate_event
+        from core.event_method import solve_event
 
-        return simulate_event(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            t_eval=t_eval, **limits, **_given(rtol=rtol, atol=atol),
-        )
-    if isinstance(stop, HystereticStop):
-        from core.hysteretic import simulate_hysteretic
+        return solve_event(inputs, **limits, **_given(rtol=rtol, atol=atol))
+    if isinstance(inputs.stop, HystereticStop):
+        from core.hysteretic import solve_hysteretic
 
-        return simulate_hysteretic(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-            t_eval=t_eval, **_given(rtol=rtol, atol=atol),
-        )
-    return simulate_rigid(
-        osc, stop, t_end, x0, v0, n_samples=n_samples, transition_cap=transition_cap,
-        t_eval=t_eval,
-    )
+        return solve_hysteretic(inputs, **_given(rtol=rtol, atol=atol))
+    return solve_rigid(inputs)
 
 
 def method_options(method: str, stop: RigidStop | HystereticStop | None) -> tuple[str, ...]:

@@ -64,19 +64,16 @@ import math
 from dataclasses import dataclass
 from functools import partial
 
-import numpy as np
-
 from core.dense import log_rest_at_stop, new_log, result_from_track
 from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import MAX_STEPS, WorkLimit
 from core.numerics.rk import STAGES_PER_STEP, StepControl, rkf45_step
-from core.params import HystereticStop, Oscillator, RigidStop
+from core.params import HystereticStop, Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
-from core.simulate import MAX_SAMPLES, MAX_TRANSITION_CAP
-from core.steady import pressed_on_stop
-from core.validation import check_integer, check_range, check_start, check_times
+from core.solve_inputs import SolveInputs, StopFacts, solve_entry
+from core.validation import check_range
 
 #: First trial step (dimensionless time); the controller grows it within a few steps.
 FIRST_STEP = 1e-3
@@ -199,31 +196,20 @@ class SwitchSolver:
 
     # slots: fixed attributes, and faster access in the step loop
     __slots__ = (
-        "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r", "pressed",
-        "log", "track", "t", "x", "v", "contact", "branch", "rhs", "acc", "fr", "h",
+        "inputs", "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r",
+        "pressed", "log", "track", "t", "x", "v", "contact", "branch", "rhs", "acc", "fr", "h",
         "at_rest", "status", "steps", "rejected", "n_eval",
     )  # fmt: skip
 
-    def __init__(
-        self,
-        osc: Oscillator,
-        stop: RigidStop | HystereticStop | None,
-        t_end: float,
-        x0: float,
-        v0: float,
-        opts: SwitchOptions,
-        limit: WorkLimit,
-        transition_cap: int,
-    ) -> None:
-        self.osc, self.stop, self.t_end, self.opts, self.limit = osc, stop, t_end, opts, limit
+    def __init__(self, inputs: SolveInputs, opts: SwitchOptions, limit: WorkLimit) -> None:
+        osc, stop, x0, v0 = inputs.osc, inputs.stop, inputs.x0, inputs.v0
+        self.inputs, self.osc, self.stop, self.t_end = inputs, osc, stop, inputs.t_end
+        self.opts, self.limit = opts, limit
         self.control = StepControl(opts.rtol, opts.atol)
-        self.rigid = isinstance(stop, RigidStop)
-        self.soft = isinstance(stop, HystereticStop)
-        self.c = stop.clearance if stop is not None else math.inf
-        self.r = stop.restitution if self.rigid else 1.0
-        # the project's one rule for a mass that may rest at the stop (docs/physics.md)
-        self.pressed = stop is not None and pressed_on_stop(osc, self.c)
-        self.log = new_log(transition_cap)
+        facts = StopFacts.of(osc, stop)
+        self.rigid, self.soft, self.c, self.r = facts.rigid, facts.soft, facts.c, facts.r
+        self.pressed = facts.pressed
+        self.log = new_log(inputs.transition_cap)
         self.track = PointTrack()
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
@@ -231,7 +217,7 @@ class SwitchSolver:
         self.rhs = switch_rhs(osc, opts.eta, stop if self.soft else None, self.branch)
         self.acc = self.rhs(x0, v0)
         self.fr = self.friction_state(x0, v0)
-        self.h = min(FIRST_STEP, opts.max_step, t_end)
+        self.h = min(FIRST_STEP, opts.max_step, self.t_end)
         self.at_rest = False
         self.status = Status.SUCCESS
         self.steps = self.rejected = 0
@@ -489,7 +475,7 @@ class SwitchSolver:
         self.h = h_next
 
     # --- the result ---------------------------------------------------------------------------
-    def result(self, n_samples: int, t_eval: np.ndarray | None) -> Result:
+    def result(self) -> Result:
         tr, eta = self.track, self.opts.eta
         stats = make_stats(
             segments=1,
@@ -501,10 +487,7 @@ class SwitchSolver:
         return result_from_track(
             tr,
             self.log,
-            self.osc,
-            self.stop,
-            t_end=self.t_end,
-            n_samples=n_samples,
+            self.inputs,
             rtol=self.opts.rtol,
             # the stick band's model error (~eta / v) moves each transition state by about
             # that much; it does not grow with the horizon as the integration error does
@@ -513,7 +496,6 @@ class SwitchSolver:
             method="switch",
             stats=stats,
             info={"eta": eta},
-            t_eval=t_eval,
             dense=HermiteDense(tr.t, tr.x, tr.v, tr.acc, self.c if self.rigid else None),
         )
 
@@ -562,39 +544,28 @@ def _default_eta(osc: Oscillator) -> float:
     return ETA_REL * scale
 
 
-def simulate_switch(
-    osc: Oscillator,
-    stop: RigidStop | HystereticStop | None = None,
-    t_end: float = 100.0,
-    x0: float = 0.0,
-    v0: float = 0.0,
+def solve_switch(
+    inputs: SolveInputs,
     *,
-    n_samples: int = 2000,
-    transition_cap: int = 10_000,
     rtol: float = 1e-6,
     atol: float = 1e-9,
     eta: float | None = None,
     max_step: float = math.inf,
     rest_speed: float | None = None,
-    t_eval=None,
     max_steps: int = MAX_STEPS,
     time_budget: float | None = None,
 ) -> Result:
     """Response by the switch model and adaptive RKF 4(5), the paper's method.
 
+    :func:`simulate_switch` takes the scene, horizon, start and sampling as
+    :func:`core.simulate` does (:class:`~core.solve_inputs.SolveInputs`); ``t_eval`` is
+    sampled on the cubic Hermite interpolant of the steps (after an early stop, only the
+    times it reached).
+
     Parameters
     ----------
-    osc : Oscillator
-    stop : RigidStop, HystereticStop or None
-    t_end : float
-        Horizon (dimensionless time), ``> 0``.
-    x0, v0 : float
-        Initial state; ``x0 <= clearance`` for a rigid stop, ``x0 - clearance < D`` for a
-        deformable one.
-    n_samples : int
-        Uniform samples of the result (transition points are added).
-    transition_cap : int
-        Transitions stored (all are counted).
+    inputs : SolveInputs
+        The checked scene, horizon, start and sampling.
     rtol, atol : float
         Relative and absolute tolerance of the RKF 4(5) error control, on ``x`` and ``x'``.
     eta : float, optional
@@ -605,10 +576,6 @@ def simulate_switch(
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop is taken to rest there
         (the Zeno guard, see the module docstring); default ``eta``.
-    t_eval : array_like, optional
-        Sample exactly at these sorted times in ``[0, t_end]`` (the cubic Hermite
-        interpolant of the steps) instead of ``n_samples`` uniform ones and the transitions;
-        after an early stop only the times it reached are sampled.
     max_steps : int
         Largest number of Runge-Kutta steps tried (accepted and rejected). When it is
         reached the solve stops with ``Status.STEP_LIMIT`` and the result covers the time
@@ -628,25 +595,20 @@ def simulate_switch(
 
     Examples
     --------
+    >>> from core import Oscillator
     >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)
     >>> res = simulate_switch(osc, t_end=10.0)
     >>> round(res.x_max, 5)           # fast belt: x_max = 2a (paper §3)
     0.4
     """
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
-    x0 = check_range("x0", x0)
-    v0 = check_range("v0", v0)
-    n_samples = check_integer("n_samples", n_samples, 2, MAX_SAMPLES)
-    transition_cap = check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP)
+    osc = inputs.osc
     eta = _default_eta(osc) if eta is None else check_range("eta", eta, 0.0, low_open=True)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
-    limit = WorkLimit(max_steps, time_budget)
-    if t_eval is not None:
-        t_eval = check_times("t_eval", t_eval, t_end)
-    if stop is not None:
-        soft = isinstance(stop, HystereticStop)
-        check_start(x0, stop.clearance, stop.limit_overlap if soft else None)
-    run = SwitchSolver(osc, stop, t_end, x0, v0, opts, limit, transition_cap)
+    run = SwitchSolver(inputs, opts, WorkLimit(max_steps, time_budget))
     run.run()
-    return run.result(n_samples, t_eval)
+    return run.result()
+
+
+#: :func:`solve_switch` with the inputs of :func:`core.simulate`.
+simulate_switch = solve_entry(solve_switch)

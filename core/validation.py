@@ -122,8 +122,10 @@ def check_rigid_stop(stop: object, x0: float) -> None:
     check_start(x0, stop.clearance)
 
 
-def check_state(x0: float, v0: float) -> tuple[float, float]:
-    """The initial state as finite floats."""
+def check_state(osc: object, x0: float, v0: float) -> tuple[float, float]:
+    """``osc`` must be an :class:`~core.params.Oscillator`; returns the initial state as
+    finite floats."""
+    check_oscillator(osc)
     return check_finite("x0", x0), check_finite("v0", v0)
 
 
@@ -148,7 +150,8 @@ def check_integer(name: str, value: object, low: int, high: int) -> int:
 
 
 def check_times(name: str, times: object, t_end: float) -> np.ndarray:
-    """Return ``times`` as a 1-D float array of finite times in ``[0, t_end]``."""
+    """Return ``times`` as a 1-D float array of finite, non-decreasing times in
+    ``[0, t_end]``."""
     try:
         t = np.asarray(times, dtype=float)
     except (TypeError, ValueError):
@@ -160,6 +163,8 @@ def check_times(name: str, times: object, t_end: float) -> np.ndarray:
         raise ValueError(
             f"{name} must lie in [0, t_end={_fmt(t_end)}]; got {t[outside][0]!r}"
         )
+    if np.any(np.diff(t) < 0.0):
+        raise ValueError(f"{name} must be non-decreasing; got {t!r}")
     return t
 
 

@@ -23,6 +23,9 @@ or a numerical method solves each point with :func:`core.simulate`;
 
 from __future__ import annotations
 
+import inspect
+from dataclasses import dataclass
+
 import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
@@ -36,7 +39,9 @@ __all__ = [
     "LABELS",
     "PARAMETERS",
     "QUANTITIES",
+    "GridPlan",
     "SweepResult",
+    "plan_grid",
     "solve_block",
     "sweep",
     "sweep_grid",
@@ -77,59 +82,100 @@ def _replace(rec: LaneRecords, idx: np.ndarray, sub: LaneRecords) -> LaneRecords
     pieces, start = [], 0
     for k, i in enumerate(idx.tolist()):
         if i > start:
-            pieces.append(_slice(rec, start, i))
-        pieces.append(_slice(sub, k, k + 1))
+            pieces.append(rec.take(start, i))
+        pieces.append(sub.take(k, k + 1))
         start = i + 1
     if start < n:
-        pieces.append(_slice(rec, start, n))
+        pieces.append(rec.take(start, n))
     return LaneRecords.concat(pieces)
 
 
-def _slice(rec: LaneRecords, i: int, j: int) -> LaneRecords:
-    lo, hi = rec.offsets[i], rec.offsets[j]
-    return LaneRecords(
-        label=rec.label[i:j],
-        period=rec.period[i:j],
-        transitions_per_period=rec.transitions_per_period[i:j],
-        x_max=rec.x_max[i:j],
-        impact_speed=rec.impact_speed[i:j],
-        sequence=rec.sequence[i:j],
-        cycle_kind=rec.cycle_kind[lo:hi],
-        cycle_x=rec.cycle_x[lo:hi],
-        cycle_v=rec.cycle_v[lo:hi],
-        cycle_v_after=rec.cycle_v_after[lo:hi],
-        cycle_force=rec.cycle_force[lo:hi],
-        offsets=rec.offsets[i : j + 1] - lo,
-        fallback=rec.fallback[i:j],
-    )
+@dataclass(frozen=True)
+class GridPlan:
+    """A checked sweep over one or two parameters: its lanes and options
+    (:func:`plan_grid`)."""
+
+    lanes: Lanes
+    axes: dict[str, np.ndarray]
+    quantity: str
+    t_end: float
+    method: str
+    x0: float
+    v0: float
+
+    def solve(self) -> LaneRecords:
+        """Solve every lane here (:func:`solve_block`)."""
+        return solve_block(self.lanes, self.t_end, self.x0, self.v0, self.method)
+
+    def finish(self, rec: LaneRecords) -> SweepResult:
+        """The :class:`SweepResult` of the solved lanes ``rec`` (in the lanes' order)."""
+        return rec.finish(tuple(self.axes), self.axes, self.quantity, self.t_end, self.method)
 
 
-def check_options(stop, quantity: str, t_end: float, method: str, x0: float, v0: float):
-    """Check a sweep's options once; returns ``(t_end, x0, v0)`` as floats."""
-    check_quantity(quantity, isinstance(stop, HystereticStop))
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
-    return t_end, check_range("x0", x0), check_range("v0", v0)
-
-
-def default_quantity(stop) -> str:
-    """The Poincaré quantity a sweep samples unless told: impact speed with a stop, the
-    stick onset without."""
-    return "stick_x" if stop is None else "impact_speed"
-
-
-def sweep(
+def plan_grid(
     osc: Oscillator,
     stop: RigidStop | HystereticStop | None,
-    parameter: str,
-    values,
+    axes: dict,
     *,
     quantity: str | None = None,
     t_end: float = 200.0,
     method: str = "exact",
     x0: float = 0.0,
     v0: float = 0.0,
+) -> GridPlan:
+    """Check a sweep's scene and options once and lay out its lanes; the options are the
+    keywords of :func:`sweep`, :func:`sweep_grid` and
+    :func:`core.sweep.distributed.sweep_distributed`.
+
+    Parameters
+    ----------
+    osc, stop
+        The base scene; every parameter but the swept ones keeps its value.
+    axes : dict
+        ``{name: values}`` for one or two names of :data:`PARAMETERS`: ``belt_speed``,
+        ``clearance``, ``restitution``, ``mu_s``, ``mu_k``, ``u_s`` (each value is checked
+        against its range).
+    quantity : str, optional
+        Default Poincaré quantity of :meth:`SweepResult.samples`, one of
+        :data:`QUANTITIES`; unless given, the impact speed with a stop, the stick onset
+        without.
+    t_end : float
+        Horizon of each simulation (dimensionless time); a steady state not reached by
+        then is labelled ``'none'``.
+    method : {"exact", "switch", "event"}
+        As :func:`core.simulate`; only ``exact`` without a deformable stop is vectorised.
+    x0, v0 : float
+        Initial state of every point.
+    """
+    if not quantity:  # impact speed with a stop, the stick onset without
+        quantity = "stick_x" if stop is None else "impact_speed"
+    quantity = check_quantity(quantity, isinstance(stop, HystereticStop))
+    t_end = check_range("t_end", t_end, 0.0, low_open=True)
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    x0, v0 = check_range("x0", x0), check_range("v0", v0)
+    if not 1 <= len(axes) <= 2:
+        raise ValueError(f"a sweep varies one or two parameters; got {len(axes)}")
+    lanes = make_lanes(osc, stop, dict(axes), x0)
+    values = {k: np.asarray(v, float) for k, v in axes.items()}
+    return GridPlan(lanes, values, quantity, t_end, method, x0, v0)
+
+
+def takes_plan_options(fn):
+    """Show ``fn(..., **options)`` with :func:`plan_grid`'s keyword options in its signature
+    (``help``, ``inspect``), as if it listed them itself; the options are checked by
+    :func:`plan_grid`, which ``fn`` calls."""
+    own = [p for p in inspect.signature(fn).parameters.values() if p.kind is not p.VAR_KEYWORD]
+    options = [
+        p for p in inspect.signature(plan_grid).parameters.values() if p.kind is p.KEYWORD_ONLY
+    ]
+    fn.__signature__ = inspect.signature(fn).replace(parameters=own + options)
+    return fn
+
+
+@takes_plan_options
+def sweep(
+    osc: Oscillator, stop: RigidStop | HystereticStop | None, parameter: str, values, **options
 ) -> SweepResult:
     """Steady state of the scene ``(osc, stop)`` at each value of one parameter.
 
@@ -142,47 +188,22 @@ def sweep(
         ``mu_s``, ``mu_k``, ``u_s``.
     values : 1-D array
         The parameter's values (each is checked against its range).
-    quantity : str, optional
-        Default Poincaré quantity of :meth:`SweepResult.samples`, one of
-        :data:`QUANTITIES`.
-    t_end : float
-        Horizon of each simulation (dimensionless time); a steady state not reached by
-        then is labelled ``'none'``.
-    method : {"exact", "switch", "event"}
-        As :func:`core.simulate`; only ``exact`` without a deformable stop is vectorised.
-    x0, v0 : float
-        Initial state of every point.
+    **options
+        ``quantity``, ``t_end`` (default 200), ``method`` (default ``"exact"``), ``x0``,
+        ``v0``: see :func:`plan_grid`.
     """
-    return sweep_grid(
-        osc, stop, {parameter: values}, quantity=quantity, t_end=t_end, method=method,
-        x0=x0, v0=v0,
-    )
+    return sweep_grid(osc, stop, {parameter: values}, **options)
 
 
+@takes_plan_options
 def sweep_grid(
-    osc: Oscillator,
-    stop: RigidStop | HystereticStop | None,
-    axes: dict,
-    *,
-    quantity: str | None = None,
-    t_end: float = 200.0,
-    method: str = "exact",
-    x0: float = 0.0,
-    v0: float = 0.0,
+    osc: Oscillator, stop: RigidStop | HystereticStop | None, axes: dict, **options
 ) -> SweepResult:
     """Steady state over the grid of one or two parameters, ``axes = {name: values}``.
 
     The result's per-point arrays are in row-major order over ``axes`` (the last parameter
     varies fastest); ``result.labels`` and ``result.regime_labels`` have the grid's shape.
-    See :func:`sweep` for the other arguments.
+    ``options`` are those of :func:`sweep` (:func:`plan_grid`).
     """
-    quantity = quantity or default_quantity(stop)
-    t_end, x0, v0 = check_options(stop, quantity, t_end, method, x0, v0)
-    if not 1 <= len(axes) <= 2:
-        raise ValueError(f"a sweep varies one or two parameters; got {len(axes)}")
-    lanes = make_lanes(osc, stop, dict(axes), x0)
-    rec = solve_block(lanes, t_end, x0, v0, method)
-    return rec.finish(
-        tuple(axes), {k: np.asarray(v, float) for k, v in axes.items()}, quantity, t_end,
-        method,
-    )
+    plan = plan_grid(osc, stop, axes, **options)
+    return plan.finish(plan.solve())

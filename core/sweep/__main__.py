@@ -18,8 +18,8 @@ import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.simulate import METHODS
-from core.sweep import default_quantity, vectorised
-from core.sweep.lanes import PARAMETERS, make_lanes
+from core.sweep import plan_grid, vectorised
+from core.sweep.lanes import PARAMETERS
 from core.sweep.result import LABELS, QUANTITIES, SweepResult
 
 
@@ -146,24 +146,22 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(str(err)) from None
     try:
         osc, stop = scene(args)
-        quantity = args.quantity or default_quantity(stop)
         local = args.scheduler is None and args.workers is None
         serial = args.serial or (local and vectorised(stop, args.method))
         started = time.perf_counter()
         if serial:
-            from core.sweep import check_options
             from core.sweep.distributed import progress_bar, run_chunks
 
-            t_end, x0, v0 = check_options(stop, quantity, args.t_end, args.method, 0.0, 0.0)
-            lanes = make_lanes(osc, stop, axes, x0)
-            rec, _ = run_chunks(lanes, t_end, x0, v0, args.method, client=None,
-                                task_seconds=args.task_seconds, progress=progress_bar)
-            result = rec.finish(tuple(axes), axes, quantity, t_end, args.method)
+            plan = plan_grid(osc, stop, axes, quantity=args.quantity, t_end=args.t_end,
+                             method=args.method)
+            rec, _ = run_chunks(plan, client=None, task_seconds=args.task_seconds,
+                                progress=progress_bar)
+            result = plan.finish(rec)
         else:
             from core.sweep.distributed import progress_bar, sweep_distributed
 
             result = sweep_distributed(
-                osc, stop, axes, quantity=quantity, t_end=args.t_end, method=args.method,
+                osc, stop, axes, quantity=args.quantity, t_end=args.t_end, method=args.method,
                 scheduler=args.scheduler, n_workers=args.workers,
                 dashboard_address=args.dashboard, task_seconds=args.task_seconds,
                 progress=progress_bar,

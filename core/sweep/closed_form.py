@@ -22,6 +22,7 @@ rounding may have moved, is flagged and left to :func:`core.simulate` by the cal
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -466,20 +467,22 @@ def _collect(out: _Out, n: int) -> LaneRecords:
         lane = np.concatenate([p[0] for p in parts])
         order = np.argsort(lane, kind="stable")
         lane = lane[order]
-        rec.cycle_kind = np.concatenate([p[1] for p in parts]).astype(np.int8)[order]
-        rec.cycle_x = np.concatenate([p[2] for p in parts])[order]
-        rec.cycle_v = np.concatenate([p[3] for p in parts])[order]
-        rec.cycle_v_after = np.concatenate([p[4] for p in parts])[order]
-        rec.cycle_force = np.full(len(lane), np.nan)
+        rec = dataclasses.replace(
+            rec,
+            cycle_kind=np.concatenate([p[1] for p in parts]).astype(np.int8)[order],
+            cycle_x=np.concatenate([p[2] for p in parts])[order],
+            cycle_v=np.concatenate([p[3] for p in parts])[order],
+            cycle_v_after=np.concatenate([p[4] for p in parts])[order],
+            cycle_force=np.full(len(lane), np.nan),
+        )
         counts = np.bincount(lane, minlength=n)
     else:
         lane = np.zeros(0, np.int64)
         counts = np.zeros(n, np.int64)
-    rec.offsets = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+    offsets = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
     sequence: list[tuple[int, ...]] = [()] * n
     kinds = rec.cycle_kind.tolist()
-    bounds = rec.offsets.tolist()
+    bounds = offsets.tolist()
     for i in np.flatnonzero(rec.label == LABEL_CODE[SteadyKind.PERIODIC]).tolist():
         sequence[i] = tuple(kinds[bounds[i] : bounds[i + 1]])
-    rec.sequence = sequence
-    return rec
+    return dataclasses.replace(rec, offsets=offsets, sequence=sequence)

@@ -19,8 +19,8 @@ from collections.abc import Callable
 import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
-from core.sweep import check_options, default_quantity, solve_block, vectorised
-from core.sweep.lanes import Lanes, make_lanes
+from core.sweep import GridPlan, plan_grid, solve_block, takes_plan_options, vectorised
+from core.sweep.lanes import Lanes
 from core.sweep.result import LaneRecords, SweepResult
 
 #: Points in the pilot that estimates the cost per point: the closed form needs a block
@@ -58,18 +58,15 @@ def progress_bar(done: int, total: int, started: float) -> None:
 
 
 def run_chunks(
-    lanes: Lanes,
-    t_end: float,
-    x0: float,
-    v0: float,
-    method: str,
+    plan: GridPlan,
     *,
     client=None,
     task_seconds: float = 0.5,
     progress: Callable[[int, int, float], None] | None = None,
 ) -> tuple[LaneRecords, dict]:
-    """Solve ``lanes`` in chunks on a Dask ``client`` (``None``: here, one chunk after
-    another). Returns the records in order and facts about the run (cost, chunks)."""
+    """Solve the lanes of ``plan`` in chunks on a Dask ``client`` (``None``: here, one chunk
+    after another). Returns the records in order and facts about the run (cost, chunks)."""
+    lanes, t_end, x0, v0, method = plan.lanes, plan.t_end, plan.x0, plan.v0, plan.method
     cost = pilot_cost(lanes, t_end, x0, v0, method)
     size = chunk_size(cost, len(lanes), task_seconds)
     bounds = list(range(0, len(lanes), size)) + [len(lanes)]
@@ -96,16 +93,12 @@ def run_chunks(
     return LaneRecords.concat(parts), info
 
 
+@takes_plan_options
 def sweep_distributed(
     osc: Oscillator,
     stop: RigidStop | HystereticStop | None,
     axes: dict,
     *,
-    quantity: str | None = None,
-    t_end: float = 200.0,
-    method: str = "exact",
-    x0: float = 0.0,
-    v0: float = 0.0,
     scheduler: str | None = None,
     n_workers: int | None = None,
     processes: bool = True,
@@ -113,6 +106,7 @@ def sweep_distributed(
     task_seconds: float = 0.5,
     progress: Callable[[int, int, float], None] | None = None,
     client=None,
+    **options,
 ) -> SweepResult:
     """:func:`core.sweep.sweep_grid` on a Dask cluster.
 
@@ -132,12 +126,11 @@ def sweep_distributed(
     client : dask.distributed.Client, optional
         Use this client (and leave it open) instead of making one.
 
-    The other arguments are those of :func:`core.sweep.sweep_grid`; the result is the one
-    it returns, point for point.
+    The other arguments (``options``: ``quantity``, ``t_end``, ``method``, ``x0``,
+    ``v0``) are those of :func:`core.sweep.sweep_grid` (:func:`core.sweep.plan_grid`); the
+    result is the one it returns, point for point.
     """
-    quantity = quantity or default_quantity(stop)
-    t_end, x0, v0 = check_options(stop, quantity, t_end, method, x0, v0)
-    lanes = make_lanes(osc, stop, dict(axes), x0)
+    plan = plan_grid(osc, stop, axes, **options)
     from dask.distributed import Client, LocalCluster
 
     owned = []
@@ -155,14 +148,8 @@ def sweep_distributed(
             client = Client(cluster)
         owned.insert(0, client)
     try:
-        rec, _ = run_chunks(
-            lanes, t_end, x0, v0, method, client=client, task_seconds=task_seconds,
-            progress=progress,
-        )
+        rec, _ = run_chunks(plan, client=client, task_seconds=task_seconds, progress=progress)
     finally:
         for thing in owned:
             thing.close()
-    return rec.finish(
-        tuple(axes), {k: np.asarray(v, float) for k, v in axes.items()}, quantity, t_end,
-        method,
-    )
+    return plan.finish(rec)

@@ -75,7 +75,37 @@ def _frozen(a) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class SweepResult:
+class SteadyArrays:
+    """Per-point steady state and the flat Poincaré cycles: the fields a sweep's blocks
+    (:class:`LaneRecords`) and its result (:class:`SweepResult`) share; see
+    :class:`SweepResult` for their meaning."""
+
+    label: np.ndarray
+    period: np.ndarray
+    transitions_per_period: np.ndarray
+    x_max: np.ndarray
+    impact_speed: np.ndarray
+    cycle_kind: np.ndarray
+    cycle_x: np.ndarray
+    cycle_v: np.ndarray
+    cycle_v_after: np.ndarray
+    cycle_force: np.ndarray
+    offsets: np.ndarray
+    fallback: np.ndarray
+
+    def steady_arrays(self) -> dict[str, np.ndarray]:
+        """The shared fields by name."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(SteadyArrays)}
+
+
+#: Fields of :class:`SteadyArrays` with one entry per point, and with one per transition of
+#: the cycles (indexed through ``offsets``).
+POINT_FIELDS = ("label", "period", "transitions_per_period", "x_max", "impact_speed", "fallback")
+CYCLE_FIELDS = ("cycle_kind", "cycle_x", "cycle_v", "cycle_v_after", "cycle_force")
+
+
+@dataclass(frozen=True)
+class SweepResult(SteadyArrays):
     """Steady state at every parameter point of a sweep (arrays are read-only).
 
     Attributes
@@ -111,20 +141,8 @@ class SweepResult:
     parameters: tuple[str, ...]
     axes: dict[str, np.ndarray]
     shape: tuple[int, ...]
-    label: np.ndarray
-    period: np.ndarray
-    transitions_per_period: np.ndarray
-    x_max: np.ndarray
-    impact_speed: np.ndarray
     regime: np.ndarray
     regimes: tuple[str, ...]
-    cycle_kind: np.ndarray
-    cycle_x: np.ndarray
-    cycle_v: np.ndarray
-    cycle_v_after: np.ndarray
-    cycle_force: np.ndarray
-    offsets: np.ndarray
-    fallback: np.ndarray
     quantity: str
     t_end: float
     method: str
@@ -201,27 +219,16 @@ class SweepResult:
         return cls(parameters=parameters, **kwargs)
 
 
-@dataclass
-class LaneRecords:
+@dataclass(frozen=True)
+class LaneRecords(SteadyArrays):
     """Per-lane outputs of one block of lanes, before they become a :class:`SweepResult`.
 
-    ``sequence`` holds, per lane, the transition-kind codes of the steady period's sequence
-    as a tuple (the regime label's second half).
+    The solvers fill the per-point arrays in place and set the cycles with
+    :func:`dataclasses.replace`. ``sequence`` holds, per lane, the transition-kind codes of
+    the steady period's sequence as a tuple (the regime label's second half).
     """
 
-    label: np.ndarray
-    period: np.ndarray
-    transitions_per_period: np.ndarray
-    x_max: np.ndarray
-    impact_speed: np.ndarray
     sequence: list[tuple[int, ...]]
-    cycle_kind: np.ndarray
-    cycle_x: np.ndarray
-    cycle_v: np.ndarray
-    cycle_v_after: np.ndarray
-    cycle_force: np.ndarray
-    offsets: np.ndarray
-    fallback: np.ndarray
 
     @classmethod
     def empty(cls, n: int) -> LaneRecords:
@@ -251,13 +258,20 @@ class LaneRecords:
         )
         cat = {
             name: np.concatenate([getattr(p, name) for p in parts])
-            for name in (
-                "label", "period", "transitions_per_period", "x_max", "impact_speed",
-                "cycle_kind", "cycle_x", "cycle_v", "cycle_v_after", "cycle_force", "fallback",
-            )
+            for name in POINT_FIELDS + CYCLE_FIELDS
         }
         sequence = [s for p in parts for s in p.sequence]
         return LaneRecords(sequence=sequence, offsets=offsets.astype(np.int64), **cat)
+
+    def take(self, i: int, j: int) -> LaneRecords:
+        """The lanes ``i`` to ``j - 1``."""
+        lo, hi = self.offsets[i], self.offsets[j]
+        return LaneRecords(
+            sequence=self.sequence[i:j],
+            offsets=self.offsets[i : j + 1] - lo,
+            **{name: getattr(self, name)[i:j] for name in POINT_FIELDS},
+            **{name: getattr(self, name)[lo:hi] for name in CYCLE_FIELDS},
+        )
 
     def finish(
         self,
@@ -300,21 +314,10 @@ class LaneRecords:
             parameters=parameters,
             axes=axes,
             shape=shape,
-            label=self.label,
-            period=self.period,
-            transitions_per_period=self.transitions_per_period,
-            x_max=self.x_max,
-            impact_speed=self.impact_speed,
             regime=regime,
             regimes=tuple(names),
-            cycle_kind=self.cycle_kind,
-            cycle_x=self.cycle_x,
-            cycle_v=self.cycle_v,
-            cycle_v_after=self.cycle_v_after,
-            cycle_force=self.cycle_force,
-            offsets=self.offsets,
-            fallback=self.fallback,
             quantity=quantity,
             t_end=t_end,
             method=method,
+            **self.steady_arrays(),
         )

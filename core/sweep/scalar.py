@@ -7,6 +7,8 @@ few lanes it does not cover, and the work of a deformable-stop sweep (run in par
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from core.result import Result, SteadyKind, TransitionKind
@@ -84,12 +86,20 @@ def solve_lanes(
         rec.impact_speed[i] = steady.impact_speed
         sequences.append(tuple(KIND_CODE[TransitionKind(k)] for k in steady.sequence))
         cycles.append(steady_cycle(res))
-    rec.sequence = sequences
     flat = [row for cycle in cycles for row in cycle]
-    rec.offsets = np.concatenate(([0], np.cumsum([len(c) for c in cycles]))).astype(np.int64)
+    rec = dataclasses.replace(
+        rec,
+        sequence=sequences,
+        offsets=np.concatenate(([0], np.cumsum([len(c) for c in cycles]))).astype(np.int64),
+    )
     if flat:
         kind, x, v, v_after, force = (np.array(col) for col in zip(*flat, strict=True))
-        rec.cycle_kind = kind.astype(np.int8)
-        rec.cycle_x, rec.cycle_v = x.astype(float), v.astype(float)
-        rec.cycle_v_after, rec.cycle_force = v_after.astype(float), force.astype(float)
+        rec = dataclasses.replace(
+            rec,
+            cycle_kind=kind.astype(np.int8),
+            cycle_x=x.astype(float),
+            cycle_v=v.astype(float),
+            cycle_v_after=v_after.astype(float),
+            cycle_force=force.astype(float),
+        )
     return rec

@@ -1,23 +1,26 @@
 """The one decision tree of the paper's regimes, vectorised over belt speeds x clearances
 (Secs. 3.2, 4.1-4.6; Eqs. 25, 31-37; docs/physics.md, "Closed-form results").
 
-:func:`decide` is the only place where a scene is sorted into a regime: the regime map
-(:func:`classify_grid`) calls it on the whole grid, and :func:`core.theory.classify`
-and the closed forms of :mod:`core.theory.regimes` call it on a single point, so the
-map and the readout cannot disagree.
+One tree (:func:`_tree`) sorts a scene into a regime: the regime map
+(:func:`classify_grid`) runs it on the whole grid through :func:`decide` (numpy arrays,
+:func:`numpy.select`), and :func:`core.theory.classify` and the closed forms of
+:mod:`core.theory.regimes` run it on a single point through :func:`decide_point` (floats,
+:func:`first_true`, without the cost of arrays), so the map and the readout cannot
+disagree.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from core.params import Oscillator, RigidStop
 from core.theory.impactless import rest_position_still_belt
 from core.theory.values import RegimeGrid
-from core.validation import check_grid, check_oscillator, check_rigid_stop, check_state
+from core.validation import check_grid, check_rigid_stop, check_state
 
 #: Branch codes of :func:`decide`: which closed form describes the point.
 IMPACTLESS = 0  # the stop is never reached (or there is none)
@@ -57,6 +60,120 @@ class Decision:
     valid: np.ndarray
 
 
+class PointDecision(NamedTuple):
+    """The regime at one point: branch code, steady-state code, fast belt or not."""
+
+    branch: int
+    steady: int
+    fast: bool
+
+
+@dataclass(frozen=True)
+class _Scene:
+    """What the tree reads of the scene besides the belt speed and the clearance."""
+
+    a: float
+    b: float
+    r: float
+    vc: float  # critical speed, Eq. 25
+    x0: float
+    natural: bool  # the start is (0, 0)
+    has_stop: bool
+    rest: float  # where a still belt's oscillation stops (nan unless needed)
+
+    @classmethod
+    def of(cls, osc: Oscillator, stop: RigidStop | None, x0: float, v0: float, still: bool):
+        return cls(
+            a=osc.a,
+            b=osc.b,
+            r=stop.restitution if stop is not None else 1.0,
+            vc=math.hypot(x0 - osc.a, v0),
+            x0=x0,
+            natural=x0 == 0.0 and v0 == 0.0,
+            has_stop=stop is not None,
+            rest=rest_position_still_belt(osc, x0, v0) if still else math.nan,
+        )
+
+    def speed_terms(self, v: float) -> tuple[float, float, float, float]:
+        """Per belt speed, with :mod:`math` so that one point gives the same answer
+        whichever grid it belongs to: the impactless ``x_max``, the first stick point of a
+        natural start (``-inf`` if none), ``x*`` (Eq. 35) and the limit cycle's radius."""
+        a, b, vc, r = self.a, self.b, self.vc, self.r
+        x_max = a + vc if v > vc else (a + math.hypot(b - a, v) if v > 0 else self.rest)
+        x_stick1 = a - math.sqrt((a - v) * (a + v)) if self.natural and v <= a else -math.inf
+        return x_max, x_stick1, a + v * math.sqrt((1.0 - r) * (1.0 + r)), math.hypot(b - a, v)
+
+
+def first_true(conditions, choices, default):
+    """The choice of the first true condition, else ``default``: :func:`numpy.select` on
+    one point, without the cost of arrays."""
+    for condition, choice in zip(conditions, choices, strict=True):
+        if condition:
+            return choice
+    return default
+
+
+def _tree(scene: _Scene, X, V, terms, select):
+    """The decision tree, on arrays (``select = numpy.select``) or on floats
+    (``select = first_true``): ``(branch, steady, fast, impactless, valid)``.
+
+    Each code is the first rule that holds, so no rule needs the negation of another:
+    the stop is out of reach; the belt is fast (Secs. 4.1, 4.3: impacts on the circle
+    through the start); the belt is still; the stop is hit before the first stick (Sec.
+    4.6); cases a, b, c of a slow belt (Eqs. 31-37). Squares are products (``x * x``, not
+    ``x ** 2``), as in the closed forms.
+    """
+    a, b, vc = scene.a, scene.b, scene.vc
+    x_max, x_stick1, x_st, radius = terms
+    fast = V > vc
+    impactless = (X >= x_max) | (not scene.has_stop)
+    valid = (X >= scene.x0) | (not scene.has_stop)
+    branch = select(
+        [impactless, fast, V == 0.0, X < x_stick1, X >= b, X >= x_st],
+        [IMPACTLESS, FAST, STILL, FIRST_SLIP, CASE_A, CASE_B],
+        CASE_C,
+    )
+    D = X - a
+    # Does the first impact come at a speed w > 0 (Eqs. A.1, A.5, A.7)? In case c the mass
+    # sticks into the stop at speed v > 0.
+    w_positive = select(
+        [branch == FAST, branch == FIRST_SLIP, branch == CASE_A],
+        [vc * vc - D * D > 0.0, X * (2.0 * a - X) > 0.0, (radius - D) * (radius + D) > 0.0],
+        True,
+    )
+    # Case a: the rebound circle reaches the stick line iff the radicand of A.9 is >= 0
+    e, r = scene.r * (b - a), scene.r
+    disc = (1.0 - r) * (1.0 + r) * (D * D - V * V) + e * e
+    elastic = r == 1.0
+    steady = select(
+        [
+            impactless & (V == 0.0),
+            impactless & fast,
+            impactless,
+            branch == STILL,
+            branch == CASE_B,
+            (branch == CASE_A) & (disc >= 0.0),
+            (branch == CASE_C) & elastic,
+            ((branch == FAST) | (branch == FIRST_SLIP)) & elastic & w_positive,
+            # otherwise the impact speeds r^h w decay: grazing iff x_bar >= a and w > 0
+            (X >= a) & w_positive,
+        ],
+        [
+            EQUILIBRIUM,
+            EQUILIBRIUM if vc == 0.0 else PURE_SLIP,  # a fast start at the centre rests
+            PERIODIC,
+            EQUILIBRIUM,
+            PERIODIC,
+            PERIODIC,
+            PERIODIC,
+            PERIODIC,
+            GRAZING,
+        ],
+        REST,
+    )
+    return branch, steady, fast, impactless, valid
+
+
 def decide(
     osc: Oscillator,
     stop: RigidStop | None,
@@ -69,95 +186,30 @@ def decide(
 
     The friction, the restitution and the start are ``osc``'s, ``stop``'s and
     ``(x0, v0)``; the belt speed and the clearance are the grid's. Inputs are checked by
-    the callers. Squares are formed as products (``x * x``, not ``x ** 2``) and the
-    quantities of one speed with :mod:`math`, so that one point gives the same answer
-    whichever grid it belongs to.
+    the callers. :func:`decide_point` runs the same tree on one point.
     """
-    a, b = osc.a, osc.b
-    vc = math.hypot(x0 - a, v0)  # critical speed, Eq. 25
-    shape = (clearances.size, speeds.size)
-    V = speeds[None, :]
-    X = clearances[:, None]
-    full = np.ones(shape, dtype=bool)
-    fast = (V > vc) & full
     sp = speeds.tolist()
-
-    # Per speed: x_max of the impactless motion, the first stick point of a natural start,
-    # x* (Eq. 35) and the limit cycle's radius.
-    rest = rest_position_still_belt(osc, x0, v0) if 0.0 in sp else math.nan
-    r = stop.restitution if stop is not None else 1.0
-    natural = x0 == 0.0 and v0 == 0.0
-    x_max0 = np.array(
-        [a + vc if v > vc else (a + math.hypot(b - a, v) if v > 0 else rest) for v in sp]
-    )[None, :]
-
-    if stop is None:
-        impactless = valid = full
-    else:
-        impactless = (X >= x_max0) & full
-        valid = (X >= x0) & full
-    moving = np.where(fast, EQUILIBRIUM if vc == 0.0 else PURE_SLIP, PERIODIC)
-    steady = np.where(V == 0.0, EQUILIBRIUM, moving).astype(np.int8)
-    branch = np.full(shape, IMPACTLESS, dtype=np.int8)
-    if stop is not None and not np.all(impactless):
-        x_stick1 = np.array(
-            [a - math.sqrt((a - v) * (a + v)) if natural and v <= a else -math.inf for v in sp]
-        )[None, :]
-        x_st = np.array([a + v * math.sqrt((1.0 - r) * (1.0 + r)) for v in sp])[None, :]
-        radius = np.array([math.hypot(b - a, v) for v in sp])[None, :]
-        _decide_impacts(
-            a, b, r, X, V, fast, ~impactless, x_stick1, x_st, radius, vc, branch, steady
-        )
-    return Decision(branch, steady, fast, impactless, valid)
+    scene = _Scene.of(osc, stop, x0, v0, still=0.0 in sp)
+    terms = np.array([scene.speed_terms(v) for v in sp], dtype=float).reshape(-1, 4)
+    shape = (clearances.size, speeds.size)
+    out = _tree(scene, clearances[:, None], speeds[None, :], terms.T[:, None, :], np.select)
+    branch, steady, fast, impactless, valid = (np.broadcast_to(x, shape) for x in out)
+    return Decision(
+        branch.astype(np.int8), steady.astype(np.int8), fast.copy(), impactless.copy(),
+        valid.copy(),
+    )
 
 
-def _decide_impacts(a, b, r, X, V, fast, hit, x_stick1, x_st, radius, vc, branch, steady):
-    """Fill the points where the stop is reached (``branch``, ``steady`` in place)."""
-    elastic = r == 1.0
-    beyond_centre = X >= a
-
-    def decay(mask: np.ndarray, w_positive: np.ndarray) -> None:
-        # Impact speeds r^h w: grazing iff x_bar >= a and w > 0, else rest at the stop
-        steady[mask] = np.where(beyond_centre & w_positive & mask, GRAZING, REST)[mask]
-
-    def periodic_or_decay(mask: np.ndarray, w_positive: np.ndarray) -> None:
-        # The elastic impact-slip cycle needs w > 0
-        if elastic:
-            steady[mask & w_positive] = PERIODIC
-            decay(mask & ~w_positive, w_positive)
-        else:
-            decay(mask, w_positive)
-
-    # Fast belt (Sec. 4.1, 4.3): w of Eq. A.1 on the circle through the start.
-    D = X - a
-    on_fast = hit & fast
-    branch[on_fast] = FAST
-    periodic_or_decay(on_fast, vc * vc - D * D > 0.0)
-    slow = hit & ~fast
-    still = slow & (V == 0.0)
-    branch[still] = STILL
-    steady[still] = EQUILIBRIUM
-    slow &= V > 0.0
-    first = slow & (X < x_stick1)  # stop hit before the first stick (Sec. 4.6)
-    branch[first] = FIRST_SLIP
-    periodic_or_decay(first, X * (2.0 * a - X) > 0.0)
-    slow &= ~first
-    in_a = slow & (X >= b)  # case a, Eqs. A.7-A.9
-    branch[in_a] = CASE_A
-    e = r * (b - a)
-    disc = (1.0 - r) * (1.0 + r) * (D * D - V * V) + e * e
-    steady[in_a & (disc >= 0.0)] = PERIODIC
-    decay(in_a & (disc < 0.0), (radius - (X - a)) * (radius + (X - a)) > 0.0)
-    slow &= ~in_a
-    in_b = slow & (X >= x_st)  # case b
-    branch[in_b] = CASE_B
-    steady[in_b] = PERIODIC
-    in_c = slow & ~in_b  # case c: sticks into the stop at speed v > 0
-    branch[in_c] = CASE_C
-    if elastic:
-        steady[in_c] = PERIODIC
-    else:
-        decay(in_c, np.ones(in_c.shape, dtype=bool))
+def decide_point(
+    osc: Oscillator, stop: RigidStop | None, x0: float, v0: float
+) -> PointDecision:
+    """:func:`decide` at the scene's own belt speed and clearance (``0`` without a stop),
+    through the same tree on floats."""
+    v = osc.v
+    x_bar = stop.clearance if stop is not None else 0.0
+    scene = _Scene.of(osc, stop, x0, v0, still=v == 0.0)
+    branch, steady, fast, _, _ = _tree(scene, x_bar, v, scene.speed_terms(v), first_true)
+    return PointDecision(int(branch), int(steady), bool(fast))
 
 
 def classify_grid(
@@ -183,8 +235,7 @@ def classify_grid(
     >>> grid.expected_steady.tolist()
     [['periodic', 'grazing'], ['periodic', 'pure_slip']]
     """
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    x0, v0 = check_state(osc, x0, v0)
     if stop is not None and not isinstance(stop, RigidStop):
         check_rigid_stop(stop, x0)  # raises: the closed forms speak of a rigid stop
     speeds = check_grid("belt_speed", speeds, 0.0)

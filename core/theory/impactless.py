@@ -34,8 +34,7 @@ def critical_speed(osc: Oscillator, x0: float = 0.0, v0: float = 0.0) -> float:
     >>> round(critical_speed(osc), 12)
     0.2
     """
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    x0, v0 = check_state(osc, x0, v0)
     return math.hypot(x0 - osc.a, v0)
 
 
@@ -136,11 +135,12 @@ def x_max_impactless(osc: Oscillator, x0: float = 0.0, v0: float = 0.0) -> float
     Examples
     --------
     >>> osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.25)
-    >>> round(x_max_impactless(osc), 12)
+    >>> round(x_max_impactless(osc), 12)              # 2a from rest at the origin
     0.4
+    >>> round(x_max_impactless(osc, x0=0.1), 12)      # the slip circle through (0.1, 0)
+    0.3
     """
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    x0, v0 = check_state(osc, x0, v0)
     if is_fast_belt(osc, x0, v0):
         return osc.a + critical_speed(osc, x0, v0)
     if osc.v > 0:

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from core.params import Oscillator, RigidStop
 from core.result import SteadyKind
 from core.theory.accumulation import accumulation_time
@@ -22,7 +20,7 @@ from core.theory.grid import (
     IMPACTLESS,
     STEADY_NAMES,
     STILL,
-    decide,
+    decide_point,
     impact_label,
 )
 from core.theory.impactless import critical_speed, impactless_limit_cycle, x_max_impactless
@@ -87,15 +85,14 @@ def _impact_slip_cycle(a: float, x_bar: float, w: float) -> float:
 
 def analyse(osc: Oscillator, stop: RigidStop | None, x0: float, v0: float) -> Analysis:
     """Everything the public functions report about a scene, computed once: the regime
-    from :func:`core.theory.grid.decide` (the one decision tree), then the closed forms
-    of that regime."""
-    check_oscillator(osc)
-    x0, v0 = check_state(x0, v0)
+    from :func:`core.theory.grid.decide_point` (the one decision tree, on one point),
+    then the closed forms of that regime."""
+    x0, v0 = check_state(osc, x0, v0)
     check_rigid_stop(stop, x0)
     x_bar = stop.clearance if stop is not None else 0.0
-    d = decide(osc, stop, np.array([osc.v]), np.array([x_bar]), x0, v0)
-    branch, kind = int(d.branch[0, 0]), SteadyKind(STEADY_NAMES[d.steady[0, 0]])
-    belt = "fast" if d.fast[0, 0] else "slow"
+    d = decide_point(osc, stop, x0, v0)
+    branch, kind = d.branch, SteadyKind(STEADY_NAMES[d.steady])
+    belt = "fast" if d.fast else "slow"
     if branch == IMPACTLESS:
         return _impactless(osc, x0, v0, belt, x_max_impactless(osc, x0, v0), stop is None, kind)
     a = osc.a
@@ -140,53 +137,36 @@ def _impactless(
     kind: SteadyKind,
 ) -> Analysis:
     where = "no stop" if no_stop else "the stop lies beyond x_max"
+    cycle: dict = {}
     if kind is SteadyKind.EQUILIBRIUM and osc.v == 0.0:
-        return Analysis(
-            belt,
-            "none",
-            None,
-            True,
-            SteadyKind.EQUILIBRIUM,
+        text = (
             f"Belt at rest (v = 0), {where}: the mass comes to rest (equilibrium; the "
-            "limit v -> 0 of Sec. 3.1)",
-            x_max=x_max,
+            "limit v -> 0 of Sec. 3.1)"
         )
-    if kind is not SteadyKind.PERIODIC:
-        if kind is SteadyKind.EQUILIBRIUM:  # a fast belt, started at the centre (a, 0)
-            return Analysis(
-                belt,
-                "none",
-                None,
-                True,
-                SteadyKind.EQUILIBRIUM,
-                f"Fast belt, {where}: the start is the centre (a, 0) of the slip circles, "
-                "the mass stays at rest (Sec. 3.1)",
-                x_max=x_max,
-            )
-        return Analysis(
-            belt,
-            "none",
-            None,
-            True,
-            SteadyKind.PURE_SLIP,
+    elif kind is SteadyKind.EQUILIBRIUM:  # a fast belt, started at the centre (a, 0)
+        text = (
+            f"Fast belt, {where}: the start is the centre (a, 0) of the slip circles, "
+            "the mass stays at rest (Sec. 3.1)"
+        )
+    elif kind is not SteadyKind.PERIODIC:
+        kind, cycle = SteadyKind.PURE_SLIP, {"period": TWO_PI}
+        text = (
             f"Fast belt (v > v*), {where}: pure slip on the circle about (a, 0) through "
-            "the start, period 2 pi (Sec. 3.1, Eq. 22, Fig. 3a)",
-            period=TWO_PI,
-            x_max=x_max,
+            "the start, period 2 pi (Sec. 3.1, Eq. 22, Fig. 3a)"
         )
-    lc = impactless_limit_cycle(osc)
-    return Analysis(
-        belt,
-        "none",
-        None,
-        True,
-        SteadyKind.PERIODIC,
-        f"Slow belt (v <= v*), {where}: stick-slip limit cycle (Sec. 3.1, Eqs. 23-24, Fig. 3a)",
-        period=lc.period,
-        x_max=lc.x_max,
-        sequence=(STICK_SLIP, SLIP_STICK),
-        points={"P_stick_start": lc.stick_start, "P_stick_end": lc.stick_end},
-    )
+    else:
+        lc = impactless_limit_cycle(osc)
+        x_max = lc.x_max
+        cycle = {
+            "period": lc.period,
+            "sequence": (STICK_SLIP, SLIP_STICK),
+            "points": {"P_stick_start": lc.stick_start, "P_stick_end": lc.stick_end},
+        }
+        text = (
+            f"Slow belt (v <= v*), {where}: stick-slip limit cycle (Sec. 3.1, Eqs. 23-24, "
+            "Fig. 3a)"
+        )
+    return Analysis(belt, "none", None, True, kind, text, x_max=x_max, **cycle)
 
 
 def _impact_cycle_or_decay(
@@ -309,29 +289,12 @@ def _slow_case_a(osc: Oscillator, stop: RigidStop, label: str, kind: SteadyKind)
         )
         return _decay(osc, stop, w, "slow", "a", where, where, kind)
     x_stick = a - math.sqrt(max(disc, 0.0))
-    stick_time = (b - x_stick) / v
     arc_in = math.atan2(v, b - a) - math.atan2(w, x_bar - a)
-    arc_out = _arc_to_stick(a, x_bar, r * w, x_stick, v)
     ref = "Sec. 4.2, Fig. 5a" if label == "elastic" else "Sec. 4.4, Fig. 7a"
-    return Analysis(
-        "slow",
-        label,
-        "a",
-        False,
-        SteadyKind.PERIODIC,
-        f"Slow belt, {label} impact, case a (b <= x_bar < x_max): periodic stick-slip-"
-        f"impact-slip cycle ({ref})",
-        period=stick_time + arc_in + arc_out,
-        x_max=x_bar,
-        impact_speed=w,
+    return _stick_impact_cycle(
+        osc, stop, label, "a", "b <= x_bar < x_max", "stick-slip-impact-slip", ref,
+        x_stick=x_stick, stick_end=b, w=w, arc_in=arc_in,
         sequence=(STICK_SLIP, IMPACT, SLIP_STICK),
-        points={
-            "P_stick_start": (x_stick, v),
-            "P_stick_end": (b, v),
-            "P_impact_in": (x_bar, w),
-            "P_impact_out": (x_bar, -r * w),
-        },
-        first_impact_speed=w,
     )
 
 
@@ -346,25 +309,50 @@ def _slow_case_b(osc: Oscillator, stop: RigidStop, label: str) -> Analysis:
         bound, ref = "a", "Sec. 4.2, Fig. 5b"
     else:
         bound, ref = "x*", "Sec. 4.4, Fig. 7b"
+    return _stick_impact_cycle(
+        osc, stop, label, "b", f"{bound} <= x_bar < b", "stick-impact-slip", ref,
+        x_stick=x_stick, stick_end=x_bar, w=v, arc_in=0.0, sequence=(STICK_IMPACT, SLIP_STICK),
+    )
+
+
+def _stick_impact_cycle(
+    osc: Oscillator,
+    stop: RigidStop,
+    label: str,
+    case: str,
+    bounds: str,
+    cycle: str,
+    ref: str,
+    *,
+    x_stick: float,
+    stick_end: float,
+    w: float,
+    arc_in: float,
+    sequence: tuple[str, ...],
+) -> Analysis:
+    """The slow belt's periodic cycles of cases a and b: stick from ``x_stick`` to
+    ``stick_end``, (case a: slip along ``arc_in``,) impact at ``x_bar`` with speed ``w``,
+    rebound at ``-r w`` and slip back to the stick line at ``x_stick`` (A.8-A.11)."""
+    a, v = osc.a, osc.v
+    x_bar, r = stop.clearance, stop.restitution
     return Analysis(
         "slow",
         label,
-        "b",
+        case,
         False,
         SteadyKind.PERIODIC,
-        f"Slow belt, {label} impact, case b ({bound} <= x_bar < b): periodic stick-"
-        f"impact-slip cycle ({ref})",
-        period=(x_bar - x_stick) / v + _arc_to_stick(a, x_bar, r * v, x_stick, v),
+        f"Slow belt, {label} impact, case {case} ({bounds}): periodic {cycle} cycle ({ref})",
+        period=(stick_end - x_stick) / v + arc_in + _arc_to_stick(a, x_bar, r * w, x_stick, v),
         x_max=x_bar,
-        impact_speed=v,
-        sequence=(STICK_IMPACT, SLIP_STICK),
+        impact_speed=w,
+        sequence=sequence,
         points={
             "P_stick_start": (x_stick, v),
-            "P_stick_end": (x_bar, v),
-            "P_impact_in": (x_bar, v),
-            "P_impact_out": (x_bar, -r * v),
+            "P_stick_end": (stick_end, v),
+            "P_impact_in": (x_bar, w),
+            "P_impact_out": (x_bar, -r * w),
         },
-        first_impact_speed=v,
+        first_impact_speed=w,
     )
 
 

@@ -19,6 +19,7 @@ from core.hysteresis import (
     force_and_slope,
     phi_compression,
     phi_expansion,
+    program_work,
     reverse,
     stored_energy,
 )
@@ -227,17 +228,7 @@ def test_branch_work_matches_quadrature(stop):
 def _run_program(turns, stop):
     """Work done on the stop along the overlap program 0 -> turns[0] -> ... -> 0, and the
     work of first loading to the largest overlap (the scale of the rounding error)."""
-    delta, branch, work = 0.0, FIRST_LOADING, 0.0
-    for target in [*turns, 0.0]:
-        if target == delta:
-            continue
-        if (target > delta) != branch.loading:
-            branch = reverse(delta, float(contact_force(delta, branch, stop)), branch)
-        work += branch_work(delta, target, branch, stop)
-        delta = target
-        if delta <= 0.0:
-            branch = FIRST_LOADING
-    return work, branch_work(0.0, max(turns), FIRST_LOADING, stop)
+    return program_work(stop, turns), branch_work(0.0, max(turns), FIRST_LOADING, stop)
 
 
 #: beta = beta_c = beta_e for which the law is NOT passive (random search over programs of

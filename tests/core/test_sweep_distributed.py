@@ -9,10 +9,9 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, RigidStop
-from core.sweep import sweep_grid
+from core.sweep import plan_grid, sweep_grid
 from core.sweep.__main__ import main
 from core.sweep.distributed import run_chunks, sweep_distributed
-from core.sweep.lanes import make_lanes
 from core.sweep.result import SweepResult
 
 
@@ -60,12 +59,10 @@ def test_rigid_grid_on_two_workers_equals_the_serial_one(client):
     osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
     stop = RigidStop(0.25, 0.7)
     axes = {"belt_speed": np.linspace(0.01, 0.4, 60), "clearance": np.linspace(0.05, 0.5, 50)}
-    lanes = make_lanes(osc, stop, axes, 0.0)
-    rec, info = run_chunks(
-        lanes, 200.0, 0.0, 0.0, "exact", client=client, task_seconds=1e-3, progress=None
-    )
+    plan = plan_grid(osc, stop, axes, t_end=200.0)
+    rec, info = run_chunks(plan, client=client, task_seconds=1e-3, progress=None)
     assert info["chunks"] > 2  # the grid really was split over the workers
-    dist = rec.finish(tuple(axes), axes, "impact_speed", 200.0, "exact")
+    dist = plan.finish(rec)
     _assert_identical(dist, sweep_grid(osc, stop, axes))
 
 
