@@ -5,9 +5,9 @@ A deformable stop's integrated contact, ``event`` and ``switch`` hold the interp
 for as long as they integrate (seconds for a stiff, sharp stop at "precise"); run in a
 thread of the server, they slow every other session's replies. Here each such solve gets a
 process started by the standard library's *forkserver* (:mod:`multiprocessing`, public
-API only): the fork server imports the server's main module and :mod:`core` once, so a
-child starts in milliseconds with everything loaded, and ending it (``terminate``) is how a
-solve is cancelled. Children are daemons: they end with the server.
+API only): the fork server imports :mod:`core` and what the server's main script imports
+once, so a child starts in milliseconds with everything loaded, and ending it
+(``terminate``) is how a solve is cancelled. Children are daemons: they end with the server.
 
 ``FIE_SOLVE_PROCESSES=off`` in the environment solves in the calling thread instead (for a
 platform without ``fork``, or to compare).
@@ -20,6 +20,7 @@ import multiprocessing
 import os
 import sys
 import threading
+import types
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -64,14 +65,33 @@ _CONTEXT: Any = None
 _CONTEXT_LOCK = threading.Lock()
 
 
+def _main_imports() -> list[str]:
+    """The modules the main script's names come from.
+
+    A child runs the parent's main script again (as ``__mp_main__``) before it unpickles
+    its work; under ``panel serve`` that script imports Panel, which took a child ~1 s.
+    With those modules preloaded by the fork server the second run finds them imported.
+    (Preloading ``__main__`` itself does not help: the fork server is never told its path.)
+    """
+    main = sys.modules.get("__main__")
+    names = set()
+    for value in vars(main).values() if main is not None else ():
+        name = value.__name__ if isinstance(value, types.ModuleType) else getattr(
+            value, "__module__", None)
+        if isinstance(name, str) and not name.startswith(("__main__", "_")) and (
+                name != "builtins"):
+            names.add(name)
+    return sorted(names)
+
+
 def _context():
-    """The forkserver context, its preloads set once (``__main__`` first: a child then
-    finds the server's main module imported and does not run it again)."""
+    """The forkserver context, its preloads set once: this module, ``core`` and what the
+    main script imports, so that a child starts with all of it loaded."""
     global _CONTEXT
     with _CONTEXT_LOCK:
         if _CONTEXT is None:
             context = multiprocessing.get_context("forkserver")
-            context.set_forkserver_preload(["__main__", __name__, "core"])
+            context.set_forkserver_preload([*_main_imports(), __name__, "core"])
             _CONTEXT = context
         return _CONTEXT
 
