@@ -6,7 +6,7 @@ its cost grows with the number of loops, not with what changes: thousands of loo
 amplitude is far below what a plot can show. Once the motion about the equilibrium is that
 small and its decay is regular, it is advanced by a reduced model instead::
 
-    x(t) = x_c + kappa (A_0 - A(t)) + A(t) cos(phase0 + 2 pi (t - t_s) / T)
+    x(t) = x_c + kappa C(A(t)) + e (l(A(t)) - 1) + A(t) cos(phase0 + 2 pi (t - t_s) / T)
 
 with the cycle ``T`` measured over the last cycles and the amplitude ``A`` following the
 decay law fitted to the last amplitudes (one per cycle), the steadiest of
@@ -18,11 +18,23 @@ decay law fitted to the last amplitudes (one per cycle), the steadiest of
   amplitude: overlaps under ``D / beta`` never leave the compression envelope, Eq. 13).
 
 The centre creeps as the loops shrink (the loops of Eq. 13 do not close: each ends at a
-slightly different force), in proportion to the amplitude lost, ``kappa`` measured over the
-same cycles (``kappa ~ 7`` on the slow scene of Fig. 11's kind: the centre moves seven times
-the amplitude it loses). The model's error in the state is bounded by
-``(2 + |kappa|) A_0`` (the band it starts in, and the centre's creep if ``kappa`` were off by
-100 %); the solver reports it. The time of rest is when ``A`` falls below the rest amplitude.
+slightly different force): ``kappa`` is the creep per amplitude lost over the last cycles
+(``kappa ~ 7`` on the slow scene of Fig. 11's kind), and its rate grows like ``A^-p`` as the
+loops shrink (``p`` measured against the cycles before, below 1/2), so the creep is
+``C(A) = A_0^p (A_0^(1-p) - A^(1-p)) / (1 - p)``. The last swing's midpoint ``x_c`` lags the
+centre by ``e``, half the loss of a half cycle, which vanishes with the loss per cycle
+(``l``: ``A / A_0``, ``(A / A_0)^2`` or ``(A - A_inf) / (A_0 - A_inf)`` for the three laws).
+
+Error: while it runs, the model stays within ``2 A_0`` plus the creep's error (the band,
+which must be below what the page shows, the train's band); where it ends, its error in the
+position is at most ``2 (1 + 2 spread) A(t_1)`` (both motions within their amplitude of their
+centres, whatever the phase, which is not kept over thousands of cycles) plus the creep's
+error (its rate off by 100 % and by its change over the cycles before), the velocity's
+``2 pi / T`` times the oscillating part; at rest the rest amplitude plus the creep's error.
+The solver reports both (``reduced_band``, ``reduced_error``); the model takes over once the
+latter is within the tolerance, or the band is (the position then within it throughout, the
+velocity up to ``2 pi / T`` times it). The time of rest is when ``A`` falls below the rest
+amplitude.
 """
 
 from __future__ import annotations
@@ -159,6 +171,7 @@ class Oscillation(NamedTuple):
     creep_power: float = 0.0  # the creep rate grows like A^-p as the amplitude A falls
     kappa_change: float = 0.0  # change of kappa from the cycles before
     offset: float = 0.0  # x_c less the centre: the last swing's midpoint lags the decay
+    dissipation: float = math.nan  # what the stop dissipates until rest (nan: omega^2 A0^2/2)
 
     @property
     def error_bound(self) -> float:
@@ -178,22 +191,23 @@ class Oscillation(NamedTuple):
         return self.amp0**self.creep_power * (self.amp0**q - np.asarray(amp) ** q) / q
 
     def end_error(self, tau: float, rest_amplitude: float | None = None) -> float:
-        """Bound of the model's error in the position ``tau`` after the start, where it
-        ends (the horizon, or rest when ``rest_amplitude`` is given); the velocity's is up
-        to ``2 pi / T`` times the oscillation's part of it.
+        """Bound of the model's error in the state ``tau`` after the start, where it ends
+        (the horizon, or rest when ``rest_amplitude`` is given).
 
         Both motions lie within their amplitude of their centres: the model's amplitude
         there is ``A(tau)``, the true one within :data:`END_AMPLITUDE_MARGIN` of it (the
         fitted per-cycle rates agree to :data:`DECAY_SPREAD`), whatever the phase (which
-        the model does not keep over thousands of cycles). The centres differ by at most
-        the creep of the amplitude lost (its rate off by 100 %). At rest the true
+        the model does not keep over thousands of cycles); their velocities differ by up
+        to ``2 pi / T`` times that. The centres differ by at most the creep of the
+        amplitude lost (its rate off by 100 %). At rest, the solver's convention: the true
         oscillation left is below the rest amplitude.
         """
         amp = float(self.decay.amplitude(self.amp0, tau / self.period))
         creep = self.creep_error(amp)
         if rest_amplitude is not None:
             return rest_amplitude + creep
-        return 2.0 * END_AMPLITUDE_MARGIN * amp + creep
+        omega = 2.0 * math.pi / self.period
+        return 2.0 * END_AMPLITUDE_MARGIN * amp * max(1.0, omega) + creep
 
     def centre(self, amp) -> float:
         """Centre of the oscillation once its amplitude is ``amp``."""
@@ -233,7 +247,10 @@ class Oscillation(NamedTuple):
         return (self.centre(amp) + amp * c, damp * (c - rate) - amp * w * s, amp)
 
     def energy(self, amp) -> float:
-        """Energy of the linear oscillator of this cycle at amplitude ``amp``."""
+        """Energy of the oscillation at amplitude ``amp``: the linear oscillator's of this
+        cycle, or :attr:`dissipation` times ``(amp / A_0)^2`` when that is known."""
+        if not math.isnan(self.dissipation):
+            return self.dissipation * (np.asarray(amp) / self.amp0) ** 2
         w = 2.0 * math.pi / self.period
         return 0.5 * w * w * amp * amp
 
@@ -284,7 +301,8 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     # Without its creep first (cheap): most reversals end here while the loops are large.
     plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay)
     tau_end, rests = oscillation_end(sv, st, plain)
-    if plain.end_error(tau_end, sv.rest_amplitude() if rests else None) > tol:
+    rest_amp = sv.rest_amplitude() if rests else None
+    if plain.end_error(tau_end, rest_amp) > tol and plain.error_bound > tol:
         return None
     creep = creep_law(reversal_x)
     if creep is None:
@@ -293,11 +311,11 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
                         decay, *creep, offset)
     # While it runs the model moves in a band below what the page can show (the same
-    # band as a reduced train's); where it ends, the state's error is within the tolerance.
+    # band as a reduced train's); where it ends, the state's error is within the
+    # tolerance, or else its whole band is (the position's error then is, throughout).
     if model.error_bound > train_band(sv):
         return None
-    tau_end, rests = oscillation_end(sv, st, model)
-    if model.end_error(tau_end, sv.rest_amplitude() if rests else None) > tol:
+    if model.end_error(tau_end, rest_amp) > tol and model.error_bound > tol:
         return None
     return oscillate(sv, st, branch, s, model)
 
@@ -400,7 +418,8 @@ def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillatio
 
     Energy: friction and belt work follow the model's motion; the stop takes the rest
     of the balance, and its loss grows by the oscillator's energy ``omega^2 A^2 / 2``
-    as the amplitude decays, so ``stop_loss`` never falls.
+    as the amplitude decays (or, when it ends at rest, by what the loss is there, in
+    proportion to ``A^2``), so ``stop_loss`` never falls.
     """
     sv.record(TransitionKind.REDUCED, st, st.v)
     tau, rests = oscillation_end(sv, st, model)
@@ -410,6 +429,13 @@ def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillatio
     if not sv.contact.kind or sv.timeline[-1][1] != 1:
         sv.timeline.append((st.t, 1, len(sv.contact.kind)))
     sa = s * sv.a
+    if rests:
+        # The loss at rest (where the centre has crept to, on the law's state there) less
+        # the loss now: the model dissipates exactly that, so the loss never falls at rest.
+        x_eq = float(model.centre(0.0))
+        at_rest = (st.work[2] + sa * (x_eq - x_s) - 0.5 * x_eq * x_eq + m_s
+                   - stored_energy(x_eq - sv.xb, sa - x_eq, sv.stop))
+        model = model._replace(dissipation=max(at_rest - loss_s, 0.0))
     sv.contact.add(_OSC, st.t, t1, (model, x_s, m_s, loss_s), sa, st.work)
     x1, v1, _ = (float(q) for q in model.state(t1 - st.t))
     wf, wb, ws = st.work
