@@ -718,8 +718,10 @@ def simulate_hysteretic(
         speed) of the first and the last contact (``effective_restitution_first``,
         ``effective_restitution``; :func:`effective_restitutions` lists all), ``law``, and
         when they apply ``rest_force`` (``phi/k`` at rest), ``reduced_error`` (bound of
-        a reduced model's error in the position where it ends: the horizon or rest) and
-        ``reduced_band`` (bound of that error while the model runs).
+        a reduced model's error where it ends, the horizon or rest: in the state for an
+        oscillation on the stop, in the position for a train of contacts, whose velocity
+        may be off by twice its approach speed) and ``reduced_band`` (bound of the
+        position's error while the model runs).
 
     Examples
     --------
