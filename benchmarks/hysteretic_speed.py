@@ -16,10 +16,12 @@ loop and contact (``reduce=False``) at rtol 1e-11, atol 1e-14:
   the candidate's rest amplitude).
 
 Also: the steady state's label, the time of the switch into a reduced model (``-`` if
-none), the reduced model's stated error bound (``Result.info['reduced_error']`` over the
-scale; for a train of contacts, the band it moves in at the switch, which bounds the
-position error, the velocity's being up to twice the approach speed) and whether the energy
-balance closes.
+none), the reduced model's stated error bound in the position where it ends (``bound``:
+``Result.info['reduced_error']`` over the scale; for a train of contacts, the band it moves
+in at the switch, the velocity's being up to twice the approach speed; for an oscillation on
+the stop, the velocity's is up to ``2 pi / T`` times its oscillating part), the band it
+moves in while it runs (``band``: ``info['reduced_band']``) and whether the energy balance
+closes.
 
     PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
         [--no-reference] [--cells k_c0,beta,D ...]
@@ -107,9 +109,10 @@ def row(cell, args) -> str:
     t1e4, _ = timed(stop, HORIZONS[1], max(1, args.repeat // 3))
     red = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
     err_bound = res.info.get("reduced_error", 0.0) / scale
+    band = res.info.get("reduced_band", 0.0) / scale
     cols = [f"{k_c0:>7.0e} {beta:>6g} {d:>6g}", f"{1e3 * t100:>8.1f}", f"{1e3 * t1e4:>8.1f}",
             f"{res.steady.kind.value:>13}", f"{red[0] if red else math.nan:>8.3g}",
-            f"{err_bound:>8.1e}", f"{balance(res):>8.1e}"]
+            f"{err_bound:>8.1e}", f"{band:>8.1e}", f"{balance(res):>8.1e}"]
     if args.no_reference:
         return " ".join(cols)
     ref = simulate_hysteretic(OSC, stop, HORIZONS[0], 0.0, 0.0, reduce=False,
@@ -150,7 +153,7 @@ def main() -> None:
     print(f"# preset rtol {PRESET['rtol']:g} atol {PRESET['atol']:g} (stated error "
           f"{STATED_ERROR:g}); reference rtol {REFERENCE['rtol']:g}, reduce=False")
     head = (f"{'k_c0':>7} {'beta':>6} {'D':>6} {'ms t100':>8} {'ms t1e4':>8} {'steady':>13} "
-            f"{'reduced':>8} {'bound':>8} {'balance':>8}")
+            f"{'reduced':>8} {'bound':>8} {'band':>8} {'balance':>8}")
     if not args.no_reference:
         head += f" {'state':>8} {'x_max':>8} {'rest':>8} {'ref steady':>13}"
     print(head)

@@ -188,7 +188,8 @@ class _Solver:
         self.steady: Steady | None = None
         self.tail: tuple[float, float, float, tuple[float, float, float]] | None = None
         self.detector: FixedPointDetector | None = None
-        self.reduced_error = 0.0  # bound of the reduced models' error in the state
+        self.reduced_error = 0.0  # bound of the reduced models' error in the end state
+        self.reduced_band = 0.0  # bound of their error in the position while they run
         self.train: list[tuple[float, float, float, int]] = []  # contacts: t, w, peak, n
         self.rest_force = math.nan
 
@@ -688,8 +689,11 @@ def solve_hysteretic(
         ``info`` holds ``n_contacts``, the effective restitution (rebound over approach
         speed) of the first and the last contact (``effective_restitution_first``,
         ``effective_restitution``; :func:`effective_restitutions` lists all), ``law``, and
-        when they apply ``rest_force`` (``phi/k`` at rest) and ``reduced_error`` (bound of
-        a reduced model's error in the position).
+        when they apply ``rest_force`` (``phi/k`` at rest), ``reduced_error`` (bound of
+        a reduced model's error where it ends, the horizon or rest: in the state for an
+        oscillation on the stop, in the position for a train of contacts, whose velocity
+        may be off by twice its approach speed) and ``reduced_band`` (bound of the
+        position's error while the model runs).
 
     Examples
     --------

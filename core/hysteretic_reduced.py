@@ -6,7 +6,7 @@ its cost grows with the number of loops, not with what changes: thousands of loo
 amplitude is far below what a plot can show. Once the motion about the equilibrium is that
 small and its decay is regular, it is advanced by a reduced model instead::
 
-    x(t) = x_c + kappa (A_0 - A(t)) + A(t) cos(phase0 + 2 pi (t - t_s) / T)
+    x(t) = x_c + kappa C(A(t)) + e (l(A(t)) - 1) + A(t) cos(phase0 + 2 pi (t - t_s) / T)
 
 with the cycle ``T`` measured over the last cycles and the amplitude ``A`` following the
 decay law fitted to the last amplitudes (one per cycle), the steadiest of
@@ -18,11 +18,23 @@ decay law fitted to the last amplitudes (one per cycle), the steadiest of
   amplitude: overlaps under ``D / beta`` never leave the compression envelope, Eq. 13).
 
 The centre creeps as the loops shrink (the loops of Eq. 13 do not close: each ends at a
-slightly different force), in proportion to the amplitude lost, ``kappa`` measured over the
-same cycles (``kappa ~ 7`` on the slow scene of Fig. 11's kind: the centre moves seven times
-the amplitude it loses). The model's error in the state is bounded by
-``(2 + |kappa|) A_0`` (the band it starts in, and the centre's creep if ``kappa`` were off by
-100 %); the solver reports it. The time of rest is when ``A`` falls below the rest amplitude.
+slightly different force): ``kappa`` is the creep per amplitude lost over the last cycles
+(``kappa ~ 7`` on the slow scene of Fig. 11's kind), and its rate grows like ``A^-p`` as the
+loops shrink (``p`` measured against the cycles before, below 1/2), so the creep is
+``C(A) = A_0^p (A_0^(1-p) - A^(1-p)) / (1 - p)``. The last swing's midpoint ``x_c`` lags the
+centre by ``e``, half the loss of a half cycle, which vanishes with the loss per cycle
+(``l``: ``A / A_0``, ``(A / A_0)^2`` or ``(A - A_inf) / (A_0 - A_inf)`` for the three laws).
+
+Error: while it runs, the model stays within ``2 A_0`` plus the creep's error (the band,
+which must be below what the page shows, the train's band); where it ends, its error in the
+position is at most ``2 (1 + 2 spread) A(t_1)`` (both motions within their amplitude of their
+centres, whatever the phase, which is not kept over thousands of cycles) plus the creep's
+error (its rate off by 100 % and by its change over the cycles before), the velocity's
+``2 pi / T`` times the oscillating part; at rest the rest amplitude plus the creep's error.
+The solver reports both (``reduced_band``, ``reduced_error``); the model takes over once the
+latter is within the tolerance, or the band is (the position then within it throughout, the
+velocity up to ``2 pi / T`` times it). The time of rest is when ``A`` falls below the rest
+amplitude.
 """
 
 from __future__ import annotations
@@ -52,6 +64,15 @@ REDUCE_PER_RTOL = 50.0
 #: ... and at least this fraction of the length scale, a thousandth of a pixel of a plot
 #: 1000 pixels high: below it the motion is rest to the eye whatever the preset.
 PAGE_RESOLUTION = 1e-6
+#: The true amplitude where a reduced oscillation ends is within this factor of the
+#: model's: the fitted decay's per-cycle rates agree to DECAY_SPREAD (5 %), and the
+#: amplitude's relative error stays below the rate's (it is ``n dc A`` for the inverse law,
+#: ``<= dc / c``); twice that spread leaves a margin.
+END_AMPLITUDE_MARGIN = 1.0 + 2.0 * DECAY_SPREAD
+#: Largest growth ``p`` of the centre's creep rate, ``~ A^-p``, a reduced oscillation
+#: accepts: the creep left, ``~ A^(1-p) / (1 - p)``, is then at most twice what the
+#: measured rate gives over the amplitude left.
+MAX_CREEP_POWER = 0.5
 
 
 class Decay(NamedTuple):
@@ -146,16 +167,72 @@ class Oscillation(NamedTuple):
     period: float  # cycle
     phase0: float  # phase at the start
     decay: Decay
-    kappa: float = 0.0  # creep of the centre per amplitude lost
+    kappa: float = 0.0  # creep of the centre per amplitude lost, at the start
+    creep_power: float = 0.0  # the creep rate grows like A^-p as the amplitude A falls
+    kappa_change: float = 0.0  # change of kappa from the cycles before
+    offset: float = 0.0  # x_c less the centre: the last swing's midpoint lags the decay
+    dissipation: float = math.nan  # what the stop dissipates until rest (nan: omega^2 A0^2/2)
 
     @property
     def error_bound(self) -> float:
-        """Bound of the model's error in the position (see the module's docstring)."""
-        return (2.0 + abs(self.kappa)) * self.amp0
+        """Bound of the model's error in the position while it runs (see the module's
+        docstring): the band it starts in and the centre's whole creep."""
+        return 2.0 * self.amp0 + self.creep_error(0.0)
+
+    def creep_error(self, amp) -> float:
+        """Bound of the error of the centre's creep once the amplitude is ``amp``: the
+        creep's rate off by 100 % and by its change over the cycles before."""
+        return (abs(self.kappa) + abs(self.kappa_change)) * abs(float(self.creep(amp)))
+
+    def creep(self, amp):
+        """Amplitude lost, weighted by the creep rate ``(A_0 / A)^p``, from ``A_0`` to
+        ``amp``: ``A_0^p (A_0^(1-p) - amp^(1-p)) / (1 - p)``."""
+        q = 1.0 - self.creep_power
+        return self.amp0**self.creep_power * (self.amp0**q - np.asarray(amp) ** q) / q
+
+    def end_error(self, tau: float, rest_amplitude: float | None = None) -> float:
+        """Bound of the model's error in the state ``tau`` after the start, where it ends
+        (the horizon, or rest when ``rest_amplitude`` is given).
+
+        Both motions lie within their amplitude of their centres: the model's amplitude
+        there is ``A(tau)``, the true one within :data:`END_AMPLITUDE_MARGIN` of it (the
+        fitted per-cycle rates agree to :data:`DECAY_SPREAD`), whatever the phase (which
+        the model does not keep over thousands of cycles); their velocities differ by up
+        to ``2 pi / T`` times that. The centres differ by at most the creep of the
+        amplitude lost (its rate off by 100 %). At rest, the solver's convention: the true
+        oscillation left is below the rest amplitude.
+        """
+        amp = float(self.decay.amplitude(self.amp0, tau / self.period))
+        creep = self.creep_error(amp)
+        if rest_amplitude is not None:
+            return rest_amplitude + creep
+        omega = 2.0 * math.pi / self.period
+        return 2.0 * END_AMPLITUDE_MARGIN * amp * max(1.0, omega) + creep
 
     def centre(self, amp) -> float:
         """Centre of the oscillation once its amplitude is ``amp``."""
-        return self.x_c + self.kappa * (self.amp0 - amp)
+        return (self.x_c + self.kappa * self.creep(amp)
+                + self.offset * (self._lag(amp) - 1.0))
+
+    def _lag(self, amp):
+        """The midpoint's lag behind the centre, relative to the start's, once the
+        amplitude is ``amp``: it is half the loss of a half cycle, ``~ dA/dn``, which is
+        ``~ A`` (geometric), ``~ A^2`` (inverse) or ``~ A - A_inf`` (limit)."""
+        u = np.asarray(amp, dtype=float)
+        if self.decay.law == GEOMETRIC:
+            return u / self.amp0
+        if self.decay.law == INVERSE:
+            return (u / self.amp0) ** 2
+        return (u - self.decay.limit) / (self.amp0 - self.decay.limit)
+
+    def _dlag(self, amp):
+        """``d lag / dA``."""
+        u = np.asarray(amp, dtype=float)
+        if self.decay.law == GEOMETRIC:
+            return np.full_like(u, 1.0 / self.amp0)
+        if self.decay.law == INVERSE:
+            return 2.0 * u / self.amp0**2
+        return np.full_like(u, 1.0 / (self.amp0 - self.decay.limit))
 
     def state(self, tau):
         """Position and velocity ``tau`` after the start (arrays or floats)."""
@@ -165,10 +242,15 @@ class Oscillation(NamedTuple):
         w = 2.0 * math.pi / self.period
         ph = self.phase0 + w * np.asarray(tau, dtype=float)
         c, s = np.cos(ph), np.sin(ph)
-        return (self.centre(amp) + amp * c, damp * (c - self.kappa) - amp * w * s, amp)
+        rate = (self.kappa * (self.amp0 / np.maximum(amp, 1e-300)) ** self.creep_power
+                - self.offset * self._dlag(amp))
+        return (self.centre(amp) + amp * c, damp * (c - rate) - amp * w * s, amp)
 
     def energy(self, amp) -> float:
-        """Energy of the linear oscillator of this cycle at amplitude ``amp``."""
+        """Energy of the oscillation at amplitude ``amp``: the linear oscillator's of this
+        cycle, or :attr:`dissipation` times ``(amp / A_0)^2`` when that is known."""
+        if not math.isnan(self.dissipation):
+            return self.dissipation * (np.asarray(amp) / self.amp0) ** 2
         w = 2.0 * math.pi / self.period
         return 0.5 * w * w * amp * amp
 
@@ -213,17 +295,69 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
         sv.record(TransitionKind.REDUCED, st, 0.0)
         sv.reduced_error = max(sv.reduced_error, 2.0 * (amps[-1] - decay.limit))
         return "periodic"
-    if 2.0 * amps[-1] > tol or 2.0 * math.pi / period * amps[-1] >= sv.vb:
+    if 2.0 * amps[-1] > train_band(sv) or 2.0 * math.pi / period * amps[-1] >= sv.vb:
         return None
     x_c = 0.5 * (xs[-1] + xs[-2])
-    xa = np.asarray(xs)
-    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
-    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
+    # Without its creep first (cheap): most reversals end here while the loops are large.
+    plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay)
+    tau_end, rests = oscillation_end(sv, st, plain)
+    rest_amp = sv.rest_amplitude() if rests else None
+    if plain.end_error(tau_end, rest_amp) > tol and plain.error_bound > tol:
+        return None
+    creep = creep_law(reversal_x)
+    if creep is None:
+        return None
+    offset = x_c - 0.25 * (xs[-3] + 2.0 * xs[-2] + xs[-1])
     model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
-                        decay, kappa)
-    if model.error_bound > tol:
+                        decay, *creep, offset)
+    # While it runs the model moves in a band below what the page can show (the same
+    # band as a reduced train's); where it ends, the state's error is within the
+    # tolerance, or else its whole band is (the position's error then is, throughout).
+    if model.error_bound > train_band(sv):
+        return None
+    if model.end_error(tau_end, rest_amp) > tol and model.error_bound > tol:
         return None
     return oscillate(sv, st, branch, s, model)
+
+
+def oscillation_end(sv: _Solver, st: _State, model: Oscillation) -> tuple[float, bool]:
+    """How long the reduced oscillation runs from ``st`` (to a reversal once its amplitude
+    is below half the rest amplitude, or to the horizon), and whether it ends at rest."""
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
+    tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
+    if st.t + tau_rest < sv.t_end:
+        return tau_rest, True
+    return sv.t_end - st.t, False
+
+
+def _window_creep(xs) -> tuple[float, float]:
+    """Creep of the centre per amplitude lost over the cycles of the reversals ``xs``, and
+    their mean amplitude."""
+    xa = np.asarray(xs)
+    swings = np.abs(np.diff(xa))
+    amps = 0.25 * (swings[0::2] + swings[1::2])
+    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
+    return float((centres[-1] - centres[0]) / (amps[0] - amps[-1])), float(amps.mean())
+
+
+def creep_law(reversal_x) -> tuple[float, float, float] | None:
+    """``(kappa, p, dk)``: the centre's creep per amplitude lost over the last cycles, how
+    it grows as the loops shrink, ``kappa ~ A^-p``, and its change ``dk`` from the
+    :data:`DECAY_FIT` cycles before (``p = 0`` if it does not grow); ``None`` without
+    those cycles, or if the creep grows so fast (``p >=`` :data:`MAX_CREEP_POWER`) that
+    where it ends cannot be told from a few cycles."""
+    n = 2 * DECAY_FIT + 1
+    if len(reversal_x) < 2 * n - 1:
+        return None
+    xs = [x for _, x, _ in reversal_x[-(2 * n - 1):]]
+    kappa, amp = _window_creep(xs[-n:])
+    kappa0, amp0 = _window_creep(xs[-(2 * n - 1):-(n - 1)])
+    if kappa * kappa0 <= 0.0 or not amp0 > amp or abs(kappa) <= abs(kappa0):
+        return kappa, 0.0, kappa - kappa0
+    power = math.log(kappa / kappa0) / math.log(amp0 / amp)
+    if power >= MAX_CREEP_POWER:
+        return None
+    return kappa, power, kappa - kappa0
 
 
 def reduce_extent(sv: _Solver) -> float:
@@ -284,17 +418,24 @@ def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillatio
 
     Energy: friction and belt work follow the model's motion; the stop takes the rest
     of the balance, and its loss grows by the oscillator's energy ``omega^2 A^2 / 2``
-    as the amplitude decays, so ``stop_loss`` never falls.
+    as the amplitude decays (or, when it ends at rest, by what the loss is there, in
+    proportion to ``A^2``), so ``stop_loss`` never falls.
     """
     sv.record(TransitionKind.REDUCED, st, st.v)
-    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
-    tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
-    t1 = min(st.t + tau_rest, sv.t_end)
-    x_s, m_s = st.x, 0.5 * (st.x * st.x + st.v * st.v)
+    tau, rests = oscillation_end(sv, st, model)
+    t1 = st.t + tau if rests else sv.t_end
+    x_s, m_s, t_s = st.x, 0.5 * (st.x * st.x + st.v * st.v), st.t
     loss_s = st.work[2] - stored_energy(st.x - sv.xb, branch.phi_r, sv.stop)
     if not sv.contact.kind or sv.timeline[-1][1] != 1:
         sv.timeline.append((st.t, 1, len(sv.contact.kind)))
     sa = s * sv.a
+    if rests:
+        # The loss at rest (where the centre has crept to, on the law's state there) less
+        # the loss now: the model dissipates exactly that, so the loss never falls at rest.
+        x_eq = float(model.centre(0.0))
+        at_rest = (st.work[2] + sa * (x_eq - x_s) - 0.5 * x_eq * x_eq + m_s
+                   - stored_energy(x_eq - sv.xb, sa - x_eq, sv.stop))
+        model = model._replace(dissipation=max(at_rest - loss_s, 0.0))
     sv.contact.add(_OSC, st.t, t1, (model, x_s, m_s, loss_s), sa, st.work)
     x1, v1, _ = (float(q) for q in model.state(t1 - st.t))
     wf, wb, ws = st.work
@@ -302,8 +443,10 @@ def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillatio
     dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
     st.work = (wf + dwf, wb + sa * sv.vb * (t1 - st.t), ws + dwf - dm)
     st.t, st.x, st.v = t1, x1, v1
-    sv.reduced_error = max(sv.reduced_error, model.error_bound)
-    if t1 >= sv.t_end:
+    sv.reduced_band = max(sv.reduced_band, model.error_bound)
+    sv.reduced_error = max(sv.reduced_error, model.end_error(
+        t1 - t_s, None if not rests else sv.rest_amplitude()))
+    if not rests:
         return "horizon"
     return sv.rest_at_stop(st, branch, s, x_rest=model.centre(0.0))
 
