@@ -204,6 +204,13 @@ class Explorer(pn.viewable.Viewer):
             description="Solve this run again with every method and preset: wall time now, "
                         "error against a reference solution, steady state found.")
         self.measure.on_click(self._measure)
+        #: The sweep card (app.bifurcation), built when first opened.
+        self.sweeps: Any = None
+        self.open_sweeps = pn.widgets.Button(
+            label="Bifurcation diagram (sweep)", width=WIDGET_WIDTH,
+            css_classes=["fie-open-sweeps"])
+        self.open_sweeps.on_click(self._open_sweeps)
+        self._plot_box: pn.FlexBox | None = None
         self.trade = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
                                   css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET])
         #: The solve values the trade table describes.
@@ -358,14 +365,16 @@ class Explorer(pn.viewable.Viewer):
                          margin=(8, 10, 0, 10)),
             w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
-            self.measure, self.show_all, self.download, self.download_transitions,
+            self.measure, self.open_sweeps, self.show_all, self.download,
+            self.download_transitions,
         ]
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
+        self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
+                                    css_classes=["fie-plots"])
         return [self.alert, self.caption, self.readout, self.trade, self.arrived,
-                pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
-                           css_classes=["fie-plots"])]
+                self._plot_box]
 
     def __panel__(self) -> pn.viewable.Viewable:
         return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30),
@@ -748,6 +757,34 @@ class Explorer(pn.viewable.Viewer):
         except Exception as exc:  # noqa: BLE001 - a drawing fault must not go unsaid
             log.error("drawing failed", exc_info=exc)
             self._show_error(f"The picture could not be drawn: {type(exc).__name__}: {exc}")
+        if self.sweeps is not None:
+            self.sweeps.on_solution(sol.values)
+
+    # --- sweeps (app.bifurcation) ----------------------------------------------------------
+
+    def _open_sweeps(self, event: Any = None) -> None:
+        """Build the sweep card on first use (a new page holds none of its models), put it
+        above the plots and sweep the current scene."""
+        if self.sweeps is None:
+            from app.bifurcation import BifurcationView
+
+            self.sweeps = BifurcationView(
+                values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
+                map_figure=self._sweep_map_figure,
+                map_frame=lambda: self._map_frame(self.solution))
+            if self._plot_box is not None:
+                self._plot_box.objects = [self.sweeps.layout, *self._plot_box.objects]
+            self.sweeps.start()
+        else:
+            self.sweeps.layout.collapsed = False
+
+    def _sweep_map_figure(self) -> Any:
+        """The regime map's figure, shown (with 'show all plots') if the scene hides it."""
+        if "map" not in self.applicable_plots():
+            return None
+        if "map" not in self.visible_plots():
+            self._commit({"show_all": True})
+        return self.plots.figures.get("map")
 
     def _solve_failed(self, exc: Exception) -> None:
         if isinstance(exc, ValueError):

@@ -315,6 +315,12 @@ def submit(values: Mapping[str, Any], *, preview: bool = False) -> Future:
     return _lane(values).submit(key, preview)
 
 
+def executor_for(values: Mapping[str, Any]) -> ThreadPoolExecutor:
+    """The worker pool that solves ``values`` (closed form or integrating): for other work
+    of the same kind, such as a parameter sweep's chunks (:mod:`app.bifurcation`)."""
+    return _lane(values).executor
+
+
 def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False) -> None:
     """The caller no longer needs ``future`` (a newer request replaced it): a solve that
     has not started yet is cancelled."""
@@ -696,7 +702,7 @@ def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 __all__ = [
     "ACCURACY", "Mode", "Program", "SolveRunner", "SolveTooSlow", "Solution", "Theory",
-    "choose_method", "forget", "submit",
+    "choose_method", "executor_for", "forget", "submit",
     "mode_intervals",
     "overlap_program", "regime_labels", "regime_map", "solve",
 ]
