@@ -541,7 +541,7 @@ class BifurcationView:
             label="On the y axis", value=default_quantity(vals), width=260,
             options={QUANTITY_LABELS[q]: q for q in applicable_quantities(vals)},
             css_classes=["fie-bif-quantity"])
-        self.run = pn.widgets.Button(label="Sweep", button_type="primary", width=90,
+        self.run = pn.widgets.Button(label="Sweep", color="primary", width=90,
                                      css_classes=["fie-bif-run"])
         self.stop = pn.widgets.Button(label="Cancel", width=90, disabled=True,
                                       css_classes=["fie-bif-cancel"])
@@ -872,8 +872,10 @@ class BifurcationView:
 
 
 def _legend() -> str:
-    return "Colours: " + ", ".join(
-        f"<span style='color:{c}'>{k}</span>" for k, c in LABEL_COLORS.items())
+    colours = ", ".join(f"<span style='color:{c}'>{k}</span>" for k, c in LABEL_COLORS.items())
+    return (f"Colours: {colours}. <span style='color:{CURRENT_COLOR}'>Red line</span>: the "
+            "explorer's value; dashed: the theory's boundaries (each labelled with the regime "
+            "that follows it), dotted: a, b, the stop.")
 
 
 def _round(x: float) -> float:
