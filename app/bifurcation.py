@@ -341,6 +341,7 @@ class SimMap:
     disagree: np.ndarray
     frame: tuple[float, float, float]
     deformable: bool
+    t_end: float
 
 
 def map_cells(frame: tuple[float, float, float], cells: int) -> tuple[np.ndarray, np.ndarray]:
@@ -376,7 +377,7 @@ def compare_map(values: Mapping[str, Any], frame, labels_rows: np.ndarray) -> Si
     cells = labels_rows.shape[0]
     speeds, clearances = map_cells(frame, cells)
     labels = labels_rows.T
-    osc, stop, x0, v0, _, _ = _inputs(values)
+    osc, stop, x0, v0, t_end, _ = _inputs(values)
     rigid = equivalent_rigid(stop)
     grid = theory.classify_grid(osc, rigid, speeds, clearances if stop is not None
                                 else clearances[:1], x0, v0)
@@ -390,7 +391,7 @@ def compare_map(values: Mapping[str, Any], frame, labels_rows: np.ndarray) -> Si
     if isinstance(rigid, RigidStop) and rigid.restitution == 0.0:
         same |= (labels == "pure_slip") & (expected == "grazing")
     return SimMap(labels=labels, expected=expected, disagree=valid & ~same, frame=frame,
-                  deformable=isinstance(stop, HystereticStop))
+                  deformable=isinstance(stop, HystereticStop), t_end=t_end)
 
 
 def rgba(sim: SimMap) -> tuple[np.ndarray, np.ndarray]:
@@ -572,6 +573,8 @@ class BifurcationView:
         self._map_key: tuple | None = None
         self.sim_map: SimMap | None = None
         self._map_renderers: tuple[Any, Any] | None = None
+        self._map_fig: Any = None
+        self._map_title_text: str | None = None
         self._started = 0.0
         #: Wall time [s] of the last complete sweep, from its request to its last chunk.
         self.last_seconds: float | None = None
@@ -774,6 +777,7 @@ class BifurcationView:
             if self._map_renderers is not None:
                 for r in self._map_renderers:
                     r.visible = False
+                self._map_title(None)
             self.map_status.object = ""
             return
         values = self._values()
@@ -842,13 +846,27 @@ class BifurcationView:
                 # Over the theory's image, under the current point's marker.
                 base = [r for r in fig.renderers if r is not sim_r and r is not dis_r]
                 fig.renderers = [base[0], sim_r, dis_r, *base[1:]]
-                self._map_renderers = (sim_r, dis_r)
+                self._map_renderers, self._map_fig = (sim_r, dis_r), fig
             else:
                 self._sim_source.data = {"image": [sim_img], **geometry}
                 self._dis_source.data = {"image": [dis_img], **geometry}
             self._map_renderers[0].visible = self.sim_layer.value
             self._map_renderers[1].visible = self.disagree_layer.value
+            self._map_title(fig)
             self.map_status.object = self._map_summary(sim)
+
+    def _map_title(self, fig: Any) -> None:
+        """Say on the map which layers it shows (its legend below names the theory's)."""
+        fig = fig if fig is not None else self._map_fig
+        if fig is None:
+            return
+        if self._map_title_text is None:
+            self._map_title_text = fig.title.text
+        shown = [name for name, on in (("steady states", self.sim_layer.value),
+                                       ("disagreement in red", self.disagree_layer.value))
+                 if on]
+        fig.title.text = self._map_title_text + (
+            f"; simulated: {', '.join(shown)}" if shown else "")
 
     def _map_summary(self, sim: SimMap) -> str:
         n = sim.labels.size
@@ -862,11 +880,13 @@ class BifurcationView:
         where = (f"Simulation and theory disagree in {bad} of {n} cells (red)."
                  if bad else "Simulation and theory agree in every cell that settled.")
         if unsettled:
-            where += (f" {unsettled} cells had not settled by the horizon (grey, not "
-                      "compared).")
-        lesson = (" The theory speaks of the equivalent rigid stop (Eq. 16): where a "
-                  "deformable stop's contact time and hysteresis matter, they differ."
-                  if sim.deformable else "")
+            where += (f" {unsettled} cells had not settled by t = {sim.t_end:g} (grey, "
+                      "not compared).")
+        lesson = ""
+        if sim.deformable:
+            lesson = " The theory is that of the equivalent rigid stop (Eq. 16)" + (
+                ": where they differ, the stop's compliance and hysteresis change the "
+                "motion." if bad else ".")
         return (f"<div class='fie-bif-done'>Simulated steady states: {swatches}<br>"
                 f"{where}{html.escape(lesson)}</div>")
 

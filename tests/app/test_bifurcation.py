@@ -163,3 +163,7 @@ def test_the_simulated_map_of_a_rigid_stop_agrees_with_the_theory():
     assert (sim.labels == "periodic").sum() > 1000
     assert "map" in ex.plots.figures
     assert view._map_renderers[1].visible and not view._map_renderers[0].visible
+    assert "simulated: disagreement in red" in ex.plots.figures["map"].title.text
+    view.disagree_layer.value = False
+    assert not any(r.visible for r in view._map_renderers)
+    assert ex.plots.figures["map"].title.text == "Regime map (tap to move there)"
