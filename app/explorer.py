@@ -211,8 +211,11 @@ class Explorer(pn.viewable.Viewer):
             css_classes=["fie-open-sweeps"])
         self.open_sweeps.on_click(self._open_sweeps)
         self._plot_box: pn.FlexBox | None = None
+        # Put on the page by its first measurement (above the plots): a new page holds
+        # none of its models.
         self.trade = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
-                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET])
+                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET],
+                                  styles={"flex": "1 1 100%"})
         #: The solve values the trade table describes.
         self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
@@ -373,8 +376,7 @@ class Explorer(pn.viewable.Viewer):
         """The alert, the caption, the readout and the plots."""
         self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                                     css_classes=["fie-plots"])
-        return [self.alert, self.caption, self.readout, self.trade, self.arrived,
-                self._plot_box]
+        return [self.alert, self.caption, self.readout, self.arrived, self._plot_box]
 
     def __panel__(self) -> pn.viewable.Viewable:
         return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30),
@@ -772,11 +774,17 @@ class Explorer(pn.viewable.Viewer):
                 values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
                 map_figure=self._sweep_map_figure,
                 map_frame=lambda: self._map_frame(self.solution))
-            if self._plot_box is not None:
-                self._plot_box.objects = [self.sweeps.layout, *self._plot_box.objects]
+            self._above_plots(self.sweeps.layout)
             self.sweeps.start()
         else:
             self.sweeps.layout.collapsed = False
+
+    def _above_plots(self, pane: Any) -> None:
+        """Put ``pane`` on the page above the plots (a full row of their box), once:
+        panes used only on demand are added when first used."""
+        box = self._plot_box
+        if box is not None and not any(obj is pane for obj in box.objects):
+            box.objects = [pane, *box.objects]
 
     def _sweep_map_figure(self) -> Any:
         """The regime map's figure, shown (with 'show all plots') if the scene hides it."""
@@ -857,6 +865,7 @@ class Explorer(pn.viewable.Viewer):
             "<div class='fie-title'>Speed and accuracy, measured for this run</div>"
             + trade_html(rows))
         self.trade.visible = True
+        self._above_plots(self.trade)
 
     def _reserve_readout(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows
