@@ -518,12 +518,15 @@ class BifurcationView:
         The explorer's regime map figure, built if need be (``None`` if it cannot show).
     map_frame : callable() -> (v_hi, x_lo, x_hi)
         The regime map's axes.
+    shared : app.plots.SharedModels, optional
+        The page's shared ticker, scale, filter... (fewer models to send).
     """
 
     def __init__(self, values: Callable[[], Mapping[str, Any]],
                  on_pick: Callable[[str, float], None],
-                 map_figure: Callable[[], Any], map_frame: Callable[[], tuple]) -> None:
-        self._values, self.on_pick = values, on_pick
+                 map_figure: Callable[[], Any], map_frame: Callable[[], tuple],
+                 shared: Any = None) -> None:
+        self._values, self.on_pick, self._shared = values, on_pick, shared
         self._map_figure, self._map_frame = map_figure, map_frame
         vals = values()
         params = applicable_parameters(vals)
@@ -623,6 +626,10 @@ class BifurcationView:
                             line_width=2, line_alpha=0.8)
         fig.add_layout(self.current)
         fig.on_event(Tap, self._on_tap)
+        if self._shared is not None:
+            self._shared.lighten(fig)
+            for src in (self.source, self.image_source, self.vlines, self.hlines):
+                src.selection_policy = self._shared.policy
         self.fig = fig
 
     # --- sweep -------------------------------------------------------------------------
@@ -847,6 +854,10 @@ class BifurcationView:
                 base = [r for r in fig.renderers if r is not sim_r and r is not dis_r]
                 fig.renderers = [base[0], sim_r, dis_r, *base[1:]]
                 self._map_renderers, self._map_fig = (sim_r, dis_r), fig
+                if self._shared is not None:
+                    self._shared.lighten(fig)
+                    for src in (self._sim_source, self._dis_source):
+                        src.selection_policy = self._shared.policy
             else:
                 self._sim_source.data = {"image": [sim_img], **geometry}
                 self._dis_source.data = {"image": [dis_img], **geometry}

@@ -773,7 +773,7 @@ class Explorer(pn.viewable.Viewer):
             self.sweeps = BifurcationView(
                 values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
                 map_figure=self._sweep_map_figure,
-                map_frame=lambda: self._map_frame(self.solution))
+                map_frame=lambda: self._map_frame(self.solution), shared=self.plots.shared)
             self._above_plots(self.sweeps.layout)
             self.sweeps.start()
         else:
