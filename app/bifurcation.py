@@ -697,7 +697,8 @@ class BifurcationView:
                     f"{total} of {total} values of {PARAMETER_LABELS[spec.parameter]} in "
                     f"{self.last_seconds:.2f} s: {len(data.y)} samples "
                     f"({'density image' if len(data.y) > DENSITY_SAMPLES else 'points'}); "
-                    f"steady states: {found}. {_legend()}", done=True)
+                    f"steady states: {found}.{_no_samples(data, spec)} {_legend()}",
+                    done=True)
             else:
                 self._set_status(f"{done} of {total} values of "
                                  f"{PARAMETER_LABELS[spec.parameter]}…")
@@ -900,6 +901,14 @@ class BifurcationView:
                 "motion." if bad else ".")
         return (f"<div class='fie-bif-done'>Simulated steady states: {swatches}<br>"
                 f"{where}{html.escape(lesson)}</div>")
+
+
+def _no_samples(data: Points, spec: SweepSpec) -> str:
+    """A note when no point has a sample of the quantity (e.g. no impact at rest)."""
+    if len(data.y):
+        return ""
+    return (f" No point has a sample of '{QUANTITY_LABELS[spec.quantity]}': choose another "
+            "quantity (steady x_max, the period).")
 
 
 def _legend() -> str:
