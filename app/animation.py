@@ -195,7 +195,9 @@ class Animation:
 
     def panel(self) -> pn.Column:
         """The figure with its controls."""
-        return pn.Column(self.figure, pn.Row(self.play, self.back, self.forward, self.speed),
+        # The controls wrap on a narrow page (in one row the speed slider was cut at 800 px).
+        return pn.Column(self.figure, pn.Row(self.play, self.back, self.forward, self.speed,
+                                             styles={"flex-wrap": "wrap"}),
                          self.scrub, margin=0)
 
     def update(self, sol: Solution, scales: Scales) -> None:

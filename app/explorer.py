@@ -37,9 +37,19 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solver import ACCURACY, Solution, SolveRunner, SolveTooSlow, regime_map
+from app.solver import (
+    ACCURACY,
+    MAX_SOLVE_BUDGET_S,
+    Solution,
+    SolveRunner,
+    SolveTooSlow,
+    cut_short,
+    regime_map,
+    retry_budget,
+)
 from app.state import (
     ACCURACIES,
+    CONTACT_LAWS,
     METHODS,
     SOLVE_PARAMS,
     STOP_TYPES,
@@ -52,7 +62,8 @@ from app.state import (
     scene_values,
 )
 from app.trade import measure, trade_html
-from app.widgets import TypedSlider, bounds_reason, format_number, set_changed
+from app.widgets import ShownLater, TypedSlider, bounds_reason, format_number, set_changed
+from core import Status
 
 log = logging.getLogger(__name__)
 
@@ -99,6 +110,15 @@ TOOLTIPS: Mapping[str, str] = {
     "t_end_si": "Length of the simulated run in seconds.",
     "k_c0_si": "Stiffness of the stop when first compressed.",
     "k_e0_si": "Stiffness of the stop when first expanding (at most k_c0).",
+}
+#: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
+CONTACT_LAW_TIPS: Mapping[str, str] = {
+    "paper": "the paper's reading of Eqs. 12-13, which reproduces Fig. 2b; each reversal "
+             "restarts the exponential from the reversal point. Not passive: some closed "
+             "overlap programs give back more energy than they took",
+    "passive": "the same envelopes and exponential, but loading inside the band retraces "
+               "the unloading curve (elastic inside the band, loss on the envelope): no "
+               "closed overlap program returns energy",
 }
 #: What each method models (the method selector's tooltip).
 METHOD_TIPS: Mapping[str, str] = {
@@ -169,6 +189,13 @@ class Explorer(pn.viewable.Viewer):
         self._commits = 0
         #: Full solves and drag previews, in the worker pool (the latest request wins).
         self._solves = SolveRunner(self._solve_failed, self._show_busy)
+        #: The budget [s] that the solve on screen overran (None: it did not).
+        self._ran_out: float | None = None
+        #: "Retry with more time": built, and put below the alert, the first time a solve
+        #: runs out of time (a new page carries no model for it).
+        self.retry: pn.widgets.Button | None = None
+        #: The main area's column (:meth:`main_panel`).
+        self._main: pn.Column | None = None
         self._previews = SolveRunner(lambda exc: None, preview=True)
         self.plots = PlotSet()
         self.anim = Animation(self.plots.sources["traj"], self.plots.shared)
@@ -298,17 +325,26 @@ class Explorer(pn.viewable.Viewer):
         #: The paper's figure the reset button returns to (the last scene loaded).
         self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
         self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
+        # First in the deformable stop's group, and like it in the page once first shown.
+        self.contact_law = pn.widgets.Select(
+            label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
+            width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
+            description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
+                        + " (docs/contact-law.md).")
         for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
                               (self.accuracy, "accuracy"), (self.method, "method"),
-                              (self.show_all, "show_all"), (self.program, "program")):
+                              (self.show_all, "show_all"), (self.program, "program"),
+                              (self.contact_law, "contact_law")):
             widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
-        self.hysteretic_box = pn.Column(
+        # Groups shown only in some states join the page when first shown.
+        self.hysteretic_box = ShownLater(self.contact_law, *(
+            self.sliders[n].layout
+            for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")))
+        self.si_box = ShownLater(
             *(self.sliders[n].layout
-              for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c",
-                      "beta_e")), margin=0)
-        self.si_box = pn.Column(
-            *(self.sliders[n].layout
-              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")), margin=0)
+              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")))
+        #: The SI twins outside those groups, each in a column of its own.
+        self.si_start = {n: ShownLater(self.sliders[n].layout) for n in ("v0_si", "t_end_si")}
 
     def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
         """An empty, hidden pane per plot; :meth:`_show_plots` builds a plot into its pane
@@ -366,7 +402,7 @@ class Explorer(pn.viewable.Viewer):
             pn.pane.HTML("<b>Units</b>", margin=(8, 10, 0, 10)), self.units, self.si_box,
             pn.pane.HTML("<b>Start and horizon</b> (or click the phase portrait)",
                          margin=(8, 10, 0, 10)),
-            w["x0"], w["v0"], w["v0_si"], w["t_end"], w["t_end_si"],
+            w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
             self.measure, self.open_sweeps, self.show_all, self.download,
             self.download_transitions,
@@ -378,9 +414,13 @@ class Explorer(pn.viewable.Viewer):
                                     css_classes=["fie-plots"])
         return [self.alert, self.caption, self.readout, self.arrived, self._plot_box]
 
+    def main_panel(self) -> pn.Column:
+        """The main area (:meth:`main`) in one column, which later notices join."""
+        self._main = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        return self._main
+
     def __panel__(self) -> pn.viewable.Viewable:
-        return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30),
-                      pn.Column(*self.main(), sizing_mode="stretch_width"))
+        return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30), self.main_panel())
 
     # --- URL -----------------------------------------------------------------------------
 
@@ -707,19 +747,21 @@ class Explorer(pn.viewable.Viewer):
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
                               (self.accuracy, st.accuracy), (self.method, st.method),
                               (self.show_all, st.show_all), (self.scene_select, st.scene),
-                              (self.program, st.program)):
+                              (self.program, st.program), (self.contact_law, st.contact_law)):
             set_changed(widget, value=value)
         si = st.units == "SI"
-        set_changed(self.si_box, visible=si)
+        self.si_box.show(si)
         for name, (twin, _, _) in SI_TWINS.items():
             self.sliders[name].visible = si
             self.sliders[twin].visible = not si
+        for box in self.si_start.values():
+            box.show(si)
         self.sliders["u_s"].visible = not si
         self.sliders["belt_speed"].visible = not si
         has_stop = st.stop_type != "none"
         self.sliders["clearance"].visible = has_stop
         self.sliders["restitution"].visible = st.stop_type == "rigid"
-        set_changed(self.hysteretic_box, visible=st.stop_type == "hysteretic")
+        self.hysteretic_box.show(st.stop_type == "hysteretic")
         set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
@@ -749,7 +791,39 @@ class Explorer(pn.viewable.Viewer):
     def _update(self) -> None:
         """Full solve of the state, then redraw (:meth:`_solved`); on failure show why and
         keep the picture. The solve runs in the worker pool, not on the event loop."""
+        self._show_retry(None)
         self._solves.request(self.state.values(), self._solved)
+
+    def _retry_solve(self, event: Any = None) -> None:
+        """Solve the state on screen again with :func:`~app.solver.retry_budget` of the
+        budget that ran out; the picture stays until the answer comes."""
+        budget = retry_budget(self._ran_out or MAX_SOLVE_BUDGET_S)
+        if self.retry is not None:
+            self.retry.param.update(disabled=True, label=f"Solving (up to {budget:g} s)…")
+        self._solves.request(self.state.values(), self._solved, budget=budget)
+
+    def _show_retry(self, ran_out: float | None) -> None:
+        """Offer to solve again with more time after ``ran_out`` seconds were not enough
+        (hide the offer with None, or when the budget cannot grow)."""
+        self._ran_out = ran_out
+        offer = ran_out is not None and ran_out < MAX_SOLVE_BUDGET_S
+        if self.retry is None:
+            if not offer:
+                return
+            self.retry = pn.widgets.Button(
+                label="Retry with more time", color="primary", css_classes=["fie-retry"],
+                visible=False, margin=(0, 10, 8, 10))
+            self.retry.on_click(self._retry_solve)
+            if self._main is not None:
+                at = next(i for i, obj in enumerate(self._main.objects) if obj is self.alert)
+                self._main.insert(at + 1, self.retry)
+        if offer:
+            self.retry.param.update(
+                visible=True, disabled=False, label="Retry with more time",
+                description=f"Solve this run again with up to {retry_budget(ran_out):g} s "
+                            "(the plots stay until it is done).")
+        else:
+            set_changed(self.retry, visible=False)
 
     def _solved(self, sol: Solution) -> None:
         self.solution = sol
@@ -798,7 +872,11 @@ class Explorer(pn.viewable.Viewer):
         if isinstance(exc, ValueError):
             self._show_error(str(exc))
         elif isinstance(exc, SolveTooSlow):
-            self._show_error(f"The solve was too slow: {exc}")
+            more = ("" if exc.budget is None or exc.budget < MAX_SOLVE_BUDGET_S else
+                    f" Even {exc.budget:g} s were not enough.")
+            self._show_error(f"The solve was too slow: {exc}{more}", lead="Not solved in time:",
+                             tail="The plots still show the previous run.")
+            self._show_retry(exc.budget)
         else:
             log.error("solve failed", exc_info=exc)
             self._show_error(f"The solver failed: {type(exc).__name__}: {exc}")
@@ -838,10 +916,29 @@ class Explorer(pn.viewable.Viewer):
                     set_changed(self.trade, visible=False)  # it described another run
                 self._arrivals += 1  # last: the page's figures hold their paints until it
                 self.arrived.object = str(self._arrivals)
+        if cut_short(sol):
+            self._say_cut_short(sol)
+        else:
+            self._show_retry(None)
         if "map" in visible and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    def _say_cut_short(self, sol: Solution) -> None:
+        """Say that the core stopped ``sol`` before its horizon, and offer more time."""
+        res, scales = sol.result, self.state.scales()
+        unit = " s" if scales.si else ""
+        why = (f"its time budget of {sol.budget:g} s ran out" if res.status is Status.TIME_BUDGET
+               else "it reached its limit on integration steps")
+        more = ("" if sol.budget < MAX_SOLVE_BUDGET_S else
+                " More time cannot be given: a shorter horizon t_end or a looser accuracy "
+                "answers sooner.")
+        self._show_error(
+            f"the {sol.method} method stopped at t = {float(res.t[-1]) * scales.time:.4g}"
+            f"{unit} of t_end = {sol.t_end * scales.time:.4g}{unit}: {why}.{more}",
+            lead="Solved only in part:", tail="The plots show the run up to there.")
+        self._show_retry(sol.budget)
 
     async def _measure(self, event: Any = None) -> None:
         """Measure the speed/accuracy trade of the run on screen, off the event loop."""
@@ -906,14 +1003,15 @@ class Explorer(pn.viewable.Viewer):
         return (f"<div class='fie-title'>{html.escape(scene.title)}</div>"
                 f"<div class='fie-look'>{html.escape(scene.caption)}</div>")
 
-    def _show_error(self, message: str) -> None:
-        """Show ``message`` as text (it may echo a URL's or a user's value)."""
+    def _show_error(self, message: str, lead: str = "Input not applied:",
+                    tail: str = "The plots still show the last valid parameters.") -> None:
+        """Show ``message`` as text (it may echo a URL's or a user's value), after ``lead``
+        and before ``tail``."""
         self.error = message
         with pn.io.hold():
             self.alert.object = (
-                f"<div class='fie-alert-box' role='alert'><b>Input not applied:</b> "
-                f"{html.escape(message)}<br>The plots still show the last valid parameters."
-                "</div>")
+                f"<div class='fie-alert-box' role='alert'><b>{html.escape(lead)}</b> "
+                f"{html.escape(message)}<br>{html.escape(tail)}</div>")
             self.alert.visible = True
 
     def _csv(self):

@@ -39,7 +39,7 @@ NAMED = {
     "rigid": ("belt_speed", "clearance", "restitution", "mu_s", "mu_k", "u_s", "x0", "v0",
               "t_end"),
     "hysteretic": ("belt_speed", "clearance", "k_c0", "k_e0", "limit_overlap", "beta_c",
-                   "beta_e", "mu_s", "mu_k", "u_s", "x0", "v0", "t_end"),
+                   "beta_e", "contact_law", "mu_s", "mu_k", "u_s", "x0", "v0", "t_end"),
 }
 
 
@@ -124,7 +124,9 @@ def file_name(values: Mapping[str, Any], scene: str, what: str) -> str:
     parts = ["fie", scene, what, f"stop-{stop}"]
     for name in NAMED.get(stop, NAMED["none"]):
         value = values.get(name)
-        if value is not None:
+        if isinstance(value, str):
+            parts.append(f"{URL_KEYS[name]}-{value}")
+        elif value is not None:
             parts.append(f"{URL_KEYS[name]}-{value:.6g}")
     return re.sub(r"[^A-Za-z0-9._-]", "-", "_".join(parts)) + ".csv"
 

@@ -22,15 +22,18 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
+from app.solve_process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
-#: in the page's address turns them off), and no history entry per change of the address.
+#: in the page's address turns them off), no history entry per change of the address, and
+#: a name on every slider's handle for screen readers (``static/a11y.js``).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
-            "fie_url_history": f"{ASSETS}/url_history.js"}
+            "fie_url_history": f"{ASSETS}/url_history.js",
+            "fie_a11y": f"{ASSETS}/a11y.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 
@@ -44,7 +47,7 @@ def create_app() -> pn.template.BaseTemplate:
         title=TITLE,
         # One root each: every extra root makes Bokeh re-walk the whole document.
         sidebar=[pn.Column(*explorer.sidebar(), sizing_mode="stretch_width", margin=0)],
-        main=[pn.Column(*explorer.main(), sizing_mode="stretch_width", margin=0)],
+        main=[explorer.main_panel()],
         sidebar_width=WIDGET_WIDTH + 40,
         favicon=f"{ASSETS}/favicon.svg",
         css_files=[f"{ASSETS}/explorer.css"],
@@ -74,4 +77,5 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
 
 if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:  # served
     report()  # logs each perf patch left out (app.perf)
+    warm_up()  # the solver's child processes (once per server process)
     serve(create_app(), pn.state.curdoc)

@@ -82,10 +82,11 @@ TRANSITION_LABELS: Mapping[str, str] = {
     TransitionKind.SIGN_CHANGE.value: "sign change",
     TransitionKind.CONTACT.value: "contact start",
 }
-#: Colours of the regime map's categories (cycled).
+#: Colours of the regime map's categories (cycled); no two alike (a lavender and a grey
+#: read as one regime in the legend of Fig. 7c's map).
 MAP_PALETTE = (
-    "#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#d9d9d9", "#9ecae1", "#fdae6b",
-    "#a1d99b", "#bcbddc", "#fc9272", "#bdbdbd",
+    "#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#ffffb3", "#9ecae1", "#fdae6b",
+    "#a1d99b", "#bcbddc", "#fc9272", "#e5d8bd",
 )
 #: Colour of the force that holds the mass on a rigid stop (and of its axis).
 REST_COLOR = "#6a3d9a"
@@ -664,8 +665,11 @@ class PlotSet:
         ranged.append(theory[-1])
         # The stop, when near the motion (:func:`_stop_in_view`), is in the ranges too.
         ranged.append(fig.scatter("x", "v", source=s["stop_pt"], size=0, alpha=0.0))
+        # On a light backing: a label next to the stop line was crossed by it ("stick end"
+        # of Fig. 5a, "limit" of Fig. 7c).
         labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                          text_align="align", y_offset="dy", text_font_size="12px")
+                          text_align="align", y_offset="dy", text_font_size="12px",
+                          background_fill_color="#ffffff", background_fill_alpha=0.8)
         fig.add_layout(labels)
         theory.append(labels)
         # Where a periodic steady state closes: drawn once, its repeats counted.

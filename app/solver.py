@@ -29,12 +29,17 @@ import numpy as np
 import panel as pn
 from panel.io.state import set_curdoc
 
+from app import solve_process
 from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import HystereticStop, Mode, Result, RigidStop, method_options, simulate, theory
 from core.hysteresis import FIRST_LOADING, contact_force, reverse
 from core.hysteretic import effective_restitutions
+from core.numerics.limits import MAX_STEPS
 from core.result import Status
+
+#: How a solve that stopped early says so: the page offers to retry it with more time.
+CUT_SHORT = (Status.TIME_BUDGET, Status.STEP_LIMIT)
 
 #: Accuracy presets -> method settings, and the error each gives, from the work-precision
 #: measurements of ``benchmarks/README.md`` (largest of the relative errors of the state at
@@ -75,12 +80,17 @@ PREVIEW_ACCURACY = "draft"
 #: ``event``) and the deformable stop's integrated contact seconds on a stiff, sharp stop;
 #: the closed form for a rigid stop needs milliseconds.
 SOLVE_BUDGET_S = 2.0
+#: A retry of a solve that ran out of time or steps gets this many times the budget (and
+#: the step limit) of the attempt before, up to :data:`MAX_SOLVE_BUDGET_S`.
+RETRY_FACTOR = 10.0
+#: Largest budget [s] a retry may ask for: a class waits no longer than this.
+MAX_SOLVE_BUDGET_S = 60.0
 #: Budget [s] of a preview solve (a late preview is just skipped).
 PREVIEW_BUDGET_S = 0.25
 #: Solves that integrate (a deformable stop's contact, ``event``, ``switch``) and may run at
-#: once in the background, per server process. A solve past its budget cannot be stopped
-#: (unless the core takes a ``time_budget``); it finishes in the background and lands in
-#: the cache, so asking again later is instant.
+#: once, per server process, each in a child process of its own (:mod:`app.solve_process`):
+#: they stop themselves at their budget (the core's ``time_budget``), and a solve every
+#: requester has given up (a newer slider move) is stopped at once.
 SOLVE_WORKERS = 2
 #: Integrating solves that may wait for a worker; past that further ones are refused at
 #: once (the server is saturated) instead of queueing behind them.
@@ -155,6 +165,8 @@ class Solution:
     restitution_measured : ndarray
         Rebound / approach speed of each deformable contact (empty otherwise).
     preview : bool
+    budget : float
+        The wall-time budget [s] the solve had (a numerical method stops at it).
     """
 
     values: Mapping[str, Any]
@@ -171,6 +183,7 @@ class Solution:
     error_estimate: float
     restitution_measured: np.ndarray = field(default_factory=lambda: np.zeros(0))
     preview: bool = False
+    budget: float = math.nan
 
     @property
     def regime(self):
@@ -194,7 +207,32 @@ def choose_method(method: str, stop_type: str) -> str:
 
 class SolveTooSlow(RuntimeError):
     """A solve did not finish within its budget, or the server's workers are saturated (its
-    message says what to do)."""
+    message says what to do).
+
+    Attributes
+    ----------
+    budget : float or None
+        The budget [s] the solve overran; ``None`` when the workers were saturated (more
+        time would not help).
+    """
+
+    def __init__(self, message: str, budget: float | None = None) -> None:
+        super().__init__(message)
+        self.budget = budget
+
+
+def retry_budget(budget: float) -> float:
+    """The budget [s] of a retry after a solve overran ``budget``.
+
+    >>> retry_budget(2.0), retry_budget(20.0), retry_budget(60.0)
+    (20.0, 60.0, 60.0)
+    """
+    return min(budget * RETRY_FACTOR, MAX_SOLVE_BUDGET_S)
+
+
+def cut_short(solution: Solution) -> bool:
+    """Whether the core stopped ``solution`` before its horizon for want of time or steps."""
+    return solution.result is not None and solution.result.status in CUT_SHORT
 
 
 def _key(values: Mapping[str, Any]) -> tuple:
@@ -212,7 +250,14 @@ def _too_slow(values: Mapping[str, Any], budget: float) -> SolveTooSlow:
         f"the {values['method']} method did not finish within {budget:g} s (it goes on in "
         "the background; asking again once it is done is instant). A shorter horizon "
         "t_end, a looser accuracy or, for a rigid stop, the 'auto' method (closed form) "
-        "answers at once.")
+        "answers at once.", budget)
+
+
+def _budgeted(values: Mapping[str, Any]) -> bool:
+    """Whether the core method of ``values`` stops itself at a time budget (then a larger
+    budget is another computation; else it only waits longer for the same one)."""
+    method = choose_method(values["method"], values["stop_type"])
+    return "time_budget" in method_options(method, None)
 
 
 def solve(values: Mapping[str, Any], *, preview: bool = False,
@@ -228,7 +273,8 @@ def solve(values: Mapping[str, Any], *, preview: bool = False,
         A cheap solve while a slider is dragged: few samples, draft accuracy, no theory.
     budget : float, optional
         Wall-time budget [s] (default :data:`SOLVE_BUDGET_S`, or :data:`PREVIEW_BUDGET_S`
-        for a preview).
+        for a preview); a numerical method stops at it and returns what it has
+        (``Status.TIME_BUDGET``), with a step limit in the same proportion.
 
     Raises
     ------
@@ -239,7 +285,7 @@ def solve(values: Mapping[str, Any], *, preview: bool = False,
         cached when done), or the workers are saturated.
     """
     budget = _budget(preview, budget)
-    future = submit(values, preview=preview)
+    future = submit(values, preview=preview, budget=budget)
     try:
         return future.result(timeout=budget)
     except FutureTimeout:
@@ -247,46 +293,92 @@ def solve(values: Mapping[str, Any], *, preview: bool = False,
 
 
 class _Lane:
-    """A pool of worker threads for one kind of solve; one future per distinct solve."""
+    """A pool of worker threads for one kind of solve; one future per distinct solve,
+    shared by every session that asks for it while it runs.
 
-    def __init__(self, name: str, workers: int, queue: int | None) -> None:
+    With ``isolated``, each solve runs in a child process of its own
+    (:mod:`app.solve_process`; the worker thread only waits), and a running solve that
+    every session asking for it has given up is stopped.
+    """
+
+    def __init__(self, name: str, workers: int, queue: int | None, *,
+                 isolated: bool = False) -> None:
         self.executor = ThreadPoolExecutor(max_workers=workers,
                                            thread_name_prefix=f"fie-{name}")
         self.limit = None if queue is None else workers + queue
+        self.isolated = isolated
         self.futures: dict[tuple, Future] = {}
+        #: Per solve: how many requests wait for it, and the event that stops it.
+        self.waiters: dict[tuple, int] = {}
+        self.stops: dict[tuple, threading.Event] = {}
         self.lock = threading.Lock()
 
-    def submit(self, key: tuple, preview: bool) -> Future:
+    def submit(self, key: tuple, preview: bool, budget: float | None = None) -> Future:
+        """The running (or queued) solve of ``key``, or a new one; ``budget`` (``None``:
+        the default) is part of what is solved when the method stops at its budget."""
+        item = (key, preview, budget)
         with self.lock:
-            future = self.futures.get((key, preview))
+            future = self.futures.get(item)
             if future is not None:
+                self.waiters[item] += 1
                 return future
             if self.limit is not None and len(self.futures) >= self.limit:
                 raise SolveTooSlow(
                     "the server is busy with other long solves; try again in a moment, or "
                     "choose a shorter horizon t_end or a looser accuracy.")
-            # Looked up at each call: tests replace it with a slow stand-in.
-            future = self.executor.submit(_solve_cached, key, preview)
-            self.futures[(key, preview)] = future
+            stop = threading.Event()
+            future = self.executor.submit(self._run, key, preview, budget, stop)
+            self.futures[item], self.waiters[item], self.stops[item] = future, 1, stop
 
         def done(_: Future) -> None:
             with self.lock:
-                if self.futures.get((key, preview)) is future:
-                    del self.futures[(key, preview)]
+                self._forget(item, future)
 
         future.add_done_callback(done)
         return future
 
-    def drop(self, key: tuple, preview: bool, future: Future) -> None:
-        """Nobody waits for ``future`` any more: cancel it if it has not started."""
-        if future.cancel():
-            with self.lock:
-                if self.futures.get((key, preview)) is future:
-                    del self.futures[(key, preview)]
+    def _run(self, key: tuple, preview: bool, budget: float | None,
+             stop: threading.Event) -> Solution:
+        # A preview stays in this thread: the core stops it at its budget (a quarter of a
+        # second), less than a child process would add to every drag step (~30 ms).
+        _WORKER.isolated, _WORKER.stop = self.isolated and not preview, stop
+        try:
+            # Looked up at each call: tests replace it with a slow stand-in.
+            return _solve_cached(key, preview, budget)
+        finally:
+            _WORKER.isolated, _WORKER.stop = False, None
+
+    def _forget(self, item: tuple, future: Future) -> None:
+        if self.futures.get(item) is future:
+            del self.futures[item], self.waiters[item], self.stops[item]
+
+    def drop(self, key: tuple, preview: bool, future: Future,
+             budget: float | None = None) -> None:
+        """One request no longer waits for ``future``: when none does, a solve that has
+        not started is cancelled and a running one in a child process is stopped (a new
+        request for it starts afresh)."""
+        item = (key, preview, budget)
+        with self.lock:
+            if self.futures.get(item) is not future:
+                return
+            self.waiters[item] -= 1
+            if self.waiters[item] > 0:
+                return
+            stop = self.stops[item]
+            if self.isolated:
+                self._forget(item, future)
+        # Outside the lock: a cancelled future runs its done callbacks (which take it) here.
+        if not future.cancel() and self.isolated:
+            stop.set()
+
+
+#: The worker thread's solve: whether it runs in a child process, and what stops it.
+_WORKER = threading.local()
+_WORKER.isolated, _WORKER.stop = False, None
 
 
 _closed_form = _Lane("closed-form", CLOSED_FORM_WORKERS, None)
-_integrating = _Lane("integrating", SOLVE_WORKERS, SOLVE_QUEUE)
+_integrating = _Lane("integrating", SOLVE_WORKERS, SOLVE_QUEUE, isolated=True)
 
 
 def _lane(values: Mapping[str, Any]) -> _Lane:
@@ -295,10 +387,21 @@ def _lane(values: Mapping[str, Any]) -> _Lane:
     return _closed_form if closed else _integrating
 
 
-def submit(values: Mapping[str, Any], *, preview: bool = False) -> Future:
+def _lane_budget(values: Mapping[str, Any], preview: bool, budget: float | None
+                 ) -> float | None:
+    """The budget that tells two solves of ``values`` apart: ``None`` for the default, or
+    for a method that does not stop at its budget (a retry then joins the running solve)."""
+    if budget is None or budget == _budget(preview, None) or not _budgeted(values):
+        return None
+    return budget
+
+
+def submit(values: Mapping[str, Any], *, preview: bool = False,
+           budget: float | None = None) -> Future:
     """The solve of ``values`` as a future: done at once when cached, else running (or
     queued) in a worker thread. Solves that integrate and closed-form ones have pools of
-    their own; a solve already running for another session is shared.
+    their own; a solve already running for another session is shared. A cached solution
+    that stopped short (:func:`cut_short`) is not the answer to a larger ``budget``.
 
     Raises
     ------
@@ -306,13 +409,14 @@ def submit(values: Mapping[str, Any], *, preview: bool = False) -> Future:
         The integrating workers and their queue are full.
     """
     key = _key(values)
+    budget = _lane_budget(values, preview, budget)
     with _CACHE_LOCK:
         cached = _CACHE.get((key, preview))
-    if cached is not None:
+    if cached is not None and (budget is None or not cut_short(cached)):
         future: Future = Future()
         future.set_result(cached)
         return future
-    return _lane(values).submit(key, preview)
+    return _lane(values).submit(key, preview, budget)
 
 
 def executor_for(values: Mapping[str, Any]) -> ThreadPoolExecutor:
@@ -321,10 +425,12 @@ def executor_for(values: Mapping[str, Any]) -> ThreadPoolExecutor:
     return _lane(values).executor
 
 
-def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False) -> None:
-    """The caller no longer needs ``future`` (a newer request replaced it): a solve that
-    has not started yet is cancelled."""
-    _lane(values).drop(_key(values), preview, future)
+def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False,
+           budget: float | None = None) -> None:
+    """The caller no longer needs ``future`` (a newer request replaced it): a solve nobody
+    else waits for is cancelled if it has not started, stopped if it runs in a child
+    process."""
+    _lane(values).drop(_key(values), preview, future, _lane_budget(values, preview, budget))
 
 
 class SolveRunner:
@@ -353,7 +459,7 @@ class SolveRunner:
                  ) -> None:
         self.on_failed, self.on_busy, self.preview = on_failed, on_busy, preview
         self._token = 0
-        self._pending: tuple[Mapping[str, Any], Future] | None = None
+        self._pending: tuple[Mapping[str, Any], Future, float] | None = None
         self._busy = False
 
     @property
@@ -361,15 +467,16 @@ class SolveRunner:
         """A request is waiting for its answer."""
         return self._pending is not None
 
-    def request(self, values: Mapping[str, Any], on_solved: Callable[[Solution], None]
-                ) -> None:
-        """Solve ``values`` and call ``on_solved(solution)`` with the answer (see the class
-        docstring)."""
+    def request(self, values: Mapping[str, Any], on_solved: Callable[[Solution], None],
+                budget: float | None = None) -> None:
+        """Solve ``values`` within ``budget`` seconds (default :data:`SOLVE_BUDGET_S`, or
+        :data:`PREVIEW_BUDGET_S` for previews) and call ``on_solved(solution)`` with the
+        answer (see the class docstring)."""
         self.cancel()
         token = self._token
-        budget = _budget(self.preview, None)
+        budget = _budget(self.preview, budget)
         try:
-            future = submit(values, preview=self.preview)
+            future = submit(values, preview=self.preview, budget=budget)
         except Exception as exc:  # noqa: BLE001 - whatever it is, the caller reports it
             self.on_failed(exc)
             return
@@ -377,7 +484,7 @@ class SolveRunner:
         if future.done() or doc is None or doc.session_context is None:
             self._answer(future, on_solved, values, budget)
             return
-        self._pending = (values, future)
+        self._pending = (values, future, budget)
 
         def back_on_the_loop(fn: Callable[[], None]) -> Callable[[], None]:
             def run() -> None:
@@ -411,9 +518,9 @@ class SolveRunner:
         """Drop the pending request, if any (its answer will be ignored)."""
         self._token += 1
         if self._pending is not None:
-            values, future = self._pending
+            values, future, budget = self._pending
             self._pending = None
-            forget(values, future, preview=self.preview)
+            forget(values, future, preview=self.preview, budget=budget)
         self._set_busy(False)
 
     def _set_busy(self, busy: bool) -> None:
@@ -445,10 +552,10 @@ _CACHE: OrderedDict[tuple, Solution] = OrderedDict()
 _CACHE_LOCK = threading.Lock()
 
 
-def _solve_cached(key: tuple, preview: bool) -> Solution:
-    """Solve ``key`` (runs in a worker) and keep the answer in the cache (not one the core
-    cut short at its budget: asking again may get further)."""
-    solution = _solve(key, preview)
+def _solve_cached(key: tuple, preview: bool, budget: float | None = None) -> Solution:
+    """Solve ``key`` within ``budget`` (runs in a worker) and keep the answer in the cache
+    (not one the core cut short at its budget: asking again may get further)."""
+    solution = _solve(key, preview, budget)
     if solution.result is None or solution.result.status is not Status.TIME_BUDGET:
         with _CACHE_LOCK:
             _CACHE[(key, preview)] = solution
@@ -458,7 +565,7 @@ def _solve_cached(key: tuple, preview: bool) -> Solution:
     return solution
 
 
-def _solve(key: tuple, preview: bool) -> Solution:
+def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
     values = MappingProxyType(dict(key))
     osc, stop, x0, v0, t_end = core_inputs(values)
     accuracy = ACCURACY[PREVIEW_ACCURACY if preview else values["accuracy"]]
@@ -478,10 +585,12 @@ def _solve(key: tuple, preview: bool) -> Solution:
         # the numerical methods stop at their budget themselves.
         options = {k: accuracy[k] for k in used if k in accuracy}
         if "time_budget" in used:
-            options["time_budget"] = _budget(preview, None)
-        result = simulate(
-            osc, stop, t_end, x0, v0, n_samples=n_samples, method=method, **options,
-        )
+            options["time_budget"] = _budget(preview, budget)
+        if "max_steps" in used and budget is not None and budget > SOLVE_BUDGET_S:
+            # A retry with more time may take as many more steps.
+            options["max_steps"] = int(MAX_STEPS * budget / SOLVE_BUDGET_S)
+        result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
+                           **options)
     solve_time = time.perf_counter() - start
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
@@ -492,8 +601,17 @@ def _solve(key: tuple, preview: bool) -> Solution:
             "contact" if method == "exact" and isinstance(stop, HystereticStop) else method,
             math.nan),
         restitution_measured=measured_restitution(result),
-        preview=preview,
+        preview=preview, budget=_budget(preview, budget),
     )
+
+
+def _simulate(*args: Any, **kwargs: Any) -> Result:
+    """:func:`core.simulate`, in a child process of its own when the worker's lane is
+    isolated (:mod:`app.solve_process`)."""
+    if getattr(_WORKER, "isolated", False):
+        # ``simulate`` looked up at each call: the isolation test replaces it.
+        return solve_process.call(simulate, *args, cancelled=_WORKER.stop, **kwargs)
+    return simulate(*args, **kwargs)
 
 
 def equivalent_rigid(stop) -> RigidStop | None:
@@ -702,7 +820,7 @@ def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 __all__ = [
     "ACCURACY", "Mode", "Program", "SolveRunner", "SolveTooSlow", "Solution", "Theory",
-    "choose_method", "executor_for", "forget", "submit",
+    "choose_method", "cut_short", "executor_for", "forget", "retry_budget", "submit",
     "mode_intervals",
     "overlap_program", "regime_labels", "regime_map", "solve",
 ]

@@ -35,11 +35,14 @@ UNITS = ("dimensionless", "SI")
 ACCURACIES = ("draft", "standard", "precise")
 #: Methods: ``auto`` picks the exact solver where it applies (no stop, rigid stop).
 METHODS = ("auto", "exact", "event", "switch")
+#: Readings of the deformable stop's contact law (``HystereticStop.law``,
+#: docs/contact-law.md).
+CONTACT_LAWS = ("paper", "passive")
 
 #: Parameters that change the physics or the solve (a change triggers a new solve).
 SOLVE_PARAMS = (
     "belt_speed", "clearance", "restitution", "mu_s", "mu_k", "u_s", "stop_type",
-    "k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "x0", "v0", "t_end",
+    "k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "contact_law", "x0", "v0", "t_end",
     "accuracy", "method", "program",
 )
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
@@ -56,7 +59,7 @@ URL_KEYS: Mapping[str, str] = {
     "mu_s": "mus", "mu_k": "muk", "u_s": "us", "stop_type": "stop", "k_c0": "kc0",
     "k_e0": "ke0", "limit_overlap": "D", "beta_c": "bc", "beta_e": "be", "x0": "x0",
     "v0": "v0", "t_end": "tend", "accuracy": "acc", "method": "method", "program": "prog",
-    "units": "units", "mass": "m", "stiffness": "k", "show_all": "all",
+    "units": "units", "mass": "m", "stiffness": "k", "show_all": "all", "contact_law": "law",
 }
 
 
@@ -137,6 +140,9 @@ class ExplorerState(param.Parameterized):
     limit_overlap = param.Number(0.01, bounds=(1e-6, 10.0), softbounds=(0.001, 0.2))
     beta_c = param.Number(300.0, bounds=(1e-3, 1e5), softbounds=(0.5, 1000.0))
     beta_e = param.Number(300.0, bounds=(1e-3, 1e5), softbounds=(0.5, 1000.0))
+    contact_law = param.Selector(default="paper", objects=list(CONTACT_LAWS), doc="""
+        Reading of the deformable stop's law (Eqs. 12-13): the paper's, which reproduces
+        Fig. 2b, or the passive one (docs/contact-law.md).""")
     x0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
     v0 = param.Number(0.0, bounds=(-100.0, 100.0), softbounds=(-1.5, 1.5))
     t_end = param.Number(60.0, bounds=(0.1, 5000.0), softbounds=(1.0, 300.0), doc="""
@@ -286,7 +292,7 @@ def core_inputs(values: Mapping[str, Any]):
         stop = HystereticStop(
             clearance=values["clearance"], k_c0=values["k_c0"], k_e0=values["k_e0"],
             limit_overlap=values["limit_overlap"], beta_c=values["beta_c"],
-            beta_e=values["beta_e"],
+            beta_e=values["beta_e"], law=values.get("contact_law", "paper"),
         )
     else:
         stop = None

@@ -31,6 +31,41 @@ def set_changed(obj: param.Parameterized, **values) -> None:
         obj.param.update(**changed)
 
 
+class ShownLater(pn.Column):
+    """A column whose contents join the page the first time it is shown.
+
+    Hidden widgets still cost a new session their Bokeh models (built and sent with the
+    page): a rigid-stop scene in dimensionless units never shows the deformable stop's or
+    the SI sliders, 13 of the 22. Their Python objects exist from the start (the explorer
+    keeps every widget in step with the state); only their models wait.
+
+    Parameters
+    ----------
+    *objects
+        The contents, added on the first :meth:`show`.
+    **params
+        Passed to :class:`panel.Column` (hidden until shown).
+    """
+
+    def __init__(self, *objects, **params) -> None:
+        params.setdefault("margin", 0)
+        super().__init__(visible=False, **params)
+        self._later = list(objects)
+
+    def show(self, visible: bool) -> None:
+        """Show (adding the contents if still waiting) or hide the column."""
+        if visible and self._later:
+            contents, self._later = self._later, []
+            set_changed(self, objects=contents, visible=True)
+        else:
+            set_changed(self, visible=visible)
+
+    @property
+    def built(self) -> bool:
+        """Whether the contents are in the page."""
+        return not self._later
+
+
 class _Slider(*release_bases(), pn.widgets.FloatSlider):
     """A float slider whose release, where :mod:`app.perf.slider` applies, is handled as
     soon as it arrives instead of after the drag's debounce."""
@@ -113,8 +148,10 @@ class TypedSlider:
             css_classes=["fie-input"], stylesheets=[INPUT_CSS],
             description=self._describe(),
         )
+        # The slider's title is its handle's accessible name (static/a11y.js), not shown:
+        # the box above it carries the visible label.
         self.slider = _Slider(
-            value=value, start=start, end=end, step=key_step(start, end, step),
+            label=label, value=value, start=start, end=end, step=key_step(start, end, step),
             show_value=False, width=width - 20, margin=(0, 10, 4, 10),
             css_classes=["fie-slider"], stylesheets=[SLIDER_CSS],
         )
@@ -124,8 +161,9 @@ class TypedSlider:
         self.message = pn.pane.HTML("", visible=False, width=width - 20, margin=(0, 10, 2, 10),
                                     css_classes=["fie-input-message"],
                                     stylesheets=[MESSAGE_CSS])
+        # The message joins the layout when first needed (a model less per slider shown).
         self.layout = pn.Column(
-            self.input, self.message, self.slider, width=width, margin=(2, 0),
+            self.input, self.slider, width=width, margin=(2, 0),
             css_classes=["fie-typed", css_class],
         )
 
@@ -150,6 +188,7 @@ class TypedSlider:
 
     def set_label(self, label: str) -> None:
         set_changed(self.input, label=label)
+        set_changed(self.slider, label=label)
 
     def _describe(self) -> str:
         low, high = self.bounds
@@ -197,6 +236,8 @@ class TypedSlider:
         the message when empty."""
         body = (f"<div class='fie-msg{' fie-msg-error' if error else ''}' role='status'>"
                 f"{html.escape(text)}</div>") if text else ""
+        if text and self.message not in self.layout.objects:
+            self.layout.insert(1, self.message)
         set_changed(self.message, object=body, visible=bool(text))
 
     def refuse(self, message: str) -> None:
@@ -278,8 +319,10 @@ INPUT_CSS = """
                                 box-shadow: 0 0 0 1px #c0392b; }
 .bk-input:focus-visible { outline: 3px solid #1f6feb; outline-offset: 1px; }
 """
-#: A visible focus ring on the slider's handle (the keyboard moves it).
+#: A visible focus ring on the slider's handle (the keyboard moves it); the title (the
+#: handle's accessible name) is not shown.
 SLIDER_CSS = """
+.bk-slider-title { display: none; }
 .noUi-handle:focus-visible, .noUi-handle:focus { outline: 3px solid #1f6feb;
                                                  outline-offset: 2px; }
 """

@@ -455,7 +455,8 @@ class Session:
             except asyncio.TimeoutError:
                 pass
         if not self.arrivals:
-            return Move(None, None, 0, error="timeout: no update after a move")
+            label = str(a.get("title") or a.get("name") or model_id)
+            return Move(None, None, 0, error=f"timeout: no update after moving {label!r} to {new}")
         first = self.arrivals[0][0] - t0
         data = [t for t, is_data in self.arrivals if is_data]
         latency = (data[0] if data else self.arrivals[-1][0]) - t0
@@ -727,10 +728,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                    help="mean pause between a session's moves, s (default 1)")
     p.add_argument("--slider", action="append", default=[],
                    help="only move sliders whose title contains this (repeatable)")
-    p.add_argument("--exclude-slider", action="append", default=["speed"],
+    p.add_argument("--exclude-slider", action="append",
+                   default=["speed", "time (drag to scrub)"],
                    help="never move sliders with this title (default: the animation's "
-                        "'speed', which only drives the animation in the browser and gets "
-                        "no answer from the server)")
+                        "'speed' and time scrub, which only drive the animation in the "
+                        "browser and get no answer from the server)")
     p.add_argument("--app", default=str(ROOT / "app" / "main.py"), help="app to serve")
     p.add_argument("--url", help="use a running loopback server, e.g. http://127.0.0.1:5006/main")
     p.add_argument("--server-pid", type=int, action="append",

@@ -78,7 +78,7 @@ def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
 def test_a_crashing_solver_does_not_take_the_session_down(ex, monkeypatch):
     before = ex.solution
 
-    def boom(key, preview=False):
+    def boom(key, preview=False, budget=None):
         raise RuntimeError("numerical trouble")
 
     monkeypatch.setattr(solver_module, "_solve_cached", boom)  # in the worker thread
@@ -199,6 +199,34 @@ def test_scene_selector_loads_the_scene_and_its_plots(ex):
     assert {"force", "loop"} <= visible
     assert np.max(ex.plots.sources["force"].data["phi"]) > 0
     assert ex.hysteretic_box.visible and not ex.sliders["restitution"].visible
+
+
+def test_hidden_slider_groups_join_the_page_when_first_shown(ex):
+    # A rigid scene in dimensionless units: the deformable-stop and SI sliders are not in
+    # the page (their models would be built and sent for nothing) until a state shows them.
+    assert ex.state.stop_type == "rigid" and ex.state.units != "SI"
+    waiting = (ex.hysteretic_box, ex.si_box, *ex.si_start.values())
+    assert not any(box.built or box.objects for box in waiting)
+    ex.stop_type.value = "hysteretic"
+    assert ex.hysteretic_box.built and ex.hysteretic_box.visible
+    assert ex.sliders["k_c0"].layout in ex.hysteretic_box.objects
+    # Kept in step while it waited: the widget shows the state's value when it joins.
+    assert ex.sliders["k_c0"].value == ex.state.k_c0
+    ex.units.value = "SI"
+    assert all(box.built and box.visible for box in (ex.si_box, *ex.si_start.values()))
+    ex.units.value = "dimensionless"
+    assert ex.si_box.built and not ex.si_box.visible  # built once, then only hidden
+    ex.stop_type.value = "rigid"
+    assert not ex.hysteretic_box.visible
+
+
+def test_a_slider_message_joins_its_widget_when_first_needed(ex):
+    w = ex.sliders["restitution"]
+    assert w.message not in w.layout.objects
+    w.input.value = "1.5"
+    assert w.message in w.layout.objects and w.message.visible and w.invalid
+    w.input.value = "0.5"
+    assert not w.message.visible and not w.invalid
 
 
 def test_tap_in_the_phase_plane_sets_the_start(ex):
@@ -341,9 +369,9 @@ def test_a_too_slow_numerical_solve_keeps_the_picture_and_says_so(ex, monkeypatc
     release = threading.Event()
     real = solver_module._solve_cached
 
-    def slow(key, preview):
+    def slow(key, preview, budget=None):
         release.wait(5.0)  # a Zeno scene with the event method takes minutes
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", slow)
     monkeypatch.setattr(solver_module, "SOLVE_BUDGET_S", 0.2)

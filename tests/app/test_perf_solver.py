@@ -3,12 +3,17 @@ a session's newer request replaces its older one."""
 
 from __future__ import annotations
 
+import itertools
+import os
+import pathlib
 import threading
+import time
 
 import panel as pn
 import pytest
 
 import app.solver as solver_module
+from app import solve_process
 from app.solver import SolveRunner, SolveTooSlow, solve
 from app.state import scene_values
 
@@ -23,9 +28,9 @@ def _thread_of_solve(monkeypatch, values) -> str:
     seen = []
     real = solver_module._solve_cached
 
-    def spy(key, preview):
+    def spy(key, preview, budget=None):
         seen.append(threading.current_thread().name)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", spy)
     solve(values)
@@ -46,9 +51,9 @@ def test_the_exact_deformable_stop_solve_has_a_budget(monkeypatch):
     release = threading.Event()
     real = solver_module._solve_cached
 
-    def slow(key, preview):
+    def slow(key, preview, budget=None):
         release.wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", slow)
     values = _unique(dict(scene_values("10")), method="exact", t_end=61.234)
@@ -101,9 +106,9 @@ def _gated(monkeypatch) -> dict[float, threading.Event]:
     gates: dict[float, threading.Event] = {}
     real = solver_module._solve_cached
 
-    def gated(key, preview):
+    def gated(key, preview, budget=None):
         gates.setdefault(dict(key)["t_end"], threading.Event()).wait(5.0)
-        return real(key, preview)
+        return real(key, preview, budget)
 
     monkeypatch.setattr(solver_module, "_solve_cached", gated)
     return gates
@@ -154,3 +159,123 @@ def test_without_a_session_a_request_is_answered_before_it_returns():
     solved = []
     SolveRunner(pytest.fail).request(dict(scene_values("5b")), solved.append)
     assert len(solved) == 1 and solved[0].result is not None
+
+
+def test_a_retry_gets_more_time_and_no_answer_cut_short(monkeypatch):
+    """A solve the core stopped at its budget is not cached; a retry with a larger budget
+    solves again with that budget (and a step limit in proportion), and its full answer
+    then serves the default budget too."""
+    from app.solver import cut_short, retry_budget, submit
+    from core import Status
+
+    seen = []
+    real = solver_module._solve
+
+    def recording(key, preview, budget=None):
+        seen.append(budget)
+        return real(key, preview, budget)
+
+    monkeypatch.setattr(solver_module, "_solve", recording)
+    # The switch model over a few hundred periods: ~0.15 s unloaded, far more than 1 ms.
+    values = _unique(dict(scene_values("10")), method="switch", t_end=300.0 + 1.234e-4)
+    short = submit(values, budget=1e-3).result(timeout=60)
+    assert cut_short(short) and short.result.status is Status.TIME_BUDGET
+    assert short.result.t[-1] < values["t_end"] and short.budget == 1e-3
+    more = retry_budget(6.0)  # 60 s, the largest a retry gets
+    full = submit(values, budget=more).result(timeout=120)
+    assert full.result.status is Status.SUCCESS and full.budget == more
+    assert seen == [1e-3, more]
+    # Now cached: the default budget is answered at once with the full solution.
+    again = submit(values)
+    assert again.done() and again.result() is full and seen == [1e-3, more]
+
+
+# --- solves in child processes (app/solve_process.py) ---------------------------------------
+
+class _InChild(RuntimeError):
+    """Raised by the probes below with the id of the process they ran in."""
+
+
+def _raise_pid(*args, **kwargs):
+    """Stands in for ``core.simulate``: says where it ran (pickled by reference)."""
+    raise _InChild(os.getpid())
+
+
+def _spin_file(t_end: float) -> str:
+    # Named by the horizon: a child has the fork server's environment, not the test's.
+    return f"/tmp/fie-test-spin-{t_end!r}"
+
+
+def _spin_forever(osc, stop, t_end, *args, **kwargs):
+    """Stands in for a solve that never ends: records its process id, then computes."""
+    with open(_spin_file(t_end), "w") as f:
+        f.write(str(os.getpid()))
+    while True:
+        pass
+
+
+_HORIZONS = itertools.count()
+
+
+def _where_solved(monkeypatch, scene: str, *, preview: bool = False) -> int:
+    monkeypatch.setattr(solver_module, "simulate", _raise_pid)
+    # A horizon of its own: a cached answer would not be solved anywhere.
+    values = _unique(dict(scene_values(scene)), method="exact",
+                     t_end=70.0 + next(_HORIZONS) / 1e3)
+    with pytest.raises(_InChild) as info:
+        solve(values, preview=preview, budget=30.0)
+    return info.value.args[0]
+
+
+def test_a_full_integrating_solve_runs_in_a_child_process(monkeypatch):
+    # It holds its own interpreter lock, not the server's: a long deformable-stop solve no
+    # longer slows every other session's replies.
+    solve_process.warm_up(wait=True)
+    assert solve_process.running()
+    assert _where_solved(monkeypatch, "10") != os.getpid()
+    # Closed-form solves (milliseconds) and previews (stopped by the core at a quarter of a
+    # second) stay in the server's threads: a child would add ~30 ms to each.
+    assert _where_solved(monkeypatch, "5b") == os.getpid()
+    assert _where_solved(monkeypatch, "10", preview=True) == os.getpid()
+
+
+def test_child_processes_can_be_turned_off(monkeypatch):
+    solve_process.warm_up(wait=True)
+    monkeypatch.setenv(solve_process.SWITCH, "off")
+    assert not solve_process.running()
+    assert _where_solved(monkeypatch, "10") == os.getpid()
+
+
+def test_a_solve_nobody_waits_for_is_stopped(monkeypatch, session):
+    solve_process.warm_up(wait=True)
+    t_end = 64.0 + os.getpid() % 9973 / 1e5
+    pid_file = pathlib.Path(_spin_file(t_end))
+    pid_file.unlink(missing_ok=True)
+    monkeypatch.setattr(solver_module, "simulate", _spin_forever)
+    failed = []
+    runner = SolveRunner(failed.append)
+    runner.request(_unique(dict(scene_values("10")), t_end=t_end), pytest.fail)
+    for _ in range(1000):  # the child starts (importing this module takes a moment)
+        if pid_file.exists() and pid_file.read_text():
+            break
+        time.sleep(0.01)
+    pid = int(pid_file.read_text())
+    assert _alive(pid)
+    runner.cancel()  # a newer slider move would do this
+    for _ in range(500):
+        if not _alive(pid):
+            break
+        time.sleep(0.01)
+    assert not _alive(pid), "the abandoned solve's process still runs"
+    assert failed == []
+    pid_file.unlink()
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` runs (a finished child is reaped by the waiting thread)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    with open(f"/proc/{pid}/stat") as f:  # a zombie is not running
+        return f.read().split(") ")[-1][0] != "Z"

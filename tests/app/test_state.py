@@ -110,3 +110,15 @@ def test_load_scene_keeps_accuracy_and_method():
     assert state.scene == "7b"
     assert (state.accuracy, state.method) == ("precise", "switch")
     assert state.values() == scene_values("7b", accuracy="precise", method="switch")
+
+
+def test_the_contact_law_reaches_the_deformable_stop():
+    """The page's contact law is the core's ``HystereticStop.law``; the scenes use the
+    paper's reading and a bad name is refused with the allowed ones."""
+    values = scene_values("10")
+    assert values["contact_law"] == "paper"
+    assert core_inputs(values)[1].law == "paper"
+    assert core_inputs({**values, "contact_law": "passive"})[1].law == "passive"
+    assert URL_KEYS["contact_law"] == "law"
+    with pytest.raises(ValueError, match="passive"):
+        ExplorerState(contact_law="plastic")

@@ -7,6 +7,7 @@ go to ``artifacts/screenshots`` (or ``$SCREENSHOT_DIR``), printed at the end of 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import socket
@@ -14,7 +15,7 @@ import subprocess
 import sys
 import time
 import urllib.request
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 import pytest
@@ -36,35 +37,47 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
+@contextlib.contextmanager
+def panel_server(app_path: str | Path, port: int, log: Path,
+                 env: Mapping[str, str] | None = None) -> Iterator[subprocess.Popen]:
+    """Serve ``app_path`` with ``panel serve`` on loopback ``port`` (output to ``log``),
+    with ``env`` added to the environment; yields the process once its liveness endpoint
+    answers, and stops it on exit."""
+    log.parent.mkdir(parents=True, exist_ok=True)
+    with open(log, "w") as out:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "panel", "serve", str(app_path), "--port", str(port),
+             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
+             "--static-dirs", f"assets={ROOT / 'static'}", "--liveness"],
+            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT,
+            env={**os.environ, **(env or {})},
+        )
+    try:
+        deadline = time.monotonic() + SERVER_TIMEOUT
+        while True:
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
+                    break
+            except OSError:
+                if proc.poll() is not None or time.monotonic() > deadline:
+                    raise RuntimeError(f"panel serve did not start; see {log}") from None
+                time.sleep(0.2)
+        yield proc
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
 @pytest.fixture(scope="session")
 def server() -> Iterator[str]:
     """URL of the app served by a `panel serve` subprocess on loopback."""
     port = free_port()
-    log = (SCREENSHOT_DIR.parent / "panel-serve.log")
-    log.parent.mkdir(parents=True, exist_ok=True)
-    with open(log, "w") as out:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port),
-             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
-             "--static-dirs", "assets=static", "--liveness"],
-            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT,
-        )
-    deadline = time.monotonic() + SERVER_TIMEOUT
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
-                break
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                raise RuntimeError(f"panel serve did not start; see {log}") from None
-            time.sleep(0.2)
-    yield f"http://127.0.0.1:{port}/main"
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    with panel_server("app/main.py", port, SCREENSHOT_DIR.parent / "panel-serve.log"):
+        yield f"http://127.0.0.1:{port}/main"
 
 
 @pytest.fixture(scope="session")

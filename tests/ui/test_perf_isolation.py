@@ -1,38 +1,36 @@
 """One session's long solve does not hold up another session of the same server process.
 
-The server runs the explorer with one change: a solve with the horizon
-:data:`SLOW_T_END` first spends :data:`SLOW_S` of CPU time in Python (holding the
-interpreter's lock as long integrations do), like the stiff deformable-stop solves that
-take seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s).
+The server runs the explorer with one change (``slow_solve.py``): a solve with the horizon
+:data:`SLOW_T_END` first spends :data:`SLOW_S` of CPU time in Python, holding the
+interpreter's lock as long integrations do, like the stiff deformable-stop solves that take
+seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s). The slow
+session integrates (``event``), so its solve runs in a child process of the server
+(``app/solve_process.py``); the other session's scene is solved in closed form.
 """
 
 from __future__ import annotations
 
 import itertools
+import os
 import statistics
-import subprocess
-import sys
-import time
-import urllib.request
 
 import pytest
-from conftest import ROOT, SERVER_TIMEOUT, free_port
+from conftest import ROOT, free_port, panel_server
+from slow_solve import SLOW_T_END
 from uipage import Page
 
 pytestmark = pytest.mark.ui
 
-#: Horizon that makes a solve slow, and how long it computes [s of CPU time].
-SLOW_T_END = 77.0
-SLOW_S = 3.0
 #: Largest delay [ms] the slow solve may add to the other session's reply (median of the
 #: replies during the solve minus the median of those before and after it). Solved on the
 #: event loop, the slow solve delays the reply by the whole solve (3 s and more: the test
-#: fails there, replies arrive only after it). Solved in a worker thread it shares the
-#: interpreter's lock and one of the two cores with the event loop, and the browser's two
-#: pages the other: measured 114, 442 and 556 ms on the shared test machine (load average
-#: 8-11). The goal, GOAL_MS, is printed against the measurement; the assertion holds the
-#: bound the thread design meets here, a third of the solve.
-MAX_DELAY_MS = 1000.0
+#: fails there, replies arrive only after it). Solved in a worker thread, it shared the
+#: interpreter's lock with the event loop: measured 114-556 ms on the shared test machine
+#: (load average 8-11). In a child process it holds only a core; the two cores are shared
+#: with the browser's two pages, so the reply can still wait for a core (195 ms measured at
+#: load average 7): the goal, GOAL_MS, is printed against the measurement, the assertion
+#: leaves room for a busy machine and still fails by far for a solve on the event loop.
+MAX_DELAY_MS = 500.0
 GOAL_MS = 100.0
 #: Releases measured before, during and after the slow solve; releases not measured first
 #: (the first ones compute what later ones find cached); replies needed during the solve.
@@ -42,25 +40,12 @@ RELEASES, WARM_UP, MIN_DURING = 5, 2, 3
 POLL_MS = 50
 
 SLOW_APP = f'''
-import runpy, sys, time
-sys.path.insert(0, {str(ROOT)!r})
+import runpy
 import app.solver as solver
+import slow_solve
 
-if not getattr(solver.simulate, "made_slow", False):
-    real = solver.simulate
-
-    def simulate(osc, stop, t_end, *args, **kwargs):
-        if t_end == {SLOW_T_END!r}:
-            end = time.thread_time() + {SLOW_S!r}
-            while time.thread_time() < end:
-                pass
-            with open({{DONE_FILE}}, "w"):
-                pass
-        return real(osc, stop, t_end, *args, **kwargs)
-
-    simulate.made_slow = True
-    solver.simulate = simulate
-    solver.SOLVE_BUDGET_S = 600.0  # the slow session waits for its answer
+solver.simulate = slow_solve.simulate
+solver.SOLVE_BUDGET_S = 600.0  # the slow session waits for its answer
 runpy.run_path({str(ROOT / "app" / "main.py")!r})
 '''
 
@@ -100,28 +85,14 @@ JS_BUSY_PLOTS = """() => {
 def slow_server(tmp_path_factory):
     script = tmp_path_factory.mktemp("slow") / "slow.py"
     done_file = script.with_name("slow-solve-done")
-    script.write_text(SLOW_APP.replace("{DONE_FILE}", repr(str(done_file))))
+    script.write_text(SLOW_APP)
     port = free_port()
-    log = script.with_suffix(".log")
-    with open(log, "w") as out:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "panel", "serve", str(script), "--port", str(port),
-             "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
-             "--static-dirs", f"assets={ROOT / 'static'}", "--liveness"],
-            cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
-    deadline = time.monotonic() + SERVER_TIMEOUT
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
-                break
-        except OSError:
-            if proc.poll() is not None or time.monotonic() > deadline:
-                proc.kill()
-                raise RuntimeError(f"panel serve did not start; see {log}") from None
-            time.sleep(0.2)
-    yield f"http://127.0.0.1:{port}/slow", done_file
-    proc.terminate()
-    proc.wait(timeout=10)
+    # The server's solver processes import the stand-in from tests/ui (Bokeh restores
+    # sys.path after each run of the script, so the path goes in the environment).
+    env = {"FIE_SLOW_DONE_FILE": str(done_file),
+           "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "tests" / "ui")])}
+    with panel_server(script, port, script.with_suffix(".log"), env=env):
+        yield f"http://127.0.0.1:{port}/slow", done_file
 
 
 def _release(p: Page) -> float:
@@ -156,7 +127,7 @@ def _releases(p: Page, n: int, until=None) -> list[float]:
 
 def test_a_long_solve_does_not_delay_another_session(browser, slow_server, shots):
     url, done_file = slow_server
-    slow, other = Page(browser, url), Page(browser, url)
+    slow, other = Page(browser, url + "?method=event"), Page(browser, url)
     try:
         other.page.evaluate(JS_REPLY_PROBE)
         _releases(other, WARM_UP)
