@@ -44,6 +44,7 @@ from bokeh.models import (
 from bokeh.plotting import figure
 from panel.io.state import set_curdoc
 
+from app import solve_process
 from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
 from app.state import core_inputs
 from core import HystereticStop, RigidStop, theory
@@ -83,8 +84,10 @@ DENSITY_BINS = (450, 200)
 #: paper's scenes (the sweep's default, docs/sweeps.md).
 CLOSED_FORM_T_END = 200.0
 #: Wall time [s] a chunk aims at: short enough for a prompt cancel and a live progress
-#: bar, long enough that a chunk's round trip through the event loop costs little.
-CHUNK_SECONDS = 0.25
+#: bar, long enough that a chunk's round trip costs little: through the event loop for the
+#: closed form, plus a child process of its own where it integrates (measured ~1 s each
+#: in the served page at load 8, so such chunks are longer).
+CHUNK_SECONDS = {"closed": 0.25, "integrated": 2.0}
 #: Points of a sweep's first chunk, closed form and integrated (a deformable stop or a
 #: numerical method costs 10-1000 ms per point).
 FIRST_CHUNK = {"closed": 1000, "integrated": 2}
@@ -229,13 +232,16 @@ class Points:
                         for f in ("x", "y", "label", "swept", "swept_label")))
 
 
-def sweep_points(values: Mapping[str, Any], parameter: str, swept, quantity: str) -> Points:
-    """The diagram's points at the values ``swept`` of ``parameter`` (:func:`core.sweep`)."""
+def sweep_points(values: Mapping[str, Any], parameter: str, swept, quantity: str,
+                 cancelled: threading.Event | None = None) -> Points:
+    """The diagram's points at the values ``swept`` of ``parameter`` (:func:`core.sweep`;
+    with ``cancelled``, an integrating sweep runs in a child process, :func:`run_core`)."""
     osc, stop, x0, v0, t_end, method = _inputs(values)
     swept = np.asarray(swept, dtype=float)
     poincare = quantity not in PER_POINT
-    res = sweep(osc, stop, parameter, swept, quantity=quantity if poincare else None,
-                t_end=t_end, method=method, x0=x0, v0=v0)
+    res = run_core(values, cancelled, sweep, osc, stop, parameter, swept,
+                   quantity=quantity if poincare else None, t_end=t_end, method=method,
+                   x0=x0, v0=v0)
     labels = res.labels
     if poincare:
         x, y = res.points(quantity)
@@ -247,6 +253,18 @@ def sweep_points(values: Mapping[str, Any], parameter: str, swept, quantity: str
         x, y, label = swept[keep], y[keep], labels[keep]
     return Points(np.asarray(x, float), np.asarray(y, float), np.asarray(label, object),
                   swept, labels)
+
+
+def run_core(values: Mapping[str, Any], cancelled: threading.Event | None, fn: Callable,
+             *args: Any, **kwargs: Any) -> Any:
+    """``fn(*args, **kwargs)``, a :mod:`core.sweep` function: here for the closed form
+    (milliseconds) or without ``cancelled``; else in a child process
+    (:mod:`app.solve_process`), as the page's own integrating solves are, so that it holds
+    neither the server's interpreter lock nor outlives a cancel. Only core objects cross
+    to the child (it has :mod:`core` loaded; the page's modules would cost it a second)."""
+    if cancelled is None or closed_form(values):
+        return fn(*args, **kwargs)
+    return solve_process.call(fn, *args, cancelled=cancelled, **kwargs)
 
 
 def density(points: Points, x_range: tuple[float, float]) -> dict[str, Any]:
@@ -353,17 +371,20 @@ def map_cells(frame: tuple[float, float, float], cells: int) -> tuple[np.ndarray
     return speeds, clearances
 
 
-def simulate_map_rows(values: Mapping[str, Any], speeds, clearances) -> np.ndarray:
+def simulate_map_rows(values: Mapping[str, Any], speeds, clearances,
+                      cancelled: threading.Event | None = None) -> np.ndarray:
     """Steady labels of the simulation at ``speeds`` x ``clearances`` (rows: speeds), by
     :func:`core.sweep.sweep_grid` (or :func:`core.sweep.sweep` without a stop, where the
-    clearance plays no part)."""
+    clearance plays no part); ``cancelled`` as :func:`sweep_points`."""
     osc, stop, x0, v0, t_end, method = _inputs(values)
+    options = {"t_end": t_end, "method": method, "x0": x0, "v0": v0}
+    speeds = np.asarray(speeds, float)
     if stop is None:
-        res = sweep(osc, None, "belt_speed", speeds, t_end=t_end, method=method, x0=x0, v0=v0)
+        res = run_core(values, cancelled, sweep, osc, None, "belt_speed", speeds, **options)
         return np.repeat(res.labels[:, None], len(clearances), axis=1)
-    res = sweep_grid(osc, stop, {"belt_speed": np.asarray(speeds, float),
-                                 "clearance": np.asarray(clearances, float)},
-                     t_end=t_end, method=method, x0=x0, v0=v0)
+    res = run_core(values, cancelled, sweep_grid, osc, stop,
+                   {"belt_speed": speeds, "clearance": np.asarray(clearances, float)},
+                   **options)
     return res.labels
 
 
@@ -419,19 +440,22 @@ class ChunkedSweep:
     :meth:`start` cancels the running sweep and submits the first chunk; each chunk's
     answer comes back on the session's event loop (``Document.add_next_tick_callback``)
     and goes to ``on_chunk(done, total, part)``; the next chunk is submitted then, sized
-    to take about :data:`CHUNK_SECONDS`. :meth:`cancel` (or a new :meth:`start`) drops the
-    answer of the chunk that runs and submits no other. Without a server session (scripts,
-    tests) the chunks run one after the other before :meth:`start` returns.
+    to take about ``target_s`` (:data:`CHUNK_SECONDS`). :meth:`cancel` (or a new
+    :meth:`start`) drops the answer of the chunk that runs and submits no other. Without a
+    server session (scripts, tests) the chunks run one after the other before
+    :meth:`start` returns.
 
     Parameters
     ----------
-    work : callable(task, items) -> part
-        Computes one chunk (in a worker thread).
+    work : callable(task, items, cancelled) -> part
+        Computes one chunk (in a worker thread); ``cancelled`` is a
+        :class:`threading.Event` set when the sweep is cancelled (a chunk run in a child
+        process, :func:`run_core`, is stopped by it).
     on_chunk : callable(done, total, part)
     on_failed : callable(Exception)
     """
 
-    def __init__(self, work: Callable[[Any, np.ndarray], Any],
+    def __init__(self, work: Callable[[Any, np.ndarray, threading.Event], Any],
                  on_chunk: Callable[[int, int, Any], None],
                  on_failed: Callable[[Exception], None]) -> None:
         self.work, self.on_chunk, self.on_failed = work, on_chunk, on_failed
@@ -440,21 +464,26 @@ class ChunkedSweep:
         #: Chunks submitted since this object was made (tests count them).
         self.submitted = 0
         self.running = False
+        self._cancelled = threading.Event()
 
     def cancel(self) -> None:
-        """Stop: the running chunk's answer is dropped, no further chunk is submitted."""
+        """Stop: the running chunk's answer is dropped (a chunk in a child process is
+        stopped), no further chunk is submitted."""
         with self._lock:
             self._token += 1
+            self._cancelled.set()
         self.running = False
 
-    def start(self, task: Any, items: np.ndarray, first: int, pool_values: Mapping[str, Any]
-              ) -> None:
+    def start(self, task: Any, items: np.ndarray, first: int, pool_values: Mapping[str, Any],
+              target_s: float = CHUNK_SECONDS["closed"]) -> None:
         """Compute ``work(task, chunk)`` over ``items`` (along the first axis), in the pool
         that solves ``pool_values`` (:func:`app.solver.executor_for`)."""
         self.cancel()
         with self._lock:
             token = self._token
+            self._cancelled = threading.Event()
         self.running = True
+        self._target_s = target_s
         doc = pn.state.curdoc
         if doc is not None and doc.session_context is None:
             doc = None
@@ -465,7 +494,7 @@ class ChunkedSweep:
         chunk = items[done:done + size]
         self.submitted += 1
         started = time.perf_counter()
-        future: Future = pool.submit(self.work, task, chunk)
+        future: Future = pool.submit(self.work, task, chunk, self._cancelled)
 
         def answered() -> None:
             if token != self._token:
@@ -482,7 +511,7 @@ class ChunkedSweep:
             self.on_chunk(now, total, part)
             if now < total and token == self._token:
                 rate = len(chunk) / elapsed
-                nxt = int(min(max(rate * CHUNK_SECONDS, 1), MAX_CHUNK))
+                nxt = int(min(max(rate * self._target_s, 1), MAX_CHUNK))
                 self._next(token, doc, pool, task, items, now, nxt)
 
         if doc is None:
@@ -665,7 +694,7 @@ class BifurcationView:
             self._set_status(f"Sweeping {spec.n} values of "
                              f"{PARAMETER_LABELS[spec.parameter]}…")
         kind = "closed" if closed_form(values) else "integrated"
-        self.job.start(spec, spec.grid(), FIRST_CHUNK[kind], values)
+        self.job.start(spec, spec.grid(), FIRST_CHUNK[kind], values, CHUNK_SECONDS[kind])
 
     def cancel(self) -> None:
         """Stop the running sweep; what was computed stays drawn."""
@@ -678,8 +707,8 @@ class BifurcationView:
         self._set_status(f"Cancelled after {done} of {total} values.")
 
     @staticmethod
-    def _work(spec: SweepSpec, chunk: np.ndarray) -> Points:
-        return sweep_points(spec.values, spec.parameter, chunk, spec.quantity)
+    def _work(spec: SweepSpec, chunk: np.ndarray, cancelled: threading.Event) -> Points:
+        return sweep_points(spec.values, spec.parameter, chunk, spec.quantity, cancelled)
 
     def _on_chunk(self, done: int, total: int, part: Points) -> None:
         spec = self.spec
@@ -805,12 +834,13 @@ class BifurcationView:
         speeds, clearances = map_cells(frame, cells)
         self._map_spec = (values, frame, clearances)
         self.map_status.object = self._map_note(values, cells, 0)
-        self.map_job.start(self._map_spec, speeds, cells if kind == "closed" else 1, values)
+        self.map_job.start(self._map_spec, speeds, cells if kind == "closed" else 1, values,
+                           CHUNK_SECONDS[kind])
 
     @staticmethod
-    def _map_work(spec, speeds: np.ndarray) -> np.ndarray:
+    def _map_work(spec, speeds: np.ndarray, cancelled: threading.Event) -> np.ndarray:
         values, _, clearances = spec
-        return simulate_map_rows(values, speeds, clearances)
+        return simulate_map_rows(values, speeds, clearances, cancelled)
 
     def _on_map_chunk(self, done: int, total: int, rows: np.ndarray) -> None:
         self._map_rows.append(rows)

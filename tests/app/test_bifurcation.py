@@ -50,8 +50,11 @@ def test_the_diagram_of_scene_5a_is_core_sweep_s(quantity):
 def test_cancel_after_the_first_chunk_submits_no_other():
     calls = []
 
-    def work(task, chunk):
+    events = []
+
+    def work(task, chunk, cancelled):
         calls.append(len(chunk))
+        events.append(cancelled)
         return chunk.sum()
 
     chunks = []
@@ -60,11 +63,13 @@ def test_cancel_after_the_first_chunk_submits_no_other():
     job.start(None, np.arange(100.0), 10, scene_values("5a"))
     assert calls == [10] and chunks == [10] and job.submitted == 1
     assert not job.running
+    # The event a running chunk holds is set: a chunk in a child process is stopped.
+    assert events[0].is_set()
 
 
 def test_a_sweep_without_cancel_covers_every_value_once():
     seen = []
-    job = ChunkedSweep(lambda task, chunk: chunk, lambda d, t, part: seen.append(part),
+    job = ChunkedSweep(lambda task, chunk, cancelled: chunk, lambda d, t, part: seen.append(part),
                        lambda exc: pytest.fail(str(exc)))
     job.start(None, np.arange(50.0), 7, scene_values("5a"))
     np.testing.assert_array_equal(np.concatenate(seen), np.arange(50.0))
@@ -73,7 +78,7 @@ def test_a_sweep_without_cancel_covers_every_value_once():
 
 def test_a_new_sweep_drops_the_old_one_s_answers():
     got = []
-    job = ChunkedSweep(lambda task, chunk: task, lambda d, t, part: got.append(part),
+    job = ChunkedSweep(lambda task, chunk, cancelled: task, lambda d, t, part: got.append(part),
                        lambda exc: pytest.fail(str(exc)))
     job._token = 5  # an older sweep's chunk carries an older token: its answer is dropped
     job.start("new", np.arange(4.0), 4, scene_values("5a"))
