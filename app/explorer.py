@@ -231,8 +231,18 @@ class Explorer(pn.viewable.Viewer):
             description="Solve this run again with every method and preset: wall time now, "
                         "error against a reference solution, steady state found.")
         self.measure.on_click(self._measure)
+        #: The sweep card (app.bifurcation), built when first opened.
+        self.sweeps: Any = None
+        self.open_sweeps = pn.widgets.Button(
+            label="Bifurcation diagram (sweep)", width=WIDGET_WIDTH,
+            css_classes=["fie-open-sweeps"])
+        self.open_sweeps.on_click(self._open_sweeps)
+        self._plot_box: pn.FlexBox | None = None
+        # Put on the page by its first measurement (above the plots): a new page holds
+        # none of its models.
         self.trade = pn.pane.HTML("", visible=False, sizing_mode="stretch_width",
-                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET])
+                                  css_classes=["fie-trade-pane"], stylesheets=[STYLESHEET],
+                                  styles={"flex": "1 1 100%"})
         #: The solve values the trade table describes.
         self._trade_values: Mapping[str, Any] | None = None
         self.plot_panes = self._build_plot_panes()
@@ -394,14 +404,15 @@ class Explorer(pn.viewable.Viewer):
                          margin=(8, 10, 0, 10)),
             w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
-            self.measure, self.show_all, self.download, self.download_transitions,
+            self.measure, self.open_sweeps, self.show_all, self.download,
+            self.download_transitions,
         ]
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
-        return [self.alert, self.caption, self.readout, self.trade, self.arrived,
-                pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
-                           css_classes=["fie-plots"])]
+        self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
+                                    css_classes=["fie-plots"])
+        return [self.alert, self.caption, self.readout, self.arrived, self._plot_box]
 
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""
@@ -822,6 +833,40 @@ class Explorer(pn.viewable.Viewer):
         except Exception as exc:  # noqa: BLE001 - a drawing fault must not go unsaid
             log.error("drawing failed", exc_info=exc)
             self._show_error(f"The picture could not be drawn: {type(exc).__name__}: {exc}")
+        if self.sweeps is not None:
+            self.sweeps.on_solution(sol.values)
+
+    # --- sweeps (app.bifurcation) ----------------------------------------------------------
+
+    def _open_sweeps(self, event: Any = None) -> None:
+        """Build the sweep card on first use (a new page holds none of its models), put it
+        above the plots and sweep the current scene."""
+        if self.sweeps is None:
+            from app.bifurcation import BifurcationView
+
+            self.sweeps = BifurcationView(
+                values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
+                map_figure=self._sweep_map_figure,
+                map_frame=lambda: self._map_frame(self.solution), shared=self.plots.shared)
+            self._above_plots(self.sweeps.layout)
+            self.sweeps.start()
+        else:
+            self.sweeps.layout.collapsed = False
+
+    def _above_plots(self, pane: Any) -> None:
+        """Put ``pane`` on the page above the plots (a full row of their box), once:
+        panes used only on demand are added when first used."""
+        box = self._plot_box
+        if box is not None and not any(obj is pane for obj in box.objects):
+            box.objects = [pane, *box.objects]
+
+    def _sweep_map_figure(self) -> Any:
+        """The regime map's figure, shown (with 'show all plots') if the scene hides it."""
+        if "map" not in self.applicable_plots():
+            return None
+        if "map" not in self.visible_plots():
+            self._commit({"show_all": True})
+        return self.plots.figures.get("map")
 
     def _solve_failed(self, exc: Exception) -> None:
         if isinstance(exc, ValueError):
@@ -917,6 +962,7 @@ class Explorer(pn.viewable.Viewer):
             "<div class='fie-title'>Speed and accuracy, measured for this run</div>"
             + trade_html(rows))
         self.trade.visible = True
+        self._above_plots(self.trade)
 
     def _reserve_readout(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows

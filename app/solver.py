@@ -429,6 +429,12 @@ def submit(values: Mapping[str, Any], *, preview: bool = False,
     return _lane(values).submit(key, preview, budget)
 
 
+def executor_for(values: Mapping[str, Any]) -> ThreadPoolExecutor:
+    """The worker pool that solves ``values`` (closed form or integrating): for other work
+    of the same kind, such as a parameter sweep's chunks (:mod:`app.bifurcation`)."""
+    return _lane(values).executor
+
+
 def forget(values: Mapping[str, Any], future: Future, *, preview: bool = False,
            budget: float | None = None) -> None:
     """The caller no longer needs ``future`` (a newer request replaced it): a solve nobody
@@ -824,7 +830,7 @@ def mode_intervals(result: Result) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 __all__ = [
     "ACCURACY", "Mode", "Program", "SolveRunner", "SolveTooSlow", "Solution", "Theory",
-    "choose_method", "cut_short", "forget", "retry_budget", "submit",
+    "choose_method", "cut_short", "executor_for", "forget", "retry_budget", "submit",
     "mode_intervals",
     "overlap_program", "regime_labels", "regime_map", "solve",
 ]

@@ -1,0 +1,174 @@
+"""The sweep card (app/bifurcation.py): its data, its chunks, its tap, the simulated map."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from app.bifurcation import (
+    DENSITY_SAMPLES,
+    ChunkedSweep,
+    check_spec,
+    sweep_points,
+    theory_lines,
+)
+from app.explorer import Explorer
+from app.state import ExplorerState, scene_values
+from core import Oscillator, RigidStop, theory
+from core.sweep import sweep
+
+
+def _scene_5a_directly():
+    """Scene 5a's oscillator and stop built here from its values, not by the app."""
+    v = scene_values("5a")
+    osc = Oscillator(mu_s=v["mu_s"], mu_k=v["mu_k"], belt_speed=v["belt_speed"],
+                     u_s=v["u_s"])
+    return v, osc, RigidStop(clearance=v["clearance"], restitution=v["restitution"])
+
+
+@pytest.mark.parametrize("quantity", ["impact_speed", "stick_x", "x_max"])
+def test_the_diagram_of_scene_5a_is_core_sweep_s(quantity):
+    values, osc, stop = _scene_5a_directly()
+    speeds = np.linspace(0.01, 0.4, 300)
+    data = sweep_points(values, "belt_speed", speeds, quantity)
+    res = sweep(osc, stop, "belt_speed", speeds, t_end=200.0, x0=values["x0"],
+                v0=values["v0"], quantity=None if quantity == "x_max" else quantity)
+    if quantity == "x_max":
+        keep = np.isfinite(res.x_max)
+        x, y = speeds[keep], res.x_max[keep]
+    else:
+        x, y = res.points(quantity)
+    # The same closed form on the same inputs: equal to the last bit.
+    np.testing.assert_array_equal(data.x, x)
+    np.testing.assert_array_equal(data.y, y)
+    assert len(data.y) > 100
+    np.testing.assert_array_equal(data.swept_label, res.labels)
+
+
+def test_cancel_after_the_first_chunk_submits_no_other():
+    calls = []
+
+    events = []
+
+    def work(task, chunk, cancelled):
+        calls.append(len(chunk))
+        events.append(cancelled)
+        return chunk.sum()
+
+    chunks = []
+    job = ChunkedSweep(work, lambda done, total, part: (chunks.append(done), job.cancel()),
+                       lambda exc: pytest.fail(str(exc)))
+    job.start(None, np.arange(100.0), 10, scene_values("5a"))
+    assert calls == [10] and chunks == [10] and job.submitted == 1
+    assert not job.running
+    # The event a running chunk holds is set: a chunk in a child process is stopped.
+    assert events[0].is_set()
+
+
+def test_a_sweep_without_cancel_covers_every_value_once():
+    seen = []
+    job = ChunkedSweep(lambda task, chunk, cancelled: chunk, lambda d, t, part: seen.append(part),
+                       lambda exc: pytest.fail(str(exc)))
+    job.start(None, np.arange(50.0), 7, scene_values("5a"))
+    np.testing.assert_array_equal(np.concatenate(seen), np.arange(50.0))
+    assert not job.running
+
+
+def test_a_new_sweep_drops_the_old_one_s_answers():
+    got = []
+    job = ChunkedSweep(lambda task, chunk, cancelled: task, lambda d, t, part: got.append(part),
+                       lambda exc: pytest.fail(str(exc)))
+    job._token = 5  # an older sweep's chunk carries an older token: its answer is dropped
+    job.start("new", np.arange(4.0), 4, scene_values("5a"))
+    assert got == ["new"]
+
+
+def _opened(scene: str = "5a") -> Explorer:
+    ex = Explorer(ExplorerState(scene=scene, **scene_values(scene)))
+    ex._open_sweeps()
+    return ex
+
+
+def test_opening_sweeps_1000_belt_speeds_of_the_scene():
+    ex = _opened()
+    view = ex.sweeps
+    assert len(view.data.swept) == 1000
+    assert view.spec.parameter == "belt_speed"
+    assert "1000 of 1000" in view.status.object
+    assert len(view.source.data["x"]) == len(view.data.x) > 0
+    assert view.current.location == ex.state.belt_speed
+
+
+def test_a_tap_loads_the_nearest_swept_value_into_the_explorer():
+    ex = _opened()
+    view = ex.sweeps
+    swept = view.data.swept
+    target = swept[417] + 0.3 * (swept[418] - swept[417])  # nearer 417 than 418
+    view._on_tap(SimpleNamespace(x=target, y=0.0))
+    assert ex.state.belt_speed == swept[417]
+    assert ex.sliders["belt_speed"].value == swept[417]
+    assert ex.solution.values["belt_speed"] == swept[417]  # the main plots re-solved
+    assert ex.state.scene == "custom"
+    assert view.spec.values["clearance"] == ex.state.clearance
+    assert len(view.data.swept) == 1000  # the same diagram: only its marker moved
+    assert view.current.location == swept[417]
+
+
+def test_another_scene_sweeps_again():
+    ex = _opened()
+    first = ex.sweeps.spec
+    ex.state.load_scene("5b")
+    assert ex.sweeps.spec is not first
+    assert ex.sweeps.spec.values["clearance"] == ex.state.clearance
+
+
+def test_a_large_sweep_is_one_density_image():
+    ex = _opened()
+    view = ex.sweeps
+    view.points.value = 2 * DENSITY_SAMPLES + 1000
+    view.start()
+    assert len(view.data.y) > DENSITY_SAMPLES
+    assert len(view.source.data["x"]) == 0
+    image = view.image_source.data["image"][0]
+    # Every sample lies in one bin: the log counts add back up to the samples.
+    assert np.nansum(np.expm1(image.astype(float))) == pytest.approx(len(view.data.y),
+                                                                     rel=1e-4)
+
+
+def test_bad_ranges_are_refused_with_the_parameter_s_name():
+    values = scene_values("5a")
+    with pytest.raises(ValueError, match="restitution"):
+        check_spec(values, "restitution", 0.5, 1.5, 10, "impact_speed")
+    with pytest.raises(ValueError, match="from < to"):
+        check_spec(values, "belt_speed", 0.3, 0.1, 10, "impact_speed")
+    with pytest.raises(ValueError, match="quantity"):
+        check_spec(values, "belt_speed", 0.1, 0.3, 10, "force_peak")
+
+
+def test_theory_lines_of_a_clearance_sweep_are_the_closed_forms():
+    values, osc, stop = _scene_5a_directly()
+    vertical, _ = theory_lines(values, "clearance", 0.0, 1.0, "impact_speed")
+    named = {text.split(":")[0]: x for x, text in vertical}
+    assert named["a"] == osc.a and named["b"] == osc.b
+    assert named["x*"] == theory.x_star(osc, stop.restitution)
+    assert named["x_max without stop"] == theory.x_max_impactless(osc, values["x0"],
+                                                                   values["v0"])
+
+
+def test_the_simulated_map_of_a_rigid_stop_agrees_with_the_theory():
+    ex = _opened()
+    view = ex.sweeps
+    view.disagree_layer.value = True
+    sim = view.sim_map
+    assert sim is not None and sim.labels.shape == (128, 128)
+    # docs/sweeps.md: for an elastic or inelastic rigid stop the maps are equal.
+    assert not sim.disagree.any()
+    assert (sim.labels == "periodic").sum() > 1000
+    assert "map" in ex.plots.figures
+    assert view._map_renderers[1].visible and not view._map_renderers[0].visible
+    assert "simulated: disagreement in red" in ex.plots.figures["map"].title.text
+    view.disagree_layer.value = False
+    assert not any(r.visible for r in view._map_renderers)
+    assert ex.plots.figures["map"].title.text == "Regime map (tap to move there)"
