@@ -27,10 +27,12 @@ from app.perf.websocket import send_arrays_inline, send_without_delay_once_loade
 ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
-#: in the page's address turns them off), and no history entry per change of the address.
+#: in the page's address turns them off), no history entry per change of the address, and
+#: the presentation mode's page classes (app.presentation).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
-            "fie_url_history": f"{ASSETS}/url_history.js"}
+            "fie_url_history": f"{ASSETS}/url_history.js",
+            "fie_present": f"{ASSETS}/present.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 
