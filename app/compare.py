@@ -496,7 +496,7 @@ class CompareMenu:
         ex = self.explorer
         items = [(f"Unpin {i + 1}: {label}", f"unpin:{i}")
                  for i, label in enumerate(ex.compare.labels(ex.state.values()))]
-        if len(items) > 1:
+        if items:
             items.append(("Unpin all", "unpin:all"))
         items += [(f"Compare {label}", f"preset:{i}") for i, label in enumerate(PRESETS)]
         items += self.presentation.menu_items()
