@@ -520,6 +520,8 @@ class CompareMenu:
             self.preset(list(PRESETS)[int(value.split(":")[1])])
         elif value.startswith("present:"):
             self.presentation.set_mode(value.split(":")[1])
+        elif value.startswith("slides:"):
+            self.presentation.set_slides(value.split(":")[1])
         self.refresh()
 
     def preset(self, label: str) -> None:

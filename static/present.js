@@ -5,9 +5,23 @@
  * `fie-present-<layout>` while the address says so, and explorer.css collapses the sidebar
  * and hides the header and readout by them. Nothing else changes: leaving the mode
  * (`present=0`) removes the classes.
+ *
+ * With `slides=png` the page reports a device pixel ratio of at least PNG_SCALE, so that
+ * BokehJS draws its canvases, and its save tool exports them, at that many pixels per CSS
+ * pixel (app.presentation.PNG_SCALE); the real ratio returns with the address.
  */
 (function () {
   "use strict";
+  const PNG_SCALE = 3;
+  const real = Object.getOwnPropertyDescriptor(window, "devicePixelRatio");
+  const realRatio = () => (real && real.get ? real.get.call(window) : 1);
+  Object.defineProperty(window, "devicePixelRatio", {
+    configurable: true,
+    get() {
+      const slides = new URLSearchParams(window.location.search).get("slides");
+      return slides === "png" ? Math.max(realRatio(), PNG_SCALE) : realRatio();
+    },
+  });
   function apply() {
     const mode = new URLSearchParams(window.location.search).get("present");
     const on = mode === "1" || mode === "4";
