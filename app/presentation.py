@@ -17,10 +17,9 @@ the first time this is used.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from typing import Any
-
-import re
 
 import panel as pn
 from bokeh.models import GlyphRenderer, SaveTool, Title
