@@ -488,7 +488,7 @@ class CompareMenu:
         self.explorer = explorer
         self.presentation = Presentation(explorer)
         self.button = pn.widgets.MenuButton(
-            name=PIN_LABEL, split=True, items=self._items(), width=290, button_type="default",
+            label=PIN_LABEL, split=True, items=self._items(), width=290, color="default",
             css_classes=["fie-compare-menu"])
         self.button.on_click(self._clicked)
 
