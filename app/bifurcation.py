@@ -48,7 +48,7 @@ from app import solve_process
 from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
 from app.state import core_inputs
 from core import HystereticStop, RigidStop, theory
-from core.sweep import LABELS, sweep, sweep_grid
+from core import sweep as sweeps
 
 #: Swept parameters the page offers (:data:`core.sweep.PARAMETERS`), with their labels.
 PARAMETER_LABELS: Mapping[str, str] = {
@@ -239,7 +239,7 @@ def sweep_points(values: Mapping[str, Any], parameter: str, swept, quantity: str
     osc, stop, x0, v0, t_end, method = _inputs(values)
     swept = np.asarray(swept, dtype=float)
     poincare = quantity not in PER_POINT
-    res = run_core(values, cancelled, sweep, osc, stop, parameter, swept,
+    res = run_core(values, cancelled, sweeps.sweep, osc, stop, parameter, swept,
                    quantity=quantity if poincare else None, t_end=t_end, method=method,
                    x0=x0, v0=v0)
     labels = res.labels
@@ -380,9 +380,9 @@ def simulate_map_rows(values: Mapping[str, Any], speeds, clearances,
     options = {"t_end": t_end, "method": method, "x0": x0, "v0": v0}
     speeds = np.asarray(speeds, float)
     if stop is None:
-        res = run_core(values, cancelled, sweep, osc, None, "belt_speed", speeds, **options)
+        res = run_core(values, cancelled, sweeps.sweep, osc, None, "belt_speed", speeds, **options)
         return np.repeat(res.labels[:, None], len(clearances), axis=1)
-    res = run_core(values, cancelled, sweep_grid, osc, stop,
+    res = run_core(values, cancelled, sweeps.sweep_grid, osc, stop,
                    {"belt_speed": speeds, "clearance": np.asarray(clearances, float)},
                    **options)
     return res.labels
@@ -418,13 +418,13 @@ def compare_map(values: Mapping[str, Any], frame, labels_rows: np.ndarray) -> Si
 def rgba(sim: SimMap) -> tuple[np.ndarray, np.ndarray]:
     """The two layers as RGBA images (uint32, rows from the lowest clearance up): the
     simulated labels, and the disagreement (transparent where they agree)."""
-    table = np.zeros((len(LABELS), 4), np.uint8)
-    for i, name in enumerate(LABELS):
+    table = np.zeros((len(sweeps.LABELS), 4), np.uint8)
+    for i, name in enumerate(sweeps.LABELS):
         c = LABEL_COLORS.get(name, "#000000")
         table[i] = (int(c[1:3], 16), int(c[3:5], 16), int(c[5:7], 16), SIM_ALPHA)
-    code = np.searchsorted(np.asarray(LABELS, dtype=object), sim.labels,
-                           sorter=np.argsort(LABELS))
-    code = np.argsort(LABELS)[np.clip(code, 0, len(LABELS) - 1)]
+    code = np.searchsorted(np.asarray(sweeps.LABELS, dtype=object), sim.labels,
+                           sorter=np.argsort(sweeps.LABELS))
+    code = np.argsort(sweeps.LABELS)[np.clip(code, 0, len(sweeps.LABELS) - 1)]
     sim_img = table[code]
     dis_img = np.zeros((*sim.disagree.shape, 4), np.uint8)
     dis_img[sim.disagree] = DISAGREE_RGBA
@@ -720,7 +720,7 @@ class BifurcationView:
             if done >= total:
                 self.last_seconds = time.perf_counter() - self._started
                 self.stop.disabled = True
-                counts = {k: int(np.sum(data.swept_label == k)) for k in LABELS}
+                counts = {k: int(np.sum(data.swept_label == k)) for k in sweeps.LABELS}
                 found = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
                 self._set_status(
                     f"{total} of {total} values of {PARAMETER_LABELS[spec.parameter]} in "

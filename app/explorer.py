@@ -24,6 +24,7 @@ from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
 from app.animation import Animation
+from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
 from app.plots import MAP_PALETTE, PLOT_WIDTHS, PlotSet
 from app.readout import readout_html
@@ -252,6 +253,10 @@ class Explorer(pn.viewable.Viewer):
         self.arrived = pn.pane.HTML("0", visible=False, margin=0,
                                     css_classes=["fie-solution-arrived"])
         self._arrivals = 0
+        #: Pinned runs drawn as ghosts, and the menu that pins, compares and presents.
+        self.compare = Compare(self.plots, self._pins_changed, self._solve_failed)
+        self.plots.more_legend = lambda: self.compare.legend_entries(self.state.values())
+        self.menu = CompareMenu(self)
         self._show_plots(self.visible_plots())
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
         self.state.param.watch(self._on_scene_label, ["scene"])
@@ -383,10 +388,13 @@ class Explorer(pn.viewable.Viewer):
         """Show the panes of ``visible`` (building those shown for the first time), hide
         the others (call under ``pn.io.hold``; a new figure is filled by the next
         :meth:`PlotSet.refresh`)."""
+        shown = self.menu.presentation.shown(visible)
         for name, pane in self.plot_panes.items():
             if name in visible and not pane.objects:
                 pane.objects = [self._build_plot(name)]
-            set_changed(pane, visible=name in visible)
+            set_changed(pane, visible=name in shown)
+        self.compare.attach_all()
+        self.menu.presentation.restyle()
 
     # --- views ---------------------------------------------------------------------------
 
@@ -405,7 +413,7 @@ class Explorer(pn.viewable.Viewer):
             w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
             self.measure, self.open_sweeps, self.show_all, self.download,
-            self.download_transitions,
+            self.download_transitions, self.menu.button,
         ]
 
     def main(self) -> list[Any]:
@@ -440,6 +448,7 @@ class Explorer(pn.viewable.Viewer):
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
         self._apply_query(query)
+        self.menu.apply_query(query)
         self.state.param.watch(self._url_changed, list(URL_KEYS))
         pn.state.onload(self._write_url)
 
@@ -502,6 +511,7 @@ class Explorer(pn.viewable.Viewer):
         for name, key in URL_KEYS.items():
             value = self.state.param[name].serialize(getattr(self.state, name))
             query[key] = value if isinstance(value, str) else json.dumps(value)
+        query.update(self.menu.query(loc.query_params))
         loc.update_query(**query)
 
     def _url_error(self, values: Mapping[str, Any]) -> None:
@@ -905,7 +915,10 @@ class Explorer(pn.viewable.Viewer):
                 self.plots.update(sol, scales, visible, map_data)
                 if "anim" in visible:
                     self.anim.update(sol, scales)
-                self.readout.object = readout = readout_html(sol, scales)
+                if self.compare.pins:
+                    self.compare.draw(scales)
+                readout = readout_html(sol, scales) + self.compare.table(sol, scales)
+                self.readout.object = readout
                 self._reserve_readout(readout.count("<tr>"))
                 self.caption.object = self._caption_html()
                 if map_data is not None:
@@ -1013,6 +1026,20 @@ class Explorer(pn.viewable.Viewer):
                 f"<div class='fie-alert-box' role='alert'><b>{html.escape(lead)}</b> "
                 f"{html.escape(message)}<br>{html.escape(tail)}</div>")
             self.alert.visible = True
+
+    def _pins_changed(self) -> None:
+        """A pin came, went or was solved: its ghosts, the table, the legend, the URL."""
+        sol = self.solution
+        if sol is not None:
+            scales = self.state.scales()
+            with pn.io.hold(), validate(False):
+                self.compare.draw(scales)
+                self.plots.refresh_legend()
+                readout = readout_html(sol, scales) + self.compare.table(sol, scales)
+                self.readout.object = readout
+                self._reserve_readout(readout.count("<tr>"))
+        self.menu.refresh()
+        self._url_changed()
 
     def _csv(self):
         """The trajectory file; its name (set before the transfer) names the run."""

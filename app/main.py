@@ -28,12 +28,14 @@ from app.solve_process import warm_up  # noqa: E402
 ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
-#: in the page's address turns them off), no history entry per change of the address, and
-#: a name on every slider's handle for screen readers (``static/a11y.js``).
+#: in the page's address turns them off), no history entry per change of the address,
+#: a name on every slider's handle for screen readers (``static/a11y.js``), and the
+#: presentation mode's page classes (app.presentation).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
             "fie_url_history": f"{ASSETS}/url_history.js",
-            "fie_a11y": f"{ASSETS}/a11y.js"}
+            "fie_a11y": f"{ASSETS}/a11y.js",
+            "fie_present": f"{ASSETS}/present.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 

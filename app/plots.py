@@ -107,6 +107,15 @@ LABEL_GAP_PX = 6
 #: Vertical offsets [px] of a theory point's label: above it, or below it (a label that
 #: would face another on the same level, see :func:`_theory_points`).
 LABEL_ABOVE_PX, LABEL_BELOW_PX = 4, -14
+#: The paper's names of the theory's points, after its transitions (Sec. 2): slip->stick
+#: (SlSt), stick->slip (StSl), slip->contact (SlC), contact->slip (CSl), stick->contact
+#: (StC, a stick segment that ends at the stop); ``lim`` is the point the impacts tend to.
+PAPER_NAMES: Mapping[str, str] = {
+    "P_stick_start": "P_SlSt", "P_stick_end": "P_StSl", "P_impact_in": "P_SlC",
+    "P_impact_out": "P_CSl", "P_limit": "P_lim",
+}
+#: A stick segment's end on the stop is the stick->contact point.
+PAPER_STICK_CONTACT = "P_StC"
 #: Points whose velocities differ by less than this fraction of the largest are on one
 #: level (their labels, 10 px high, would share a line in a 500 px high portrait).
 LABEL_LEVEL_FRACTION = 0.03
@@ -402,15 +411,18 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     (['stick end = impact in', 'stick start'], ['right', 'left'], [-14, 4])
     """
     merged: list[tuple[float, float, list[str]]] = []
+    keys: list[list[str]] = []
     for key, (x, v) in named.items():
         label = key.removeprefix("P_").replace("_", " ")
-        for mx, mv, labels in merged:
+        for (mx, mv, labels), same in zip(merged, keys, strict=True):
             if math.isclose(x, mx, rel_tol=1e-9, abs_tol=1e-12) and math.isclose(
                     v, mv, rel_tol=1e-9, abs_tol=1e-12):
                 labels.append(label)
+                same.append(key)
                 break
         else:
             merged.append((x, v, [label]))
+            keys.append([key])
     on_stop = [m[0] >= stop - 1e-9 * max(1.0, abs(stop)) for m in merged]
     level = LABEL_LEVEL_FRACTION * max((abs(m[1]) for m in merged), default=0.0)
     facing = [s and any(not other_s and o[0] < m[0] and abs(o[1] - m[1]) <= level
@@ -418,9 +430,21 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
               for m, s in zip(merged, on_stop, strict=True)]
     return {"x": [m[0] for m in merged], "v": [m[1] * scales.velocity for m in merged],
             "name": [" = ".join(m[2]) for m in merged],
+            "paper": [_paper_name(k) for k in keys],
             "align": ["right" if s else "left" for s in on_stop],
             "dx": [-LABEL_GAP_PX if s else LABEL_GAP_PX for s in on_stop],
             "dy": [LABEL_BELOW_PX if f else LABEL_ABOVE_PX for f in facing]}
+
+
+def _paper_name(keys: list[str]) -> str:
+    """The paper's name of a point that is each of ``keys`` (:data:`PAPER_NAMES`).
+
+    >>> _paper_name(["P_stick_end", "P_impact_in"]), _paper_name(["P_impact_out"])
+    ('P_StC', 'P_CSl')
+    """
+    if {"P_stick_end", "P_impact_in"} <= set(keys):
+        return PAPER_STICK_CONTACT
+    return " = ".join(PAPER_NAMES.get(k, k) for k in keys)
 
 
 def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -588,6 +612,7 @@ class PlotSet:
         self.panes: dict[str, Any] = {}
         self._theory_renderers: list[Any] = []
         self.rest_axis: LinearAxis | None = None
+        self.point_labels: LabelSet | None = None
         self._last: Solution | None = None
         self._kinds_stop: str | None = None
         self._kinds_shown: set[str] = set()
@@ -597,6 +622,8 @@ class PlotSet:
         self._map_frame: tuple[float, float, float] | None = None
         self._map_frame_key: tuple | None = None
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
+        #: Entries appended to the phase portrait's legend (pinned runs, :mod:`app.compare`).
+        self.more_legend: Any = lambda: []
 
     # --- building ------------------------------------------------------------------------
 
@@ -671,6 +698,7 @@ class PlotSet:
                           background_fill_color="#ffffff", background_fill_alpha=0.8)
         fig.add_layout(labels)
         theory.append(labels)
+        self.point_labels = labels
         # Where a periodic steady state closes: drawn once, its repeats counted.
         fig.scatter("x", "v", source=s["repeat"], **PHASE_STYLE["repeat"])
         ranged.append(fig.scatter("x", "v", source=s["start"], **PHASE_STYLE["start"]))
@@ -842,7 +870,14 @@ class PlotSet:
                     label = f"{label} ({d[key]['text'][0]})"
                 style = PHASE_STYLE[key]
                 out.append((label, _swatch(**style), note))
-        return out
+        return out + list(self.more_legend())
+
+    def refresh_legend(self) -> None:
+        """Write the phase portrait's legend again (its entries changed, not its data)."""
+        if "phase" in self.legends:
+            text = legend_html(self._phase_legend())
+            if self.legends["phase"].text != text:
+                self.legends["phase"].text = text
 
     def _set_theory_visible(self, visible: bool) -> None:
         for r in self._theory_renderers:
@@ -1161,7 +1196,7 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "gamma0": {"x": [], "v": []},
     "removed": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
-    "points": {"x": [], "v": [], "name": [], "align": [], "dx": [], "dy": []},
+    "points": {"x": [], "v": [], "name": [], "paper": [], "align": [], "dx": [], "dy": []},
     "start": {"x": [], "v": []},
     "stems": {"t": [], "j": []},
     "force": {"t": [], "phi": []},

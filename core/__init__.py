@@ -11,6 +11,7 @@
 
 # Each public name is re-exported explicitly (``import X as X``, PEP 484), so a reader
 # and a type checker see where it lives; ``app`` imports from here only.
+from core import sweep as sweep
 from core import theory as theory
 from core.hysteresis import FIRST_LOADING as FIRST_LOADING
 from core.hysteresis import contact_force as contact_force
@@ -68,5 +69,6 @@ __all__ = [
     "rest_force",
     "reverse",
     "simulate",
+    "sweep",
     "theory",
 ]

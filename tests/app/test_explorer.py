@@ -355,7 +355,7 @@ def test_overlap_program_scene(ex):
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
                                     "app.readout", "app.export", "app.explorer",
-                                    "app.widgets", "app.trade"])
+                                    "app.widgets", "app.trade", "app.compare"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0

@@ -1,0 +1,570 @@
+"""Pinned runs: earlier parameter sets kept on the plots as muted ghosts beside the current run.
+
+A pin stores the run's *parameters* (scene and solve values), never its samples: it is solved
+again in the worker pool (:class:`app.solver.SolveRunner`), so a permalink that names the
+pins (:func:`encode_pins`, :func:`decode_pins`) redraws them on load. Ghost renderers are
+added to a figure the first time a pin is drawn on it (:class:`Compare`); a page with no pin
+holds no model of this module. The ``*_columns``, label and table functions are pure and
+tested without a browser.
+
+Examples
+--------
+>>> from app.state import scene_values
+>>> decode_pins(encode_pins([("7c", scene_values("7c"))]))[0][0]
+'7c'
+>>> pin_label("7c", scene_values("7c"), scene_values("10"))
+'7c: stop rigid, r 0.3, tend 60'
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from app.export import NAMED
+from app.plots import MODE_NAMES, force_columns, loop_columns, phase_columns, trajectory_columns
+from app.scenes import CUSTOM, SCENES
+from app.solver import Solution, SolveRunner
+from app.state import DIMENSIONLESS, SOLVE_PARAMS, URL_KEYS, ExplorerState, Scales, core_inputs
+from app.state import scene_values as _scene_values
+from core import TransitionKind
+
+#: Pinned runs kept at most.
+MAX_PINS = 3
+#: Muted colours of the pins, in pin order: far from the modes' blue, orange and red.
+PIN_COLORS = ("#8e7cc3", "#5f9e96", "#a88b5a")
+#: How a ghost is drawn: thin, dashed, half transparent (the current run stays on top).
+GHOST_STYLE: Mapping[str, Any] = {"line_width": 1.5, "line_dash": "dashed", "line_alpha": 0.8}
+#: The permalink's key for the pins.
+URL_KEY = "pins"
+#: Separators of the pins' URL value: between pins, between a pin's items.
+PIN_SEP, ITEM_SEP = "|", ","
+#: Parameters named at most in a pin's label (the rest are summed up as "…").
+LABEL_ITEMS = 3
+#: Ghost sources and the figures that draw them: source -> (figure, x column, y column).
+GHOSTS: Mapping[str, tuple[tuple[str, str, str], ...]] = {
+    "phase": (("phase", "x", "v"),),
+    "traj": (("time_x", "t", "x"), ("time_v", "t", "v")),
+    "force": (("force", "t", "f"),),
+    "loop": (("loop", "d", "phi"),),
+}
+#: Transition kinds counted as impacts (a deformable stop's contacts count once, at their start).
+IMPACT_KINDS = {TransitionKind.IMPACT.value, TransitionKind.STICK_IMPACT.value,
+                TransitionKind.CONTACT.value}
+#: Preset comparisons of the paper: label -> (scene loaded, scene pinned); ``None``: the
+#: current scene with r = 1 loaded and its r < 1 pinned (or the reverse).
+PRESETS: Mapping[str, tuple[str, str] | None] = {
+    "7c vs 10: rigid stop vs its equivalent deformable stop": ("10", "7c"),
+    "6b vs 11: fast belt at rest on the stop vs the deformable stop": ("11", "6b"),
+    "r = 1 vs r < 1 of this scene": None,
+}
+#: The restitution pinned against an elastic scene by the "r = 1 vs r < 1" preset (the
+#: paper's inelastic scenes use 0.3 and 0.7).
+R_INELASTIC_PRESET = 0.7
+
+
+def _f32(a: Any) -> np.ndarray:
+    return np.asarray(a, dtype=np.float32)
+
+
+# --- permalink -----------------------------------------------------------------------------
+
+def encode_pins(pins: Sequence[tuple[str, Mapping[str, Any]]]) -> str:
+    """The pins as the permalink's value: per pin its scene, then the values that differ
+    from that scene's (``key=value`` with the permalink's keys).
+
+    >>> from app.state import scene_values
+    >>> elastic = {**scene_values("7c"), "restitution": 1.0}
+    >>> encode_pins([("7c", scene_values("7c")), ("7c", elastic)])
+    '7c|7c,r=1.0'
+    """
+    parts = []
+    for scene, values in pins:
+        base = _scene_values(scene) if scene in SCENES else _defaults()
+        items = [scene]
+        for name in SOLVE_PARAMS:
+            if name in ("accuracy", "method"):
+                continue  # a pin is solved with the page's accuracy and method
+            if values[name] != base[name]:
+                items.append(f"{URL_KEYS[name]}={_text(values[name])}")
+        parts.append(ITEM_SEP.join(items))
+    return PIN_SEP.join(parts)
+
+
+def _text(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return repr(value) if isinstance(value, float) else str(value)
+
+
+def _defaults() -> dict[str, Any]:
+    return {name: ExplorerState.param[name].default for name in SOLVE_PARAMS}
+
+
+def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto"
+                ) -> list[tuple[str, dict[str, Any]]]:
+    """Read the permalink's pins back (:func:`encode_pins`); raises ``ValueError`` naming
+    the pin and the item it could not read, and what is allowed.
+
+    >>> decode_pins("5b,r=0.5")[0][1]["restitution"]
+    0.5
+    >>> decode_pins("5b,r=2")
+    Traceback (most recent call last):
+    ...
+    ValueError: pin 1 (5b,r=2): r (restitution) must be a number in [0, 1]; got '2'
+    """
+    text = str(int(raw)) if isinstance(raw, float) and raw.is_integer() else str(raw)
+    names = {key: name for name, key in URL_KEYS.items()}
+    pins = []
+    for i, chunk in enumerate(p for p in text.split(PIN_SEP) if p):
+        if len(pins) == MAX_PINS:
+            raise ValueError(f"at most {MAX_PINS} pins; the address names more")
+        scene, *items = chunk.split(ITEM_SEP)
+        if scene not in SCENES and scene != CUSTOM:
+            raise ValueError(f"pin {i + 1} ({chunk}): scene must be one of "
+                             f"{', '.join(SCENES)} or custom; got {scene!r}")
+        values = _scene_values(scene) if scene in SCENES else _defaults()
+        values.update(accuracy=accuracy, method=method)
+        for item in items:
+            key, _, text_value = item.partition("=")
+            name = names.get(key)
+            if name not in SOLVE_PARAMS or name in ("accuracy", "method"):
+                raise ValueError(f"pin {i + 1} ({chunk}): unknown parameter {key!r}")
+            p = ExplorerState.param[name]
+            try:
+                value = (text_value == "true" if p.__class__.__name__ == "Boolean"
+                         else float(text_value) if hasattr(p, "bounds") else text_value)
+                ExplorerState(**{name: value})
+            except Exception:  # noqa: BLE001 - any refusal is said in one message
+                bounds = getattr(p, "bounds", None)
+                allowed = (f"a number in [{bounds[0]:g}, {bounds[1]:g}]" if bounds
+                           else f"one of {', '.join(map(str, p.objects))}")
+                raise ValueError(f"pin {i + 1} ({chunk}): {key} ({name}) must be {allowed}; "
+                                 f"got {text_value!r}") from None
+            values[name] = value
+        try:
+            core_inputs(values)
+        except ValueError as exc:
+            raise ValueError(f"pin {i + 1} ({chunk}): {exc}") from None
+        pins.append((scene, values))
+    return pins
+
+
+# --- what a pin shows ----------------------------------------------------------------------
+
+def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any]) -> str:
+    """A short label: the pin's scene and the parameters in which it differs from the
+    current run (those its stop type uses), at most :data:`LABEL_ITEMS` of them.
+
+    >>> from app.state import scene_values
+    >>> pin_label("5b", scene_values("5b"), scene_values("5b"))
+    '5b: same parameters'
+    """
+    stop = str(values["stop_type"])
+    names = ("stop_type", *NAMED.get(stop, NAMED["none"]), "program")
+    diff = [f"{'stop' if n == 'stop_type' else URL_KEYS[n]} {_short(values[n])}"
+            for n in names if values.get(n) != current.get(n)]
+    if not diff:
+        diff = ["same parameters"]
+    more = ", …" if len(diff) > LABEL_ITEMS else ""
+    return f"{scene}: {', '.join(diff[:LABEL_ITEMS])}{more}"
+
+
+def _short(value: Any) -> str:
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
+def ghost_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
+    """The columns of a pin's ghosts: the phase path (one line, the modes joined), the
+    time histories, the contact force (a rigid stop's impulses as stems of one broken
+    line) and the hysteresis loop."""
+    empty = {"x": _f32([]), "v": _f32([])}
+    out: dict[str, dict] = {"phase": empty, "traj": {"t": _f32([]), **empty},
+                            "force": {"t": _f32([]), "f": _f32([])},
+                            "loop": {"d": _f32([]), "phi": _f32([])}}
+    if sol.result is not None:
+        phase = phase_columns(sol, scales)
+        xs, vs = [], []
+        for name in MODE_NAMES.values():
+            if len(phase[name]["x"]):
+                xs += [phase[name]["x"], [np.nan]]
+                vs += [phase[name]["v"], [np.nan]]
+        if xs:
+            out["phase"] = {"x": _f32(np.concatenate(xs)), "v": _f32(np.concatenate(vs))}
+        traj = trajectory_columns(sol, scales)
+        out["traj"] = {k: traj[k] for k in ("t", "x", "v")}
+    force = force_columns(sol, scales)
+    stems = force["stems"]
+    if len(stems["t"]):
+        n = len(stems["t"])
+        t = np.column_stack([stems["t"], stems["t"], np.full(n, np.nan)]).ravel()
+        f = np.column_stack([np.zeros(n), stems["j"], np.full(n, np.nan)]).ravel()
+        out["force"] = {"t": _f32(t), "f": _f32(f)}
+    elif len(force["line"]["t"]):
+        out["force"] = {"t": force["line"]["t"], "f": force["line"]["phi"]}
+    out["loop"] = dict(loop_columns(sol, scales)["loop"])
+    return out
+
+
+def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
+    """What the comparison table shows of a run: steady state, period, x_max, impacts per
+    period and the restitution measured (rebound over approach speed of the last impact or
+    contact)."""
+    res = sol.result
+    if res is None:
+        return {"steady": "overlap program", "period": "—", "x_max": "—", "impacts": "—",
+                "restitution": "—"}
+    steady = res.steady
+    unit = " s" if scales.si else ""
+    period = (f"{steady.period * scales.time:.4g}{unit}"
+              if steady.kind.value == "periodic" and math.isfinite(steady.period) else "—")
+    impacts = (str(sum(k in IMPACT_KINDS for k in steady.sequence))
+               if steady.kind.value == "periodic" else "—")
+    measured = np.asarray(sol.restitution_measured)
+    if len(measured):
+        restitution = f"{measured[-1]:.3g}"
+    else:
+        ratios = [-tr.v_after / tr.v for tr in res.transitions
+                  if tr.kind.value in IMPACT_KINDS and tr.v > 0]
+        restitution = f"{ratios[-1]:.3g}" if ratios else "—"
+    return {"steady": steady.kind.value.replace("_", " "), "period": period,
+            "x_max": f"{res.x_max:.4g}{' m' if scales.si else ''}", "impacts": impacts,
+            "restitution": restitution}
+
+
+#: Rows of the comparison table: summary key -> row label.
+TABLE_ROWS = (("steady", "steady state"), ("period", "period"), ("x_max", "x_max"),
+              ("impacts", "impacts / period"), ("restitution", "restitution measured"))
+
+
+def swatch(color: str) -> str:
+    """A dashed line in ``color``: how a ghost is drawn."""
+    return (f'<svg width="22" height="10" aria-hidden="true" style="vertical-align:0">'
+            f'<line x1="1" y1="5" x2="21" y2="5" stroke="{color}" stroke-width="2.5" '
+            f'stroke-dasharray="5 3"/></svg>')
+
+
+def comparison_html(current: Solution, pinned: Sequence[tuple[str, str, Solution | None]],
+                    scales: Scales = DIMENSIONLESS) -> str:
+    """The current run and each pin side by side (one column each); ``pinned`` holds
+    ``(label, colour, solution or None while it is solved)``."""
+    cols = [("this run", "", summary(current, scales))]
+    for label, color, sol in pinned:
+        cols.append((label, color, summary(sol, scales) if sol is not None else None))
+    head = "".join(f"<th class='fie-pin-head'>{swatch(c) if c else ''}{html.escape(lab)}</th>"
+                   for lab, c, _ in cols)
+    body = ""
+    for key, row in TABLE_ROWS:
+        cells = "".join(f"<td>{html.escape(s[key]) if s else 'solving…'}</td>"
+                        for _, _, s in cols)
+        body += f"<tr><th>{row}</th>{cells}</tr>"
+    return (f"<table class='fie-readout fie-compare'><tr><th>compared</th>{head}</tr>"
+            f"{body}</table>")
+
+
+# --- the session's pins --------------------------------------------------------------------
+
+@dataclass
+class Pin:
+    """One pinned run: its scene and solve values, its colour, and its solution once
+    solved."""
+
+    scene: str
+    values: dict[str, Any]
+    color: str
+    solution: Solution | None = None
+    runner: SolveRunner | None = field(default=None, repr=False)
+
+
+class Compare:
+    """The pinned runs of one session and their ghost renderers.
+
+    Parameters
+    ----------
+    plots : PlotSet
+        The session's figures (ghosts are added to those built, when first needed).
+    on_change : callable()
+        Called on the event loop when a pin's solution arrives or a pin goes (the page
+        redraws the table, the legend and the permalink).
+    on_failed : callable(Exception)
+        A pin's solve failed (its message is shown; the pin is dropped).
+    """
+
+    def __init__(self, plots: Any, on_change: Callable[[], None],
+                 on_failed: Callable[[Exception], None]) -> None:
+        self.plots = plots
+        self.on_change = on_change
+        self.on_failed = on_failed
+        self.pins: list[Pin] = []
+        #: Per pin slot: source name -> ColumnDataSource (made on the slot's first use).
+        self._sources: list[dict[str, Any]] = []
+        #: (slot, figure name) pairs that have their ghost renderer.
+        self._drawn: set[tuple[int, str]] = set()
+        self._renderers: dict[tuple[int, str], Any] = {}
+        self._scales: Scales = DIMENSIONLESS
+
+    @property
+    def full(self) -> bool:
+        return len(self.pins) >= MAX_PINS
+
+    def pin(self, scene: str, values: Mapping[str, Any]) -> None:
+        """Pin a run (the oldest pin goes when :data:`MAX_PINS` are pinned)."""
+        if self.full:
+            self.pins.pop(0)
+        used = {p.color for p in self.pins}
+        color = next(c for c in PIN_COLORS if c not in used)
+        pin = Pin(scene, dict(values), color)
+        self.pins.append(pin)
+        self._solve(pin)
+
+    def set_pins(self, pins: Sequence[tuple[str, Mapping[str, Any]]]) -> None:
+        """Replace every pin (a permalink, a preset)."""
+        for pin in self.pins:
+            if pin.runner is not None:
+                pin.runner.cancel()
+        self.pins = []
+        for scene, values in pins[-MAX_PINS:]:
+            self.pin(scene, values)
+        if not pins:
+            self.on_change()
+
+    def unpin(self, index: int | None = None) -> None:
+        """Drop pin ``index`` (0-based), or all pins."""
+        drop = list(range(len(self.pins))) if index is None else [index]
+        for i in sorted(drop, reverse=True):
+            if 0 <= i < len(self.pins):
+                pin = self.pins.pop(i)
+                if pin.runner is not None:
+                    pin.runner.cancel()
+        self.on_change()
+
+    def resolve(self, accuracy: str, method: str) -> None:
+        """Solve every pin again with the page's accuracy and method (when they change)."""
+        for pin in self.pins:
+            if (pin.values["accuracy"], pin.values["method"]) != (accuracy, method):
+                pin.values.update(accuracy=accuracy, method=method)
+                self._solve(pin)
+
+    def _solve(self, pin: Pin) -> None:
+        def failed(exc: Exception) -> None:
+            if pin in self.pins:
+                self.pins.remove(pin)
+            self.on_failed(exc)
+            self.on_change()
+
+        def solved(sol: Solution) -> None:
+            if pin in self.pins:
+                pin.solution = sol
+                self.on_change()
+
+        pin.solution = None
+        pin.runner = SolveRunner(failed)
+        pin.runner.request(pin.values, solved)
+
+    # --- drawing ---------------------------------------------------------------------------
+
+    def labels(self, current: Mapping[str, Any]) -> list[str]:
+        """Each pin's label against the current values."""
+        return [pin_label(p.scene, p.values, current) for p in self.pins]
+
+    def legend_entries(self, current: Mapping[str, Any]) -> list[tuple[str, str, str]]:
+        """Entries for an HTML legend (:func:`app.plots.legend_html`)."""
+        return [(f"pinned {label}", swatch(p.color),
+                 "a pinned run, solved again from its parameters")
+                for label, p in zip(self.labels(current), self.pins, strict=True)]
+
+    def table(self, current: Solution, scales: Scales) -> str:
+        """The comparison table, or '' with no pin."""
+        if not self.pins:
+            return ""
+        rows = [(label, p.color, p.solution)
+                for label, p in zip(self.labels(current.values), self.pins, strict=True)]
+        return comparison_html(current, rows, scales)
+
+    def draw(self, scales: Scales) -> None:
+        """Put every pin's ghosts on the built figures and blank the unused slots (call
+        under ``pn.io.hold``). Adds renderers only where a pin is drawn."""
+        from app.plots import _assign  # one rule for "assign only what changed"
+
+        self._scales = scales
+        for slot in range(max(len(self.pins), len(self._sources))):
+            pin = self.pins[slot] if slot < len(self.pins) else None
+            cols = (ghost_columns(pin.solution, scales)
+                    if pin is not None and pin.solution is not None else None)
+            if cols is None and slot >= len(self._sources):
+                continue
+            sources = self._slot_sources(slot)
+            for name, source in sources.items():
+                _assign(source, cols[name] if cols is not None
+                        else {k: [] for k in source.data})
+            if pin is not None:
+                self._attach(slot, pin.color)
+
+    def attach_all(self) -> None:
+        """Give figures built since the last draw the ghosts of the current pins."""
+        for slot, pin in enumerate(self.pins):
+            if slot < len(self._sources):
+                self._attach(slot, pin.color)
+
+    def _slot_sources(self, slot: int) -> dict[str, Any]:
+        from bokeh.models import ColumnDataSource
+
+        while len(self._sources) <= slot:
+            policy = self.plots.shared.policy
+            self._sources.append({
+                "phase": ColumnDataSource({"x": [], "v": []}, selection_policy=policy),
+                "traj": ColumnDataSource({"t": [], "x": [], "v": []}, selection_policy=policy),
+                "force": ColumnDataSource({"t": [], "f": []}, selection_policy=policy),
+                "loop": ColumnDataSource({"d": [], "phi": []}, selection_policy=policy),
+            })
+        return self._sources[slot]
+
+    def _attach(self, slot: int, color: str) -> None:
+        figs = self.plots.figures
+        for source, targets in GHOSTS.items():
+            for fig_name, x, y in targets:
+                key = (slot, fig_name)
+                if fig_name not in figs:
+                    continue
+                if key not in self._drawn:
+                    fig = figs[fig_name]
+                    r = fig.line(x, y, source=self._sources[slot][source],
+                                 line_color=color, **GHOST_STYLE)
+                    # Drawn under the current run, over the mode bands and references.
+                    fig.renderers = _under_current(fig.renderers, r, self.plots.sources)
+                    r.nonselection_glyph = "auto"
+                    r.muted_glyph = "auto"
+                    r.view.filter = self.plots.shared.filter
+                    self._drawn.add(key)
+                    self._renderers[key] = r
+                elif self._renderers[key].glyph.line_color != color:
+                    self._renderers[key].glyph.line_color = color
+
+    @property
+    def renderer_count(self) -> int:
+        """Ghost renderers built so far (none on a page never pinned)."""
+        return len(self._renderers)
+
+
+# --- the page's menu -----------------------------------------------------------------------
+
+#: The menu's button label (its main part pins the run on screen).
+PIN_LABEL = "Pin this run"
+
+
+def _under_current(renderers: list, ghost: Any, sources: Mapping[str, Any]) -> list:
+    """``renderers`` with ``ghost`` (the last) moved before the first that draws the
+    current run (its path, time histories, force or loop)."""
+    current = {id(sources[n]) for n in (*(f"path_{m}" for m in MODE_NAMES.values()),
+                                        "traj", "stems", "force", "loop")}
+    rest = [r for r in renderers if r is not ghost]
+    for i, r in enumerate(rest):
+        if id(getattr(r, "data_source", None)) in current:
+            return [*rest[:i], ghost, *rest[i:]]
+    return [*rest, ghost]
+
+
+class CompareMenu:
+    """One split button: its main part pins the run on screen; its menu unpins, loads the
+    paper's preset comparisons and switches the presentation mode
+    (:class:`app.presentation.Presentation`). One Bokeh model whatever it offers.
+
+    Parameters
+    ----------
+    explorer : Explorer
+        The page it acts on (its state, pins, plots and error line).
+    """
+
+    def __init__(self, explorer: Any) -> None:
+        import panel as pn
+
+        from app.presentation import Presentation
+
+        self.explorer = explorer
+        self.presentation = Presentation(explorer)
+        self.button = pn.widgets.MenuButton(
+            label=PIN_LABEL, split=True, items=self._items(), width=290, color="default",
+            css_classes=["fie-compare-menu"])
+        self.button.on_click(self._clicked)
+
+    def _items(self) -> list[tuple[str, str]]:
+        ex = self.explorer
+        items = [(f"Unpin {i + 1}: {label}", f"unpin:{i}")
+                 for i, label in enumerate(ex.compare.labels(ex.state.values()))]
+        if items:
+            items.append(("Unpin all", "unpin:all"))
+        items += [(f"Compare {label}", f"preset:{i}") for i, label in enumerate(PRESETS)]
+        items += self.presentation.menu_items()
+        return items
+
+    def refresh(self) -> None:
+        """The menu's entries for the current pins."""
+        items = self._items()
+        if items != self.button.items:
+            self.button.items = items
+
+    def _clicked(self, event: Any) -> None:
+        value = event.new
+        ex = self.explorer
+        if value == PIN_LABEL or value is None:
+            ex.compare.pin(ex.state.scene, ex.state.values())
+        elif value.startswith("unpin:"):
+            which = value.split(":")[1]
+            ex.compare.unpin(None if which == "all" else int(which))
+        elif value.startswith("preset:"):
+            self.preset(list(PRESETS)[int(value.split(":")[1])])
+        elif value.startswith("present:"):
+            self.presentation.set_mode(value.split(":")[1])
+        elif value.startswith("slides:"):
+            self.presentation.set_slides(value.split(":")[1])
+        self.refresh()
+
+    def preset(self, label: str) -> None:
+        """Load a preset comparison: one scene loaded, the other pinned (only it)."""
+        ex = self.explorer
+        pair = PRESETS[label]
+        acc = {"accuracy": ex.state.accuracy, "method": ex.state.method}
+        if pair is not None:
+            loaded, pinned = pair
+            ex.state.load_scene(loaded)
+            ex.compare.set_pins([(pinned, _scene_values(pinned, **acc))])
+            return
+        values = ex.state.values()
+        if values["stop_type"] != "rigid":
+            ex._show_error("r = 1 vs r < 1 compares rigid stops: pick a scene with a rigid "
+                           f"stop (this one has stop type {values['stop_type']!r})")
+            return
+        r = values["restitution"]
+        other = R_INELASTIC_PRESET if r == 1.0 else 1.0
+        ex.compare.set_pins([(ex.state.scene, {**values, "restitution": other})])
+
+    # --- permalink -------------------------------------------------------------------------
+
+    def apply_query(self, query: Mapping[str, Any]) -> None:
+        """Pins and presentation mode from the page's address."""
+        ex = self.explorer
+        raw = query.get(URL_KEY)
+        if raw not in (None, ""):
+            try:
+                pins = decode_pins(raw, ex.state.accuracy, ex.state.method)
+            except ValueError as exc:
+                ex._show_error(f"The pinned runs of the address could not be restored: {exc}")
+            else:
+                ex.compare.set_pins(pins)
+        self.presentation.apply_query(query)
+        self.refresh()
+
+    def query(self, current: Mapping[str, Any]) -> dict[str, str]:
+        """What the address says of the pins and the presentation (keys only written when
+        used, or to clear a value the address holds)."""
+        ex = self.explorer
+        out: dict[str, str] = {}
+        if ex.compare.pins or URL_KEY in current:
+            out[URL_KEY] = encode_pins([(p.scene, p.values) for p in ex.compare.pins])
+        out.update(self.presentation.query(current))
+        return out

@@ -1,0 +1,305 @@
+"""Presentation mode: the plots fill the screen for a projector; figures for slides.
+
+One large plot (``present=1`` in the address) or four in a 2×2 grid (``present=4``): fonts and
+lines scaled up, a high-contrast frame, the theory's points named as in the paper
+(:data:`app.plots.PAPER_NAMES`), the sidebar collapsed and the readout hidden
+(``static/present.js`` gives the page's body the classes that ``static/explorer.css`` styles
+by). Everything is done by changing properties of the figures already built: the mode adds no
+Bokeh model to the page. Leaving it puts every property back.
+
+Figures for slides (``slides=svg`` or ``slides=png``): each figure gets a caption line under
+it that states the scene and the parameters, and its save tool (the toolbar's download
+button) saves a file named after them, drawn by the browser: SVG (Bokeh's
+``output_backend="svg"``), or PNG at :data:`PNG_SCALE` times the figure's size (the page
+draws its canvases at that pixel ratio, ``static/present.js``). The caption lines are built
+the first time this is used.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from typing import Any
+
+import panel as pn
+from bokeh.models import GlyphRenderer, SaveTool, Title
+
+from app.plots import AXIS_LABEL_FONT, PLOT_WIDTHS, TICK_LABEL_FONT, TITLE_FONT
+from app.scenes import SCENES
+
+#: The presentation layouts: the address's value -> menu label (``""``: off).
+MODES: Mapping[str, str] = {"1": "one large plot", "4": "2×2 plots"}
+#: The permalink's key.
+URL_KEY = "present"
+#: Plots shown in the 2×2 layout, in order of preference (the first four the scene shows).
+GRID_PLOTS = 4
+#: Fonts for a projector by layout: title, axis labels, tick labels, the theory's point
+#: names, legends (a quarter of a 720p screen holds a 230 px plot: smaller than one large).
+FONTS: Mapping[str, Mapping[str, str]] = {
+    "1": {"title": "26px", "axis": "22px", "tick": "18px", "points": "22px",
+          "legend": "18px"},
+    "4": {"title": "20px", "axis": "17px", "tick": "15px", "points": "18px",
+          "legend": "14px"},
+}
+#: Line widths are multiplied by this (a 1.5 px line is invisible from the back of a room).
+LINE_SCALE = 2.0
+#: Height left free above the plots [px]: the page's header and the scene's title.
+HEADER_PX = {"1": 130, "4": 130}
+#: High-contrast frame: axis lines and ticks in black, a darker grid.
+AXIS_COLOR, GRID_COLOR = "#000000", "#9a9a9a"
+#: Figure formats for slides: the address's value -> menu label.
+SLIDES: Mapping[str, str] = {"svg": "SVG", "png": "PNG at 3x"}
+#: The address's key for the slide format.
+SLIDES_KEY = "slides"
+#: Pixel ratio of a slide PNG (kept in step with ``static/present.js``).
+PNG_SCALE = 3
+#: Parameters the caption line names, by stop type: (state name, symbol).
+CAPTION_PARAMS: Mapping[str, tuple[tuple[str, str], ...]] = {
+    "none": (("belt_speed", "v"), ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
+    "rigid": (("belt_speed", "v"), ("clearance", "x_bar"), ("restitution", "r"),
+              ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
+    "hysteretic": (("belt_speed", "v"), ("clearance", "x_bar"), ("k_c0", "k_c0/k"),
+                   ("k_e0", "k_e0/k"), ("limit_overlap", "D"), ("beta_c", "beta_c"),
+                   ("beta_e", "beta_e"), ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
+}
+#: Parameters on the caption's first line at most (the rest go on a second line).
+CAPTION_LINE_ITEMS = 6
+#: The figures' usual frame, put back on leaving.
+NORMAL_AXIS_COLOR, NORMAL_GRID_COLOR = "black", "#e5e5e5"
+
+
+class Presentation:
+    """The presentation mode of one page.
+
+    Parameters
+    ----------
+    explorer : Explorer
+        The page (its plots, panes and address).
+    """
+
+    def __init__(self, explorer: Any) -> None:
+        self.explorer = explorer
+        self.mode = ""
+        #: Figures styled for the current mode, and each glyph's own line width.
+        self._styled: set[str] = set()
+        self._widths: dict[str, float] = {}
+        #: Slide format ("" none), and each figure's caption line once made.
+        self.slides = ""
+        self._captions: dict[str, Title] = {}
+
+    @property
+    def on(self) -> bool:
+        return self.mode in MODES
+
+    def menu_items(self) -> list[tuple[str, str]]:
+        """Entries of the page's menu."""
+        items = [(f"Presentation: {label}", f"present:{key}") for key, label in MODES.items()
+                 if key != self.mode]
+        if self.on:
+            items.append(("Leave the presentation", "present:"))
+        items += [(f"Figures for slides: {label} (toolbar's save button)", f"slides:{key}")
+                  for key, label in SLIDES.items() if key != self.slides]
+        if self.slides:
+            items.append(("Figures as on screen (no caption line)", "slides:"))
+        return items
+
+    def set_slides(self, fmt: str) -> None:
+        """Figures for slides in format ``fmt`` (a key of :data:`SLIDES`, ``""``: off)."""
+        fmt = fmt if fmt in SLIDES else ""
+        if fmt == self.slides:
+            return
+        backend_changed = (fmt == "svg") != (self.slides == "svg")
+        self.slides = fmt
+        self.restyle()
+        if backend_changed and pn.state.location is not None:
+            # BokehJS picks a figure's drawing backend when it makes its view: the page
+            # loads its own permalink again (pins, presentation and all).
+            pn.state.location.reload = True
+            self.explorer._write_url()
+            return
+        self.explorer._url_changed()
+
+    def set_mode(self, mode: str) -> None:
+        """Switch to ``mode`` (a key of :data:`MODES`, or ``""`` to leave)."""
+        mode = mode if mode in MODES else ""
+        if mode == self.mode:
+            return
+        self.mode = mode
+        self._styled = set()
+        ex = self.explorer
+        ex._show_plots(ex.visible_plots())
+        ex._url_changed()
+
+    def shown(self, visible: tuple[str, ...]) -> tuple[str, ...]:
+        """The plot panes the layout shows of the ``visible`` ones."""
+        if self.mode == "1":
+            return visible[:1]
+        if self.mode == "4":
+            return tuple(p for p in visible if p != "anim")[:GRID_PLOTS]
+        return visible
+
+    # --- address ---------------------------------------------------------------------------
+
+    def apply_query(self, query: Mapping[str, Any]) -> None:
+        fmt = query.get(SLIDES_KEY)
+        if fmt not in (None, "", 0):
+            if str(fmt) in SLIDES:
+                self.set_slides(str(fmt))
+            else:
+                self.explorer._show_error(
+                    f"slides must be one of {', '.join(SLIDES)} (figure formats for slides); "
+                    f"got {str(fmt)[:20]!r}")
+        raw = query.get(URL_KEY)
+        if raw in (None, "", 0, "0"):
+            return
+        mode = str(int(raw)) if isinstance(raw, (int, float)) else str(raw)
+        if mode not in MODES:
+            self.explorer._show_error(
+                f"present must be one of {', '.join(MODES)} (presentation layouts: "
+                f"{', '.join(MODES.values())}) or 0; got {str(raw)[:20]!r}")
+            return
+        self.set_mode(mode)
+
+    def query(self, current: Mapping[str, Any]) -> dict[str, str]:
+        out = {}
+        if self.on or URL_KEY in current:
+            out[URL_KEY] = self.mode if self.on else "0"
+        if self.slides or SLIDES_KEY in current:
+            out[SLIDES_KEY] = self.slides
+        return out
+
+    # --- slides ----------------------------------------------------------------------------
+
+    def caption(self) -> str:
+        """The caption line: the scene and the parameters of the run on screen."""
+        ex = self.explorer
+        values = ex.state.values()
+        scene = ex.state.scene
+        head = f"Fig. {scene}" if scene in SCENES else f"custom parameters (from Fig. {ex.figure})"
+        stop = values["stop_type"]
+        items = [f"{symbol} = {values[name]:.4g}" for name, symbol in CAPTION_PARAMS[stop]]
+        if values["x0"] or values["v0"]:
+            items.append(f"start ({values['x0']:.4g}, {values['v0']:.4g})")
+        # Two lines: a figure of the narrowest width holds some 90 characters a line.
+        half = (len(items) + 1) // 2 if len(items) > CAPTION_LINE_ITEMS else len(items)
+        lines = [", ".join(items[:half]), ", ".join(items[half:])]
+        return f"{head}, {stop} stop: " + ",\n".join(line for line in lines if line)
+
+    def _slides(self) -> None:
+        """Caption lines, file names and drawing backend of the built figures."""
+        ex = self.explorer
+        figs = ex.plots.figures
+        if not self.slides and not self._captions:
+            return
+        text = self.caption() if self.slides else ""
+        backend = "svg" if self.slides == "svg" else "canvas"
+        scene = ex.state.scene if ex.state.scene in SCENES else f"custom-from-{ex.figure}"
+        for name, fig in figs.items():
+            title = self._captions.get(name)
+            if title is None and self.slides:
+                title = self._captions[name] = Title(
+                    text=text, align="left", text_font_size="13px", text_font_style="normal")
+                fig.add_layout(title, "below")
+            if title is not None:
+                title.update(text=text, visible=bool(self.slides))
+            if fig.output_backend != backend:
+                fig.output_backend = backend
+            stem = re.sub(r"[^A-Za-z0-9._-]", "-", f"fie_{scene}_{name}")
+            for tool in fig.toolbar.tools:
+                if isinstance(tool, SaveTool):
+                    tool.filename = f"{stem}.{self.slides}" if self.slides else None
+
+    # --- styling ---------------------------------------------------------------------------
+
+    def restyle(self) -> None:
+        """Style the built figures and panes for the mode (only those not yet styled)."""
+        ex = self.explorer
+        plots = ex.plots
+        figs = plots.figures
+        for name in set(figs) - self._styled:
+            self._style_figure(figs[name])
+            self._styled.add(name)
+        if plots.point_labels is not None:
+            labels = plots.point_labels
+            text, size = ("paper", self._font("points")) if self.on else ("name", "12px")
+            if labels.text != text or labels.text_font_size != size:
+                labels.update(text=text, text_font_size=size, text_font_style=(
+                    "bold" if self.on else "normal"))
+        for div in plots.legends.values():
+            size = self._font("legend") if self.on else "12px"
+            if div.styles.get("font-size") != size:
+                div.styles = {**div.styles, "font-size": size, "line-height": (
+                    f"{int(size[:-2]) + 8}px" if self.on else "20px")}
+        # The readout (and the comparison table in it) gives its room to the plots.
+        if ex.readout.visible == self.on:
+            ex.readout.visible = not self.on
+        if self.on and ex.trade.visible:
+            ex.trade.visible = False
+        self._slides()
+        self._layout()
+
+    def _font(self, what: str) -> str:
+        return FONTS[self.mode][what]
+
+    def _style_figure(self, fig: Any) -> None:
+        on = self.on
+        fig.title.text_font_size = self._font("title") if on else TITLE_FONT
+        for axis in (*fig.left, *fig.right, *fig.above, *fig.below):
+            if not hasattr(axis, "axis_label_text_font_size"):
+                continue
+            axis.update(
+                axis_label_text_font_size=self._font("axis") if on else AXIS_LABEL_FONT,
+                major_label_text_font_size=self._font("tick") if on else TICK_LABEL_FONT,
+                axis_line_width=2 if on else 1, major_tick_line_width=2 if on else 1,
+                axis_line_color=AXIS_COLOR if on else NORMAL_AXIS_COLOR,
+                axis_label_text_color=AXIS_COLOR if on else "#444444",
+                major_label_text_color=AXIS_COLOR if on else "#444444")
+        for grid in fig.grid:
+            grid.grid_line_color = GRID_COLOR if on else NORMAL_GRID_COLOR
+        for r in fig.renderers:
+            if not isinstance(r, GlyphRenderer) or not hasattr(r.glyph, "line_width"):
+                continue
+            width = r.glyph.line_width
+            if not isinstance(width, (int, float)):
+                continue
+            base = self._widths.setdefault(r.glyph.id, float(width))
+            new = base * LINE_SCALE if on else base
+            if width != new:
+                r.glyph.line_width = new
+
+    def _layout(self) -> None:
+        """Plot panes that fill the screen: heights from the window's (CSS), the figures
+        stretched to them; the usual responsive grid otherwise."""
+        ex = self.explorer
+        shown = self.shown(ex.visible_plots())
+        rows = 1 if self.mode == "1" else 2
+        for name, pane in ex.plot_panes.items():
+            if name not in shown or not pane.objects:
+                continue
+            if self.on:
+                height = f"calc((100vh - {HEADER_PX[self.mode]}px) / {rows} - 12px)"
+                basis = "100%" if self.mode == "1" else "calc(50% - 20px)"
+                styles = {"flex": f"1 1 {basis}", "height": height}
+                sizing, max_width = "stretch_both", None
+            else:
+                styles = {"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"}
+                sizing, max_width = "stretch_width", PLOT_WIDTHS[1]
+            if pane.styles != styles:
+                pane.param.update(styles=styles, sizing_mode=sizing, max_width=max_width)
+            self._stretch(name, pane, sizing, max_width)
+
+    def _stretch(self, name: str, pane: Any, sizing: str, max_width: int | None) -> None:
+        """Let the pane's Bokeh layout and figures follow its size."""
+        plots = self.explorer.plots
+        body = pane.objects[0]
+        if hasattr(body, "sizing_mode") and body.sizing_mode != sizing:
+            body.sizing_mode = sizing
+        layout = plots.panes.get(name)
+        if layout is None:
+            return
+        figs = [f for key, f in plots.figures.items() if key.startswith(name)]
+        if layout.sizing_mode != sizing:
+            layout.sizing_mode = sizing
+        for fig in figs:
+            if fig.sizing_mode != sizing:
+                fig.update(sizing_mode=sizing, max_width=max_width)

@@ -1,0 +1,110 @@
+"""Pinned runs and the presentation mode without a browser: the permalink's pins round-trip
+and refuse bad values by name, the comparison reads Newton's law back, and neither feature
+adds a Bokeh model to a page until it is used."""
+
+from __future__ import annotations
+
+import pytest
+from bokeh.document import Document
+from panel.io.state import set_curdoc
+
+from app.compare import (
+    MAX_PINS,
+    PIN_COLORS,
+    PRESETS,
+    decode_pins,
+    encode_pins,
+    ghost_columns,
+    pin_label,
+    summary,
+)
+from app.solver import solve
+from app.state import scene_values
+
+
+def _page():
+    import app.main as main
+
+    doc = Document()
+    with set_curdoc(doc):
+        template = main.create_app()
+        main.serve(template, doc)
+    return template.explorer, doc
+
+
+def test_pins_round_trip_through_the_permalink():
+    custom = {**scene_values("5b"), "restitution": 0.55, "belt_speed": 0.08}
+    pins = [("7c", scene_values("7c")), ("custom", custom), ("10", scene_values("10"))]
+    text = encode_pins(pins)
+    assert text.startswith("7c|")  # a scene's own values are not repeated
+    back = decode_pins(text)
+    assert [scene for scene, _ in back] == ["7c", "custom", "10"]
+    for (_, values), (_, restored) in zip(pins, back, strict=True):
+        assert restored == values
+
+
+@pytest.mark.parametrize("raw, words", [
+    ("7c,r=2", "r (restitution) must be a number in [0, 1]; got '2'"),
+    ("9z", "scene must be one of"),
+    ("5b,zz=1", "unknown parameter 'zz'"),
+    ("5b,x0=0.9", "the stop must lie ahead of the start position"),
+    ("5b|5b|5b|5b", f"at most {MAX_PINS} pins"),
+])
+def test_bad_pins_are_refused_by_name(raw, words):
+    with pytest.raises(ValueError, match="pin|pins") as info:
+        decode_pins(raw)
+    assert words in str(info.value)
+
+
+def test_summary_reads_newtons_law_and_the_period_back():
+    # Scene 7c: r = 0.3, so every impact's rebound over approach speed is 0.3 (Eq. 8).
+    assert float(summary(solve(scene_values("7c")))["restitution"]) == pytest.approx(0.3)
+    # Scene 4a, elastic fast belt: period 2 arccos(1 - x_bar/a) (Sec. 4.1), one impact.
+    import math
+
+    s = summary(solve(scene_values("4a")))
+    assert float(s["period"]) == pytest.approx(2 * math.acos(1 - 0.3 / 0.2), rel=1e-3)
+    assert s["impacts"] == "1" and s["steady"] == "periodic"
+
+
+def test_ghost_columns_hold_the_run():
+    sol = solve(scene_values("5a"))
+    cols = ghost_columns(sol)
+    assert len(cols["phase"]["x"]) > 100 and len(cols["traj"]["t"]) > 100
+    # Rigid stop: each impulse is a stem (0 -> j) of a broken line.
+    assert len(cols["force"]["t"]) == 3 * len(sol.result.impulses)
+
+
+def test_label_names_what_differs():
+    assert pin_label("7c", scene_values("7c"), {**scene_values("7c"), "restitution": 1.0}) \
+        == "7c: r 0.3"
+
+
+def test_no_model_until_used_then_ghosts_and_present_mode():
+    ex, doc = _page()
+    before = len(doc.models)
+    with set_curdoc(doc):
+        ex.menu.presentation.set_mode("4")
+        assert len(doc.models) == before  # presentation changes properties only
+        assert ex.plots.point_labels.text == "paper"
+        ex.menu.presentation.set_mode("")
+        assert ex.plots.point_labels.text == "name"
+        assert ex.compare.renderer_count == 0
+        ex.compare.pin(ex.state.scene, ex.state.values())
+        assert ex.compare.pins[0].solution is not None
+        assert ex.compare.renderer_count > 0
+        assert len(doc.models) > before
+        assert "compared" in ex.readout.object
+        assert PIN_COLORS[0] in ex.plots.legends["phase"].text
+
+
+def test_presets_load_one_scene_and_pin_the_other():
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.menu.preset(next(k for k in PRESETS if k.startswith("7c vs 10")))
+        assert ex.state.scene == "10"
+        assert [p.scene for p in ex.compare.pins] == ["7c"]
+        ex.state.load_scene("5b")
+        ex.menu.preset(next(k for k in PRESETS if k.startswith("r = 1")))
+        assert ex.state.restitution == 1.0
+        assert ex.compare.pins[0].values["restitution"] < 1.0

@@ -1,0 +1,113 @@
+"""Pinned runs in a real browser: a ghost stays drawn while the parameters change, pins go
+one by one or all at once, the permalink brings them back, and a preset loads one of the
+paper's pairs."""
+
+from __future__ import annotations
+
+import pytest
+from uipage import Page, count_color
+
+from app.compare import GHOST_STYLE, PIN_COLORS
+
+pytestmark = pytest.mark.ui
+
+#: The first pin's colour as painted: its line alpha over the white plot area.
+GHOST = "#" + "".join(
+    f"{round(GHOST_STYLE['line_alpha'] * int(PIN_COLORS[0][i:i + 2], 16) + (1 - GHOST_STYLE['line_alpha']) * 255):02x}"  # noqa: E501
+    for i in (1, 3, 5))
+#: Tolerance per channel [0-255]: anti-aliased line edges.
+GHOST_TOL = 24
+#: Ghost pixels a drawn pin adds at least to the time histories (a dashed 1.5 px line across
+#: some 1000 px). A page without a pin has a few pixels near the colour too (anti-aliased
+#: edges of the black curve over the slip band): counts are compared with that baseline.
+MIN_GHOST_PIXELS = 150
+
+
+def _menu(p: Page, text: str) -> None:
+    """Open the split button's menu and pick the entry that starts with ``text``."""
+    p.page.locator(".fie-compare-menu button").nth(1).click()
+    p.page.get_by_text(text).first.click()
+
+
+def _pin(p: Page) -> None:
+    p.page.locator(".fie-compare-menu button").first.click()
+
+
+def _wait_readout(p: Page, words: str, present: bool = True) -> str:
+    deadline = 300
+    for _ in range(deadline):
+        text = p.text(".fie-readout-pane")
+        if (words in text) == present:
+            p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
+            p.settle()
+            return text
+        p.page.wait_for_timeout(100)
+    raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}")
+
+
+def _ghost_pixels(p: Page) -> int:
+    return count_color(p.pixels(".fie-plot-time"), GHOST, GHOST_TOL)
+
+
+def _set(p: Page, name: str, value: str) -> None:
+    box = p.page.locator(f".fie-w-{name} input").first
+    box.fill(value)
+    box.press("Enter")
+
+
+def test_pin_change_unpin_and_permalink(browser, server, shots):
+    p = Page(browser, server + "?scene=5a")
+    try:
+        baseline = _ghost_pixels(p)
+        _pin(p)
+        text = _wait_readout(p, "compared")
+        assert "5a: same parameters" in text
+        assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        # A new restitution: the ghost stays, the current run differs (the table says how).
+        _set(p, "restitution", "0.5")
+        text = _wait_readout(p, "5a: r 1")
+        assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        row = text.split("restitution measured")[1].split()
+        assert float(row[0]) == pytest.approx(0.5, rel=1e-9)  # this run: Newton's r
+        assert float(row[1]) == pytest.approx(1.0, rel=1e-9)  # the pinned elastic run
+        p.page.screenshot(path=shots / "compare-pinned.png", full_page=True)
+        # A second pin, then the permalink round trip: both pins come back, solved again.
+        _pin(p)
+        _wait_readout(p, "custom: same parameters")
+        p.page.wait_for_function("() => location.search.includes('pins=5a%7Ccustom')")
+        q = Page(browser, p.page.url)
+        try:
+            text = _wait_readout(q, "custom: same parameters")
+            assert "5a: r 1" in text
+            assert _ghost_pixels(q) > baseline + MIN_GHOST_PIXELS
+            assert q.errors == []
+        finally:
+            q.close()
+        # Unpin the first: the elastic ghost goes, the second pin stays.
+        _menu(p, "Unpin 1")
+        text = _wait_readout(p, "5a: r 1", present=False)
+        assert "custom: same parameters" in text
+        assert _ghost_pixels(p) < baseline + MIN_GHOST_PIXELS / 3
+        _menu(p, "Unpin all")
+        _wait_readout(p, "compared", present=False)
+        p.page.wait_for_function("() => !location.search.includes('pins=5a')")
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+def test_preset_7c_vs_10(browser, server, shots):
+    p = Page(browser, server + "?scene=10")
+    try:
+        baseline = _ghost_pixels(p)
+        _menu(p, "Compare 7c vs 10")
+        text = _wait_readout(p, "7c: stop rigid")
+        assert "Fig. 10" in p.text(".fie-caption")
+        # The pinned rigid stop's restitution is Newton's r = 0.3 of scene 7c.
+        row = text.split("restitution measured")[1].split()
+        assert float(row[1]) == pytest.approx(0.3, rel=1e-9)
+        assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        p.page.screenshot(path=shots / "compare-7c-vs-10.png", full_page=True)
+        assert p.errors == []
+    finally:
+        p.close()
