@@ -65,3 +65,30 @@ def test_the_readout_names_the_contact_law_of_a_deformable_stop():
         assert rows["Contact law"] == CONTACT_LAW_TEXT[sol.stop.law]
         assert "not passive" in rows["Contact law"]
     assert "Contact law" not in dict(readout_rows(solve(scene_values("5a"))))
+
+
+def test_a_deformable_stop_s_accuracy_says_how_it_grows_and_where_a_model_took_over():
+    """The preset's error is measured on runs of tens of contacts: a long train's timing
+    errors add up, and the readout says so instead of quoting 1e-6 for thousands of them; a
+    run that a reduced model finished states that model's bound and where it began."""
+    from app.readout import MANY_CONTACTS
+    from core import TransitionKind
+
+    short = solve(scene_values("10"))
+    assert short.result.info["n_contacts"] <= MANY_CONTACTS
+    assert "add up" not in dict(readout_rows(short))["Solve"]
+    long = solve({**scene_values("10"), "t_end": 1000.0}, budget=120.0)
+    contacts = long.result.info["n_contacts"]
+    assert contacts > MANY_CONTACTS
+    assert f"over {contacts} contacts their timing errors add up" in dict(
+        readout_rows(long))["Solve"]
+    # An oscillation on a soft stop that dies out: a reduced model takes over.
+    values = {**scene_values("10"), "mu_s": 0.45, "mu_k": 0.3, "belt_speed": 0.25,
+              "u_s": 2.0, "clearance": 0.42, "k_c0": 1e3, "k_e0": 500.0,
+              "limit_overlap": 0.01, "beta_c": 100.0, "beta_e": 100.0, "t_end": 100.0}
+    sol = solve(values, budget=120.0)
+    switch = [t.t for t in sol.result.transitions if t.kind is TransitionKind.REDUCED]
+    assert switch
+    row = dict(readout_rows(sol))["Solve"]
+    assert f"from t = {switch[0]:.4g} a reduced model" in row
+    assert f"<= {sol.result.info['reduced_error']:.4g}" in row
