@@ -17,18 +17,16 @@ import os
 import platform
 import re
 import shutil
-import socket
-import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests" / "ui"))
+sys.path[:0] = [str(ROOT / "tests" / "ui"), str(ROOT / "benchmarks")]
 
+from browser_latency import serve_explorer  # noqa: E402
 from uipage import Page  # noqa: E402
 
 CHROMIUM = os.environ.get("CHROMIUM", shutil.which("chromium") or "/usr/bin/chromium")
@@ -38,28 +36,6 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
 TARGET_S = 2.0
 #: How often [s] the harness reads the card's status.
 POLL_S = 0.02
-
-
-def serve() -> tuple[subprocess.Popen, str]:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port),
-         "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
-         "--static-dirs", "assets=static", "--liveness"],
-        cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 60
-    while True:
-        try:
-            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
-                break
-        except OSError:
-            if time.monotonic() > deadline:
-                proc.kill()
-                raise RuntimeError("panel serve did not start") from None
-            time.sleep(0.2)
-    return proc, f"http://127.0.0.1:{port}/main"
 
 
 def measure(browser, url: str) -> tuple[float, float, float]:
@@ -92,7 +68,7 @@ def main() -> None:
     import panel
     from playwright.sync_api import sync_playwright
 
-    proc, url = serve()
+    proc, url = serve_explorer()
     rows = []
     try:
         with sync_playwright() as pw:

@@ -66,9 +66,10 @@ def main() -> None:
                            cwd=ROOT, check=True)
         procs = []
         try:
-            proc_a, url_a = bl._serve(ROOT)
+            proc_a, url_a = bl.serve_explorer(ROOT)
             procs.append(proc_a)
-            proc_b, url_b = bl._serve(ROOT, patches=False) if args.patches else bl._serve(other)
+            proc_b, url_b = (bl.serve_explorer(ROOT, patches=False) if args.patches
+                             else bl.serve_explorer(other))
             procs.append(proc_b)
             b_is = "this checkout, perf patches off" if args.patches else args.ref
             print(f"A = this checkout, B = {b_is}; {args.rounds} releases each, alternating")

@@ -136,7 +136,7 @@ def steal_percent(before: tuple[int, int] | None, after: tuple[int, int] | None)
     return f"{100.0 * (after[0] - before[0]) / (after[1] - before[1]):.1f}"
 
 
-def _serve(root: Path = ROOT, patches: bool = True) -> tuple[subprocess.Popen, str]:
+def serve_explorer(root: Path = ROOT, patches: bool = True) -> tuple[subprocess.Popen, str]:
     """``panel serve`` of the explorer in the checkout ``root`` on a free loopback port;
     with ``patches=False`` the perf patches are off (app.perf's switch in the server, and
     ``paint_shortcuts=off`` in the page's address)."""
@@ -211,7 +211,7 @@ def main() -> None:
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    proc, url = _serve(patches=args.patches == "on")
+    proc, url = serve_explorer(patches=args.patches == "on")
     try:
         with sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
