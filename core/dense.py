@@ -1,5 +1,8 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
+This module is longer than the project's ~500 lines because it is the one place where every
+numerical method's step points become a result (transitions, steady state, samples).
+
 The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
 steady state read off them (:func:`steady_from_transitions`) finds fixed points with the
 project's one detector (:class:`core.steady.FixedPointDetector`) at the tolerance of the

@@ -1,5 +1,9 @@
 """Response with a deformable (hysteretic) stop: exact free flight, integrated contact.
 
+This module is longer than the project's ~500 lines because it holds the contact phase's
+solver whole (its events, the steady state and the result); the reduced models, the arcs and
+the samples live in their own modules.
+
 Away from the stop the motion is the closed form of :mod:`core.flight` (slip circles and stick
 lines, paper Eqs. 3-6). Only the contact phase ``x > clearance`` is integrated numerically
 (paper Eqs. 14-15 with the law of :mod:`core.hysteresis`, Eqs. 11-13)::

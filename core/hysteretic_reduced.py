@@ -1,5 +1,8 @@
 """Reduced models of a mass pressed on a deformable stop (``x_bar < a``).
 
+This module is longer than the project's ~500 lines because it holds both reduced models
+(the contact train and the oscillation on the stop) with the tests that let them take over.
+
 When the belt presses the mass on the stop, the response ends in a train of ever smaller
 contacts or in an oscillation on the stop whose loops shrink (paper Fig. 11). Step by step,
 its cost grows with the number of loops, not with what changes: thousands of loops whose
