@@ -54,25 +54,31 @@ def main() -> None:
     target.add_argument("--ref", help="git revision to compare against (B)")
     target.add_argument("--patches", action="store_true",
                         help="B = this checkout with the perf patches off")
+    parser.add_argument("--base", help="git revision to serve as A instead of this checkout "
+                        "(to find which change moved the latency)")
     parser.add_argument("--scenes", default="5b,7c")
     parser.add_argument("--rounds", type=int, default=40)
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as tmp:
-        other = Path(tmp) / "b"
-        if not args.patches:
-            subprocess.run(["git", "worktree", "add", "--detach", "-q", str(other), args.ref],
+        other, base = Path(tmp) / "b", Path(tmp) / "a"
+        trees = [(other, args.ref)] if not args.patches else []
+        if args.base:
+            trees.append((base, args.base))
+        for tree, rev in trees:
+            subprocess.run(["git", "worktree", "add", "--detach", "-q", str(tree), rev],
                            cwd=ROOT, check=True)
         procs = []
         try:
-            proc_a, url_a = bl.serve_explorer(ROOT)
+            proc_a, url_a = bl.serve_explorer(base if args.base else ROOT)
             procs.append(proc_a)
             proc_b, url_b = (bl.serve_explorer(ROOT, patches=False) if args.patches
                              else bl.serve_explorer(other))
             procs.append(proc_b)
             b_is = "this checkout, perf patches off" if args.patches else args.ref
-            print(f"A = this checkout, B = {b_is}; {args.rounds} releases each, alternating")
+            a_is = args.base or "this checkout"
+            print(f"A = {a_is}, B = {b_is}; {args.rounds} releases each, alternating")
             print(f"{'scene':>6} {'A median':>9} {'A p95':>7} {'B median':>9} {'B p95':>7} "
                   f"{'median(A-B)':>12}")
             with sync_playwright() as pw:
@@ -80,7 +86,9 @@ def main() -> None:
                                              args=bl.CHROMIUM_ARGS)
                 for scene in args.scenes.split(","):
                     lat = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
-                    a, b = lat["A"], lat["B"]
+                    # A page that missed a release has fewer: pair the rounds both have.
+                    n = min(len(lat["A"]), len(lat["B"]))
+                    a, b = np.asarray(lat["A"][:n]), np.asarray(lat["B"][:n])
                     # A release that changed nothing is NaN (browser_latency.drag).
                     print(f"{scene:>6} {np.nanmedian(a):>9.1f} {np.nanpercentile(a, 95):>7.1f} "
                           f"{np.nanmedian(b):>9.1f} {np.nanpercentile(b, 95):>7.1f} "
@@ -90,8 +98,8 @@ def main() -> None:
             for proc in procs:
                 proc.terminate()
                 proc.wait(timeout=10)
-            if not args.patches:
-                subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT,
+            for tree, _ in trees:
+                subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT,
                                check=False)
 
 
