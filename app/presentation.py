@@ -286,7 +286,8 @@ class Presentation:
                 sizing, max_width = "stretch_width", PLOT_WIDTHS[1]
             if pane.styles != styles:
                 pane.param.update(styles=styles, sizing_mode=sizing, max_width=max_width)
-            self._stretch(name, pane, sizing, max_width)
+            if name != "anim":  # the animation keeps its own sizing (never presented)
+                self._stretch(name, pane, sizing, max_width)
 
     def _stretch(self, name: str, pane: Any, sizing: str, max_width: int | None) -> None:
         """Let the pane's Bokeh layout and figures follow its size."""

@@ -14,7 +14,9 @@ Examples
 from __future__ import annotations
 
 import importlib.util
+import logging
 import math
+import os
 import threading
 import time
 from collections import OrderedDict
@@ -47,6 +49,8 @@ from core import (
     simulate,
     theory,
 )
+
+log = logging.getLogger(__name__)
 
 #: How a solve that stopped early says so: the page offers to retry it with more time.
 CUT_SHORT = (Status.TIME_BUDGET, Status.STEP_LIMIT)
@@ -88,13 +92,34 @@ PREVIEW_ACCURACY = "draft"
 #: Wall-time budget [s] of a full solve, whatever its method: past it the page says so and
 #: keeps its picture. The numerical methods can take minutes on a Zeno scene (scene 7c with
 #: ``event``) and the deformable stop's integrated contact seconds on a stiff, sharp stop;
-#: the closed form for a rigid stop needs milliseconds.
+#: the closed form for a rigid stop needs milliseconds. ``FIE_SOLVE_BUDGET_S`` in the
+#: server's environment sets another (a slow classroom machine may want more).
 SOLVE_BUDGET_S = 2.0
 #: A retry of a solve that ran out of time or steps gets this many times the budget (and
 #: the step limit) of the attempt before, up to :data:`MAX_SOLVE_BUDGET_S`.
 RETRY_FACTOR = 10.0
 #: Largest budget [s] a retry may ask for: a class waits no longer than this.
 MAX_SOLVE_BUDGET_S = 60.0
+
+
+def _budget_from_environment(default: float) -> float:
+    """``FIE_SOLVE_BUDGET_S`` if it is a number of seconds in (0, MAX_SOLVE_BUDGET_S], else
+    ``default`` (a bad value is logged with the allowed range)."""
+    raw = os.environ.get("FIE_SOLVE_BUDGET_S")
+    if raw is None:
+        return default
+    try:
+        value = float(raw)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value <= MAX_SOLVE_BUDGET_S:
+        log.warning("FIE_SOLVE_BUDGET_S must be a number of seconds in (0, %g]; got %r: "
+                    "using %g s", MAX_SOLVE_BUDGET_S, raw, default)
+        return default
+    return value
+
+
+SOLVE_BUDGET_S = _budget_from_environment(SOLVE_BUDGET_S)
 #: Budget [s] of a preview solve (a late preview is just skipped).
 PREVIEW_BUDGET_S = 0.25
 #: Solves that integrate (a deformable stop's contact, ``event``, ``switch``) and may run at
