@@ -12,16 +12,15 @@ from __future__ import annotations
 
 import os
 import shutil
-import signal
 import socket
 import subprocess
 import sys
-import time
 import urllib.error
 import urllib.request
 from pathlib import Path
 
 import pytest
+from processes import stop_group, wait_live
 
 pytestmark = pytest.mark.slow
 
@@ -113,27 +112,10 @@ def server(fresh_venv, tmp_path_factory):
         )
     base = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + STARTUP_TIMEOUT
-        while True:
-            if proc.poll() is not None:
-                pytest.fail(f"serve.sh exited with {proc.returncode}:\n{log_path.read_text()}")
-            try:
-                if _get(f"{base}/liveness", timeout=2)[0] == 200:
-                    break
-            except OSError:
-                pass
-            if time.monotonic() > deadline:
-                pytest.fail(f"no /liveness after {STARTUP_TIMEOUT} s:\n{log_path.read_text()}")
-            time.sleep(0.5)
+        wait_live(f"{base}/liveness", proc, log_path, STARTUP_TIMEOUT)
         yield base, log_path
     finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGTERM)
-            try:
-                proc.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        stop_group(proc)
 
 
 def test_serve_runs_the_panel_from_the_fresh_venv(server, fresh_venv):

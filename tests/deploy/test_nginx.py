@@ -23,7 +23,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import socket
 import subprocess
 import sys
@@ -33,6 +32,7 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from processes import stop_group, wait_live
 
 pytestmark = pytest.mark.slow
 
@@ -89,28 +89,7 @@ def _nginx() -> str:
 
 
 def _wait_live(url: str, proc: subprocess.Popen, log: Path) -> None:
-    deadline = time.monotonic() + STARTUP_TIMEOUT
-    while True:
-        if proc.poll() is not None:
-            pytest.fail(f"{proc.args[0]} exited with {proc.returncode}:\n{log.read_text()}")
-        try:
-            if _get(url, timeout=2)[0] == 200:
-                return
-        except OSError:
-            pass
-        if time.monotonic() > deadline:
-            pytest.fail(f"no answer from {url} after {STARTUP_TIMEOUT} s:\n{log.read_text()}")
-        time.sleep(0.5)
-
-
-def _stop(proc: subprocess.Popen) -> None:
-    if proc.poll() is None:
-        os.killpg(proc.pid, signal.SIGTERM)
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+    wait_live(url, proc, log, STARTUP_TIMEOUT)
 
 
 @pytest.fixture(scope="module")
@@ -140,7 +119,7 @@ def deployment(tmp_path_factory):
         yield (f"http://127.0.0.1:{proxy_port}",
                [f"http://127.0.0.1:{p}" for p in upstream_ports], run_dir / "access.log")
     finally:
-        _stop(proc)
+        stop_group(proc)
 
 
 def _sessions(upstream: str) -> dict:

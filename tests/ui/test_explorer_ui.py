@@ -66,23 +66,13 @@ def test_scene_draws(page, shots, key):
     assert page.errors == []
 
 
-def _drag(p: Page, name: str, dx: float) -> None:
-    handle = p.page.locator(f".fie-w-{name} .noUi-handle").first
-    box = handle.bounding_box()
-    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-    p.page.mouse.move(x, y)
-    p.page.mouse.down()
-    p.page.mouse.move(x + dx, y, steps=8)
-    p.page.mouse.up()
-
-
 def test_slider_drag_repaints(page, shots):
     _select_scene(page, "7b")
     before = page.pixels(".fie-plot-phase")
     readout = page.text(".fie-readout-pane")
     box = page.page.locator(".fie-w-clearance input").first
     typed = float(box.input_value())
-    _drag(page, "clearance", 40)
+    page.drag_slider("clearance", 40)
     after_text = page.wait_text_change(".fie-readout-pane", readout)
     page.page.wait_for_timeout(300)
     page.settle()
@@ -115,7 +105,7 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
             p.settle()
             loaded = p.pixels(".fie-plots"), _legend_line_ends(p)
             readout = p.text(".fie-readout-pane")
-            _drag(p, "clearance", 30)
+            p.drag_slider("clearance", 30)
             p.wait_text_change(".fie-readout-pane", readout)
             p.page.wait_for_timeout(500)
             p.settle()
@@ -149,7 +139,7 @@ def test_a_release_after_a_typed_value_is_applied(page, shots):
     handle = page.page.locator(".fie-w-clearance .noUi-handle").first
     box = page.page.locator(".fie-w-clearance input").first
     readout = page.text(".fie-readout-pane")
-    _drag(page, "clearance", 30)
+    page.drag_slider("clearance", 30)
     readout = page.wait_text_change(".fie-readout-pane", readout)
     page.settle()
     released = float(box.input_value())

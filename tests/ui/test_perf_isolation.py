@@ -100,13 +100,7 @@ def _release(p: Page) -> float:
     the handle stays between two places), release, and return the reply time [ms]."""
     dx = 12 if next(_TURNS) % 2 == 0 else -12
     done = p.page.evaluate("() => window.__reply.ms.length")
-    handle = p.page.locator(".fie-w-clearance .noUi-handle").first
-    box = handle.bounding_box()
-    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-    p.page.mouse.move(x, y)
-    p.page.mouse.down()
-    p.page.mouse.move(x + dx, y, steps=4)
-    p.page.mouse.up()
+    p.drag_slider("clearance", dx, steps=4)
     p.page.wait_for_function(f"() => window.__reply.ms.length > {done}", timeout=20_000)
     return p.page.evaluate("() => window.__reply.ms.at(-1)")
 

@@ -76,6 +76,17 @@ class Page:
         png = self.page.locator(css).first.screenshot()
         return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=np.int16)
 
+    def drag_slider(self, name: str, dx: float, steps: int = 8) -> None:
+        """Drag the handle of slider ``name`` (its ``fie-w-<name>`` widget) by ``dx``
+        pixels with the mouse, in ``steps`` moves, and release it."""
+        handle = self.page.locator(f".fie-w-{name} .noUi-handle").first
+        box = handle.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        self.page.mouse.move(x, y)
+        self.page.mouse.down()
+        self.page.mouse.move(x + dx, y, steps=steps)
+        self.page.mouse.up()
+
     def close(self) -> None:
         self.page.close()
 
