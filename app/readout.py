@@ -123,7 +123,9 @@ def accuracy_text(sol: Solution) -> str:
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):
         return text
-    contacts = int(res.info.get("n_contacts", 0))
+    # The contacts of the whole run: ``n_contacts`` counts those integrated, the measured
+    # restitutions every finished one (a periodic tail tiled from one period included).
+    contacts = max(int(res.info.get("n_contacts", 0)), len(sol.restitution_measured))
     if contacts > MANY_CONTACTS:
         text += (f" per contact; over {contacts} contacts their timing errors add up (1e-4 to 2e-3 "
                  "of the scale over thousands of contacts at standard)")

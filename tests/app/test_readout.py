@@ -78,7 +78,7 @@ def test_a_deformable_stop_s_accuracy_says_how_it_grows_and_where_a_model_took_o
     assert short.result.info["n_contacts"] <= MANY_CONTACTS
     assert "add up" not in dict(readout_rows(short))["Solve"]
     long = solve({**scene_values("10"), "t_end": 1000.0}, budget=120.0)
-    contacts = long.result.info["n_contacts"]
+    contacts = max(long.result.info["n_contacts"], len(long.restitution_measured))
     assert contacts > MANY_CONTACTS
     assert f"over {contacts} contacts their timing errors add up" in dict(
         readout_rows(long))["Solve"]
