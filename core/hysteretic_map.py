@@ -1,0 +1,311 @@
+"""A train of contacts of a pressed mass advanced by its contact-to-contact map.
+
+With the belt pressing the mass on the stop (``x_bar < a``) and no stick, every contact
+of a train starts at the stop's face with the law's state fresh (first loading, paper
+Eq. 13 from the origin) and slip towards the stop, and every flight is a slip circle about
+``(a, 0)`` through the face, which returns to it at the speed it left with (paper Eqs.
+3-6). So all that happens from one contact's start to the next is a function of one number,
+the approach speed ``w``: the train is the return map ``w -> P(w) = w - L(w)``, its period
+``T(w) = d(w) + 2 atan(P(w) / (a - x_bar))`` with ``d`` the contact's duration.
+
+Trains whose contacts turn elastic as they shrink (a peak overlap ``r`` with ``r (D - r)
+<= D^2 / beta`` unloads along the compression envelope) lose less per contact than any
+power of ``w - w_inf``: they never repeat to a fixed point, and a fitted decay law does not
+hold their phase. Here the loss ``L`` and the duration ``d`` are solved for one contact
+each at the Chebyshev nodes of the range of ``w`` the train visits, at a tight tolerance
+(:data:`NODE_RTOL`), and the interpolants are iterated contact by contact: a few
+microseconds per contact instead of a contact integrated step by step.
+
+The model refuses (the solve goes on step by step) where a node's contact is not one
+reversal between its start and its separation (stick, a second reversal, the limit: the
+map has a kink in the range). It hands back to the step-by-step solve at the start of the
+last contact before the horizon (so the end state is integrated), or earlier where its
+error bound reaches the tolerance or the iterate leaves the interpolated range.
+
+Error: the interpolants' errors ``e_L``, ``e_d`` are bounded by their Chebyshev tails (the
+last :data:`TAIL_TERMS` coefficients, doubled) plus the nodes' own tolerance; an error
+``dw_k`` in the speed grows as ``dw_(k+1) <= g dw_k + e_L`` with ``g = max |P'|``, and the
+time of contact ``k`` is off by ``dt_k = sum (e_d + T'_max dw_j + e_L 2 / (a - x_bar))``
+(the phase of ``k`` contacts: ``~ k^2 e_L / (a - x_bar)``). The state where the model hands
+back is off by at most ``2 dw + max(|x''|, w) dt``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+from numpy.polynomial import chebyshev as cheb
+
+from core.hysteresis import FIRST_LOADING, branch_work
+from core.hysteretic_base import _TRAIN, _State
+from core.hysteretic_reduced import Train
+from core.result import TransitionKind
+
+if TYPE_CHECKING:
+    from core.hysteretic import _Solver
+
+#: Degree of the interpolants (nodes: one more): solving a node costs ~3 contacts of the
+#: standard preset.
+DEGREE = 16
+#: Relative tolerance of the nodes' contacts (absolute: this times the length scale
+#: times 1e-3).
+NODE_RTOL = 1e-12
+#: Trailing Chebyshev coefficients whose doubled sum bounds an interpolant's error.
+TAIL_TERMS = 3
+#: Regular contacts (one reversal each) seen step by step before the map is tried.
+MIN_CONTACTS = 16
+#: The map is tried only when at least this many contacts per node are left before the
+#: horizon: otherwise following them step by step costs less than the nodes.
+MIN_GAIN = 8
+#: Contacts of the model's end stored as transitions (the steady-state label reads the
+#: last ones); the others are counted.
+LOGGED = 16
+#: Lower ends of the interpolated range, as fractions of the way from ``w_inf`` to the
+#: speed at the switch (the second if the iteration leaves the first).
+RANGE_FRACTIONS = (0.1, 0.01)
+#: The sequence of one regular contact in the log: contact, reversal, separation.
+REGULAR = ("contact", "reversal", "separation")
+
+
+class ContactMap(NamedTuple):
+    """Interpolants of the loss ``L(w)``, duration ``d(w)`` and peak position over
+    ``[lo, hi]`` as power series in ``u = (w - mid) / half``, with their error bounds."""
+
+    lo: float
+    hi: float
+    loss: tuple[float, ...]
+    dur: tuple[float, ...]
+    peak: tuple[float, ...]
+    err_loss: float
+    err_dur: float
+    gain: float  # max |P'(w)| over the range
+    dur_slope: float  # max |d'(w)|
+    accel: float  # largest |x''| of the node contacts
+    overlap: float  # largest peak overlap of the node contacts
+
+    def evaluate(self, series, w):
+        u = (np.asarray(w, dtype=float) - 0.5 * (self.lo + self.hi)) / (0.5 * (self.hi - self.lo))
+        return np.polynomial.polynomial.polyval(u, series)
+
+
+def solve_contact(sv: _Solver, w: float):
+    """One contact from the face at approach speed ``w`` with the law's state fresh, at
+    :data:`NODE_RTOL`: ``(separation speed, duration, peak x, largest |x''|, kinds)``."""
+    from core.hysteretic import _Solver
+
+    rtol = min(NODE_RTOL, sv.rtol)
+    one = _Solver(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
+    one.use_reduced = False
+    one.use_arcs = sv.use_arcs
+    st = _State(0.0, sv.xb, w, (0.0, 0.0, 0.0))
+    outcome = one.run_contact(st, stick=False)
+    kinds = tuple(tr.kind.value for tr in one.log.stored)
+    if outcome != "separated":
+        kinds += (outcome,)
+    peak = one.x_max
+    # |x''| = |a - x - phi| is largest at the peak, where the stop's force is (the last
+    # branch starts at the reversal point).
+    accel = abs(sv.a - peak - one.contact.branches[-1].phi_r) if kinds == REGULAR else 0.0
+    return -st.v, st.t, peak, accel, kinds
+
+
+def _series(values: np.ndarray) -> tuple[tuple[float, ...], float]:
+    """Power series in ``u`` of the Chebyshev interpolant through ``values`` at the
+    Chebyshev-Lobatto points (descending ``u``), and its tail bound."""
+    coef = cheb.chebfit(np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE), values, DEGREE)
+    tail = 2.0 * float(np.abs(coef[-TAIL_TERMS:]).sum())
+    return tuple(float(c) for c in cheb.cheb2poly(coef)), tail
+
+
+def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
+    """The map over ``[lo, hi]`` from contacts solved at the nodes, or ``None`` if one of
+    them is not a regular contact (a kink of the map in the range)."""
+    u = np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE)
+    ws = 0.5 * (lo + hi) + 0.5 * (hi - lo) * u
+    rows = []
+    for w in ws:
+        w_out, dur, peak, accel, kinds = solve_contact(sv, float(w))
+        if kinds != REGULAR:
+            return None
+        rows.append((w - w_out, dur, peak, accel))
+    loss, dur, peak, accel = (np.array(c) for c in zip(*rows, strict=True))
+    # The nodes' own error: the contact integrated to NODE_RTOL, relative to the speed.
+    node = 10.0 * min(NODE_RTOL, sv.rtol) * hi
+    loss_s, e_loss = _series(loss)
+    e_loss += node
+    dur_s, e_dur = _series(dur)
+    peak_s, _ = _series(peak)
+    grid = np.linspace(-1.0, 1.0, 257)
+    half = 0.5 * (hi - lo)
+    poly = np.polynomial.polynomial
+    dl = poly.polyval(grid, poly.polyder(loss_s)) / half
+    dd = poly.polyval(grid, poly.polyder(dur_s)) / half
+    return ContactMap(lo, hi, loss_s, dur_s, peak_s, e_loss, e_dur + node * dur.max(),
+                      float(np.abs(1.0 - dl).max()), float(np.abs(dd).max()),
+                      float(accel.max()), float(peak.max() - sv.xb))
+
+
+class MapRun(NamedTuple):
+    """The contacts the map laid out: ``start`` (after the switch), approach speeds
+    ``w`` (one more: the speed of the contact handed back), durations ``dur``, and the
+    error bounds where it hands back."""
+
+    start: np.ndarray
+    w: np.ndarray
+    dur: np.ndarray
+    t_last: float
+    err_speed: float
+    err_time: float
+    reason: str  # "horizon", "bound" or "range"
+
+
+def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, tol: float) -> MapRun:
+    """Iterate the map from a contact at ``w0`` until the next contact would start past
+    ``horizon`` (after the switch), the state's bound would pass ``tol``, or ``w`` leaves
+    the range."""
+    mid, inv = 0.5 * (cmap.lo + cmap.hi), 2.0 / (cmap.hi - cmap.lo)
+    cl, cd = cmap.loss[::-1], cmap.dur[::-1]
+    lo = cmap.lo
+    g, e_l, e_d = cmap.gain, cmap.err_loss, cmap.err_dur
+    t_slope = cmap.dur_slope + 2.0 / gap
+    dt_flight = 2.0 * e_l / gap
+    rate = max(cmap.accel, w0)
+    atan = math.atan
+    starts, speeds, durs = [], [w0], []
+    t, w, dw, dt = 0.0, w0, 0.0, 0.0
+    reason = "horizon"
+    while True:
+        u = (w - mid) * inv
+        loss = 0.0
+        for c in cl:
+            loss = loss * u + c
+        d = 0.0
+        for c in cd:
+            d = d * u + c
+        w1 = w - loss
+        t1 = t + d + 2.0 * atan(w1 / gap)
+        dw1 = g * dw + e_l
+        dt1 = dt + e_d + t_slope * dw + dt_flight
+        if t1 > horizon:
+            break
+        if 2.0 * dw1 + rate * dt1 > tol:
+            reason = "bound"
+            break
+        if w1 < lo:
+            reason = "range"
+            break
+        starts.append(t)
+        durs.append(d)
+        speeds.append(w1)
+        t, w, dw, dt = t1, w1, dw1, dt1
+    return MapRun(np.array(starts), np.array(speeds), np.array(durs), t, dw, dt, reason)
+
+
+def elastic_speed(sv: _Solver) -> float:
+    """Approach speed ``w_inf`` of the contact whose peak overlap ``r`` just stays elastic,
+    ``r (D - r) = D^2 / beta_e`` (docs/contact-law.md): the first loading follows the
+    compression envelope, so ``w_inf^2 / 2`` is the work against it, the spring and
+    friction up to ``r`` (paper Eq. 14). A train of the paper's law tends to it from above
+    and never passes it (slower contacts are elastic: ``P(w) = w``); ``nan`` when every
+    contact is elastic (``beta_e <= 4``)."""
+    stop, d_lim = sv.stop, sv.d_lim
+    disc = 1.0 - 4.0 / stop.beta_e
+    if disc <= 0.0:
+        return math.nan
+    r = 0.5 * d_lim * (1.0 - math.sqrt(disc))
+    energy = (branch_work(0.0, r, FIRST_LOADING, stop) + 0.5 * ((sv.xb + r) ** 2 - sv.xb ** 2)
+              - sv.a * r)
+    return math.sqrt(2.0 * energy) if energy > 0.0 else math.nan
+
+
+def map_train(sv: _Solver, st: _State, train: list) -> bool:
+    """Advance a regular train of contacts by its contact-to-contact map from the start
+    of a contact (``st``) to the start of a later one, where the step-by-step solve takes
+    over again (see the module's docstring); ``False`` (nothing done) while the train is
+    not regular, too short, or close enough to the horizon that the nodes cost more than
+    they save, or if the map has a kink in the range.
+
+    ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of the contacts;
+    the last entry is the contact just started. Energy: as
+    :func:`core.hysteretic_reduced.advance_train` (each flight conserves the slip
+    circle's energy, so the stop takes what the approach speed loses).
+    """
+    if not (sv.use_reduced and sv.pressed() and sv.stop.law == "paper") or sv.map_tried:
+        return False
+    if len(train) < MIN_CONTACTS + 1:
+        return False
+    gap = sv.a - sv.xb
+    w_now = st.v
+    # Regular: one reversal per contact, no stick in contact (x' <= w < v) nor in flight
+    # (the slip circle's speed stays below the belt's).
+    window = train[-(MIN_CONTACTS + 1):]
+    if any(n1 - n0 != len(REGULAR) for (_, _, _, n0), (_, _, _, n1)
+           in zip(window[:-1], window[1:], strict=True)):
+        return False
+    if not math.hypot(gap, w_now) < sv.vb or not 0.0 < w_now:
+        return False
+    period = window[-1][0] - window[-2][0]
+    if (sv.t_end - st.t) / period < MIN_GAIN * (DEGREE + 1):
+        return False
+    w_inf = elastic_speed(sv)
+    if not w_inf < w_now:
+        return False
+    sv.map_tried = True
+    # The train tends to w_inf, more and more slowly: a range down to a tenth of the way
+    # left, then (if the iteration leaves it) to a hundredth; nearer, the loss's
+    # non-analytic approach to 0 at w_inf spoils the interpolation.
+    for frac in RANGE_FRACTIONS:
+        cmap = build_map(sv, w_inf + frac * (w_now - w_inf), w_now)
+        if cmap is None:
+            return False
+        run = iterate(cmap, w_now, sv.t_end - st.t, gap, math.inf)
+        if run.reason != "range":
+            break
+    if len(run.start) == 0:
+        return False
+    _advance(sv, st, run, cmap, gap)
+    return True
+
+
+def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float) -> None:
+    """Lay the map's contacts into the solve (a row of :class:`Train`) and move ``st`` to
+    the start of the contact handed back."""
+    sv.record(TransitionKind.REDUCED, st, st.v)
+    k = len(run.start)
+    # Drawn inside a contact, the cubic Hermite overlap of :class:`Train` is within the
+    # contact's peak overlap of the true one; the flights are exact.
+    model = Train(sv.a, sv.xb, run.start, run.w, run.dur, cmap.overlap, run.t_last, False)
+    x_s, m_s, loss_s = st.x, 0.5 * (st.x * st.x + st.v * st.v), st.work[2]
+    sv.new_branch(FIRST_LOADING, 0.0, st.work[2])
+    if not sv.contact.kind or sv.timeline[-1][1] != 1:
+        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
+    sv.contact.add(_TRAIN, st.t, st.t + run.t_last, (model, x_s, m_s, loss_s), sv.a, st.work)
+    w1 = float(run.w[-1])
+    wf, wb, ws = st.work
+    dm = 0.5 * (w1 * w1 - st.v * st.v)
+    st.work = (wf, wb + sv.a * sv.vb * run.t_last, ws - dm)
+    t_s = st.t
+    # The last contacts as transitions (the steady state is read off them), the others
+    # counted; the contact handed back is recorded by the caller.
+    first = max(0, k - LOGGED)
+    for j in range(k):
+        if j < first:
+            continue
+        t0, w, d = t_s + float(run.start[j]), float(run.w[j]), float(run.dur[j])
+        if j > 0:
+            sv.log.add(TransitionKind.CONTACT, t0, sv.xb, w, w)
+        peak = float(cmap.evaluate(cmap.peak, w))
+        t_peak = t0 + 0.5 * d
+        sv.log.add(TransitionKind.REVERSAL, t_peak, peak, 0.0, 0.0)
+        sv.log.add(TransitionKind.SEPARATION, t0 + d, sv.xb, -float(run.w[j + 1]),
+                   -float(run.w[j + 1]))
+    for kind in REGULAR:
+        n = k - first - (1 if kind == "contact" and first == 0 else 0)
+        sv.log.count(TransitionKind(kind), (k - 1 if kind == "contact" else k) - n)
+    sv.n_contacts += k - 1
+    st.t, st.x, st.v = t_s + run.t_last, sv.xb, w1
+    err = 2.0 * run.err_speed + max(cmap.accel, run.w[0]) * run.err_time
+    sv.reduced_error = max(sv.reduced_error, err)
+    sv.reduced_band = max(sv.reduced_band, cmap.overlap)
