@@ -62,9 +62,9 @@ MIN_GAIN = 8
 #: Contacts of the model's end stored as transitions (the steady-state label reads the
 #: last ones); the others are counted.
 LOGGED = 16
-#: Lower ends of the interpolated range, as fractions of the way from ``w_inf`` to the
-#: speed at the switch (the second if the iteration leaves the first).
-RANGE_FRACTIONS = (0.1, 0.01)
+#: Lower ends of the interpolated ranges, as fractions of the way from ``w_inf`` to the
+#: speed at the switch (each next one built if the iteration leaves the one before).
+RANGE_FRACTIONS = (0.1, 0.01, 0.001, 0.0)
 #: The sequence of one regular contact in the log: contact, reversal, separation.
 REGULAR = ("contact", "reversal", "separation")
 
@@ -161,10 +161,11 @@ class MapRun(NamedTuple):
     reason: str  # "horizon", "bound" or "range"
 
 
-def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, tol: float) -> MapRun:
-    """Iterate the map from a contact at ``w0`` until the next contact would start past
-    ``horizon`` (after the switch), the state's bound would pass ``tol``, or ``w`` leaves
-    the range."""
+def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, tol: float,
+            t0: float = 0.0, dw0: float = 0.0, dt0: float = 0.0) -> MapRun:
+    """Iterate the map from a contact at ``w0`` starting ``t0`` after the switch (with the
+    bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``,
+    the state's bound would pass ``tol``, or ``w`` leaves the range."""
     mid, inv = 0.5 * (cmap.lo + cmap.hi), 2.0 / (cmap.hi - cmap.lo)
     cl, cd = cmap.loss[::-1], cmap.dur[::-1]
     lo = cmap.lo
@@ -174,7 +175,7 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, tol: float)
     rate = max(cmap.accel, w0)
     atan = math.atan
     starts, speeds, durs = [], [w0], []
-    t, w, dw, dt = 0.0, w0, 0.0, 0.0
+    t, w, dw, dt = t0, w0, dw0, dt0
     reason = "horizon"
     while True:
         u = (w - mid) * inv
@@ -253,16 +254,35 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     if not w_inf < w_now:
         return False
     sv.map_tried = True
-    # The train tends to w_inf, more and more slowly: a range down to a tenth of the way
-    # left, then (if the iteration leaves it) to a hundredth; nearer, the loss's
-    # non-analytic approach to 0 at w_inf spoils the interpolation.
+    runs, maps = [], []
+    t, w, dw, dt = 0.0, w_now, 0.0, 0.0
+    # The train tends to w_inf ever more slowly: one interpolated range after another,
+    # each down to a tenth of the way left to w_inf (the last to w_inf itself, where the
+    # map is the identity), built when the iteration leaves the one before.
     for frac in RANGE_FRACTIONS:
-        cmap = build_map(sv, w_inf + frac * (w_now - w_inf), w_now)
+        lo = w_inf + frac * (w_now - w_inf)
+        if lo >= w:
+            continue
+        cmap = build_map(sv, lo, w)
         if cmap is None:
-            return False
-        run = iterate(cmap, w_now, sv.t_end - st.t, gap, math.inf)
+            break  # a kink: hand back where the last range ends
+        # The map replaces contacts integrated to rtol: it must be at least as accurate
+        # per contact, in the speed and in the duration.
+        if cmap.err_loss > sv.rtol * cmap.lo or cmap.err_dur > sv.rtol * period:
+            break
+        run = iterate(cmap, w, sv.t_end - st.t, gap, math.inf, t, dw, dt)
+        runs.append(run)
+        maps.append(cmap)
+        t, w, dw, dt = run.t_last, float(run.w[-1]), run.err_speed, run.err_time
         if run.reason != "range":
             break
+    if not runs or sum(len(r.start) for r in runs) == 0:
+        return False
+    run = MapRun(np.concatenate([r.start for r in runs]),
+                 np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
+                 np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
+    cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
+                            overlap=max(m.overlap for m in maps))
     if len(run.start) == 0:
         return False
     _advance(sv, st, run, cmap, gap)
@@ -307,5 +327,9 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
     sv.n_contacts += k - 1
     st.t, st.x, st.v = t_s + run.t_last, sv.xb, w1
     err = 2.0 * run.err_speed + max(cmap.accel, run.w[0]) * run.err_time
-    sv.reduced_error = max(sv.reduced_error, err)
+    # Whatever the phase, both motions stay in the train's band: positions within the
+    # contacts' overlap and the flights' depth below the face, speeds within +-w.
+    w0 = float(run.w[0])
+    envelope = max(2.0 * w0, cmap.overlap + math.hypot(gap, w0) - gap)
+    sv.reduced_error = max(sv.reduced_error, min(err, envelope))
     sv.reduced_band = max(sv.reduced_band, cmap.overlap)
