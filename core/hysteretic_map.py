@@ -65,6 +65,12 @@ LOGGED = 16
 #: Lower ends of the interpolated ranges, as fractions of the way from ``w_inf`` to the
 #: speed at the switch (each next one built if the iteration leaves the one before).
 RANGE_FRACTIONS = (0.1, 0.01, 0.001, 0.0)
+#: Largest loss of approach speed per contact, relative, at which the map is tried.
+MAX_LOSS = 0.01
+#: Ranges built at most per train (each costs DEGREE + 1 contacts solved).
+MAX_BUILDS = 6
+#: Width kept when a range's interpolants miss the accuracy (towards the switch's speed).
+NARROWING = 0.25
 #: The sequence of one regular contact in the log: contact, reversal, separation.
 REGULAR = ("contact", "reversal", "separation")
 
@@ -93,10 +99,8 @@ class ContactMap(NamedTuple):
 def solve_contact(sv: _Solver, w: float):
     """One contact from the face at approach speed ``w`` with the law's state fresh, at
     :data:`NODE_RTOL`: ``(separation speed, duration, peak x, largest |x''|, kinds)``."""
-    from core.hysteretic import _Solver
-
     rtol = min(NODE_RTOL, sv.rtol)
-    one = _Solver(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
+    one = type(sv)(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
     one.use_reduced = False
     one.use_arcs = sv.use_arcs
     st = _State(0.0, sv.xb, w, (0.0, 0.0, 0.0))
@@ -250,6 +254,10 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     period = window[-1][0] - window[-2][0]
     if (sv.t_end - st.t) / period < MIN_GAIN * (DEGREE + 1):
         return False
+    # A train that still loses much per contact crosses a range in a few contacts: the
+    # nodes would cost more than they save. It is tried again at a later contact.
+    if window[-2][1] - w_now > MAX_LOSS * w_now:
+        return False
     w_inf = elastic_speed(sv)
     if not w_inf < w_now:
         return False
@@ -258,22 +266,28 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     t, w, dw, dt = 0.0, w_now, 0.0, 0.0
     # The train tends to w_inf ever more slowly: one interpolated range after another,
     # each down to a tenth of the way left to w_inf (the last to w_inf itself, where the
-    # map is the identity), built when the iteration leaves the one before.
-    for frac in RANGE_FRACTIONS:
-        lo = w_inf + frac * (w_now - w_inf)
-        if lo >= w:
-            continue
-        cmap = build_map(sv, lo, w)
+    # map is the identity), built when the iteration leaves the one before; a range whose
+    # interpolants are not accurate enough is narrowed (a quarter, towards w) and rebuilt.
+    targets = [w_inf + f * (w_now - w_inf) for f in RANGE_FRACTIONS]
+    narrow, floor = 1.0, w_now
+    for _ in range(MAX_BUILDS):
+        lo = next((x for x in targets if x < floor), None)
+        if lo is None:
+            break
+        cmap = build_map(sv, w - narrow * (w - lo), w)
         if cmap is None:
             break  # a kink: hand back where the last range ends
         # The map replaces contacts integrated to rtol: it must be at least as accurate
         # per contact, in the speed and in the duration.
         if cmap.err_loss > sv.rtol * cmap.lo or cmap.err_dur > sv.rtol * period:
-            break
+            narrow *= NARROWING
+            continue
+        narrow = 1.0
         run = iterate(cmap, w, sv.t_end - st.t, gap, math.inf, t, dw, dt)
         runs.append(run)
         maps.append(cmap)
         t, w, dw, dt = run.t_last, float(run.w[-1]), run.err_speed, run.err_time
+        floor = cmap.lo  # the iterate left this range: the next one reaches lower
         if run.reason != "range":
             break
     if not runs or sum(len(r.start) for r in runs) == 0:
