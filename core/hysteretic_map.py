@@ -65,6 +65,9 @@ LOGGED = 16
 #: Lower ends of the interpolated ranges, as fractions of the way from ``w_inf`` to the
 #: speed at the switch (each next one built if the iteration leaves the one before).
 RANGE_FRACTIONS = (0.1, 0.01, 0.001, 0.0)
+#: Contacts of the first block iterated at once, the most of one block, the sweeps a
+#: block may take to settle, and the relative change (of the speed) below which it has.
+FIRST_BLOCK, MAX_BLOCK, MAX_SWEEPS, SWEEP_RTOL = 64, 16_384, 24, 1e-15
 #: Largest loss of approach speed per contact, relative, at which the map is tried.
 MAX_LOSS = 0.01
 #: Ranges built at most per train (each costs DEGREE + 1 contacts solved).
@@ -165,47 +168,76 @@ class MapRun(NamedTuple):
     reason: str  # "horizon", "bound" or "range"
 
 
-def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, tol: float,
-            t0: float = 0.0, dw0: float = 0.0, dt0: float = 0.0) -> MapRun:
+def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
+    """The next ``m`` speeds from ``w0``, ``w_(k+1) = w_k - L(w_k)``, all at once: the
+    sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the whole block until they no
+    longer change (to rounding), which makes them the sequential iterates; ``None`` if
+    that takes more than :data:`MAX_SWEEPS` sweeps (the block is too long for the loss's
+    slope: each sweep fixes at least one more iterate, the error falls like
+    ``(m L')^j / j!``)."""
+    loss0 = float(cmap.evaluate(cmap.loss, w0))
+    w = w0 - loss0 * np.arange(m + 1, dtype=float)
+    for _ in range(MAX_SWEEPS):
+        new = np.empty(m + 1)
+        new[0] = w0
+        with np.errstate(over="ignore", invalid="ignore"):  # a sweep running away
+            np.cumsum(cmap.evaluate(cmap.loss, w[:-1]), out=new[1:])
+            new[1:] = w0 - new[1:]
+            change = np.max(np.abs(new - w))
+        if not np.isfinite(change):
+            return None
+        if change <= SWEEP_RTOL * w0:
+            return new
+        w = new
+    return None
+
+
+def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float = 0.0,
+            dw0: float = 0.0, dt0: float = 0.0) -> MapRun:
     """Iterate the map from a contact at ``w0`` starting ``t0`` after the switch (with the
-    bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``,
-    the state's bound would pass ``tol``, or ``w`` leaves the range."""
-    mid, inv = 0.5 * (cmap.lo + cmap.hi), 2.0 / (cmap.hi - cmap.lo)
-    cl, cd = cmap.loss[::-1], cmap.dur[::-1]
-    lo = cmap.lo
+    bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``
+    or ``w`` leaves the range, in blocks of contacts (:func:`_block`; a block that does
+    not settle is halved, one that settles fast doubled)."""
     g, e_l, e_d = cmap.gain, cmap.err_loss, cmap.err_dur
     t_slope = cmap.dur_slope + 2.0 / gap
     dt_flight = 2.0 * e_l / gap
-    rate = max(cmap.accel, w0)
-    atan = math.atan
-    starts, speeds, durs = [], [w0], []
+    starts, speeds, durs = [], [np.array([w0])], []
     t, w, dw, dt = t0, w0, dw0, dt0
-    reason = "horizon"
+    m = FIRST_BLOCK
     while True:
-        u = (w - mid) * inv
-        loss = 0.0
-        for c in cl:
-            loss = loss * u + c
-        d = 0.0
-        for c in cd:
-            d = d * u + c
-        w1 = w - loss
-        t1 = t + d + 2.0 * atan(w1 / gap)
-        dw1 = g * dw + e_l
-        dt1 = dt + e_d + t_slope * dw + dt_flight
-        if t1 > horizon:
-            break
-        if 2.0 * dw1 + rate * dt1 > tol:
-            reason = "bound"
-            break
-        if w1 < lo:
-            reason = "range"
-            break
-        starts.append(t)
-        durs.append(d)
-        speeds.append(w1)
-        t, w, dw, dt = t1, w1, dw1, dt1
-    return MapRun(np.array(starts), np.array(speeds), np.array(durs), t, dw, dt, reason)
+        ws = _block(cmap, w, m)
+        if ws is None:
+            m = max(1, m // 2)
+            continue
+        d = cmap.evaluate(cmap.dur, ws[:-1])
+        ends = t + np.cumsum(d + 2.0 * np.arctan(ws[1:] / gap))
+        # dw_(k+1) = g dw_k + e_L; dt_(k+1) = dt_k + e_d + T'_max dw_k + 2 e_L / gap
+        k = np.arange(m + 1, dtype=float)
+        if g == 1.0:
+            dws = dw + e_l * k
+        else:
+            gk = g**k
+            dws = gk * dw + e_l * (1.0 - gk) / (1.0 - g)
+        dts = dt + np.concatenate(([0.0], np.cumsum(e_d + t_slope * dws[:-1] + dt_flight)))
+        stop = m
+        reason = None
+        past = np.nonzero(ends > horizon)[0]
+        if len(past):
+            stop, reason = int(past[0]), "horizon"
+        out = np.nonzero(ws[1:stop + 1] < cmap.lo)[0]
+        if len(out):
+            stop, reason = int(out[0]), "range"
+        begins = np.concatenate(([t], ends[:-1]))
+        starts.append(begins[:stop])
+        durs.append(d[:stop])
+        speeds.append(ws[1:stop + 1])
+        if stop > 0:
+            t, w, dw, dt = float(ends[stop - 1]), float(ws[stop]), float(dws[stop]), float(
+                dts[stop])
+        if reason is not None:
+            return MapRun(np.concatenate(starts), np.concatenate(speeds), np.concatenate(durs),
+                          t, dw, dt, reason)
+        m = min(2 * m, MAX_BLOCK)
 
 
 def elastic_speed(sv: _Solver) -> float:
@@ -283,7 +315,7 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
             narrow *= NARROWING
             continue
         narrow = 1.0
-        run = iterate(cmap, w, sv.t_end - st.t, gap, math.inf, t, dw, dt)
+        run = iterate(cmap, w, sv.t_end - st.t, gap, t, dw, dt)
         runs.append(run)
         maps.append(cmap)
         t, w, dw, dt = run.t_last, float(run.w[-1]), run.err_speed, run.err_time
