@@ -13,8 +13,9 @@ Trains whose contacts turn elastic as they shrink (a peak overlap ``r`` with ``r
 power of ``w - w_inf``: they never repeat to a fixed point, and a fitted decay law does not
 hold their phase. Here the loss ``L`` and the duration ``d`` are solved for one contact
 each at the Chebyshev nodes of the range of ``w`` the train visits, at a tight tolerance
-(:data:`NODE_RTOL`), and the interpolants are iterated contact by contact: a few
-microseconds per contact instead of a contact integrated step by step.
+(:data:`NODE_RTOL`), and the interpolants are iterated a block of contacts at a time
+(:func:`_block`): a fraction of a microsecond per contact instead of a contact integrated
+step by step (~1 ms).
 
 The model refuses (the solve goes on step by step) where a node's contact is not one
 reversal between its start and its separation (stick, a second reversal, the limit: the
@@ -39,13 +40,14 @@ import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
 from core.hysteresis import FIRST_LOADING, branch_work
-from core.hysteretic_base import _TRAIN, _State
-from core.hysteretic_reduced import Train
+from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
 from core.result import TransitionKind
 
 if TYPE_CHECKING:
     from core.hysteretic import _Solver
 
+#: Points of each node contact's profile kept for drawing the model's contacts.
+PROFILE_POINTS = 129
 #: Degree of the interpolants (nodes: one more): solving a node costs ~3 contacts of the
 #: standard preset.
 DEGREE = 16
@@ -93,6 +95,8 @@ class ContactMap(NamedTuple):
     dur_slope: float  # max |d'(w)|
     accel: float  # largest |x''| of the node contacts
     overlap: float  # largest peak overlap of the node contacts
+    nodes: np.ndarray  # approach speeds of the nodes
+    profiles: np.ndarray  # (node, overlap / velocity, PROFILE_POINTS): the solved contacts
 
     def evaluate(self, series, w):
         u = (np.asarray(w, dtype=float) - 0.5 * (self.lo + self.hi)) / (0.5 * (self.hi - self.lo))
@@ -105,17 +109,35 @@ def solve_contact(sv: _Solver, w: float):
     rtol = min(NODE_RTOL, sv.rtol)
     one = type(sv)(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
     one.use_reduced = False
-    one.use_arcs = sv.use_arcs
+    one.use_arcs = False  # every row a Hermite step: the profile below reads them
     st = _State(0.0, sv.xb, w, (0.0, 0.0, 0.0))
     outcome = one.run_contact(st, stick=False)
     kinds = tuple(tr.kind.value for tr in one.log.stored)
     if outcome != "separated":
         kinds += (outcome,)
+    if kinds != REGULAR:
+        return -st.v, st.t, one.x_max, 0.0, kinds, None
     peak = one.x_max
     # |x''| = |a - x - phi| is largest at the peak, where the stop's force is (the last
     # branch starts at the reversal point).
-    accel = abs(sv.a - peak - one.contact.branches[-1].phi_r) if kinds == REGULAR else 0.0
-    return -st.v, st.t, peak, accel, kinds
+    accel = abs(sv.a - peak - one.contact.branches[-1].phi_r)
+    return -st.v, st.t, peak, accel, kinds, _profile(one, st.t)
+
+
+def _profile(one: _Solver, dur: float) -> np.ndarray:
+    """Overlap and velocity of a solved contact at :data:`PROFILE_POINTS` times spread
+    evenly over its duration (rows of the contact's Hermite steps)."""
+    c = one.contact
+    times = np.linspace(0.0, dur, PROFILE_POINTS)
+    t0 = np.array(c.t0)
+    rows = np.clip(np.searchsorted(t0, times, side="right") - 1, 0, len(t0) - 1)
+    out = np.empty((2, PROFILE_POINTS))
+    for i, (t, r) in enumerate(zip(times, rows, strict=True)):
+        coeffs, h = c.data[r][:6], c.data[r][6]
+        th = (t - t0[r]) / h
+        out[0, i], out[1, i] = _poly(coeffs, th) - one.xb, _dpoly(coeffs, th) / h
+    out[0, -1] = 0.0  # the separation
+    return out
 
 
 def _series(values: np.ndarray) -> tuple[tuple[float, ...], float]:
@@ -131,12 +153,13 @@ def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
     them is not a regular contact (a kink of the map in the range)."""
     u = np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE)
     ws = 0.5 * (lo + hi) + 0.5 * (hi - lo) * u
-    rows = []
+    rows, profiles = [], []
     for w in ws:
-        w_out, dur, peak, accel, kinds = solve_contact(sv, float(w))
+        w_out, dur, peak, accel, kinds, profile = solve_contact(sv, float(w))
         if kinds != REGULAR:
             return None
         rows.append((w - w_out, dur, peak, accel))
+        profiles.append(profile)
     loss, dur, peak, accel = (np.array(c) for c in zip(*rows, strict=True))
     # The nodes' own error: the contact integrated to NODE_RTOL, relative to the speed.
     node = 10.0 * min(NODE_RTOL, sv.rtol) * hi
@@ -151,7 +174,56 @@ def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
     dd = poly.polyval(grid, poly.polyder(dur_s)) / half
     return ContactMap(lo, hi, loss_s, dur_s, peak_s, e_loss, e_dur + node * dur.max(),
                       float(np.abs(1.0 - dl).max()), float(np.abs(dd).max()),
-                      float(accel.max()), float(peak.max() - sv.xb))
+                      float(accel.max()), float(peak.max() - sv.xb), ws, np.array(profiles))
+
+
+class MapTrain(NamedTuple):
+    """The contacts laid out by the map, as a function of time (the solve's dense output).
+
+    Contact ``k`` starts ``start[k]`` after the switch at approach speed ``w[k]`` and lasts
+    ``dur[k]``; inside it the overlap and velocity are the profile of the node contact
+    nearest in speed, over the contact's own duration, scaled by the ratio of the speeds
+    (nodes lie within a few percent of each contact's speed); each flight is the exact slip
+    circle about ``(a, 0)`` leaving the face at ``-w[k + 1]``.
+    """
+
+    a: float
+    xb: float
+    start: np.ndarray
+    w: np.ndarray  # one more than start: the speed of the contact handed back
+    dur: np.ndarray
+    nodes: np.ndarray
+    profiles: np.ndarray
+
+    @property
+    def amp0(self) -> float:
+        return float(self.w[0])
+
+    def energy(self, w):
+        """Energy of the train above its touching limit at approach speed ``w``: the
+        flight's ``((x - a)^2 + x'^2) / 2`` less its value at ``w = 0``."""
+        return 0.5 * np.asarray(w, dtype=float) ** 2
+
+    def state(self, tau):
+        """Position, velocity and approach speed ``tau`` after the switch."""
+        tau = np.atleast_1d(np.asarray(tau, dtype=float))
+        k = np.clip(np.searchsorted(self.start, tau, side="right") - 1, 0, len(self.start) - 1)
+        s = tau - self.start[k]
+        d, w_in, w_out = self.dur[k], self.w[k], self.w[k + 1]
+        inside = s < d
+        j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
+        pos = np.clip(s / d, 0.0, 1.0) * (PROFILE_POINTS - 1)
+        i0 = np.minimum(pos.astype(int), PROFILE_POINTS - 2)
+        f = pos - i0
+        ratio = w_in / self.nodes[j]
+        prof = self.profiles
+        delta = ratio * ((1.0 - f) * prof[j, 0, i0] + f * prof[j, 0, i0 + 1])
+        v_c = ratio * ((1.0 - f) * prof[j, 1, i0] + f * prof[j, 1, i0 + 1])
+        sig = np.where(inside, 0.0, s - d)
+        gap = self.xb - self.a
+        x_f = self.a + gap * np.cos(sig) - w_out * np.sin(sig)
+        v_f = -gap * np.sin(sig) - w_out * np.cos(sig)
+        return np.where(inside, self.xb + delta, x_f), np.where(inside, v_c, v_f), w_in
 
 
 class MapRun(NamedTuple):
@@ -328,7 +400,9 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
                  np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
                  np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
     cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
-                            overlap=max(m.overlap for m in maps))
+                            overlap=max(m.overlap for m in maps),
+                            nodes=np.concatenate([m.nodes for m in maps]),
+                            profiles=np.concatenate([m.profiles for m in maps]))
     if len(run.start) == 0:
         return False
     _advance(sv, st, run, cmap, gap)
@@ -340,9 +414,7 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
     the start of the contact handed back."""
     sv.record(TransitionKind.REDUCED, st, st.v)
     k = len(run.start)
-    # Drawn inside a contact, the cubic Hermite overlap of :class:`Train` is within the
-    # contact's peak overlap of the true one; the flights are exact.
-    model = Train(sv.a, sv.xb, run.start, run.w, run.dur, cmap.overlap, run.t_last, False)
+    model = MapTrain(sv.a, sv.xb, run.start, run.w, run.dur, cmap.nodes, cmap.profiles)
     x_s, m_s, loss_s = st.x, 0.5 * (st.x * st.x + st.v * st.v), st.work[2]
     sv.new_branch(FIRST_LOADING, 0.0, st.work[2])
     if not sv.contact.kind or sv.timeline[-1][1] != 1:
