@@ -54,6 +54,9 @@ DEGREE = 16
 #: Relative tolerance of the nodes' contacts (absolute: this times the length scale
 #: times 1e-3).
 NODE_RTOL = 1e-12
+#: Node intervals (first, middle, last) at whose midpoints a contact is solved to check
+#: the interpolants.
+CHECK_INTERVALS = [0, DEGREE // 2, DEGREE - 1]
 #: Trailing Chebyshev coefficients whose doubled sum bounds an interpolant's error.
 TAIL_TERMS = 3
 #: Regular contacts (one reversal each) seen step by step before the map is tried.
@@ -164,8 +167,20 @@ def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
     # The nodes' own error: the contact integrated to NODE_RTOL, relative to the speed.
     node = 10.0 * min(NODE_RTOL, sv.rtol) * hi
     loss_s, e_loss = _series(loss)
-    e_loss += node
     dur_s, e_dur = _series(dur)
+    # The tail misjudges a loss whose onset (the elastic speed) lies near the range: the
+    # interpolants are also checked against contacts solved halfway between nodes, at
+    # both ends and in the middle, and their error taken as the larger, doubled.
+    half_u = 0.5 * (u[:-1] + u[1:])[CHECK_INTERVALS]
+    for uc in half_u:
+        w = 0.5 * (lo + hi) + 0.5 * (hi - lo) * float(uc)
+        w_out, d_c, _, _, kinds, _ = solve_contact(sv, w)
+        if kinds != REGULAR:
+            return None
+        e_loss = max(e_loss, 2.0 * abs(np.polynomial.polynomial.polyval(uc, loss_s)
+                                       - (w - w_out)))
+        e_dur = max(e_dur, 2.0 * abs(np.polynomial.polynomial.polyval(uc, dur_s) - d_c))
+    e_loss += node
     peak_s, _ = _series(peak)
     grid = np.linspace(-1.0, 1.0, 257)
     half = 0.5 * (hi - lo)
