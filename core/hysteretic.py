@@ -708,8 +708,9 @@ def solve_hysteretic(
         ``effective_restitution``; :func:`effective_restitutions` lists all), ``law``, and
         when they apply ``rest_force`` (``phi/k`` at rest), ``reduced_error`` (bound of
         a reduced model's error where it ends, the horizon or rest: in the state for an
-        oscillation on the stop, in the position for a train of contacts, whose velocity
-        may be off by twice its approach speed) and ``reduced_band`` (bound of the
+        oscillation on the stop and for a train advanced by its contact-to-contact map
+        (:mod:`core.hysteretic_map`), in the position for a train fitted to a loss law,
+        whose velocity may be off by twice its approach speed) and ``reduced_band`` (bound of the
         position's error while the model runs).
 
     Examples

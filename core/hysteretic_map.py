@@ -19,16 +19,19 @@ step by step (~1 ms).
 
 The model refuses (the solve goes on step by step) where a node's contact is not one
 reversal between its start and its separation (stick, a second reversal, the limit: the
-map has a kink in the range). It hands back to the step-by-step solve at the start of the
-last contact before the horizon (so the end state is integrated), or earlier where its
-error bound reaches the tolerance or the iterate leaves the interpolated range.
+map has a kink in the range), and where its error per contact is above the solve's
+``rtol`` (it must be at least as accurate as the contacts it replaces). It hands back to
+the step-by-step solve at the start of the last contact before the horizon (so the end
+state is integrated), or earlier where the iterate leaves the last range it could build.
 
-Error: the interpolants' errors ``e_L``, ``e_d`` are bounded by their Chebyshev tails (the
-last :data:`TAIL_TERMS` coefficients, doubled) plus the nodes' own tolerance; an error
+Error: the interpolants' errors ``e_L``, ``e_d`` are the larger of their Chebyshev tails
+(the last :data:`TAIL_TERMS` coefficients) and their misses at contacts solved halfway
+between nodes (:data:`CHECK_INTERVALS`), doubled, plus the nodes' own tolerance; an error
 ``dw_k`` in the speed grows as ``dw_(k+1) <= g dw_k + e_L`` with ``g = max |P'|``, and the
 time of contact ``k`` is off by ``dt_k = sum (e_d + T'_max dw_j + e_L 2 / (a - x_bar))``
 (the phase of ``k`` contacts: ``~ k^2 e_L / (a - x_bar)``). The state where the model hands
-back is off by at most ``2 dw + max(|x''|, w) dt``.
+back is off by at most ``2 dw + max(|x''|, w) dt``, and whatever the phase by at most the
+train's band (positions) and ``2 w`` (velocities), the smaller of the two being stated.
 """
 
 from __future__ import annotations
