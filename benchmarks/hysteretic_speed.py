@@ -17,8 +17,10 @@ loop and contact (``reduce=False``) at rtol 1e-11, atol 1e-14:
 
 Also: the steady state's label, the time of the switch into a reduced model (``-`` if
 none), the reduced model's stated error bound in the position where it ends (``bound``:
-``Result.info['reduced_error']`` over the scale; for a train of contacts, the band it moves
-in at the switch, the velocity's being up to twice the approach speed; for an oscillation on
+``Result.info['reduced_error']`` over the scale; for a train advanced by its
+contact-to-contact map, the bound of its own error in the state, from the switch's state
+(core/hysteretic_map.py), at most the band; for a train fitted to a loss law, the band it
+moves in at the switch, the velocity's being up to twice the approach speed; for an oscillation on
 the stop, the velocity's is up to ``2 pi / T`` times its oscillating part), the band it
 moves in while it runs (``band``: ``info['reduced_band']``) and whether the energy balance
 closes.

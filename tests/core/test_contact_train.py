@@ -8,10 +8,12 @@ whose face is at 0.42: the mass bounces on it in ever smaller contacts, thousand
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
-from core import HystereticStop, Oscillator, TransitionKind
+from core import HystereticStop, Oscillator, TransitionKind, hysteretic_map
 from core.hysteretic import simulate_hysteretic
 from core.hysteretic_reduced import TRAIN_PER_RTOL, fit_train_decay
 
@@ -36,7 +38,12 @@ def _scale(stop) -> float:
 @pytest.fixture(scope="module", params=CELLS, ids=lambda c: f"{c[0]:g},{c[1]:g},{c[2]:g}")
 def pair(request):
     stop = _stop(*request.param)
-    reduced = simulate_hysteretic(PRESSING, stop, T_END, 0.0, 0.0, **STANDARD)
+    # The contact-to-contact map (core/hysteretic_map.py) takes these trains first; it is
+    # held back here (as where too few contacts are left for its nodes) so that the fitted
+    # loss law these tests are about is what runs.
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+        reduced = simulate_hysteretic(PRESSING, stop, T_END, 0.0, 0.0, **STANDARD)
     full = simulate_hysteretic(PRESSING, stop, T_END, 0.0, 0.0, reduce=False,
                                transition_cap=1_000_000, **STANDARD)
     return stop, reduced, full

@@ -171,8 +171,10 @@ def test_tiny_impact_speed_is_elastic():
     res = simulate_hysteretic(FAST, stop, 7.0, 0.0, 0.0)
     assert res.status is Status.SUCCESS
     r = effective_restitutions(res)
-    # atol = 1e-12 on a speed of ~6e-7: the ratio is good to ~2e-6; 1e-5 leaves 5x.
-    assert len(r) >= 1 and r[0] == pytest.approx(1.0, abs=1e-5)
+    # The overlap is ~1e-12 on x ~ 0.6 (rounding 1.1e-16 x ~ 7e-17, 7e-5 of the overlap), so
+    # the speed at the face is good to ~1e-5 of its 6e-7 only (measured 2e-6 to 1.2e-5 at
+    # rtol 1e-9 to 1e-12); 5e-5 leaves 4x.
+    assert len(r) >= 1 and r[0] == pytest.approx(1.0, abs=5e-5)
 
 
 def test_through_simulate_and_result_fields():
