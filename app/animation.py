@@ -17,6 +17,7 @@ import panel as pn
 from bokeh.models import ColumnDataSource, Grid, Label, Range1d, Span
 from bokeh.plotting import figure
 
+from app.glyphs import add_glyph
 from app.plots import MODE_COLORS, SharedModels
 from app.solver import Solution
 from app.state import DIMENSIONLESS, Scales
@@ -119,7 +120,6 @@ class Animation:
 
     def __init__(self, traj: ColumnDataSource, shared: SharedModels | None = None) -> None:
         shared = shared if shared is not None else SharedModels()
-        policy = shared.policy
         self.figure = fig = figure(
             width=ANIM_SIZE[0], height=ANIM_SIZE[1], tools="save", toolbar_location="right",
             x_range=Range1d(-1, 1), y_range=Range1d(BELT_BOTTOM - 0.05, 1.0),
@@ -131,27 +131,22 @@ class Animation:
         fig.left = []
         fig.center = [r for r in fig.center if not isinstance(r, Grid)]
         fig.xaxis.axis_label = "x"
-        self.geom = ColumnDataSource(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS),
-                                     selection_policy=policy)
-        self.static = ColumnDataSource({"left": [], "right": [], "bottom": [], "top": [],
-                                        "color": []}, selection_policy=policy)
-        self.mass = ColumnDataSource({"left": [-0.1], "right": [0.1], "bottom": [MASS_BOTTOM],
-                                      "top": [MASS_TOP], "color": [MODE_COLORS[0]]},
-                                     syncable=False, selection_policy=policy)
-        self.spring = ColumnDataSource(_spring(-1.0, -0.1), syncable=False,
-                                       selection_policy=policy)
-        self.belt = ColumnDataSource({"x0": [], "x1": []}, syncable=False,
-                                     selection_policy=policy)
+        source = shared.source
+        self.geom = source(_geometry(0.0, 1.0, 0.5, False, 0.0, DIMENSIONLESS))
+        self.static = source({"left": [], "right": [], "bottom": [], "top": [], "color": []})
+        self.mass = source({"left": [-0.1], "right": [0.1], "bottom": [MASS_BOTTOM],
+                            "top": [MASS_TOP], "color": [MODE_COLORS[0]]}, syncable=False)
+        self.spring = source(_spring(-1.0, -0.1), syncable=False)
+        self.belt = source({"x0": [], "x1": []}, syncable=False)
         #: Current state marker for the phase portrait (added by :meth:`attach`).
-        self.marker = ColumnDataSource({"x": [0.0], "v": [0.0]}, syncable=False,
-                                       selection_policy=policy)
-        fig.quad(left="left", right="right", bottom="bottom", top="top", color="color",
-                 source=self.static)
-        fig.segment(x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
-                    source=self.belt, line_color="#ffffff", line_width=2)
-        fig.line("x", "y", source=self.spring, line_color="#333333", line_width=2)
-        fig.quad(left="left", right="right", bottom="bottom", top="top",
-                 fill_color="color", line_color="#000000", source=self.mass)
+        self.marker = source({"x": [0.0], "v": [0.0]}, syncable=False)
+        add_glyph(fig, "quad", left="left", right="right", bottom="bottom", top="top",
+                  color="color", source=self.static)
+        add_glyph(fig, "segment", x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
+                  source=self.belt, line_color="#ffffff", line_width=2)
+        add_glyph(fig, "line", "x", "y", source=self.spring, line_color="#333333", line_width=2)
+        add_glyph(fig, "quad", left="left", right="right", bottom="bottom", top="top",
+                  fill_color="color", line_color="#000000", source=self.mass)
         # In the frame, over the stop's top: x in pixels from the frame's left edge (past the
         # wall), y in the drawing's units.
         self.clock = Label(x=24, y=0.98, x_units="screen", y_units="data", text="t = 0",
@@ -185,7 +180,7 @@ class Animation:
 
     def attach_phase(self, phase_fig: Any) -> None:
         """Show the animated state in the phase portrait."""
-        phase_fig.scatter("x", "v", source=self.marker, size=11, marker="circle",
+        add_glyph(phase_fig, "scatter", "x", "v", source=self.marker, size=11, marker="circle",
                           fill_color="#ffd400", line_color="#000000", line_width=1.5)
 
     def attach_time(self, time_figs: tuple[Any, ...]) -> None:

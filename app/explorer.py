@@ -555,7 +555,7 @@ class Explorer(pn.viewable.Viewer):
                 new["scene"] = CUSTOM
         changed = {k: v for k, v in new.items() if getattr(self.state, k) != v}
         for slider in self.sliders.values():  # a note is about the last change only
-            if slider.message.visible and not slider.invalid:
+            if slider.noting and not slider.invalid:
                 slider.note("")
         if changed:
             self.state.param.update(**changed)

@@ -35,12 +35,14 @@ from bokeh.models import (
     LinearColorMapper,
     LinearScale,
     Range1d,
+    Selection,
     Span,
     UnionRenderers,
 )
 from bokeh.plotting import figure
 
 from app import sampling
+from app.glyphs import add_glyph
 from app.scenes import CUSTOM, PLOTS
 from app.solver import Solution, map_ranges
 from app.state import DIMENSIONLESS, Scales
@@ -557,10 +559,11 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
 class SharedModels:
     """Models without state in the browser that every figure of a page can share: one
     ticker, tick formatter and label policy for all axes, one index filter for all
-    renderers, one selection policy for all sources and one linear scale for all axes
-    (each was one model per axis, renderer, source or figure: ~90 models of a page).
-    BokehJS derives each frame's scales from a copy of the figure's scale (the shared
-    model stays as sent)."""
+    renderers, one selection policy and one (empty) selection for all sources and one
+    linear scale for all axes (each was one model per axis, renderer, source or figure:
+    ~110 models of a page). BokehJS derives each frame's scales from a copy of the
+    figure's scale (the shared model stays as sent); no figure has a selection tool, so
+    the selection stays empty (a reset clears it to what it was)."""
 
     def __init__(self) -> None:
         self.scale = LinearScale()
@@ -569,6 +572,12 @@ class SharedModels:
         self.labels = AllLabels()
         self.filter = AllIndices()
         self.policy = UnionRenderers()
+        self.selection = Selection()
+
+    def source(self, data: Mapping[str, Any], **kw: Any) -> ColumnDataSource:
+        """A data source with the shared selection policy and selection."""
+        return ColumnDataSource(data=data, selection_policy=self.policy,
+                                selected=self.selection, **kw)
 
     def lighten(self, fig: Any) -> None:
         """Give ``fig``'s axes and renderers the shared models, and let BokehJS derive
@@ -602,7 +611,7 @@ class PlotSet:
     def __init__(self) -> None:
         self.shared = SharedModels()
         self.sources = {
-            name: ColumnDataSource(data=cols, selection_policy=self.shared.policy)
+            name: self.shared.source(cols)
             for name, cols in _EMPTY.items()
         }
         self.spans: dict[str, Span] = {}
@@ -660,8 +669,8 @@ class PlotSet:
                      max_width=PLOT_WIDTHS[1], **kw)
         fig.title.text_font_size = TITLE_FONT
         fig.toolbar.logo = None
+        # Ticker, formatter and label policy: the shared ones (SharedModels.lighten).
         for axis in (*fig.xaxis, *fig.yaxis):
-            axis.formatter = BasicTickFormatter(power_limit_low=TICK_POWER_LIMIT_LOW)
             axis.axis_label_text_font_size = AXIS_LABEL_FONT
             axis.major_label_text_font_size = TICK_LABEL_FONT
         return fig
@@ -679,18 +688,20 @@ class PlotSet:
                            y_axis_label="x'", x_range=x_range, y_range=y_range,
                            match_aspect=True)
         theory = self._theory_renderers = []
-        ranged = [fig.line("x", "v", source=s["gamma0"], **PHASE_STYLE["gamma0"]),
-                  fig.line("x", "v", source=s["cycle"], **PHASE_STYLE["cycle"]),
-                  fig.line("x", "v", source=s["removed"], **PHASE_STYLE["removed"])]
+        ranged = [add_glyph(fig, "line", "x", "v", source=s["gamma0"], **PHASE_STYLE["gamma0"]),
+                  add_glyph(fig, "line", "x", "v", source=s["cycle"], **PHASE_STYLE["cycle"]),
+                  add_glyph(fig, "line", "x", "v", source=s["removed"], **PHASE_STYLE["removed"])]
         theory += ranged
         for name in MODE_NAMES.values():
-            ranged.append(fig.line("x", "v", source=s[f"path_{name}"], **PHASE_STYLE[name]))
-        fig.scatter("x", "v", source=s["trans"], marker="marker", color="color", size=7,
-                    fill_alpha=0.6)
-        theory.append(fig.scatter("x", "v", source=s["points"], **PHASE_STYLE["points"]))
+            ranged.append(add_glyph(fig, "line", "x", "v", source=s[f"path_{name}"],
+                                    **PHASE_STYLE[name]))
+        add_glyph(fig, "scatter", "x", "v", source=s["trans"], marker="marker", color="color",
+                  size=7, fill_alpha=0.6)
+        theory.append(add_glyph(fig, "scatter", "x", "v", source=s["points"],
+                                **PHASE_STYLE["points"]))
         ranged.append(theory[-1])
         # The stop, when near the motion (:func:`_stop_in_view`), is in the ranges too.
-        ranged.append(fig.scatter("x", "v", source=s["stop_pt"], size=0, alpha=0.0))
+        ranged.append(add_glyph(fig, "scatter", "x", "v", source=s["stop_pt"], size=0, alpha=0.0))
         # On a light backing: a label next to the stop line was crossed by it ("stick end"
         # of Fig. 5a, "limit" of Fig. 7c).
         labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
@@ -700,8 +711,9 @@ class PlotSet:
         theory.append(labels)
         self.point_labels = labels
         # Where a periodic steady state closes: drawn once, its repeats counted.
-        fig.scatter("x", "v", source=s["repeat"], **PHASE_STYLE["repeat"])
-        ranged.append(fig.scatter("x", "v", source=s["start"], **PHASE_STYLE["start"]))
+        add_glyph(fig, "scatter", "x", "v", source=s["repeat"], **PHASE_STYLE["repeat"])
+        ranged.append(add_glyph(fig, "scatter", "x", "v", source=s["start"],
+                                **PHASE_STYLE["start"]))
         x_range.renderers = y_range.renderers = ranged
         # Underlay: the stick segment runs along the belt line and must stay visible.
         self.spans["stop"] = Span(location=0.0, dimension="height", line_color="#000000",
@@ -721,9 +733,9 @@ class PlotSet:
         fig_v = self._figure("Velocity x'(t)", TIME_SIZE, x_axis_label="t",
                              y_axis_label="x'", x_range=fig_x.x_range)
         for fig, col in ((fig_x, "x"), (fig_v, "v")):
-            fig.quad(left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
-                     source=s["bands"], fill_color="color", line_color=None)
-            fig.line("t", col, source=s["traj"], line_color="#222222", line_width=1.5)
+            add_glyph(fig, "quad", left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
+                      source=s["bands"], fill_color="color", line_color=None)
+            add_glyph(fig, "line", "t", col, source=s["traj"], line_color="#222222", line_width=1.5)
         self.spans["stop_t"] = Span(location=0.0, dimension="width", line_color="#000000",
                                     line_width=2, level="underlay")
         self.spans["belt_t"] = Span(location=0.0, dimension="width", line_color="#2ca02c",
@@ -736,21 +748,20 @@ class PlotSet:
     def _build_force(self, s) -> None:
         fig = self._figure("Contact force", SMALL_SIZE, x_axis_label="t",
                            y_axis_label="impulse / force")
-        fig.segment("t", 0.0, "t", "j", source=s["stems"], line_color=MODE_COLORS[2],
-                    line_width=1.5)
-        fig.scatter("t", "j", source=s["stems"], size=5, color=MODE_COLORS[2])
-        fig.line("t", "phi", source=s["force"], line_color=MODE_COLORS[2], line_width=1.5)
+        add_glyph(fig, "segment", "t", 0.0, "t", "j", source=s["stems"], line_color=MODE_COLORS[2],
+                  line_width=1.5)
+        add_glyph(fig, "scatter", "t", "j", source=s["stems"], size=5, color=MODE_COLORS[2])
+        add_glyph(fig, "line", "t", "phi", source=s["force"], line_color=MODE_COLORS[2],
+                  line_width=1.5)
         # The force holding the mass on a rigid stop (a force, not an impulse): own axis.
         fig.extra_y_ranges = {"rest": Range1d(0.0, 1.0)}
         self.rest_axis = LinearAxis(y_range_name="rest", axis_label="force at rest",
                                     axis_label_text_color=REST_COLOR, visible=False,
                                     axis_label_text_font_size=AXIS_LABEL_FONT,
-                                    major_label_text_font_size=TICK_LABEL_FONT,
-                                    formatter=BasicTickFormatter(
-                                        power_limit_low=TICK_POWER_LIMIT_LOW))
+                                    major_label_text_font_size=TICK_LABEL_FONT)
         fig.add_layout(self.rest_axis, "right")
-        fig.line("t", "f", source=s["rest"], y_range_name="rest", line_color=REST_COLOR,
-                 line_width=2, line_dash="dashed")
+        add_glyph(fig, "line", "t", "f", source=s["rest"], y_range_name="rest",
+                  line_color=REST_COLOR, line_width=2, line_dash="dashed")
         self.figures["force"] = fig
         self.panes["force"] = fig
 
@@ -763,7 +774,7 @@ class PlotSet:
             ("exp", "expansion envelope", {"line_color": "#888888", "line_dash": "dotdash"}),
             ("loop", "contact force", {"line_color": MODE_COLORS[2], "line_width": 2}),
         ):
-            fig.line("d", "phi", source=s[name], **style)
+            add_glyph(fig, "line", "d", "phi", source=s[name], **style)
             items.append((label, _swatch("line", **style), ""))
         self.legends["loop"] = _legend_div(legend_html(items))
         self.figures["loop"] = fig
@@ -773,8 +784,8 @@ class PlotSet:
         fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
                            x_axis_label="relative velocity u_r = v - x'",
                            y_axis_label="friction force / k")
-        fig.line("u", "f", source=s["law"], line_color="#000000", line_width=2)
-        fig.scatter("u", "f", source=s["ops"], color="color", size=6, alpha=0.5)
+        add_glyph(fig, "line", "u", "f", source=s["law"], line_color="#000000", line_width=2)
+        add_glyph(fig, "scatter", "u", "f", source=s["ops"], color="color", size=6, alpha=0.5)
         self.figures["friction"] = fig
         self.panes["friction"] = fig
 
@@ -782,7 +793,7 @@ class PlotSet:
         fig = self._figure("Energy", SMALL_SIZE, x_axis_label="t", y_axis_label="energy / k")
         items = []
         for name, color in ENERGY_COLORS.items():
-            fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
+            add_glyph(fig, "line", "t", name, source=s["energy"], line_color=color, line_width=1.5)
             items.append((name.replace("_", " "),
                           _swatch("line", line_color=color, line_width=1.5), ""))
         self.legends["energy"] = _legend_div(legend_html(items))
@@ -795,11 +806,11 @@ class PlotSet:
                            x_range=Range1d(0, 1), y_range=Range1d(0, 1))
         self.map_mapper = LinearColorMapper(palette=list(MAP_PALETTE), low=-0.5,
                                             high=len(MAP_PALETTE) - 0.5)
-        fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
+        add_glyph(fig, "image", image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
                   color_mapper=self.map_mapper)
         # Overlay level: moving the marker repaints only the overlay canvas, not the image.
-        fig.scatter("v", "x", source=s["here"], marker="circle_cross", size=14,
-                    fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
+        add_glyph(fig, "scatter", "v", "x", source=s["here"], marker="circle_cross", size=14,
+                  fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
         fig.center = [r for r in fig.center if not isinstance(r, Grid)]  # a map: no grid
         self.figures["map"] = fig
         self.panes["map"] = fig

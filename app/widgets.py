@@ -158,9 +158,9 @@ class TypedSlider:
         self.slider.on_release = on_release
         self.slider.param.watch(self._moved, ["value", "value_throttled"])
         self.input.param.watch(self._typed, "value")
-        self.message = pn.pane.HTML("", visible=False, width=width - 20, margin=(0, 10, 2, 10),
-                                    css_classes=["fie-input-message"],
-                                    stylesheets=[MESSAGE_CSS])
+        self._width = width
+        #: The message below the box (:attr:`message`), made when first needed.
+        self._message: pn.pane.HTML | None = None
         # The message joins the layout when first needed (a model less per slider shown).
         self.layout = pn.Column(
             self.input, self.slider, width=width, margin=(2, 0),
@@ -168,6 +168,21 @@ class TypedSlider:
         )
 
     # --- state ---------------------------------------------------------------------------
+
+    @property
+    def message(self) -> pn.pane.HTML:
+        """The message below the box, hidden until :meth:`note` shows one; made on first
+        use (a pane per slider was ~1 ms of every new page, and most never say anything)."""
+        if self._message is None:
+            self._message = pn.pane.HTML(
+                "", visible=False, width=self._width - 20, margin=(0, 10, 2, 10),
+                css_classes=["fie-input-message"], stylesheets=[MESSAGE_CSS])
+        return self._message
+
+    @property
+    def noting(self) -> bool:
+        """Whether a message is shown below the box."""
+        return self._message is not None and self._message.visible
 
     @property
     def value(self) -> float:
@@ -234,6 +249,8 @@ class TypedSlider:
     def note(self, text: str, error: bool = False) -> None:
         """Show ``text`` below the box (as text; red with the box when ``error``), or hide
         the message when empty."""
+        if not text and self._message is None:
+            return  # nothing shown, nothing to hide
         body = (f"<div class='fie-msg{' fie-msg-error' if error else ''}' role='status'>"
                 f"{html.escape(text)}</div>") if text else ""
         if text and self.message not in self.layout.objects:
@@ -271,7 +288,7 @@ class TypedSlider:
         with pn.io.hold():
             self._quiet = True
             try:
-                if self.invalid or self.message.visible:
+                if self.invalid or self.noting:
                     self._show(value)
                 else:
                     set_changed(self.input, value=format_number(value))

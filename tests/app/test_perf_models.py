@@ -14,8 +14,9 @@ from panel.io.state import set_curdoc
 #: (the rigid default scene shows no loop, friction law or energy), 432 with one ticker,
 #: formatter, label policy, scale, index filter and selection policy shared by all figures,
 #: and 347 once the sliders a state does not show (deformable stop, SI units) and the
-#: sliders' message boxes joined the page only when first needed. Most of the rest are the
-#: shown sliders (a text input, its tooltip, the slider, a column) and six figures.
+#: sliders' message boxes joined the page only when first needed, 325 with one empty
+#: selection shared by all data sources (no figure has a selection tool). Most of the rest
+#: are the shown sliders (a text input, its tooltip, the slider, a column) and six figures.
 MODEL_BUDGET = 350
 
 
