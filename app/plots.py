@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import panel as pn
 from bokeh.core.properties import validate
 from bokeh.layouts import column
 from bokeh.models import (
@@ -26,7 +27,6 @@ from bokeh.models import (
     BasicTickFormatter,
     ColumnDataSource,
     DataRange1d,
-    Div,
     GlyphRenderer,
     Grid,
     Label,
@@ -608,7 +608,7 @@ class PlotSet:
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
-        self.legends: dict[str, Div] = {}
+        self.legends: dict[str, pn.pane.HTML] = {}
         self.panes: dict[str, Any] = {}
         self._theory_renderers: list[Any] = []
         self.rest_axis: LinearAxis | None = None
@@ -644,6 +644,15 @@ class PlotSet:
                 self.shared.lighten(self.figures[key])
             self._dirty.add(name)
         return self.panes[name]
+
+    def view(self, name: str) -> pn.viewable.Viewable:
+        """The plot ``name`` for the page (built on first call, :meth:`build`): its Bokeh
+        layout, and below it its legend, if it has one."""
+        body = pn.pane.Bokeh(self.build(name), sizing_mode="stretch_width")
+        legend = self.legends.get(name)
+        if legend is None:
+            return body
+        return pn.Column(body, legend, margin=0, sizing_mode="stretch_width")
 
     @property
     def built(self) -> frozenset[str]:
@@ -712,9 +721,9 @@ class PlotSet:
         fig.add_layout(self.spans["belt"])
         # The legend is HTML below the figure (one model, drawn by the browser's layout,
         # not a Bokeh legend with a stand-in renderer per entry).
-        self.legends["phase"] = _legend_div()
+        self.legends["phase"] = _legend_pane()
         self.figures["phase"] = fig
-        self.panes["phase"] = column(fig, self.legends["phase"], sizing_mode="stretch_width")
+        self.panes["phase"] = fig
 
     def _build_time(self, s) -> None:
         fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
@@ -765,9 +774,9 @@ class PlotSet:
         ):
             fig.line("d", "phi", source=s[name], **style)
             items.append((label, _swatch("line", **style), ""))
-        self.legends["loop"] = _legend_div(legend_html(items))
+        self.legends["loop"] = _legend_pane(legend_html(items))
         self.figures["loop"] = fig
-        self.panes["loop"] = column(fig, self.legends["loop"], sizing_mode="stretch_width")
+        self.panes["loop"] = fig
 
     def _build_friction(self, s) -> None:
         fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
@@ -785,9 +794,9 @@ class PlotSet:
             fig.line("t", name, source=s["energy"], line_color=color, line_width=1.5)
             items.append((name.replace("_", " "),
                           _swatch("line", line_color=color, line_width=1.5), ""))
-        self.legends["energy"] = _legend_div(legend_html(items))
+        self.legends["energy"] = _legend_pane(legend_html(items))
         self.figures["energy"] = fig
-        self.panes["energy"] = column(fig, self.legends["energy"], sizing_mode="stretch_width")
+        self.panes["energy"] = fig
 
     def _build_map(self, s) -> None:
         fig = self._figure("Regime map (tap to move there)", MAP_SIZE,
@@ -876,8 +885,8 @@ class PlotSet:
         """Write the phase portrait's legend again (its entries changed, not its data)."""
         if "phase" in self.legends:
             text = legend_html(self._phase_legend())
-            if self.legends["phase"].text != text:
-                self.legends["phase"].text = text
+            if self.legends["phase"].object != text:
+                self.legends["phase"].object = text
 
     def _set_theory_visible(self, visible: bool) -> None:
         for r in self._theory_renderers:
@@ -929,8 +938,8 @@ class PlotSet:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
             text = legend_html(self._phase_legend())
-            if "phase" in self.legends and self.legends["phase"].text != text:
-                self.legends["phase"].text = text
+            if "phase" in self.legends and self.legends["phase"].object != text:
+                self.legends["phase"].object = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
             _assign(s["bands"], band_columns(self._bands, scales))
@@ -1127,10 +1136,14 @@ def legend_html(entries: list[tuple[str, str, str]]) -> str:
 LEGEND_LINES = 3
 
 
-def _legend_div(text: str = "") -> Div:
-    return Div(text=text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
-               min_height=20 * LEGEND_LINES,
-               styles={"font-size": "12px", "line-height": "20px"})
+def _legend_pane(text: str = "") -> pn.pane.HTML:
+    """An HTML legend below a figure. A Panel HTML pane, not a Bokeh ``Div``: BokehJS
+    answers any change of a ``Div`` by laying out the whole page again, which resizes and
+    repaints every figure (28-48 ms in Chromium on each release whose legend changed, e.g.
+    the count of a cycle's repeats); the pane only replaces its inner HTML."""
+    return pn.pane.HTML(text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
+                        min_height=20 * LEGEND_LINES,
+                        styles={"font-size": "12px", "line-height": "20px"})
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:

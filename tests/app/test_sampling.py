@@ -95,7 +95,7 @@ def test_a_periodic_steady_state_is_drawn_once_and_its_repeats_counted():
     assert len(repeat["x"]) == 1
     n = int((sol.t_end - steady.t_reached - steady.period) // steady.period)
     assert repeat["text"] == [f"repeats {n}x"]
-    assert f"cycle closes (repeats {n}x)" in plots.legends["phase"].text
+    assert f"cycle closes (repeats {n}x)" in plots.legends["phase"].object
     # Markers only for the transitions up to the end of the first cycle.
     t_marks = np.asarray(plots.sources["trans"].data["t"], float)
     assert t_marks.max() <= steady.t_reached + steady.period * (1 + 1e-6)
