@@ -74,14 +74,21 @@ JS_PROBE = """([minPoints, settle]) => {
   const STAGES = ["sent", "received", "arrived", "bytes"];
   document.addEventListener("pointerup", () => { lat.up = performance.now(); }, true);
   document.addEventListener("pointerdown", () => { lat.up = null; }, true);
-  let last = null, timer = null;
+  // ``waiting``: paints whose frame is not on screen yet. The measurement ends only when
+  // none is: a paint late in the settle time used to have its frame shown after the end,
+  // and that frame then ended a second measurement with no release (pending null), which
+  // recorded the page's age (9-22 s) as a latency and shifted the following releases.
+  let last = null, timer = null, waiting = 0;
   function finish() {
+    if (lat.pending === null || waiting > 0) return;
     lat.painted.push(last - lat.pending);
     lat.paints.push(lat.count);
     for (const key of STAGES) lat[key].push(lat.stage[key]);
     lat.pending = null;
   }
   function mark() {
+    waiting -= 1;
+    if (lat.pending === null) return;
     last = performance.now();
     clearTimeout(timer);
     timer = setTimeout(finish, settle);
@@ -96,6 +103,7 @@ JS_PROBE = """([minPoints, settle]) => {
   function painted() {
     if (lat.pending === null) return;
     lat.count += 1;
+    waiting += 1;
     // A paint made in a frame callback is in that frame, which the screen shows at the
     // next vsync: the start of the next frame. A paint made in a task is in the next frame,
     // shown at the start of the one after.
