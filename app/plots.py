@@ -282,9 +282,11 @@ def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
         return out
     if step is None:
         step = phase_step(*_sample_bounds(sol))
-    evaluate, _ = _drawing(sol)
+    evaluate, exact = _drawing(sol)
     t_draw = sampling.draw_horizon(res, sol.t_end, step)
-    path = sampling.phase_path(res, evaluate, t_draw, step)
+    # Without the closed form, evaluating costs (a deformable stop's contacts: ~3 ms per
+    # thousand points): the result's own samples are taken as they are.
+    path = sampling.phase_path(res, evaluate, t_draw, step, known=not exact)
     x, v, mode = path.x, path.v * scales.velocity, path.mode
     # Consecutive pieces meet at their transition's state, so each mode's runs are drawn
     # as they are, one NaN after each run to break the line.
