@@ -35,6 +35,10 @@ from core import HystereticStop, Mode, Result, SteadyKind, TransitionKind, simul
 #: Largest time step [dimensionless time = radians of a slip arc] of the first pass over a
 #: piece of the phase path; the second pass subdivides where a chord is still too long.
 PATH_DT = 0.05
+#: Of the result's own samples :func:`phase_path` keeps one per step of arc length, and at
+#: least one per this many ``PATH_DT`` of time: the chords between them are then
+#: subdivided as any (a turn of a circle cannot hide between samples 0.2 radians apart).
+KNOWN_DT_FACTOR = 4.0
 #: Passes of subdivision of the phase path's chords longer than a step at most.
 SUBDIVISION_PASSES = 3
 #: Result samples closer than this fraction of the horizon (at least of one unit of time)
@@ -206,7 +210,7 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
     dt = max(PATH_DT, float(length.sum()) / MAX_PATH_POINTS)
     if known:
         times, x, v, piece, last = _first_pass_from_samples(result, evaluate, bt, ends,
-                                                            t_hi, dt)
+                                                            t_hi, dt, step)
     else:
         n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
         times, piece = _interior(bt, length, n)
@@ -242,10 +246,12 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
 
 
 def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
-                             ends: np.ndarray, t_hi: float, dt: float):
+                             ends: np.ndarray, t_hi: float, dt: float,
+                             step: tuple[float, float]):
     """The first pass of :func:`phase_path` from the result's samples strictly inside the
     pieces (none within :data:`BREAK_TOL` of a transition, where a sample may hold either
-    side's velocity), every gap longer than ``dt`` filled by evaluation at equal steps.
+    side's velocity), at most one per ``step`` of arc length or :data:`KNOWN_DT_FACTOR`
+    ``dt`` of time, every gap longer than that filled by evaluation at equal steps.
     Returns ``times, x, v, piece`` (unordered) and the state at ``t_hi``."""
     st, sx, sv = (np.asarray(a, dtype=float) for a in (result.t, result.x, result.v))
     tol = BREAK_TOL * max(1.0, t_hi)
@@ -254,6 +260,14 @@ def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
     p = np.clip(p, 0, len(bt) - 1)
     keep &= (st > bt[p] + tol) & (st < ends[p] - tol)
     st, sx, sv, p = st[keep], sx[keep], sv[keep], p[keep]
+    coarse = KNOWN_DT_FACTOR * dt
+    if len(st) > 1:
+        # No more of them than the picture needs: one per step of arc length (the
+        # solver's samples are denser than that on most of the path) or per ``dt`` of time.
+        arc = np.r_[0.0, np.cumsum(np.hypot(np.diff(sx) / step[0], np.diff(sv) / step[1]))]
+        new = np.r_[True, (np.diff(p) != 0) | (np.diff(np.floor(arc)) != 0)
+                    | (np.diff(np.floor((st - bt[p]) / coarse)) != 0)]
+        st, sx, sv, p = st[new], sx[new], sv[new], p[new]
     if len(st) > MAX_PATH_POINTS:  # within the budget: every k-th
         every = math.ceil(len(st) / MAX_PATH_POINTS)
         st, sx, sv, p = st[::every], sx[::every], sv[::every], p[::every]
@@ -263,7 +277,7 @@ def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
     order = np.lexsort((kt, np.r_[np.zeros(m), np.ones(len(st)), np.full(m, 2.0)], kp))
     kt, kp = kt[order], kp[order]
     gap = np.diff(kt)
-    fill = np.where(np.diff(kp) == 0, np.maximum(np.ceil(gap / dt) - 1, 0), 0
+    fill = np.where(np.diff(kp) == 0, np.maximum(np.ceil(gap / coarse) - 1, 0), 0
                     ).astype(np.int64)
     k = np.repeat(np.arange(len(fill)), fill)
     new_t = kt[k] + (_ranks(fill) + 1.0) / (fill[k] + 1.0) * gap[k]
