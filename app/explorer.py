@@ -382,7 +382,7 @@ class Explorer(pn.viewable.Viewer):
             figs["map"].on_event(Tap, self._on_map_tap)
             return pn.Column(pn.pane.Bokeh(layout, sizing_mode="stretch_width"),
                              self.map_legend, margin=0, sizing_mode="stretch_width")
-        return pn.pane.Bokeh(layout, sizing_mode="stretch_width")
+        return self.plots.view(name)
 
     def _show_plots(self, visible: tuple[str, ...]) -> None:
         """Show the panes of ``visible`` (building those shown for the first time), hide

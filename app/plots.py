@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import panel as pn
 from bokeh.core.properties import validate
 from bokeh.layouts import column
 from bokeh.models import (
@@ -26,7 +27,6 @@ from bokeh.models import (
     BasicTickFormatter,
     ColumnDataSource,
     DataRange1d,
-    Div,
     GlyphRenderer,
     Grid,
     Label,
@@ -284,9 +284,11 @@ def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
         return out
     if step is None:
         step = phase_step(*_sample_bounds(sol))
-    evaluate, _ = _drawing(sol)
+    evaluate, exact = _drawing(sol)
     t_draw = sampling.draw_horizon(res, sol.t_end, step)
-    path = sampling.phase_path(res, evaluate, t_draw, step)
+    # Without the closed form, evaluating costs (a deformable stop's contacts: ~3 ms per
+    # thousand points): the result's own samples are taken as they are.
+    path = sampling.phase_path(res, evaluate, t_draw, step, known=not exact)
     x, v, mode = path.x, path.v * scales.velocity, path.mode
     # Consecutive pieces meet at their transition's state, so each mode's runs are drawn
     # as they are, one NaN after each run to break the line.
@@ -617,7 +619,7 @@ class PlotSet:
         self.spans: dict[str, Span] = {}
         self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
-        self.legends: dict[str, Div] = {}
+        self.legends: dict[str, pn.pane.HTML] = {}
         self.panes: dict[str, Any] = {}
         self._theory_renderers: list[Any] = []
         self.rest_axis: LinearAxis | None = None
@@ -653,6 +655,15 @@ class PlotSet:
                 self.shared.lighten(self.figures[key])
             self._dirty.add(name)
         return self.panes[name]
+
+    def view(self, name: str) -> pn.viewable.Viewable:
+        """The plot ``name`` for the page (built on first call, :meth:`build`): its Bokeh
+        layout, and below it its legend, if it has one."""
+        body = pn.pane.Bokeh(self.build(name), sizing_mode="stretch_width")
+        legend = self.legends.get(name)
+        if legend is None:
+            return body
+        return pn.Column(body, legend, margin=0, sizing_mode="stretch_width")
 
     @property
     def built(self) -> frozenset[str]:
@@ -724,9 +735,9 @@ class PlotSet:
         fig.add_layout(self.spans["belt"])
         # The legend is HTML below the figure (one model, drawn by the browser's layout,
         # not a Bokeh legend with a stand-in renderer per entry).
-        self.legends["phase"] = _legend_div()
+        self.legends["phase"] = _legend_pane()
         self.figures["phase"] = fig
-        self.panes["phase"] = column(fig, self.legends["phase"], sizing_mode="stretch_width")
+        self.panes["phase"] = fig
 
     def _build_time(self, s) -> None:
         fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
@@ -776,9 +787,9 @@ class PlotSet:
         ):
             add_glyph(fig, "line", "d", "phi", source=s[name], **style)
             items.append((label, _swatch("line", **style), ""))
-        self.legends["loop"] = _legend_div(legend_html(items))
+        self.legends["loop"] = _legend_pane(legend_html(items))
         self.figures["loop"] = fig
-        self.panes["loop"] = column(fig, self.legends["loop"], sizing_mode="stretch_width")
+        self.panes["loop"] = fig
 
     def _build_friction(self, s) -> None:
         fig = self._figure("Friction law (Fig. 1b)", SMALL_SIZE,
@@ -796,9 +807,9 @@ class PlotSet:
             add_glyph(fig, "line", "t", name, source=s["energy"], line_color=color, line_width=1.5)
             items.append((name.replace("_", " "),
                           _swatch("line", line_color=color, line_width=1.5), ""))
-        self.legends["energy"] = _legend_div(legend_html(items))
+        self.legends["energy"] = _legend_pane(legend_html(items))
         self.figures["energy"] = fig
-        self.panes["energy"] = column(fig, self.legends["energy"], sizing_mode="stretch_width")
+        self.panes["energy"] = fig
 
     def _build_map(self, s) -> None:
         fig = self._figure("Regime map (tap to move there)", MAP_SIZE,
@@ -887,8 +898,8 @@ class PlotSet:
         """Write the phase portrait's legend again (its entries changed, not its data)."""
         if "phase" in self.legends:
             text = legend_html(self._phase_legend())
-            if self.legends["phase"].text != text:
-                self.legends["phase"].text = text
+            if self.legends["phase"].object != text:
+                self.legends["phase"].object = text
 
     def _set_theory_visible(self, visible: bool) -> None:
         for r in self._theory_renderers:
@@ -940,8 +951,8 @@ class PlotSet:
                 self._kinds_stop, self._kinds_shown = stop_type, set()
             self._kinds_shown.update(s["trans"].data["kind"])
             text = legend_html(self._phase_legend())
-            if "phase" in self.legends and self.legends["phase"].text != text:
-                self.legends["phase"].text = text
+            if "phase" in self.legends and self.legends["phase"].object != text:
+                self.legends["phase"].object = text
             self._dirty -= {"phase", "anim"}
         if "time" in todo:
             _assign(s["bands"], band_columns(self._bands, scales))
@@ -1138,10 +1149,14 @@ def legend_html(entries: list[tuple[str, str, str]]) -> str:
 LEGEND_LINES = 3
 
 
-def _legend_div(text: str = "") -> Div:
-    return Div(text=text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
-               min_height=20 * LEGEND_LINES,
-               styles={"font-size": "12px", "line-height": "20px"})
+def _legend_pane(text: str = "") -> pn.pane.HTML:
+    """An HTML legend below a figure. A Panel HTML pane, not a Bokeh ``Div``: BokehJS
+    answers any change of a ``Div`` by laying out the whole page again, which resizes and
+    repaints every figure (28-48 ms in Chromium on each release whose legend changed, e.g.
+    the count of a cycle's repeats); the pane only replaces its inner HTML."""
+    return pn.pane.HTML(text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
+                        min_height=20 * LEGEND_LINES,
+                        styles={"font-size": "12px", "line-height": "20px"})
 
 
 def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:

@@ -35,6 +35,16 @@ from core import HystereticStop, Mode, Result, SteadyKind, TransitionKind, simul
 #: Largest time step [dimensionless time = radians of a slip arc] of the first pass over a
 #: piece of the phase path; the second pass subdivides where a chord is still too long.
 PATH_DT = 0.05
+#: Of the result's own samples :func:`phase_path` keeps one per step of arc length, and at
+#: least one per this many ``PATH_DT`` of time: the chords between them are then
+#: subdivided as any (a turn of a circle cannot hide between samples 0.2 radians apart).
+KNOWN_DT_FACTOR = 4.0
+#: Passes of subdivision of the phase path's chords longer than a step at most.
+SUBDIVISION_PASSES = 3
+#: Result samples closer than this fraction of the horizon (at least of one unit of time)
+#: to a transition are not taken as they are by :func:`phase_path`: at an impact the
+#: velocity jumps, and such a sample may hold either side's.
+BREAK_TOL = 1e-9
 #: Points of the phase path at most (a run that never settles, at a long horizon).
 MAX_PATH_POINTS = 60_000
 #: Step [radians] of the fine samples the time histories are reduced from: a sampled
@@ -183,22 +193,35 @@ def _pieces(result: Result, t_hi: float):
 
 
 def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
-               step: tuple[float, float]) -> Path:
+               step: tuple[float, float], known: bool = False) -> Path:
     """The motion over ``[0, t_hi]`` in the phase plane, each piece between transitions
     sampled so that consecutive samples are at most one ``step`` apart, where ``step =
     (dx, dv)`` is the length in data units of the longest chord allowed along each axis
-    (the caller derives it from the frame's pixels per unit)."""
+    (the caller derives it from the frame's pixels per unit).
+
+    With ``known``, the result's own samples (values of the same solution, which
+    ``evaluate`` would compute again) are taken as they are, and only the gaps between them
+    are evaluated: where evaluating is costly (a deformable stop's contacts) the path
+    costs a fraction of the evaluations."""
     bt, bx, bv_in, bv_out, bmode = _pieces(result, t_hi)
     ends = np.r_[bt[1:], t_hi]
     length = np.maximum(ends - bt, 0.0)
     # First pass: PATH_DT at most, within the point budget.
     dt = max(PATH_DT, float(length.sum()) / MAX_PATH_POINTS)
-    n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
-    times, piece = _interior(bt, length, n)
-    x, v = evaluate(np.r_[times, t_hi])
-    x, v, last = x[:-1], v[:-1], (x[-1:], v[-1:])
-    # Second pass: subdivide each interval whose chord is longer than a step.
-    if len(times):
+    if known:
+        times, x, v, piece, last = _first_pass_from_samples(result, evaluate, bt, ends,
+                                                            t_hi, dt, step)
+    else:
+        n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
+        times, piece = _interior(bt, length, n)
+        x, v = evaluate(np.r_[times, t_hi])
+        x, v, last = x[:-1], v[:-1], (x[-1:], v[-1:])
+    # Then subdivide each interval whose chord is longer than a step, again where a chord
+    # still is (the speed along the curve changes within an interval: in a contact one
+    # pass left chords of 4.6 steps).
+    for _ in range(SUBDIVISION_PASSES):
+        if not len(times):
+            break
         full_t, full_x, full_v, full_p = _with_ends(times, x, v, piece, bt, bx, bv_in,
                                                     bv_out, ends, last)
         chord = np.hypot(np.diff(full_x) / step[0], np.diff(full_v) / step[1])
@@ -208,17 +231,59 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
         room = MAX_PATH_POINTS - len(times)
         if extra.sum() > room:  # within the budget: fewer points everywhere
             extra = np.floor(extra * (max(room, 0) / extra.sum())).astype(np.int64)
-        if extra.sum() > 0:
-            k = np.repeat(np.arange(len(extra)), extra)
-            frac = (_ranks(extra) + 1.0) / (extra[k] + 1.0)
-            new_t = full_t[k] + frac * (full_t[k + 1] - full_t[k])
-            nx, nv = evaluate(new_t)
-            times = np.r_[times, new_t]
-            x, v = np.r_[x, nx], np.r_[v, nv]
-            piece = np.r_[piece, full_p[k]]
+        if extra.sum() == 0:
+            break
+        k = np.repeat(np.arange(len(extra)), extra)
+        frac = (_ranks(extra) + 1.0) / (extra[k] + 1.0)
+        new_t = full_t[k] + frac * (full_t[k + 1] - full_t[k])
+        nx, nv = evaluate(new_t)
+        times = np.r_[times, new_t]
+        x, v = np.r_[x, nx], np.r_[v, nv]
+        piece = np.r_[piece, full_p[k]]
     t_all, x_all, v_all, p_all = _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends,
                                             last)
     return Path(t=t_all, x=x_all, v=v_all, mode=bmode[p_all])
+
+
+def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
+                             ends: np.ndarray, t_hi: float, dt: float,
+                             step: tuple[float, float]):
+    """The first pass of :func:`phase_path` from the result's samples strictly inside the
+    pieces (none within :data:`BREAK_TOL` of a transition, where a sample may hold either
+    side's velocity), at most one per ``step`` of arc length or :data:`KNOWN_DT_FACTOR`
+    ``dt`` of time, every gap longer than that filled by evaluation at equal steps.
+    Returns ``times, x, v, piece`` (unordered) and the state at ``t_hi``."""
+    st, sx, sv = (np.asarray(a, dtype=float) for a in (result.t, result.x, result.v))
+    tol = BREAK_TOL * max(1.0, t_hi)
+    p = np.searchsorted(bt, st, side="right") - 1
+    keep = (p >= 0) & (st < t_hi - tol) & np.isfinite(sx) & np.isfinite(sv)
+    p = np.clip(p, 0, len(bt) - 1)
+    keep &= (st > bt[p] + tol) & (st < ends[p] - tol)
+    st, sx, sv, p = st[keep], sx[keep], sv[keep], p[keep]
+    coarse = KNOWN_DT_FACTOR * dt
+    if len(st) > 1:
+        # No more of them than the picture needs: one per step of arc length (the
+        # solver's samples are denser than that on most of the path) or per ``dt`` of time.
+        arc = np.r_[0.0, np.cumsum(np.hypot(np.diff(sx) / step[0], np.diff(sv) / step[1]))]
+        new = np.r_[True, (np.diff(p) != 0) | (np.diff(np.floor(arc)) != 0)
+                    | (np.diff(np.floor((st - bt[p]) / coarse)) != 0)]
+        st, sx, sv, p = st[new], sx[new], sv[new], p[new]
+    if len(st) > MAX_PATH_POINTS:  # within the budget: every k-th
+        every = math.ceil(len(st) / MAX_PATH_POINTS)
+        st, sx, sv, p = st[::every], sx[::every], sv[::every], p[::every]
+    m = len(bt)
+    # Known times of each piece in order (its ends, its samples); the gaps between them.
+    kt, kp = np.r_[bt, st, ends], np.r_[np.arange(m), p, np.arange(m)]
+    order = np.lexsort((kt, np.r_[np.zeros(m), np.ones(len(st)), np.full(m, 2.0)], kp))
+    kt, kp = kt[order], kp[order]
+    gap = np.diff(kt)
+    fill = np.where(np.diff(kp) == 0, np.maximum(np.ceil(gap / coarse) - 1, 0), 0
+                    ).astype(np.int64)
+    k = np.repeat(np.arange(len(fill)), fill)
+    new_t = kt[k] + (_ranks(fill) + 1.0) / (fill[k] + 1.0) * gap[k]
+    nx, nv = evaluate(np.r_[new_t, t_hi])
+    return (np.r_[st, new_t], np.r_[sx, nx[:-1]], np.r_[sv, nv[:-1]], np.r_[p, kp[k]],
+            (nx[-1:], nv[-1:]))
 
 
 def _ranks(counts: np.ndarray) -> np.ndarray:

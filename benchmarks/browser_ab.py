@@ -30,8 +30,10 @@ import browser_latency as bl  # noqa: E402
 ROOT = bl.ROOT
 
 
-def compare(browser, urls: dict[str, str], scene: str, rounds: int) -> dict[str, np.ndarray]:
-    """Latencies [ms] of ``rounds`` releases per version, alternating between them."""
+def compare(browser, urls: dict[str, str], scene: str, rounds: int
+            ) -> dict[str, dict[str, np.ndarray]]:
+    """The probe's records (``browser_latency.results``: latencies [ms] in ``painted``) of
+    ``rounds`` releases per version, alternating between them."""
     pages = {}
     for key, url in urls.items():
         pages[key] = browser.new_page(viewport={"width": 1600, "height": 2000})
@@ -41,8 +43,7 @@ def compare(browser, urls: dict[str, str], scene: str, rounds: int) -> dict[str,
         for key in (order if r % 2 == 0 else order[::-1]):
             pages[key].bring_to_front()
             bl.drag(pages[key], r)
-    lat = {key: np.asarray(page.evaluate("() => window.__lat.painted"), dtype=float)
-           for key, page in pages.items()}
+    lat = {key: bl.results(page) for key, page in pages.items()}
     for page in pages.values():
         page.close()
     return lat
@@ -58,6 +59,9 @@ def main() -> None:
                         "(to find which change moved the latency)")
     parser.add_argument("--scenes", default="5b,7c")
     parser.add_argument("--rounds", type=int, default=40)
+    parser.add_argument("--raw", action="store_true", help="print every latency")
+    parser.add_argument("--ports", default="0,0",
+                        help="server ports of A and B (default: free ones)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
@@ -71,10 +75,11 @@ def main() -> None:
                            cwd=ROOT, check=True)
         procs = []
         try:
-            proc_a, url_a = bl.serve_explorer(base if args.base else ROOT)
+            port_a, port_b = (int(p) for p in args.ports.split(","))
+            proc_a, url_a = bl.serve_explorer(base if args.base else ROOT, port=port_a)
             procs.append(proc_a)
-            proc_b, url_b = (bl.serve_explorer(ROOT, patches=False) if args.patches
-                             else bl.serve_explorer(other))
+            proc_b, url_b = (bl.serve_explorer(ROOT, patches=False, port=port_b)
+                             if args.patches else bl.serve_explorer(other, port=port_b))
             procs.append(proc_b)
             b_is = "this checkout, perf patches off" if args.patches else args.ref
             a_is = args.base or "this checkout"
@@ -85,14 +90,20 @@ def main() -> None:
                 browser = pw.chromium.launch(executable_path=bl.CHROMIUM,
                                              args=bl.CHROMIUM_ARGS)
                 for scene in args.scenes.split(","):
-                    lat = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
+                    rec = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
                     # A page that missed a release has fewer: pair the rounds both have.
-                    n = min(len(lat["A"]), len(lat["B"]))
-                    a, b = np.asarray(lat["A"][:n]), np.asarray(lat["B"][:n])
+                    n = min(len(rec["A"]["painted"]), len(rec["B"]["painted"]))
+                    a, b = rec["A"]["painted"][:n], rec["B"]["painted"][:n]
                     # A release that changed nothing is NaN (browser_latency.drag).
                     print(f"{scene:>6} {np.nanmedian(a):>9.1f} {np.nanpercentile(a, 95):>7.1f} "
                           f"{np.nanmedian(b):>9.1f} {np.nanpercentile(b, 95):>7.1f} "
                           f"{np.nanmedian(a - b):>+12.1f}")
+                    for key in ("A", "B"):
+                        print(f"{'':>6} {key}: {bl.stage_line(rec[key])}")
+                    if args.raw:
+                        for key in ("A", "B"):
+                            print(f"{'':>6} {key} ms: "
+                                  + " ".join(f"{x:.0f}" for x in rec[key]["painted"]))
                 browser.close()
         finally:
             for proc in procs:

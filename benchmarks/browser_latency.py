@@ -17,6 +17,7 @@ Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shutil
 import socket
@@ -67,16 +68,27 @@ POLL_MS = 100
 JS_PROBE = """([minPoints, settle]) => {
   const doc = Bokeh.documents[0];
   const traj = [...doc.all_models].find(m => m.data && "mode" in m.data);
-  const lat = (window.__lat = {up: null, painted: [], paints: [], pending: null});
+  const lat = (window.__lat = {up: null, painted: [], paints: [], pending: null,
+                               sent: [], received: [], arrived: [], bytes: []});
+  const ws = window.__fie_ws || {frames: [], sends: []};
+  const STAGES = ["sent", "received", "arrived", "bytes"];
   document.addEventListener("pointerup", () => { lat.up = performance.now(); }, true);
   document.addEventListener("pointerdown", () => { lat.up = null; }, true);
-  let last = null, timer = null;
+  // ``waiting``: paints whose frame is not on screen yet. The measurement ends only when
+  // none is: a paint late in the settle time used to have its frame shown after the end,
+  // and that frame then ended a second measurement with no release (pending null), which
+  // recorded the page's age (9-22 s) as a latency and shifted the following releases.
+  let last = null, timer = null, waiting = 0;
   function finish() {
+    if (lat.pending === null || waiting > 0) return;
     lat.painted.push(last - lat.pending);
     lat.paints.push(lat.count);
+    for (const key of STAGES) lat[key].push(lat.stage[key]);
     lat.pending = null;
   }
   function mark() {
+    waiting -= 1;
+    if (lat.pending === null) return;
     last = performance.now();
     clearTimeout(timer);
     timer = setTimeout(finish, settle);
@@ -91,6 +103,7 @@ JS_PROBE = """([minPoints, settle]) => {
   function painted() {
     if (lat.pending === null) return;
     lat.count += 1;
+    waiting += 1;
     // A paint made in a frame callback is in that frame, which the screen shows at the
     // next vsync: the start of the next frame. A paint made in a task is in the next frame,
     // shown at the start of the one after.
@@ -107,12 +120,44 @@ JS_PROBE = """([minPoints, settle]) => {
   traj.properties.data.change.connect(() => {
     if (lat.up === null || traj.data.t.length < minPoints) return;
     lat.pending = lat.up;
+    // Where the time went: the release's value sent, the last frame of the message that
+    // brought the full solution received, and its data applied (all since the pointerup).
+    const sent = ws.sends.find(t => t >= lat.up);
+    const frames = ws.frames.filter(f => f[0] >= lat.up);
+    lat.stage = {sent: sent === undefined ? NaN : sent - lat.up,
+                 received: frames.length ? frames[frames.length - 1][0] - lat.up : NaN,
+                 bytes: frames.reduce((n, f) => n + f[1], 0),
+                 arrived: performance.now() - lat.up};
+    ws.frames.length = 0;
+    ws.sends.length = 0;
     lat.up = null;
     lat.count = 0;
     last = performance.now();
     painted();
   });
 }"""
+
+#: Installed before the page loads: the time and size of every websocket frame the page
+#: receives, and the time of every frame it sends (the probe reads them at each release).
+WS_PROBE = """(() => {
+  const ws = (window.__fie_ws = {frames: [], sends: []});
+  const Native = window.WebSocket;
+  window.WebSocket = class extends Native {
+    constructor(...args) {
+      super(...args);
+      this.addEventListener("message", (e) => {
+        const d = e.data;
+        ws.frames.push([performance.now(), typeof d === "string" ? d.length : d.byteLength]);
+        if (ws.frames.length > 2000) ws.frames.splice(0, 1000);
+      });
+    }
+    send(data) {
+      ws.sends.push(performance.now());
+      if (ws.sends.length > 2000) ws.sends.splice(0, 1000);
+      return super.send(data);
+    }
+  };
+})()"""
 
 
 def cpu_times() -> tuple[int, int] | None:
@@ -136,13 +181,15 @@ def steal_percent(before: tuple[int, int] | None, after: tuple[int, int] | None)
     return f"{100.0 * (after[0] - before[0]) / (after[1] - before[1]):.1f}"
 
 
-def serve_explorer(root: Path = ROOT, patches: bool = True) -> tuple[subprocess.Popen, str]:
-    """``panel serve`` of the explorer in the checkout ``root`` on a free loopback port;
-    with ``patches=False`` the perf patches are off (app.perf's switch in the server, and
-    ``paint_shortcuts=off`` in the page's address)."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
+def serve_explorer(root: Path = ROOT, patches: bool = True,
+                   port: int = 0) -> tuple[subprocess.Popen, str]:
+    """``panel serve`` of the explorer in the checkout ``root`` on loopback ``port`` (0: a
+    free one); with ``patches=False`` the perf patches are off (app.perf's switch in the
+    server, and ``paint_shortcuts=off`` in the page's address)."""
+    if not port:
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
     proc = subprocess.Popen(
         [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port),
          "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}",
@@ -163,6 +210,7 @@ def serve_explorer(root: Path = ROOT, patches: bool = True) -> tuple[subprocess.
 
 def open_scene(page, url: str, scene: str) -> None:
     """Load ``scene`` in ``page``, wait until BokehJS is idle and install the probe."""
+    page.add_init_script(WS_PROBE)
     page.goto(f"{url}{'&' if '?' in url else '?'}scene={scene}", timeout=60_000)
     page.wait_for_function("() => window.Bokeh && Bokeh.documents.length > 0 && "
                            "Bokeh.documents[0].is_idle", timeout=60_000)
@@ -185,19 +233,44 @@ def drag(page, i: int, slider: str = SLIDER) -> None:
         page.wait_for_function(f"() => window.__lat.painted.length > {i}",
                                timeout=RELEASE_TIMEOUT_MS, polling=POLL_MS)
     except PlaywrightTimeout:  # the release changed nothing: count it as missed
-        page.evaluate("() => { window.__lat.painted.push(NaN); "
-                      "window.__lat.paints.push(0); window.__lat.pending = null; }")
+        page.evaluate("() => { const lat = window.__lat; lat.painted.push(NaN); "
+                      "lat.paints.push(0); lat.pending = null; "
+                      "for (const k of ['sent', 'received', 'arrived', 'bytes']) "
+                      "lat[k].push(NaN); }")
+
+
+#: What the probe records of each release besides its latency (``painted``): since the
+#: pointerup [ms], the release's value ``sent``, the last frame of the full solution's
+#: message ``received``, its data ``arrived`` in the trajectory's source; the ``bytes``
+#: the page received meanwhile; the figure ``paints``.
+STAGES = ("sent", "received", "arrived", "bytes", "paints")
+
+
+def results(page) -> dict[str, np.ndarray]:
+    """The probe's records of ``page`` so far: ``painted`` and each of :data:`STAGES`."""
+    lat = page.evaluate("() => window.__lat")
+    return {key: np.asarray(lat[key], dtype=float) for key in ("painted", *STAGES)}
+
+
+def stage_line(rec: dict[str, np.ndarray]) -> str:
+    """Medians of where a release's time went: server (sent to received), browser before
+    the data is in the source (decode and apply), paint (arrived to painted)."""
+    med = {k: float(np.nanmedian(v)) if np.isfinite(v).any() else math.nan
+           for k, v in rec.items()}
+    return (f"send {med['sent']:.0f}, server+net {med['received'] - med['sent']:.0f}, "
+            f"apply {med['arrived'] - med['received']:.0f}, "
+            f"paint {med['painted'] - med['arrived']:.0f} ms; "
+            f"{med['bytes'] / 1e3:.0f} kB, {med['paints']:.0f} paints")
 
 
 def measure(page, url: str, scene: str, moves: int,
-            slider: str = SLIDER) -> tuple[np.ndarray, np.ndarray]:
-    """Latencies [ms] of ``moves`` drags of ``slider`` in ``scene``, and the number of
-    figure repaints after each release."""
+            slider: str = SLIDER) -> dict[str, np.ndarray]:
+    """The probe's records (:func:`results`) of ``moves`` drags of ``slider`` in
+    ``scene``."""
     open_scene(page, url, scene)
     for i in range(moves):
         drag(page, i, slider)
-    lat = page.evaluate("() => window.__lat")
-    return np.asarray(lat["painted"], dtype=float), np.asarray(lat["paints"], dtype=float)
+    return results(page)
 
 
 def main() -> None:
@@ -206,12 +279,13 @@ def main() -> None:
     parser.add_argument("--patches", choices=("on", "off"), default="on",
                         help="the perf patches (app/perf, static/perf)")
     parser.add_argument("--scenes", default="5b,7c,10,11")
+    parser.add_argument("--port", type=int, default=0, help="server port (default: free)")
     parser.add_argument("--slider", default=SLIDER,
                         help="state parameter whose slider is dragged (default: clearance)")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    proc, url = serve_explorer(patches=args.patches == "on")
+    proc, url = serve_explorer(patches=args.patches == "on", port=args.port)
     try:
         with sync_playwright() as pw:
             browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
@@ -221,7 +295,8 @@ def main() -> None:
             for scene in args.scenes.split(","):
                 stop = SCENES[scene].values["stop_type"]
                 before = cpu_times()
-                lat, paints = measure(page, url, scene, args.moves, args.slider)
+                rec = measure(page, url, scene, args.moves, args.slider)
+                lat, paints = rec["painted"], rec["paints"]
                 steal = steal_percent(before, cpu_times())
                 missed = int(np.isnan(lat).sum())
                 lat = lat[~np.isnan(lat)]
@@ -231,6 +306,7 @@ def main() -> None:
                 print(f"{scene:>6} {stop:>11} {len(lat):>6} {med:>10.1f} {p95:>8.1f} "
                       f"{target:>7.0f}  {ok}  {np.median(paints):>6.0f}  {steal:>7}"
                       + (f"  ({missed} releases missed)" if missed else ""))
+                print(f"{'':>6} median: {stage_line(rec)}")
             browser.close()
     finally:
         proc.terminate()

@@ -95,7 +95,7 @@ def test_no_model_until_used_then_ghosts_and_present_mode():
         assert ex.compare.renderer_count > 0
         assert len(doc.models) > before
         assert "compared" in ex.readout.object
-        assert PIN_COLORS[0] in ex.plots.legends["phase"].text
+        assert PIN_COLORS[0] in ex.plots.legends["phase"].object
 
 
 def test_presets_load_one_scene_and_pin_the_other():

@@ -508,7 +508,8 @@ def test_a_plot_is_built_when_first_shown_and_shows_the_current_solution(ex):
     assert _same(ex.plots.sources["law"].data["f"], law["f"])
     fig = ex.plots.figures["energy"]
     # The pane holds the new figure, its axes span the run and are labelled.
-    assert ex.plot_panes["energy"].objects[0].object is ex.plots.panes["energy"]
+    body, legend = ex.plot_panes["energy"].objects[0].objects
+    assert body.object is ex.plots.panes["energy"] and legend is ex.plots.legends["energy"]
     assert fig.x_range.end >= float(np.max(energy["t"])) > fig.x_range.start
     assert fig.xaxis[0].axis_label == scales.time_label
 

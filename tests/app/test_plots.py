@@ -123,10 +123,10 @@ def test_legends_are_html_and_list_only_what_is_drawn():
             assert not (data.get("x") is not None and len(data["x"]) == 1
                         and np.isnan(data["x"][0])), "a stand-in renderer"
     ex.scene_select.value = "4a"  # impactless, fast belt: pure slip
-    text = ex.plots.legends["phase"].text
+    text = ex.plots.legends["phase"].object
     assert "slip" in text and ">stick<" not in text and "slip-&gt;stick" not in text
     ex.scene_select.value = "5b"
-    text = ex.plots.legends["phase"].text
+    text = ex.plots.legends["phase"].object
     assert ">stick<" in text and "impact" in text
 
 
@@ -147,7 +147,7 @@ def test_legend_lists_the_transition_kinds_of_the_scene():
     from app.plots import TRANSITION_LABELS, TRANSITION_STYLE
 
     def listed(ex):
-        text = ex.plots.legends["phase"].text
+        text = ex.plots.legends["phase"].object
         return {k for k in TRANSITION_STYLE
                 if f">{html.escape(TRANSITION_LABELS.get(k, k))}</span>" in text}
 
@@ -289,7 +289,7 @@ def test_the_stop_removed_circle_of_figs_6b_and_7d(key):
     data = ex.plots.sources["removed"].data
     drawn = key in ("6b", "7d")
     assert bool(len(data["x"])) is drawn
-    assert ("stop removed" in ex.plots.legends["phase"].text) is drawn
+    assert ("stop removed" in ex.plots.legends["phase"].object) is drawn
     if drawn:
         sol = ex.solution
         a, x_bar = sol.osc.a, sol.stop.clearance

@@ -95,7 +95,7 @@ def test_a_periodic_steady_state_is_drawn_once_and_its_repeats_counted():
     assert len(repeat["x"]) == 1
     n = int((sol.t_end - steady.t_reached - steady.period) // steady.period)
     assert repeat["text"] == [f"repeats {n}x"]
-    assert f"cycle closes (repeats {n}x)" in plots.legends["phase"].text
+    assert f"cycle closes (repeats {n}x)" in plots.legends["phase"].object
     # Markers only for the transitions up to the end of the first cycle.
     t_marks = np.asarray(plots.sources["trans"].data["t"], float)
     assert t_marks.max() <= steady.t_reached + steady.period * (1 + 1e-6)
@@ -242,3 +242,43 @@ def test_a_mass_at_rest_from_the_start_is_drawn():
     plots.update(solve({**scene_values("4a"), "belt_speed": 0.0, "x0": 0.0, "v0": 0.0}),
                  DIMENSIONLESS, ("phase", "time", "force"))
     assert len(plots.sources["traj"].data["x"]) > 0
+
+
+def test_a_path_from_the_results_own_samples_is_the_same_curve_for_fewer_evaluations():
+    """Scene 10 (deformable stop, no closed form): the phase path that takes the result's
+    own samples as they are (``known``) lies on the solution, has no chord longer than a
+    step, and evaluates the solution at fewer times (each contact sample costs a Python
+    loop in the core)."""
+    sol = solve(scene_values("10"))
+    res = sol.result
+    evaluate, exact = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0,
+                                         sol.method)
+    assert not exact
+    step = phase_step(*_sample_bounds(sol))
+    t_draw = sampling.draw_horizon(res, sol.t_end, step)
+    counted = {}
+    paths = {}
+    for known in (False, True):
+        calls = []
+
+        def counting(t, calls=calls):
+            calls.append(len(t))
+            return evaluate(t)
+        paths[known] = sampling.phase_path(res, counting, t_draw, step, known=known)
+        counted[known] = sum(calls)
+    path = paths[True]
+    assert counted[True] < 0.8 * counted[False]
+    # On the solution: the samples are the solver's values at their times (the same
+    # evaluation: equal to rounding; 1e-9 of the motion's span).
+    x, v = evaluate(path.t)
+    span = float(np.ptp(res.x))
+    np.testing.assert_allclose(path.x, x, rtol=0, atol=1e-9 * span)
+    np.testing.assert_allclose(path.v, v, rtol=0, atol=1e-9 * span)
+    assert np.all(np.diff(path.t) >= 0)
+    # No chord longer than a step, either way (the motion is continuous at a deformable
+    # stop; 1e-9 for rounding). One pass of subdivision left chords of 4.6 steps in a
+    # contact, where the speed along the curve changes within an interval.
+    def longest(p):
+        return float(np.max(np.hypot(np.diff(p.x) / step[0], np.diff(p.v) / step[1])))
+    assert longest(path) <= 1.0 + 1e-9 and longest(paths[False]) <= 1.0 + 1e-9
+    assert len(path.t) >= 0.8 * len(paths[False].t)  # as finely drawn
