@@ -211,6 +211,28 @@ def ghost_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, di
     return out
 
 
+def ghost_extents(cols: Mapping[str, Mapping[str, Any]]
+                  ) -> dict[tuple[str, str], tuple[float, float]]:
+    """What a pin's ghosts (:func:`ghost_columns`) span on each figure's axes:
+    ``(figure, "x" or "y") -> (min, max)``, finite values only (the time histories' two
+    figures share their time axis, the phase portrait fits its own in the browser).
+
+    >>> ghost_extents({"traj": {"t": [0.0, 2.0], "x": [1.0, np.nan], "v": []}})
+    {('time_x', 'x'): (0.0, 2.0), ('time_x', 'y'): (1.0, 1.0), ('time_v', 'x'): (0.0, 2.0)}
+    """
+    out: dict[tuple[str, str], tuple[float, float]] = {}
+    for source, targets in GHOSTS.items():
+        if source not in cols:
+            continue
+        for fig, *columns in targets:
+            for axis, column in zip("xy", columns, strict=True):
+                a = np.asarray(cols[source][column], dtype=float)
+                a = a[np.isfinite(a)]
+                if len(a):
+                    out[(fig, axis)] = (float(a.min()), float(a.max()))
+    return out
+
+
 def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
     """What the comparison table shows of a run: steady state, period, x_max, impacts per
     period and the restitution measured (rebound over approach speed of the last impact or
@@ -307,6 +329,8 @@ class Compare:
         self._drawn: set[tuple[int, str]] = set()
         self._renderers: dict[tuple[int, str], Any] = {}
         self._scales: Scales = DIMENSIONLESS
+        #: Per pin slot: what its ghosts span, ``(figure, "x" or "y") -> (min, max)``.
+        self._extents: list[dict[tuple[str, str], tuple[float, float]]] = []
 
     @property
     def full(self) -> bool:
@@ -402,8 +426,18 @@ class Compare:
             for name, source in sources.items():
                 _assign(source, cols[name] if cols is not None
                         else {k: [] for k in source.data})
+            self._extents[slot] = ghost_extents(cols) if cols is not None else {}
             if pin is not None:
                 self._attach(slot, pin.color)
+
+    def extents(self) -> dict[tuple[str, str], list[float]]:
+        """What the drawn ghosts span, for the axes (:attr:`app.plots.PlotSet.more_extents`):
+        ``(figure, "x" or "y") -> [min, max, min, max, ...]`` over the pins."""
+        out: dict[tuple[str, str], list[float]] = {}
+        for slot in range(min(len(self.pins), len(self._extents))):
+            for key, bounds in self._extents[slot].items():
+                out.setdefault(key, []).extend(bounds)
+        return out
 
     def attach_all(self) -> None:
         """Give figures built since the last draw the ghosts of the current pins."""
@@ -415,6 +449,7 @@ class Compare:
         from bokeh.models import ColumnDataSource
 
         while len(self._sources) <= slot:
+            self._extents.append({})
             policy = self.plots.shared.policy
             self._sources.append({
                 "phase": ColumnDataSource({"x": [], "v": []}, selection_policy=policy),
@@ -440,6 +475,12 @@ class Compare:
                     r.nonselection_glyph = "auto"
                     r.muted_glyph = "auto"
                     r.view.filter = self.plots.shared.filter
+                    if fig_name == "phase":
+                        # The portrait's equal-aspect ranges are fitted in the browser to
+                        # the renderers they list: a far-off pin is not clipped.
+                        for rng in (fig.x_range, fig.y_range):
+                            if getattr(rng, "renderers", None):
+                                rng.renderers = [*rng.renderers, r]
                     self._drawn.add(key)
                     self._renderers[key] = r
                 elif self._renderers[key].glyph.line_color != color:

@@ -256,6 +256,7 @@ class Explorer(pn.viewable.Viewer):
         #: Pinned runs drawn as ghosts, and the menu that pins, compares and presents.
         self.compare = Compare(self.plots, self._pins_changed, self._solve_failed)
         self.plots.more_legend = lambda: self.compare.legend_entries(self.state.values())
+        self.plots.more_extents = self.compare.extents
         self.menu = CompareMenu(self)
         self._show_plots(self.visible_plots())
         self.state.param.watch(self._on_state, ["scene", *SOLVE_PARAMS, *VIEW_PARAMS])
@@ -912,11 +913,11 @@ class Explorer(pn.viewable.Viewer):
             # turn values such as a title's text into models).
             self._show_plots(visible)
             with validate(False):
+                if self.compare.pins:  # first: the axes fitted next show the ghosts too
+                    self.compare.draw(scales)
                 self.plots.update(sol, scales, visible, map_data)
                 if "anim" in visible:
                     self.anim.update(sol, scales)
-                if self.compare.pins:
-                    self.compare.draw(scales)
                 readout = readout_html(sol, scales) + self.compare.table(sol, scales)
                 self.readout.object = readout
                 self._reserve_readout(readout.count("<tr>"))
@@ -1034,6 +1035,7 @@ class Explorer(pn.viewable.Viewer):
             scales = self.state.scales()
             with pn.io.hold(), validate(False):
                 self.compare.draw(scales)
+                self.plots.fit_ranges()
                 self.plots.refresh_legend()
                 readout = readout_html(sol, scales) + self.compare.table(sol, scales)
                 self.readout.object = readout

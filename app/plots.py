@@ -635,6 +635,9 @@ class PlotSet:
         self._bands = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
         #: Entries appended to the phase portrait's legend (pinned runs, :mod:`app.compare`).
         self.more_legend: Any = lambda: []
+        #: Values the axes show besides the current run's (the pinned runs' extents,
+        #: :mod:`app.compare`): ``(figure, "x" or "y") -> values``.
+        self.more_extents: Any = lambda: {}
 
     # --- building ------------------------------------------------------------------------
 
@@ -1018,25 +1021,29 @@ class PlotSet:
         d = {name: src.data for name, src in self.sources.items()}
         f = self.figures
         plots = set(plots) & self.built
+        more = self.more_extents() if plots & {"time", "force", "loop"} else {}
         stop = _stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
         if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
             _assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
         if "time" in plots:
             traj = d["traj"]
-            _set_range(f["time_x"].x_range, (traj["t"],), 0.0)
-            _set_range(f["time_x"].y_range, (traj["x"], stop), RANGE_PADDING)
-            _set_range(f["time_v"].y_range, (traj["v"],), RANGE_PADDING)
+            _set_range(f["time_x"].x_range, (traj["t"], more.get(("time_x", "x"), ())), 0.0)
+            _set_range(f["time_x"].y_range, (traj["x"], stop, more.get(("time_x", "y"), ())),
+                       RANGE_PADDING)
+            _set_range(f["time_v"].y_range, (traj["v"], more.get(("time_v", "y"), ())),
+                       RANGE_PADDING)
         if "force" in plots:
-            _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"], d["rest"]["t"]),
-                       RANGE_PADDING)
-            _set_range(f["force"].y_range, ((0.0,), d["stems"]["j"], d["force"]["phi"]),
-                       RANGE_PADDING)
+            _set_range(f["force"].x_range, (d["stems"]["t"], d["force"]["t"], d["rest"]["t"],
+                                            more.get(("force", "x"), ())), RANGE_PADDING)
+            _set_range(f["force"].y_range, ((0.0,), d["stems"]["j"], d["force"]["phi"],
+                                            more.get(("force", "y"), ())), RANGE_PADDING)
             _set_range(f["force"].extra_y_ranges["rest"], ((0.0,), d["rest"]["f"]),
                        RANGE_PADDING)
         if "loop" in plots:
-            _set_range(f["loop"].x_range, (d["loop"]["d"], d["comp"]["d"], d["exp"]["d"]),
+            _set_range(f["loop"].x_range, (d["loop"]["d"], d["comp"]["d"], d["exp"]["d"],
+                                           more.get(("loop", "x"), ())), RANGE_PADDING)
+            _set_range(f["loop"].y_range, (d["loop"]["phi"], more.get(("loop", "y"), ())),
                        RANGE_PADDING)
-            _set_range(f["loop"].y_range, (d["loop"]["phi"],), RANGE_PADDING)
         if "friction" in plots:
             _set_range(f["friction"].x_range, (d["law"]["u"], d["ops"]["u"]), RANGE_PADDING)
             _set_range(f["friction"].y_range, (d["law"]["f"], d["ops"]["f"]), RANGE_PADDING)
@@ -1045,6 +1052,12 @@ class PlotSet:
             _set_range(f["energy"].x_range, (energy["t"],), RANGE_PADDING)
             _set_range(f["energy"].y_range, tuple(energy[n] for n in ENERGY_COLORS),
                        RANGE_PADDING)
+
+    def fit_ranges(self) -> None:
+        """Fit the axes of the built, up-to-date figures again (what :attr:`more_extents`
+        gives changed: a pin came or went); call under ``pn.io.hold``."""
+        if self._last is not None:
+            self._set_ranges(self.built - self._dirty, self._last)
 
     def _set_spans(self, sol: Solution, scales: Scales) -> None:
         has_stop = sol.stop is not None

@@ -4,6 +4,7 @@ adds a Bokeh model to a page until it is used."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from bokeh.document import Document
 from panel.io.state import set_curdoc
@@ -108,3 +109,35 @@ def test_presets_load_one_scene_and_pin_the_other():
         ex.menu.preset(next(k for k in PRESETS if k.startswith("r = 1")))
         assert ex.state.restitution == 1.0
         assert ex.compare.pins[0].values["restitution"] < 1.0
+
+
+#: A pin far from scene 5a's run: a three times larger static deflection, a farther stop
+#: and a faster belt (its excursion and speeds are some three times 5a's).
+FAR_PIN = {"u_s": 3.0, "clearance": 2.0, "belt_speed": 0.3, "t_end": 120.0}
+
+
+def _covers(rng, values) -> bool:
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    return rng.start <= values.min() and values.max() <= rng.end
+
+
+def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("5a")
+        figs = ex.plots.figures
+        ex.compare.pin("5a", {**scene_values("5a"), **FAR_PIN})
+        traj = ex.compare._sources[0]["traj"].data
+        for fig, column in (("time_x", "x"), ("time_v", "v")):
+            assert _covers(figs[fig].y_range, traj[column]), fig
+        assert _covers(figs["time_x"].x_range, traj["t"])  # the pin's longer horizon
+        # The portrait's equal-aspect ranges are fitted in the browser to the renderers
+        # they list: the ghost is one of them.
+        ghost = ex.compare._renderers[(0, "phase")]
+        assert ghost in figs["phase"].x_range.renderers
+        assert ghost in figs["phase"].y_range.renderers
+        ex.compare.unpin()
+        own = ex.plots.sources["traj"].data
+        assert figs["time_x"].x_range.end == pytest.approx(float(max(own["t"])))
+        assert figs["time_x"].y_range.end < 0.5 * max(traj["x"])

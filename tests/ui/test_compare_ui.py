@@ -111,3 +111,45 @@ def test_preset_7c_vs_10(browser, server, shots):
         assert p.errors == []
     finally:
         p.close()
+
+
+#: JavaScript: per figure drawing a ghost of the first pin, whether its ranges (as the
+#: browser fitted them) hold every finite point of that ghost.
+JS_GHOST_IN_VIEW = """color => {
+  const doc = Bokeh.documents[0];
+  const out = {};
+  for (const fig of [...doc.all_models].filter(m => m.type === "Figure")) {
+    for (const r of fig.renderers) {
+      const g = r.glyph;
+      // A scalar colour is stored as a value spec: {value: "#..."}.
+      const c = g == null ? null : g.line_color;
+      if (g == null || g.type !== "Line" || (c && c.value !== undefined ? c.value : c) !== color)
+        continue;
+      const data = r.data_source.data;
+      const fin = a => a.filter(Number.isFinite);
+      const xs = fin([...data[g.x.field]]), ys = fin([...data[g.y.field]]);
+      if (xs.length === 0) continue;  // nothing of this run on that figure (no contact force)
+      const inside = (rng, a) => a.length > 0 && rng.start <= Math.min(...a)
+        && Math.max(...a) <= rng.end;
+      out[fig.title.text] = inside(fig.x_range, xs) && inside(fig.y_range, ys);
+    }
+  }
+  return out;
+}"""
+
+
+def test_a_far_off_pin_is_not_clipped(browser, server, shots):
+    # Scene 5a beside a run three times its size (FAR_PIN of tests/app/test_compare.py).
+    p = Page(browser, server + "?scene=5a&pins=5a,us=3.0,xbar=2.0,v=0.3,tend=120.0")
+    try:
+        _wait_readout(p, "compared")
+        p.page.wait_for_timeout(500)  # the portrait's ranges are fitted after a paint
+        p.settle()
+        shown = p.page.evaluate(JS_GHOST_IN_VIEW, PIN_COLORS[0])
+        assert set(shown) >= {"Phase portrait (x, x')", "Displacement x(t)",
+                              "Velocity x'(t)"}, shown
+        assert all(shown.values()), shown
+        p.page.screenshot(path=shots / "compare-far-off-pin.png", full_page=True)
+        assert p.errors == []
+    finally:
+        p.close()
