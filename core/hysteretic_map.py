@@ -44,6 +44,7 @@ from numpy.polynomial import chebyshev as cheb
 
 from core.hysteresis import FIRST_LOADING, branch_work
 from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
+from core.hysteretic_reduced import contact_at
 from core.result import TransitionKind
 
 if TYPE_CHECKING:
@@ -224,11 +225,7 @@ class MapTrain(NamedTuple):
 
     def state(self, tau):
         """Position, velocity and approach speed ``tau`` after the switch."""
-        tau = np.atleast_1d(np.asarray(tau, dtype=float))
-        k = np.clip(np.searchsorted(self.start, tau, side="right") - 1, 0, len(self.start) - 1)
-        s = tau - self.start[k]
-        d, w_in, w_out = self.dur[k], self.w[k], self.w[k + 1]
-        inside = s < d
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
         pos = np.clip(s / d, 0.0, 1.0) * (PROFILE_POINTS - 1)
         i0 = np.minimum(pos.astype(int), PROFILE_POINTS - 2)

@@ -473,6 +473,17 @@ TRAIN_BLOCK = 65_536
 TRAIN_MAX_CONTACTS = 20_000_000
 
 
+def contact_at(start: np.ndarray, w: np.ndarray, dur: np.ndarray, tau):
+    """Where times ``tau`` after the switch fall in a train laid out as contacts starting at
+    ``start[k]`` with approach speed ``w[k]``, lasting ``dur[k]`` and leaving at
+    ``w[k + 1]``: ``(tau, s, dur, w_in, w_out, inside)``, ``s`` the time since the contact's
+    start and ``inside`` whether it is still on (else in the flight after it)."""
+    tau = np.atleast_1d(np.asarray(tau, dtype=float))
+    k = np.clip(np.searchsorted(start, tau, side="right") - 1, 0, len(start) - 1)
+    s = tau - start[k]
+    return tau, s, dur[k], w[k], w[k + 1], s < dur[k]
+
+
 class Train(NamedTuple):
     """A train of contacts of a pressed mass advanced by its contact-to-contact map.
 
@@ -506,11 +517,7 @@ class Train(NamedTuple):
 
     def state(self, tau):
         """Position, velocity and approach speed ``tau`` after the switch."""
-        tau = np.atleast_1d(np.asarray(tau, dtype=float))
-        k = np.clip(np.searchsorted(self.start, tau, side="right") - 1, 0, len(self.start) - 1)
-        s = tau - self.start[k]
-        d, w_in, w_out = self.dur[k], self.w[k], self.w[k + 1]
-        inside = s < d
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         th = np.where(inside, s / np.where(d > 0.0, d, 1.0), 0.0)
         delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
         v_c = w_in * (3.0 * th * th - 4.0 * th + 1.0) - w_out * (3.0 * th * th - 2.0 * th)
