@@ -304,3 +304,28 @@ def test_contact_map_blocks_are_the_sequential_iterates():
     assert ws is not None and ws[-1] < 0.012 - 1e-3  # the block covers a real drop
     # Sums against sequential differences: rounding of 64 terms of ~3e-5 on 0.012
     assert np.abs(ws - np.array(seq)).max() <= 1e-15
+
+
+@pytest.mark.parametrize(("model", "k_c0", "beta", "d"),
+                         [("map", 1e4, 100.0, 0.01), ("fitted", 1e5, 100.0, 1e-3)])
+def test_a_reduced_train_stores_nothing_in_its_flights(model, k_c0, beta, d):
+    """Between the contacts of a reduced train the stop is unloaded: ``stop_stored`` is 0
+    there, as in the full solve (the contact's loss is counted at its separation). It held
+    the last contact's loss until the next contact began: 1.3e-6 just after the map's
+    switch, 2.3e-7 at t > 20 (k_c0 1e4, beta 100, D 0.01)."""
+    from core import hysteretic_map
+
+    stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
+    with pytest.MonkeyPatch.context() as mp:
+        if model == "fitted":  # hold the map back so that the fitted loss law runs
+            mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+        res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, n_samples=20_000,
+                                  **STANDARD)
+    switch = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
+    assert len(switch) == 1
+    flight = (res.t > switch[0]) & (res.overlap < 0.0)
+    assert flight.sum() > 100
+    # Rounding of energies ~0.2 (SCALE^2 / 2), far below the loss of one contact (~1e-7).
+    assert np.abs(res.energy.stop_stored[flight]).max() <= 1e-13
+    assert np.diff(res.energy.stop_loss[res.t >= switch[0]]).min() >= -1e-15
+    assert _balance(res) < 1e-7  # the contacts before the switch, integrated to 1e-8
