@@ -244,6 +244,14 @@ class MapTrain(NamedTuple):
                 np.where(inside, w_in, w_out))
 
 
+    def peak(self, tau):
+        """Peak overlap of the contact under way ``tau`` after the switch (0 in a flight):
+        the drawn node profile's, scaled as in :meth:`state`."""
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
+        j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
+        return np.where(inside, w_in / self.nodes[j] * self.profiles[j, 0].max(axis=1), 0.0)
+
+
 class MapRun(NamedTuple):
     """The contacts the map laid out: ``start`` (after the switch), approach speeds
     ``w`` (one more: the speed of the contact handed back), durations ``dur``, and the

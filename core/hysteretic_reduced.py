@@ -531,6 +531,16 @@ class Train(NamedTuple):
         v = np.where(inside, v_c, v_f)
         return x, v, np.where(inside, w_in, w_out)
 
+    def peak(self, tau):
+        """Peak overlap of the contact under way ``tau`` after the switch (0 in a flight):
+        the cubic's, where its velocity ``v_c`` of :meth:`state` vanishes (the smaller root
+        of ``3 (w_in - w_out) th^2 - (4 w_in - 2 w_out) th + w_in``, in the stable form)."""
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
+        b = 4.0 * w_in - 2.0 * w_out
+        th = 2.0 * w_in / (b + np.sqrt(np.maximum(b * b - 12.0 * (w_in - w_out) * w_in, 0.0)))
+        delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
+        return np.where(inside, delta, 0.0)
+
     def energy(self, w) -> float:
         """Energy of the train above its touching limit at approach speed ``w``: the
         flight's ``((x - a)^2 + x'^2) / 2`` less its value at ``w = 0``."""
