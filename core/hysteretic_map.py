@@ -224,7 +224,9 @@ class MapTrain(NamedTuple):
         return 0.5 * np.asarray(w, dtype=float) ** 2
 
     def state(self, tau):
-        """Position, velocity and approach speed ``tau`` after the switch."""
+        """Position, velocity and the train's speed ``tau`` after the switch: the
+        approach speed of the contact under way, in a flight the one it returns at
+        (the stop is unloaded there: a contact's loss counts from its separation)."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
         pos = np.clip(s / d, 0.0, 1.0) * (PROFILE_POINTS - 1)
@@ -238,7 +240,16 @@ class MapTrain(NamedTuple):
         gap = self.xb - self.a
         x_f = self.a + gap * np.cos(sig) - w_out * np.sin(sig)
         v_f = -gap * np.sin(sig) - w_out * np.cos(sig)
-        return np.where(inside, self.xb + delta, x_f), np.where(inside, v_c, v_f), w_in
+        return (np.where(inside, self.xb + delta, x_f), np.where(inside, v_c, v_f),
+                np.where(inside, w_in, w_out))
+
+
+    def peak(self, tau):
+        """Peak overlap of the contact under way ``tau`` after the switch (0 in a flight):
+        the drawn node profile's, scaled as in :meth:`state`."""
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
+        j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
+        return np.where(inside, w_in / self.nodes[j] * self.profiles[j, 0].max(axis=1), 0.0)
 
 
 class MapRun(NamedTuple):

@@ -516,7 +516,9 @@ class Train(NamedTuple):
         return self.band
 
     def state(self, tau):
-        """Position, velocity and approach speed ``tau`` after the switch."""
+        """Position, velocity and the train's speed ``tau`` after the switch: the
+        approach speed of the contact under way, in a flight the one it returns at
+        (the stop is unloaded there: a contact's loss counts from its separation)."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         th = np.where(inside, s / np.where(d > 0.0, d, 1.0), 0.0)
         delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
@@ -527,7 +529,17 @@ class Train(NamedTuple):
         v_f = -gap * np.sin(sig) - w_out * np.cos(sig)
         x = np.where(inside, self.xb + delta, x_f)
         v = np.where(inside, v_c, v_f)
-        return x, v, w_in
+        return x, v, np.where(inside, w_in, w_out)
+
+    def peak(self, tau):
+        """Peak overlap of the contact under way ``tau`` after the switch (0 in a flight):
+        the cubic's, where its velocity ``v_c`` of :meth:`state` vanishes (the smaller root
+        of ``3 (w_in - w_out) th^2 - (4 w_in - 2 w_out) th + w_in``, in the stable form)."""
+        tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
+        b = 4.0 * w_in - 2.0 * w_out
+        th = 2.0 * w_in / (b + np.sqrt(np.maximum(b * b - 12.0 * (w_in - w_out) * w_in, 0.0)))
+        delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
+        return np.where(inside, delta, 0.0)
 
     def energy(self, w) -> float:
         """Energy of the train above its touching limit at approach speed ``w``: the

@@ -13,6 +13,7 @@ from core.hysteresis import (
     BranchPrimitive,
     branch_work,
     force_on_branches,
+    phi_compression,
     stored_energy_many,
 )
 from core.hysteretic_arcs import _evaluate_arcs
@@ -321,6 +322,16 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         loading = np.array([brs[i].loading for i in branch_rows])
         d_r = np.array([brs[i].delta_r for i in branch_rows])
         p_r = np.array([brs[i].phi_r for i in branch_rows])
+        # A reduced train's contact unloads from its own peak (paper Eq. 12): the row's
+        # branch is the first loading of every contact, the envelope.
+        for r in np.unique(rows[kinds == _TRAIN]):
+            sel = np.nonzero((kinds == _TRAIN) & (rows == r))[0]
+            model = c.data[r][0]
+            unloading = (xd[idx[sel]] < 0.0) & (delta[sel] > 0.0)
+            peak = np.asarray(model.peak(t[idx[sel]] - c.t0[r]), dtype=float)
+            loading[sel] = ~unloading
+            d_r[sel] = np.where(unloading, peak, d_r[sel])
+            p_r[sel] = np.where(unloading, phi_compression(peak, stop), p_r[sel])
         phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop)
         primitives: dict[int, BranchPrimitive] = {}
 
