@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from app.export import NAMED
+from app.glyphs import add_glyph
 from app.plots import MODE_NAMES, force_columns, loop_columns, phase_columns, trajectory_columns
 from app.scenes import CUSTOM, SCENES
 from app.solver import Solution, SolveRunner
@@ -446,16 +447,14 @@ class Compare:
                 self._attach(slot, pin.color)
 
     def _slot_sources(self, slot: int) -> dict[str, Any]:
-        from bokeh.models import ColumnDataSource
-
         while len(self._sources) <= slot:
             self._extents.append({})
-            policy = self.plots.shared.policy
+            source = self.plots.shared.source
             self._sources.append({
-                "phase": ColumnDataSource({"x": [], "v": []}, selection_policy=policy),
-                "traj": ColumnDataSource({"t": [], "x": [], "v": []}, selection_policy=policy),
-                "force": ColumnDataSource({"t": [], "f": []}, selection_policy=policy),
-                "loop": ColumnDataSource({"d": [], "phi": []}, selection_policy=policy),
+                "phase": source({"x": [], "v": []}),
+                "traj": source({"t": [], "x": [], "v": []}),
+                "force": source({"t": [], "f": []}),
+                "loop": source({"d": [], "phi": []}),
             })
         return self._sources[slot]
 
@@ -468,12 +467,10 @@ class Compare:
                     continue
                 if key not in self._drawn:
                     fig = figs[fig_name]
-                    r = fig.line(x, y, source=self._sources[slot][source],
-                                 line_color=color, **GHOST_STYLE)
+                    r = add_glyph(fig, "line", x, y, source=self._sources[slot][source],
+                                  line_color=color, **GHOST_STYLE)
                     # Drawn under the current run, over the mode bands and references.
                     fig.renderers = _under_current(fig.renderers, r, self.plots.sources)
-                    r.nonselection_glyph = "auto"
-                    r.muted_glyph = "auto"
                     r.view.filter = self.plots.shared.filter
                     if fig_name == "phase":
                         # The portrait's equal-aspect ranges are fitted in the browser to

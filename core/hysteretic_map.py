@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
+from numpy.polynomial import polynomial as poly
 
 from core.hysteresis import FIRST_LOADING, branch_work
 from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
@@ -181,14 +182,12 @@ def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
         w_out, d_c, _, _, kinds, _ = solve_contact(sv, w)
         if kinds != REGULAR:
             return None
-        e_loss = max(e_loss, 2.0 * abs(np.polynomial.polynomial.polyval(uc, loss_s)
-                                       - (w - w_out)))
-        e_dur = max(e_dur, 2.0 * abs(np.polynomial.polynomial.polyval(uc, dur_s) - d_c))
+        e_loss = max(e_loss, 2.0 * abs(poly.polyval(uc, loss_s) - (w - w_out)))
+        e_dur = max(e_dur, 2.0 * abs(poly.polyval(uc, dur_s) - d_c))
     e_loss += node
     peak_s, _ = _series(peak)
     grid = np.linspace(-1.0, 1.0, 257)
     half = 0.5 * (hi - lo)
-    poly = np.polynomial.polynomial
     dl = poly.polyval(grid, poly.polyder(loss_s)) / half
     dd = poly.polyval(grid, poly.polyder(dur_s)) / half
     return ContactMap(lo, hi, loss_s, dur_s, peak_s, e_loss, e_dur + node * dur.max(),
@@ -218,6 +217,10 @@ class MapTrain(NamedTuple):
     def amp0(self) -> float:
         return float(self.w[0])
 
+    def _nearest(self, w: np.ndarray) -> np.ndarray:
+        """Index of the node contact nearest in speed to each of ``w``."""
+        return np.abs(self.nodes[None, :] - w[:, None]).argmin(axis=1)
+
     def energy(self, w):
         """Energy of the train above its touching limit at approach speed ``w``: the
         flight's ``((x - a)^2 + x'^2) / 2`` less its value at ``w = 0``."""
@@ -228,7 +231,7 @@ class MapTrain(NamedTuple):
         approach speed of the contact under way, in a flight the one it returns at
         (the stop is unloaded there: a contact's loss counts from its separation)."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
-        j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
+        j = self._nearest(w_in)
         pos = np.clip(s / d, 0.0, 1.0) * (PROFILE_POINTS - 1)
         i0 = np.minimum(pos.astype(int), PROFILE_POINTS - 2)
         f = pos - i0
@@ -243,12 +246,11 @@ class MapTrain(NamedTuple):
         return (np.where(inside, self.xb + delta, x_f), np.where(inside, v_c, v_f),
                 np.where(inside, w_in, w_out))
 
-
     def peak(self, tau):
         """Peak overlap of the contact under way ``tau`` after the switch (0 in a flight):
         the drawn node profile's, scaled as in :meth:`state`."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
-        j = np.abs(self.nodes[None, :] - w_in[:, None]).argmin(axis=1)
+        j = self._nearest(w_in)
         return np.where(inside, w_in / self.nodes[j] * self.profiles[j, 0].max(axis=1), 0.0)
 
 
@@ -429,8 +431,6 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
                             overlap=max(m.overlap for m in maps),
                             nodes=np.concatenate([m.nodes for m in maps]),
                             profiles=np.concatenate([m.profiles for m in maps]))
-    if len(run.start) == 0:
-        return False
     _advance(sv, st, run, cmap, gap)
     return True
 

@@ -484,6 +484,12 @@ def contact_at(start: np.ndarray, w: np.ndarray, dur: np.ndarray, tau):
     return tau, s, dur[k], w[k], w[k + 1], s < dur[k]
 
 
+def _hermite_overlap(d, w_in, w_out, th):
+    """Overlap of a contact of duration ``d`` drawn as the cubic Hermite curve from the face
+    at speed ``w_in`` back to it at ``-w_out``, at the fraction ``th`` of its duration."""
+    return d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
+
+
 class Train(NamedTuple):
     """A train of contacts of a pressed mass advanced by its contact-to-contact map.
 
@@ -521,7 +527,7 @@ class Train(NamedTuple):
         (the stop is unloaded there: a contact's loss counts from its separation)."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         th = np.where(inside, s / np.where(d > 0.0, d, 1.0), 0.0)
-        delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
+        delta = _hermite_overlap(d, w_in, w_out, th)
         v_c = w_in * (3.0 * th * th - 4.0 * th + 1.0) - w_out * (3.0 * th * th - 2.0 * th)
         sig = np.where(inside, 0.0, s - d)
         gap = self.xb - self.a
@@ -538,7 +544,7 @@ class Train(NamedTuple):
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         b = 4.0 * w_in - 2.0 * w_out
         th = 2.0 * w_in / (b + np.sqrt(np.maximum(b * b - 12.0 * (w_in - w_out) * w_in, 0.0)))
-        delta = d * (w_in * (th - 2.0 * th * th + th**3) - w_out * (th**3 - th * th))
+        delta = _hermite_overlap(d, w_in, w_out, th)
         return np.where(inside, delta, 0.0)
 
     def energy(self, w) -> float:
