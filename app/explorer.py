@@ -14,7 +14,7 @@ import html
 import json
 import logging
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import panel as pn
@@ -23,7 +23,9 @@ from bokeh.core.properties import validate
 from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
+from app import presentation
 from app.animation import Animation
+from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
 from app.plots import MAP_PALETTE, PLOT_WIDTHS, PlotSet
@@ -168,6 +170,13 @@ PREVIEW_DELAY_MS = 15
 READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
 #: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
 READOUT_SPARE_LINES = 1
+
+
+#: Query keys the page reads besides the state's (:data:`URL_KEYS`, by key or by name): the
+#: pinned runs, the presentation mode and slide format, and the switch of the browser-side
+#: paint shortcuts (static/perf/).
+OTHER_URL_KEYS = frozenset({PINS_KEY, presentation.URL_KEY, presentation.SLIDES_KEY,
+                            "paint_shortcuts"})
 
 
 class Explorer(pn.viewable.Viewer):
@@ -454,12 +463,18 @@ class Explorer(pn.viewable.Viewer):
         pn.state.onload(self._write_url)
 
     def _apply_query(self, query: Mapping[str, Any]) -> None:
-        """Set the state from the URL's parameters in one batch; report what failed."""
-        names = {key: name for name, key in URL_KEYS.items()}
-        values = {}
+        """Set the state from the URL's parameters in one batch; report what failed.
+
+        A parameter is read under its permalink key (``tend``) or its own name (``t_end``);
+        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported."""
+        names = {**{name: name for name in URL_KEYS},
+                 **{key: name for name, key in URL_KEYS.items()}}
+        values, unknown = {}, []
         for key, raw in query.items():
             name = names.get(key)
             if name is None:
+                if key not in OTHER_URL_KEYS:
+                    unknown.append(key)
                 continue
             try:
                 value = self.state.param[name].deserialize(raw)
@@ -480,8 +495,8 @@ class Explorer(pn.viewable.Viewer):
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
             bad.update(good)
-        if bad:
-            self._url_error(bad)
+        if bad or unknown:
+            self._url_error(bad, unknown)
 
     def _url_changed(self, *events: param.parameterized.Event) -> None:
         """Rewrite the URL once the state has been still for :data:`URL_DELAY_MS`."""
@@ -515,11 +530,16 @@ class Explorer(pn.viewable.Viewer):
         query.update(self.menu.query(loc.query_params))
         loc.update_query(**query)
 
-    def _url_error(self, values: Mapping[str, Any]) -> None:
-        """Say which of the URL's values were rejected, what each allows and what came."""
-        self._show_error("Some URL parameters could not be applied: " + "; ".join(
-            f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
-            f"got {_shown(value)}" for name, value in values.items()))
+    def _url_error(self, values: Mapping[str, Any], unknown: Sequence[str] = ()) -> None:
+        """Say which of the URL's values were rejected, what each allows and what came, and
+        which keys the page does not know."""
+        parts = [f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
+                 f"got {_shown(value)}" for name, value in values.items()]
+        if unknown:
+            parts.append(f"unknown {'keys' if len(unknown) > 1 else 'key'} "
+                         f"{', '.join(_shown(k) for k in unknown)} (known: "
+                         f"{', '.join(URL_KEYS.values())}, or the parameters' names)")
+        self._show_error("Some URL parameters could not be applied: " + "; ".join(parts))
 
     # --- events --------------------------------------------------------------------------
 

@@ -403,6 +403,24 @@ def test_permalink_with_a_scene_name_opens_that_scene(monkeypatch, scene):
     assert loc.query_params["scene"] in (scene, int(scene) if scene.isdigit() else scene)
 
 
+
+def test_permalink_reads_a_parameter_by_its_name_and_names_an_unknown_key(monkeypatch):
+    """``?t_end=1000`` (the parameter's own name, not its short key ``tend``) was dropped
+    without a word: the page kept the scene's horizon. A key the page does not know is
+    now named in the page's message; the keys other parts of the page read are not."""
+    from panel.io.location import Location
+
+    loc = Location(search="?scene=5a&t_end=1000&belt_speed=0.12&colour=red"
+                          "&present=0&paint_shortcuts=off")
+    monkeypatch.setattr(pn.state, "_location", loc)
+    ex = Explorer()
+    ex.sync_url()
+    assert ex.state.t_end == 1000.0 and ex.state.belt_speed == 0.12
+    shown = html.unescape(ex.alert.object)
+    assert ex.alert.visible and "unknown key 'colour'" in shown
+    for other in ("present", "paint_shortcuts", "t_end", "belt_speed"):
+        assert repr(other) not in shown
+
 def test_regime_map_of_a_hysteretic_scene(ex):
     """Regression: the map's cache key left out parameters the hysteretic stop needs, so
     'show all plots' on a hysteretic scene failed to draw the map."""
