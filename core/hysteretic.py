@@ -126,7 +126,6 @@ from core.hysteretic_reduced import (
     creep_end,
     fit_train,
     reduce_oscillation,
-    reduce_train,
 )
 from core.hysteretic_samples import _assemble
 from core.params import HystereticStop
@@ -186,6 +185,7 @@ class _Solver:
         self.use_arcs = True
         self.use_reduced = True
         self.max_events = MAX_EVENTS
+        self.n_solved = 0  # transitions recorded by the solve (not laid out by a model)
         self.restitution: list[float] = []
         self.x_max = -math.inf
         self.t_stop = t_end  # end of the computed motion (earlier on failure)
@@ -321,16 +321,16 @@ class _Solver:
 
     def start_contact(self, st: _State) -> str | None:
         """Record a contact's start; ``"periodic"`` if the motion is periodic from here (a
-        fixed point of the friction-impact map, or of a pressed train's contact-to-contact
-        map), ``"horizon"`` or ``"rest"`` if a shrinking train is advanced by its reduced
-        model from here (:func:`core.hysteretic_reduced.fit_train`)."""
+        fixed point of the friction-impact map), ``"horizon"`` or ``"rest"`` if a shrinking
+        train is advanced by its reduced model from here (its contact-to-contact map,
+        :func:`core.hysteretic_map.map_train`, or its fitted loss law,
+        :func:`core.hysteretic_reduced.fit_train`). A train whose contacts turn elastic
+        tends to the elastic speed without reaching it: it is never tiled as periodic."""
         self.n_contacts += 1
         self.record(TransitionKind.CONTACT, st, st.v)
         if self.steady is not None:
             return "periodic"
         self.train.append((st.t, st.v, math.nan, self.log.total))
-        if reduce_train(self, st, self.train) is not None:
-            return "periodic"
         if map_train(self, st, self.train):
             # st is now the start of a later contact, handed back to the integration
             self.n_contacts += 1
@@ -625,7 +625,10 @@ class _Solver:
 
     def record(self, kind: TransitionKind, st: _State, v_after: float, phi: float = 0.0):
         self.log.add(kind, st.t, st.x, st.v, v_after)
-        if self.log.total >= self.max_events and self.status is Status.SUCCESS:
+        # Only transitions solved here count against the limit (a guard against an
+        # endless loop): those a reduced model lays out cost no work and are not stored.
+        self.n_solved += 1
+        if self.n_solved >= self.max_events and self.status is Status.SUCCESS:
             self.status = Status.EVENT_LIMIT
         # Reversals inside a sustained contact are not compared: a cycle made only of them
         # is integrated to ~1e-8 and never passes the fixed-point test, and comparing each
