@@ -70,6 +70,9 @@ QUANTITY_LABELS: Mapping[str, str] = {
     "x_max": "steady x_max",
     "period": "period",
 }
+#: The card sweeps the core's dimensionless parameters whatever units the page shows (its
+#: ranges, axes and tapped values are the state's own numbers): it says so.
+UNITS_NOTE = "dimensionless units"
 #: Quantities read per point rather than per transition.
 PER_POINT = ("x_max", "period")
 #: Points of a new diagram.
@@ -615,7 +618,7 @@ class BifurcationView:
             pn.Row(self.quantity, self.run, self.stop, self.progress, margin=0),
             self.status, pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
             pn.Row(self.sim_layer, self.disagree_layer, margin=0), self.map_status,
-            title="Bifurcation diagram and regime map from simulation",
+            title=f"Bifurcation diagram and regime map from simulation ({UNITS_NOTE})",
             sizing_mode="stretch_width", collapsible=True, css_classes=["fie-bifurcation"],
             styles={"flex": "1 1 100%"}, margin=(4, 8))
 
@@ -685,8 +688,8 @@ class BifurcationView:
             self.source.data = {"x": [], "y": [], "color": []}
             self.image_source.data = {"image": [], "x": [], "y": [], "dw": [], "dh": []}
             self.fig.x_range.update(start=spec.lo, end=spec.hi)
-            self.fig.xaxis.axis_label = PARAMETER_LABELS[spec.parameter]
-            self.fig.yaxis.axis_label = QUANTITY_LABELS[spec.quantity]
+            self.fig.xaxis.axis_label = f"{PARAMETER_LABELS[spec.parameter]} ({UNITS_NOTE})"
+            self.fig.yaxis.axis_label = f"{QUANTITY_LABELS[spec.quantity]} ({UNITS_NOTE})"
             self._draw_theory(spec)
             self.current.location = float(values[spec.parameter])
             self.progress.value = 0

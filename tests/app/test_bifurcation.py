@@ -101,6 +101,18 @@ def test_opening_sweeps_1000_belt_speeds_of_the_scene():
     assert view.current.location == ex.state.belt_speed
 
 
+def test_the_card_says_its_numbers_are_dimensionless_in_si_mode():
+    """The sweep's ranges and axes are the core's dimensionless numbers: with the page in
+    SI units the card said 'belt speed v' over 0.05-0.5 beside a slider in m/s."""
+    ex = _opened()
+    ex.state.units = "SI"
+    ex.sweeps.start()
+    fig = ex.sweeps.fig
+    assert fig.xaxis[0].axis_label == "belt speed v (dimensionless units)"
+    assert fig.yaxis[0].axis_label.endswith("(dimensionless units)")
+    assert "dimensionless units" in ex.sweeps.layout.title
+
+
 def test_a_tap_loads_the_nearest_swept_value_into_the_explorer():
     ex = _opened()
     view = ex.sweeps
