@@ -136,8 +136,10 @@ def accuracy_text(sol: Solution) -> str:
                  "over longer runs)")
     reduced = [t.t for t in res.transitions if t.kind is TransitionKind.REDUCED]
     if reduced:
+        # The core states the bound as a length: over its scale, as the preset's error is.
+        bound = res.info.get("reduced_error", math.nan) / res.info.get("length_scale", math.nan)
         text += (f"; from t = {_num(reduced[0])} a reduced model, its stated error "
-                 f"<= {_num(res.info.get('reduced_error', float('nan')))} of the scale")
+                 f"<= {_num(bound)} of the scale")
     return text
 
 

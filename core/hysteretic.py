@@ -714,7 +714,8 @@ def solve_hysteretic(
         oscillation on the stop and for a train advanced by its contact-to-contact map
         (:mod:`core.hysteretic_map`), in the position for a train fitted to a loss law,
         whose velocity may be off by twice its approach speed) and ``reduced_band`` (bound of the
-        position's error while the model runs).
+        position's error while the model runs), both absolute, with ``length_scale``
+        (``max(a, b, v, |x_bar|, D)``, the scale the tolerances are relative to).
 
     Examples
     --------

@@ -133,6 +133,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     if not math.isnan(sv.rest_force):
         info["rest_force"] = sv.rest_force
     if sv.reduced_error > 0.0:
+        info["length_scale"] = sv.scale()
         info["reduced_error"] = sv.reduced_error
         info["reduced_band"] = max(sv.reduced_band, sv.reduced_error)
     x_max = sv.x_max
