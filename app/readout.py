@@ -90,8 +90,14 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         measured = sol.restitution_measured
         if len(measured):
             r_eq = _num(th.restitution) if th is not None else "—"
-            spread = (f"{_num(measured[0])} at the first contact, {_num(measured[-1])} at the "
-                      f"last of {len(measured)}" if len(measured) > 1
+            # The stored transitions may end long before the run does (a capped log, a train
+            # laid out by its map): the last contact is the core's, the count the run's.
+            last = float(res.info.get("effective_restitution", math.nan))
+            if not math.isfinite(last):
+                last = float(measured[-1])
+            total = max(int(res.info.get("n_contacts", 0)), len(measured))
+            spread = (f"{_num(measured[0])} at the first contact, {_num(last)} at the "
+                      f"last of {total}" if total > 1
                       else f"{_num(measured[0])} (one contact)")
             rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
                          "holds only for beta * overlap / D >> 1"))

@@ -266,10 +266,11 @@ class _Solver:
         ``"horizon"``.
         """
         stop, xb = self.stop, self.xb
-        w_in = st.v
         started = self.start_contact(st)
         if started:
             return started
+        # after start_contact: a train's map moves st to the start of a later contact
+        w_in = st.v
         branch = FIRST_LOADING
         self.new_branch(branch, 0.0, st.work[2])
         d_branch0 = 0.0

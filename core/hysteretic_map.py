@@ -45,7 +45,7 @@ from numpy.polynomial import polynomial as poly
 
 from core.hysteresis import FIRST_LOADING, branch_work
 from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
-from core.hysteretic_reduced import contact_at
+from core.hysteretic_reduced import contact_at, record_last_restitution
 from core.result import TransitionKind
 
 if TYPE_CHECKING:
@@ -469,6 +469,7 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
         n = k - first - (1 if kind == "contact" and first == 0 else 0)
         sv.log.count(TransitionKind(kind), (k - 1 if kind == "contact" else k) - n)
     sv.n_contacts += k - 1
+    record_last_restitution(sv, run.w)
     st.t, st.x, st.v = t_s + run.t_last, sv.xb, w1
     err = 2.0 * run.err_speed + max(cmap.accel, run.w[0]) * run.err_time
     # Whatever the phase, both motions stay in the train's band: positions within the

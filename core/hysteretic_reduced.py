@@ -709,6 +709,13 @@ def _lay_out(sv, decay: TrainDecay, w0: float, slope: float, icpt: float, band: 
     return Train(sv.a, sv.xb, start, w_all, dur, band, t_last, settled)
 
 
+def record_last_restitution(sv: _Solver, w: np.ndarray) -> None:
+    """The restitution of the last contact a train's model lays out (rebound over approach
+    speed, ``w[-1] / w[-2]``): the run's last contact, which ``info`` reports."""
+    if len(w) >= 2 and w[-2] > 0.0:
+        sv.restitution.append(float(w[-1] / w[-2]))
+
+
 def advance_train(sv: _Solver, st: _State, model: Train) -> str:
     """Advance a shrinking train by its reduced model from the start of a contact
     (``st``) to the horizon, or to rest at the equilibrium on the compression envelope
@@ -733,6 +740,7 @@ def advance_train(sv: _Solver, st: _State, model: Train) -> str:
     st.work = (wf + dwf, wb + sv.a * sv.vb * (t1 - st.t), ws + dwf - dm)
     st.t, st.x, st.v = t1, x1, v1
     sv.n_contacts += len(model.start) - 1
+    record_last_restitution(sv, model.w)
     sv.reduced_error = max(sv.reduced_error, model.error_bound)
     if not model.settled or t1 >= sv.t_end:
         return "horizon"

@@ -53,6 +53,19 @@ def test_the_restitution_of_deformable_contacts_is_shown_first_to_last():
     assert "0.3" in row  # r_eq = sqrt(36 / 400)
 
 
+def test_the_last_restitution_is_the_run_s_last_contact_when_few_are_stored():
+    """A stiffer stop of scene 11: a train of 477 contacts, most laid out by its map and only
+    the first 39 stored. The readout said '0.9999 at the last of 39' beside 'over 477
+    contacts' in the same readout: the last is the run's last contact, counted in the run."""
+    sol = solve({**scene_values("11"), "k_c0": 1e4, "k_e0": 900.0}, budget=120.0)
+    info, measured = sol.result.info, sol.restitution_measured
+    assert info["n_contacts"] > len(measured) > 1
+    row = dict(readout_rows(sol))["Restitution"]
+    assert (f"{info['effective_restitution']:.4g} at the last of {info['n_contacts']};"
+            in row)
+    assert f"over {info['n_contacts']} contacts" in dict(readout_rows(sol))["Solve"]
+
+
 def test_the_readout_names_the_contact_law_of_a_deformable_stop():
     """The page says which reading of Eqs. 12-13 its deformable stop follows (and that the
     paper's is not passive); a rigid stop has no such row; every law has its sentence."""

@@ -346,6 +346,22 @@ def test_rest_among_creeping_loops_states_the_creep_left():
     assert abs(res.x[-1] - ref.x[-1]) <= bound <= 1e-3 * SCALE
 
 
+def test_the_last_restitution_is_the_last_contact_s_after_a_map():
+    """info['effective_restitution'] is the run's last contact: after a train's map the
+    contact handed back was measured against the approach speed of the contact where the
+    map began (0.78 for 0.99994 on scene 11's stop at k_c0 = 1e4)."""
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
+    stop = HystereticStop(0.15, 1e4, 900.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    res = simulate(osc, stop, 80.0, transition_cap=100_000, **STANDARD)
+    assert any(tr.kind is TransitionKind.REDUCED for tr in res.transitions)
+    last_in = [tr for tr in res.transitions if tr.kind is TransitionKind.CONTACT][-1]
+    last_out = [tr for tr in res.transitions if tr.kind is TransitionKind.SEPARATION][-1]
+    assert last_out.t > last_in.t
+    # The two speeds are the solve's own, so the ratio agrees to rounding.
+    assert res.info["effective_restitution"] == pytest.approx(-last_out.v / last_in.v,
+                                                               rel=1e-12)
+
+
 def test_contact_map_refuses_a_kink():
     """The map is built only where every node's contact is one reversal between start
     and separation: a range reaching approach speeds above the belt's (friction changes
