@@ -92,7 +92,8 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     if t_eval is None:
         marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop]
         times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
-                                          _contact_samples(sv, t_stop, t_end))))
+                                          _contact_samples(sv, t_stop, t_end),
+                                          _train_samples(sv, t_stop, n_samples))))
     else:
         times = np.asarray(t_eval, dtype=float)
     times = times[times <= t_stop]
@@ -166,6 +167,40 @@ def _last_time(sv: _Solver) -> float:
     if sv.table.t1:
         ends.append(sv.table.t1[-1])
     return max(ends) if ends else 0.0
+
+
+#: Where in each contact of a reduced train samples are taken (fractions of its duration):
+#: its ends and middle (the peak overlap and force), and densely early on, where the belt's
+#: push still speeds the mass up (x' peaks ~1.4 % above the approach speed at ~6 % of a
+#: contact of scene 11's stop at k_c0 = 1e4).
+TRAIN_CONTACT_FRACTIONS = np.array([0.0, 0.02, 0.04, 0.06, 0.08, 0.1, 0.2, 0.5, 0.8, 1.0])
+
+
+def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
+    """Times at the extremes of the contacts a reduced train lays out (their start, middle
+    and end, :data:`TRAIN_CONTACT_FRACTIONS`, and the bottom of the flight after each), which
+    a uniform grid aliases: a
+    train of contacts 0.15 apart sampled every 0.05 showed beats in x'(t) and in the
+    contact force. Past ``bins`` contacts per row, the first contact of each of ``bins``
+    equal spans of the row: the train shrinks, so it is the span's largest."""
+    c = sv.contact
+    out = []
+    for r, kind in enumerate(c.kind):
+        if kind != _TRAIN:
+            continue
+        model, t0, t1 = c.data[r][0], c.t0[r], min(c.t1[r], t_stop)
+        start = t0 + np.asarray(model.start, dtype=float)
+        dur = np.asarray(model.dur, dtype=float)
+        k = np.arange(len(start))
+        if len(k) > bins:
+            edges = np.linspace(t0, t1, bins + 1)[:-1]
+            k = np.unique(np.clip(np.searchsorted(start, edges), 0, len(start) - 1))
+        end = start[k] + dur[k]
+        nxt = np.where(k + 1 < len(start), start[np.minimum(k + 1, len(start) - 1)], t1)
+        inside = (start[k][:, None] + dur[k][:, None] * TRAIN_CONTACT_FRACTIONS).ravel()
+        times = np.concatenate((inside, 0.5 * (end + nxt)))
+        out.append(times[(times >= t0) & (times <= t1)])
+    return np.concatenate(out) if out else np.zeros(0)
 
 
 def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
