@@ -41,6 +41,10 @@ FONTS: Mapping[str, Mapping[str, str]] = {
     "4": {"title": "20px", "axis": "17px", "tick": "15px", "points": "18px",
           "legend": "14px"},
 }
+#: Ticks asked of the page's (shared) ticker by layout, and off: in a quarter of a 720p
+#: screen the stacked x(t) and x'(t) plots are ~100 px high, and six 15 px tick labels
+#: touched each other there.
+TICKS: Mapping[str, int] = {"": 6, "1": 5, "4": 4}
 #: Line widths are multiplied by this (a 1.5 px line is invisible from the back of a room).
 LINE_SCALE = 2.0
 #: Height left free above the plots [px]: the page's header and the scene's title.
@@ -219,6 +223,9 @@ class Presentation:
         for name in set(figs) - self._styled:
             self._style_figure(figs[name])
             self._styled.add(name)
+        ticker = plots.shared.ticker
+        if ticker.desired_num_ticks != TICKS[self.mode if self.on else ""]:
+            ticker.desired_num_ticks = TICKS[self.mode if self.on else ""]
         if plots.point_labels is not None:
             labels = plots.point_labels
             text, size = ("paper", self._font("points")) if self.on else ("name", "12px")

@@ -88,8 +88,13 @@ def test_no_model_until_used_then_ghosts_and_present_mode():
         ex.menu.presentation.set_mode("4")
         assert len(doc.models) == before  # presentation changes properties only
         assert ex.plots.point_labels.text == "paper"
+        # Fewer ticks in a quarter of the screen (six touched each other at 720p).
+        assert ex.plots.shared.ticker.desired_num_ticks == 4
+        ex.menu.presentation.set_mode("1")
+        assert ex.plots.shared.ticker.desired_num_ticks == 5
         ex.menu.presentation.set_mode("")
         assert ex.plots.point_labels.text == "name"
+        assert ex.plots.shared.ticker.desired_num_ticks == 6
         assert ex.compare.renderer_count == 0
         ex.compare.pin(ex.state.scene, ex.state.values())
         assert ex.compare.pins[0].solution is not None
