@@ -104,8 +104,8 @@ def transitions_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringI
     if res is None:
         return _rewound(buf)
     if res.truncated:
-        buf.write(f"# only the first {len(res.transitions)} of {res.n_transitions} "
-                  "transitions are stored\n")
+        buf.write(f"# {len(res.transitions)} of {res.n_transitions} transitions are stored: "
+                  "the first ones, then only a reduced model's start, rest or a failed stop\n")
     for tr in res.transitions:
         impulse = ((tr.v - tr.v_after) * scales.impulse if tr.kind in IMPACT_KINDS else None)
         cells = [f"{tr.t * scales.time:.{CSV_DIGITS}g}", tr.kind.value,

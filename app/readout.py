@@ -106,8 +106,9 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         if res.status is not Status.SUCCESS:
             rows.append(("Status", res.status.message))
         if res.truncated:
-            rows.append(("Transitions", f"{res.n_transitions} (only the first "
-                                        f"{len(res.transitions)} stored)"))
+            rows.append(("Transitions", f"{res.n_transitions} ({len(res.transitions)} "
+                                        "stored: the first ones, then only a reduced "
+                                        "model's start, rest or a failed stop)"))
     rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; "
                           f"accuracy {accuracy_text(sol)}"))
     return rows

@@ -234,7 +234,9 @@ class Result:
     mode : ndarray of int8
         :class:`Mode` at each sample.
     transitions : tuple of Transition
-        The first ``transition_cap`` transitions; all are counted in ``transition_counts``.
+        The first ``transition_cap`` transitions, and past them the switches into a reduced
+        model, rest and a failed stop (``core.transitions.LANDMARKS``); all are counted in
+        ``transition_counts``.
     x_max : float
         Exact maximum of ``x`` over ``[0, t_end]``.
     steady : Steady

@@ -3,7 +3,8 @@
 One log for every method (docs/physics.md, "Transitions"): the exact solver records the
 events of its closed form, the hysteretic solver its contacts, the numerical methods
 what their event location finds. Memory stays bounded on long horizons: the first
-``cap`` transitions are stored for the result, the last ``window`` are kept for the
+``cap`` transitions are stored for the result (and, past them, the few that say how the
+run was solved or ended: :data:`LANDMARKS`), the last ``window`` are kept for the
 steady-state search (:mod:`core.steady`), and every transition is counted by kind.
 
 A method builds one ``TransitionLog(cap, window)``, calls :meth:`TransitionLog.add`
@@ -21,18 +22,24 @@ from core.result import Transition, TransitionKind
 
 #: Transitions at which the stop takes an impulse ``m (v - v_after)``.
 IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+#: Kinds stored even past the cap: a switch into a reduced model, rest and a failed stop
+#: happen once or twice in a run, and the readout and the plots show them (a reduced
+#: model's start and stated error, where the mass came to rest) whatever the run's length:
+#: a soft stop's 13,000 reversals by t = 1e4 must not hide the model that ended them.
+LANDMARKS = frozenset({TransitionKind.REDUCED, TransitionKind.REST, TransitionKind.FAILURE})
 #: Each kind's value, looked up without the enum's property (a long horizon records
 #: hundreds of thousands of transitions).
 _VALUE = {kind: kind.value for kind in TransitionKind}
 
 
 class TransitionLog:
-    """Transitions: the first ``cap`` stored, the last ``window`` kept, all counted.
+    """Transitions: the first ``cap`` stored (and the :data:`LANDMARKS` after them), the
+    last ``window`` kept, all counted.
 
     Attributes
     ----------
     stored : list of Transition
-        The first ``cap`` transitions, in time order.
+        The first ``cap`` transitions, then only :data:`LANDMARKS`, in time order.
     recent : deque of Transition
         The last ``window`` transitions (empty when ``window = 0``).
     counts : Counter
@@ -80,7 +87,7 @@ class TransitionLog:
         tr = Transition(kind, float(t), float(x), float(v), float(after))
         self.total += 1
         self.counts[_VALUE[kind]] += 1
-        if len(self.stored) < self.cap:
+        if len(self.stored) < self.cap or kind in LANDMARKS:
             self.stored.append(tr)
             if kind is TransitionKind.IMPACT or kind is TransitionKind.STICK_IMPACT:
                 self.impulses.append((tr.t, tr.v - tr.v_after))

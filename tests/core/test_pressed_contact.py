@@ -485,3 +485,20 @@ def test_a_reduced_train_unloads_on_the_law(model, k_c0, beta, d, t_end):
         # the drawn peak lies between samples: its force differs by the envelope's
         # slope times the overlap's change over a sample step
         assert np.allclose(fast.contact_force[down], law, rtol=1e-2, atol=0.0)
+
+
+def test_a_long_run_keeps_its_switch_and_rest_past_the_transition_cap():
+    """A soft stop's loops make thousands of reversals before a reduced model ends them
+    (13,199 by t = 1e4 for k_c0 = 100, beta = 10, D = 0.01, past the default cap of 10,000).
+    The switch and the rest must stay in ``transitions``: the readout states the reduced
+    model's start and error from it, and the plots mark the rest (both were dropped)."""
+    stop = HystereticStop(FACE, 100.0, 50.0, limit_overlap=0.1, beta_c=1000.0, beta_e=1000.0)
+    capped = simulate(PRESSING, stop, 1000.0, transition_cap=100, n_samples=200, **STANDARD)
+    full = simulate(PRESSING, stop, 1000.0, transition_cap=100_000, n_samples=200,
+                    **STANDARD)
+    assert capped.truncated and capped.n_transitions == full.n_transitions > 1000
+    landmarks = [tr for tr in full.transitions
+                 if tr.kind in (TransitionKind.REDUCED, TransitionKind.REST)]
+    assert [tr.kind for tr in landmarks] == [TransitionKind.REDUCED, TransitionKind.REST]
+    assert list(capped.transitions[:100]) == list(full.transitions[:100])
+    assert list(capped.transitions[100:]) == landmarks
