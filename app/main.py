@@ -21,6 +21,7 @@ if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the
 from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
+from app.perf.defaults import cache_immutable_defaults  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.solve_process import warm_up  # noqa: E402
 
@@ -43,6 +44,7 @@ TITLE = "Friction–Impact Explorer"
 def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
     pn.extension(notifications=False, design="bootstrap", js_files=JS_FILES)
+    cache_immutable_defaults()  # before the page's models are built
     explorer = Explorer()
     explorer.sync_url()
     template = pn.template.BootstrapTemplate(

@@ -3,8 +3,8 @@ written for.
 
 The explorer runs on public Panel and Bokeh APIs. A few measured delays could only be
 removed by reaching into library internals; each such patch lives here
-(:mod:`app.perf.websocket`, :mod:`app.perf.slider`), names the library versions it was
-written and tested for (:data:`PATCHES`), and is applied only
+(:mod:`app.perf.websocket`, :mod:`app.perf.slider`, :mod:`app.perf.defaults`), names the
+library versions it was written and tested for (:data:`PATCHES`), and is applied only
 
 * inside that version window (checked when the server starts; outside it a log line says
   the patch was left out), and
@@ -67,6 +67,9 @@ PATCHES = {
               "10 ms retry"),
         Patch("inline-arrays", "bokeh", "3.9", "3.10",
               "a document update is one message of three frames (patch_doc.create)"),
+        Patch("immutable-defaults", "bokeh", "3.9", "3.10",
+              "an unset property's immutable, unthemed default is computed once per model "
+              "class, not on every read"),
         Patch("slider-release", "panel", "1.9", "1.10",
               "a slider's release is processed at once, not after the drag's debounce"),
     )
