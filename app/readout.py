@@ -95,7 +95,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
             last = float(res.info.get("effective_restitution", math.nan))
             if not math.isfinite(last):
                 last = float(measured[-1])
-            total = max(int(res.info.get("n_contacts", 0)), len(measured))
+            total = contact_count(res, len(measured))
             spread = (f"{_num(measured[0])} at the first contact, {_num(last)} at the "
                       f"last of {total}" if total > 1
                       else f"{_num(measured[0])} (one contact)")
@@ -114,15 +114,25 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     return rows
 
 
-#: Contacts past which the readout says that a deformable stop's errors add up: the preset's
-#: figure is measured on the paper's scenes (tens of contacts); over a long train each
-#: contact's small error in its timing adds to the next (docs/contact-law.md).
+#: Contacts (and loops on the stop) past which the readout says that a deformable stop's
+#: errors add up: the preset's figure is measured on the paper's scenes (tens of contacts);
+#: over a long train each contact's small error in its timing adds to the next, and so does
+#: each loop's over hundreds of loops inside one contact (docs/contact-law.md).
 MANY_CONTACTS = 50
 #: The largest error measured against a tight reference, over the scale, of the pressed
 #: contact trains of the grid in docs/contact-law.md at t_end = 100 and the standard preset
 #: (up to 1.1e-4, k_c0 = 100, beta = 10, D = 0.1: the phase of hundreds of contacts, each
 #: integrated at the preset; benchmarks/results/hysteretic_speed_2026-11-24.txt).
 MANY_CONTACTS_ERROR = 1.1e-4
+
+
+def contact_count(res, measured: int) -> int:
+    """The contacts of the whole run: ``info['n_contacts']`` counts those integrated and
+    those a reduced model laid out, ``transition_counts`` every one logged (a periodic tail
+    tiled from one period included, past the stored ones), ``measured`` the restitutions
+    of the stored ones."""
+    logged = int(res.transition_counts.get(TransitionKind.CONTACT.value, 0))
+    return max(int(res.info.get("n_contacts", 0)), logged, measured)
 
 
 def accuracy_text(sol: Solution) -> str:
@@ -135,11 +145,16 @@ def accuracy_text(sol: Solution) -> str:
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):
         return text
-    # The contacts of the whole run: ``n_contacts`` counts those integrated, the measured
-    # restitutions every finished one (a periodic tail tiled from one period included).
-    contacts = max(int(res.info.get("n_contacts", 0)), len(sol.restitution_measured))
-    if contacts > MANY_CONTACTS:
-        text += (f" per contact; over {contacts} contacts their timing errors add up (measured "
+    contacts = contact_count(res, len(sol.restitution_measured))
+    # Loops on the stop: the reversals beyond each contact's one, two per loop.
+    reversals = int(res.transition_counts.get(TransitionKind.REVERSAL.value, 0))
+    logged = int(res.transition_counts.get(TransitionKind.CONTACT.value, 0))
+    loops = max(reversals - logged, 0) // 2
+    if contacts + loops > MANY_CONTACTS:
+        what = (f"{contacts} contacts" if loops <= MANY_CONTACTS else
+                f"{contacts} contact{'s' if contacts != 1 else ''} and {loops} loops on the "
+                "stop")
+        text += (f" per contact; over {what} their timing errors add up (measured "
                  f"up to {_num(MANY_CONTACTS_ERROR)} of the scale by t = 100 at standard, more "
                  "over longer runs)")
     reduced = [t.t for t in res.transitions if t.kind is TransitionKind.REDUCED]

@@ -158,8 +158,10 @@ ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Overlap reversals of a sustained contact whose amplitude falls below this multiple of
 #: ``rtol`` (times the length scale; ``atol`` at least) are the limit of rest at the stop:
 #: the mass is pressed on the stop, and rest is declared at the equilibrium. The rest state
-#: then differs from the motion by less than ``10 rtol``, inside the error the app states
-#: for each accuracy preset (``~100 rtol``, app/solver.py).
+#: then differs from the motion by less than ``10 rtol`` in the position, inside the error
+#: the app states for each accuracy preset (``~100 rtol``, app/solver.py), and in the
+#: velocity by up to ``omega`` times that, ``omega`` the loops' angular frequency (a
+#: reduced model's stated error at rest includes it).
 REST_AMPLITUDE_PER_RTOL = 10.0
 
 
@@ -553,9 +555,13 @@ class _Solver:
         if self.settled(reversal_x):
             creep = self.creep_left(reversal_x)
             if creep > self.rest_amplitude():
-                # Rest is then a model of loops still creeping: its error is stated.
+                # Rest is then a model of loops still creeping: its error is stated, the
+                # velocity's too (the loops left move at omega times their amplitude).
                 self.record(TransitionKind.REDUCED, st, 0.0)
-                self.reduced_error = max(self.reduced_error, creep + self.rest_amplitude())
+                cycle = reversal_x[-1][0] - reversal_x[-3][0]
+                omega = 2.0 * math.pi / cycle if cycle > 0.0 else 1.0
+                self.reduced_error = max(self.reduced_error,
+                                         creep + self.rest_amplitude() * max(1.0, omega))
             return branch, self.rest_at_stop(st, branch, s, creep_end(self, reversal_x, s))
         if len(reversal_x) % REDUCE_EVERY:
             return branch, None
@@ -575,7 +581,8 @@ class _Solver:
         if len(reversal_x) < 5:
             return 0.0
         ts, xs = [t for t, _, _ in reversal_x[-5:]], [x for _, x, _ in reversal_x[-5:]]
-        creep = 0.25 * abs(xs[4] + xs[3] - xs[1] - xs[0])  # the centre's move in one cycle
+        # The midpoints of the first and last swings are three half cycles apart.
+        creep = abs(xs[4] + xs[3] - xs[1] - xs[0]) / 3.0  # the centre's move in one cycle
         cycle = ts[4] - ts[2]
         return creep * max(self.t_end - ts[4], 0.0) / cycle if cycle > 0.0 else 0.0
 
@@ -736,10 +743,9 @@ def solve_hysteretic(
         speed) of the first and the last contact (``effective_restitution_first``,
         ``effective_restitution``; :func:`effective_restitutions` lists all), ``law``, and
         when they apply ``rest_force`` (``phi/k`` at rest), ``reduced_error`` (bound of
-        a reduced model's error where it ends, the horizon or rest: in the state for an
-        oscillation on the stop and for a train advanced by its contact-to-contact map
-        (:mod:`core.hysteretic_map`), in the position for a train fitted to a loss law,
-        whose velocity may be off by twice its approach speed) and ``reduced_band`` (bound of the
+        a reduced model's error in the state where it ends, the horizon or rest: for a
+        train fitted to a loss law that runs to the horizon, twice its approach speed at
+        least, the velocity's bound) and ``reduced_band`` (bound of the
         position's error while the model runs), both absolute, with ``length_scale``
         (``max(a, b, v, |x_bar|, D)``, the scale the tolerances are relative to).
 

@@ -207,14 +207,17 @@ class Oscillation(NamedTuple):
         :func:`period_error`), so the positions about the centres differ by at most
         ``(M - 1) A + A dphi``, and by ``2 M A`` whatever the phase; the velocities by up
         to ``2 pi / T`` times that. The centres differ by at most the creep of the
-        amplitude lost (its rate off by 100 %). At rest, the solver's convention: the true
-        oscillation left is below the rest amplitude.
+        amplitude lost (its rate off by 100 %). At rest the model's amplitude and velocity
+        amplitude are below half the rest amplitude; the true ones within ``M`` of them.
         """
         amp = float(self.decay.amplitude(self.amp0, tau / self.period))
         creep = self.creep_error(amp)
-        if rest_amplitude is not None:
-            return rest_amplitude + creep
         omega = 2.0 * math.pi / self.period
+        if rest_amplitude is not None:
+            # Rest at the centre: the true loops left are within M A of it, their
+            # velocity within omega M A of zero (:func:`oscillation_end` runs the model
+            # until both are below half the rest amplitude).
+            return END_AMPLITUDE_MARGIN * amp * max(1.0, omega) + creep
         dphi = omega * tau / self.period * self.period_error
         phase = min(END_AMPLITUDE_MARGIN - 1.0 + dphi, 2.0 * END_AMPLITUDE_MARGIN)
         return phase * amp * max(1.0, omega) + creep
@@ -302,10 +305,12 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     if decay is None:
         return None
     period = (ts[-1] - ts[0]) / DECAY_FIT  # the window's mean cycle: the model keeps phase
+    omega = 2.0 * math.pi / period
     if decay.law == LIMIT and decay.limit > 0.5 * sv.rest_amplitude():
         # The loops near their limit: the last cycle is repeated once the amplitude left
         # and the phase the repeated cycle loses by the horizon are within the tolerance.
-        error = 2.0 * (amps[-1] - decay.limit) + retrace_error(sv, st, ts, xs)
+        error = (2.0 * (amps[-1] - decay.limit) * max(1.0, omega)
+                 + retrace_error(sv, st, ts, xs))
         if error > tol:
             return None
         sv.periodic(ts[-3], ns[-3], st)
@@ -380,11 +385,12 @@ def retrace_error(sv: _Solver, st: _State, ts, xs) -> float:
     the repeated cycle's time is off by ``dP N + dP' N^2 / 2`` after ``N`` cycles, ``dP``
     the spread of the window's periods and ``dP'`` their change per cycle, and the state by
     that times the oscillation's speed ``omega A`` (position) or acceleration
-    ``omega^2 A`` (velocity). The reversals' times jitter by ~3e-7 at rtol 1e-8, so the
-    window's spread samples the tiled period's error rather than bounding it: the phase
-    term is doubled (measured against every loop followed at the same tolerance, on five
-    cells of benchmarks/hysteretic_speed.py's grid with the passive law: the undoubled
-    bound fell short by up to 2.1 times)."""
+    ``omega^2 A`` (velocity); the drift moves the velocity by ``omega`` times as much.
+    The reversals' times jitter by ~3e-7 at rtol 1e-8, so the window's spread samples
+    the tiled period's error rather than bounding it: the phase term is doubled (measured
+    against every loop followed at the same tolerance, on five cells of
+    benchmarks/hysteretic_speed.py's grid with the passive law: the undoubled bound fell
+    short by up to 2.1 times)."""
     period = ts[-1] - ts[-3]
     cycles = (sv.t_end - st.t) / period
     drift = max(abs(xs[k] - xs[k - 2]) for k in range(2, len(xs)))
@@ -393,13 +399,19 @@ def retrace_error(sv: _Solver, st: _State, ts, xs) -> float:
     trend = abs(float(periods[-1] - periods[0])) / max(len(periods) - 1, 1)
     omega = 2.0 * math.pi / period
     rate = omega * max(1.0, omega) * 0.5 * abs(xs[-1] - xs[-2])
-    return drift * cycles + 2.0 * rate * (spread * cycles + trend * 0.5 * cycles * cycles)
+    # The reversals' drift moves the positions; the velocities follow at omega times it.
+    return (drift * cycles * max(1.0, omega)
+            + 2.0 * rate * (spread * cycles + trend * 0.5 * cycles * cycles))
 
 
 def oscillation_end(sv: _Solver, st: _State, model: Oscillation) -> tuple[float, bool]:
     """How long the reduced oscillation runs from ``st`` (to a reversal once its amplitude
-    is below half the rest amplitude, or to the horizon), and whether it ends at rest."""
-    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
+    and its velocity amplitude are below half the rest amplitude, or to the horizon), and
+    whether it ends at rest."""
+    # Until the loops' velocity, not only their amplitude, is below half the rest
+    # amplitude: the model costs nothing per cycle, and rest then holds in the state.
+    omega = 2.0 * math.pi / model.period
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude() / max(1.0, omega))
     tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
     if st.t + tau_rest < sv.t_end:
         return tau_rest, True
@@ -725,7 +737,11 @@ def _lay_out(sv, decay: TrainDecay, w0: float, slope: float, icpt: float, band: 
         n, settled, done = TRAIN_BLOCK, False, False
         # Band of a contact and its flight: the flight's depth below the stop and the
         # Hermite overlap's peak (about d w / 3).
-        small = np.nonzero(np.hypot(gap, w[:-1]) - gap + 0.5 * d * w[:-1] <= rest)[0]
+        # Settled once the band is within the rest error, and the approach speed within
+        # half of it, as loops on the stop rest (a swing of four reversals, twice their
+        # amplitude, within the rest amplitude: their speed within half the rest error).
+        band_k = np.hypot(gap, w[:-1]) - gap + 0.5 * d * w[:-1]
+        small = np.nonzero(np.maximum(band_k, 2.0 * w[:-1]) <= rest)[0]
         if len(small):
             n, settled, done = int(small[0]), True, True
         over = np.nonzero(ends > horizon)[0]
@@ -780,10 +796,17 @@ def advance_train(sv: _Solver, st: _State, model: Train) -> str:
     dm = 0.5 * (x1 * x1 + v1 * v1) - m_s
     st.work = (wf + dwf, wb + sv.a * sv.vb * (t1 - st.t), ws + dwf - dm)
     st.t, st.x, st.v = t1, x1, v1
-    sv.n_contacts += len(model.start) - 1
+    laid_out = len(model.start) - 1
+    sv.n_contacts += laid_out
+    for kind in (TransitionKind.CONTACT, TransitionKind.REVERSAL, TransitionKind.SEPARATION):
+        sv.log.count(kind, laid_out)  # counted, not stored (the map logs its last ones)
     record_last_restitution(sv, model.w)
+    sv.reduced_band = max(sv.reduced_band, model.error_bound)
     sv.reduced_error = max(sv.reduced_error, model.error_bound)
     if not model.settled or t1 >= sv.t_end:
+        # At the horizon the phase of the contacts is not kept: both speeds lie within the
+        # approach speed of the train, so the velocity may be off by twice it.
+        sv.reduced_error = max(sv.reduced_error, 2.0 * float(model.w[0]))
         return "horizon"
     st.x = sv.xb
     return sv.rest_at_stop(st, FIRST_LOADING, 1)

@@ -136,7 +136,9 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     if sv.reduced_error > 0.0:
         info["length_scale"] = sv.scale()
         info["reduced_error"] = sv.reduced_error
-        info["reduced_band"] = max(sv.reduced_band, sv.reduced_error)
+        # The band where a model states one (a fitted train's error also holds the
+        # velocity, up to twice its approach speed); else its error bounds the position too.
+        info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
     x_max = sv.x_max
     if sv.table.t0:
         x_max = max(x_max, sv.table.x_max)

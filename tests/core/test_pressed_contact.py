@@ -13,13 +13,23 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, Status, SteadyKind, TransitionKind, simulate
-from core.hysteretic import MAX_EVENTS, simulate_hysteretic
+from core.hysteretic import MAX_EVENTS, _Solver, simulate_hysteretic
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 FACE = 0.42
 SCALE = max(PRESSING.a, PRESSING.b, PRESSING.v)
 #: The app's "standard" preset (app/solver.py).
 STANDARD = {"rtol": 1e-8, "atol": 1e-11}
+
+
+def _every_loop(osc, stop, t_end, **kw):
+    """The step-by-step solve with every loop followed to ``t_end``: no reduced model and
+    no rest declared when the loops fall below the rest amplitude (their velocity, ``omega``
+    times that, may still be above it)."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_Solver, "settled", lambda self, reversal_x: False)
+        return simulate_hysteretic(osc, stop, t_end, 0.0, 0.0, reduce=False, n_samples=10,
+                                   transition_cap=10, **kw)
 
 
 def _balance(res) -> float:
@@ -59,16 +69,18 @@ def test_pressed_mass_is_never_pure_slip_nor_grazing(k_c0, beta, d):
 
 
 @pytest.mark.parametrize(
-    ("stop_kw", "rtol"),
+    ("stop_kw", "rtol", "t_end"),
     [
-        (dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0), 1e-8),
-        (dict(k_c0=4000.0, k_e0=100.0, beta_c=1000.0, beta_e=1000.0), 1e-5),
+        # (rests at t ~ 4200, once the loops' velocity too is below the rest amplitude)
+        (dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0), 1e-8,
+         1e4),
+        (dict(k_c0=4000.0, k_e0=100.0, beta_c=1000.0, beta_e=1000.0), 1e-5, 100.0),
     ],
 )
-def test_rest_is_at_the_equilibrium(stop_kw, rtol):
+def test_rest_is_at_the_equilibrium(stop_kw, rtol, t_end):
     """The rest force balances friction, phi = a - x, to 1e-9 relative (it was the force
     at the last overlap reversal: off by -9.3e-5 and +7.1e-4 (0.4 %))."""
-    res = simulate_hysteretic(PRESSING, HystereticStop(FACE, **stop_kw), 100.0, 0.0, 0.0,
+    res = simulate_hysteretic(PRESSING, HystereticStop(FACE, **stop_kw), t_end, 0.0, 0.0,
                               rtol=rtol, atol=1e-3 * rtol)
     assert res.steady.kind is SteadyKind.REST and math.isfinite(res.steady.t_reached)
     x_rest = res.x[-1]
@@ -108,21 +120,22 @@ def test_reduced_oscillation_against_the_full_model():
     transition, against every loop followed (reduce=False): the state at t_end within the
     stated error bound, the balance closed, the loss never falling."""
     stop = HystereticStop(FACE, 400.0, 200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
-    # To t_end = 150, past rest (t ~ 99): the creep of this oscillation's centre grows as
-    # it shrinks (kappa ~ A^-0.42), so to t_end = 60 no model is within the tolerance.
-    fast = simulate_hysteretic(PRESSING, stop, 150.0, 0.0, 0.0, **STANDARD)
-    full = simulate_hysteretic(PRESSING, stop, 150.0, 0.0, 0.0, reduce=False, **STANDARD)
+    # To t_end = 1e4, past rest (t ~ 4200, where the loops' velocity amplitude falls below
+    # the rest amplitude): the creep of this oscillation's centre grows as it shrinks
+    # (kappa ~ A^-0.42), so to t_end = 60 no model is within the tolerance.
+    t_end = 1e4
+    fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, **STANDARD)
+    full = _every_loop(PRESSING, stop, t_end, rtol=1e-10, atol=1e-13)
     switch = [tr for tr in fast.transitions if tr.kind is TransitionKind.REDUCED]
-    assert len(switch) == 1
-    assert full.n_transitions > fast.n_transitions
+    assert len(switch) == 1 and switch[0].t < 100.0
+    assert [tr.kind for tr in fast.transitions][-1] is TransitionKind.REST
     bound = fast.info["reduced_error"]
     assert bound <= max(50.0 * STANDARD["rtol"], 1e-6) * SCALE  # inside the stated 1e-6
+    # The state's error, velocity included (measured 4.8e-8 and 1.9e-8 against 9.0e-7).
     assert abs(fast.x[-1] - full.x[-1]) <= bound
-    # Velocity: the oscillation's speed amplitude, 2 pi / period times the amplitude.
-    before = [tr.t for tr in full.transitions if tr.kind is TransitionKind.REVERSAL]
-    period = before[-1] - before[-3]
-    assert abs(fast.v[-1] - full.v[-1]) <= 2.0 * math.pi / period * bound
-    assert abs(fast.x_max - full.x_max) <= 1e-12
+    assert abs(fast.v[-1] - full.v[-1]) <= bound
+    # (the first contact's peak, integrated at rtol 1e-8 and 1e-10: 1.1e-11 apart)
+    assert abs(fast.x_max - full.x_max) <= 1e-9 * SCALE
     assert _balance(fast) < 1e-8
     assert np.diff(fast.energy.stop_loss[fast.t >= switch[0].t]).min() >= -1e-15
 
@@ -157,18 +170,17 @@ def test_t_eval_and_dense_evaluation():
 
 @pytest.mark.parametrize(("beta", "limit_overlap"), [(100.0, 0.01), (1000.0, 0.1)])
 def test_dying_oscillation_is_reduced_early_within_its_end_bound(beta, limit_overlap):
-    """A stop (k_c0 = 1000) whose loops die out like 1/k and rest before t_end: the reduced
-    oscillation takes over once its band is below what the page shows and its error at
-    rest within the tolerance (it waited until its whole band was, t ~ 80), and the state
-    where it ends is within the stated bound of every loop followed (reduce=False)."""
+    """A stop (k_c0 = 1000) whose loops die out like 1/k: the reduced oscillation takes
+    over once its band is below what the page shows and its error where it ends within the
+    tolerance (it waited until its whole band was, t ~ 80), and the state there is within
+    the stated bound of every loop followed. Their amplitude falls below the rest amplitude
+    at t ~ 750, their velocity (omega ~ 30 times it) not by t_end: no rest is declared
+    (it was, with the velocity off by up to 1.1e-6 against a stated 8.6e-7)."""
     stop = HystereticStop(FACE, 1000.0, 500.0, limit_overlap=limit_overlap, beta_c=beta,
                           beta_e=beta)
     t_end = 1000.0
     fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, **STANDARD)
-    # The reference at the same tolerance: its own error at t_end (~1e-8 of the scale,
-    # benchmarks/results) is far below the bound tested.
-    full = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, reduce=False, n_samples=10,
-                               transition_cap=10, **STANDARD)
+    full = _every_loop(PRESSING, stop, t_end, rtol=1e-10, atol=1e-13)
     switch = [tr.t for tr in fast.transitions if tr.kind is TransitionKind.REDUCED]
     assert len(switch) == 1 and switch[0] < 50.0
     scale = max(SCALE, limit_overlap)  # the solver's length scale includes the stop's D
@@ -176,13 +188,12 @@ def test_dying_oscillation_is_reduced_early_within_its_end_bound(beta, limit_ove
     assert band <= 1e4 * STANDARD["rtol"] * scale  # below what a plot shows
     bound = fast.info["reduced_error"]
     assert bound <= max(50.0 * STANDARD["rtol"], 1e-6) * scale  # the preset's stated 1e-6
+    # (measured 6.4e-9 and 1.3e-7 in position and velocity against 8.9e-7)
     assert abs(fast.x[-1] - full.x[-1]) <= bound
-    # At rest the true oscillation left is below the rest amplitude: its velocity below
-    # the angular frequency times that.
-    rev = [tr.t for tr in fast.transitions if tr.kind is TransitionKind.REVERSAL]
-    omega = 2.0 * math.pi / (rev[-1] - rev[-3])
-    assert fast.v[-1] == 0.0 and abs(full.v[-1]) <= omega * bound
-    assert fast.x_max == full.x_max
+    assert abs(fast.v[-1] - full.v[-1]) <= bound
+    assert TransitionKind.REST not in [tr.kind for tr in fast.transitions]
+    assert abs(fast.x_max - full.x_max) <= 1e-9 * scale
+    # Both approach rest: loops dying out (the label of the shrinking oscillation).
     assert fast.steady.kind is SteadyKind.REST and full.steady.kind is SteadyKind.REST
     # The balance closes to the contact integration's tolerance: the loops before the
     # switch drift by ~rtol (1.3e-8 over them, benchmarks/results); the model adds nothing.
