@@ -196,7 +196,8 @@ class Oscillation(NamedTuple):
         q = 1.0 - self.creep_power
         return self.amp0**self.creep_power * (self.amp0**q - np.asarray(amp) ** q) / q
 
-    def end_error(self, tau: float, rest_amplitude: float | None = None) -> float:
+    def end_error(self, tau: float, rest_amplitude: float | None = None,
+                  velocity: bool = True) -> float:
         """Bound of the model's error in the state ``tau`` after the start, where it ends
         (the horizon, or rest when ``rest_amplitude`` is given).
 
@@ -207,17 +208,17 @@ class Oscillation(NamedTuple):
         :func:`period_error`), so the positions about the centres differ by at most
         ``(M - 1) A + A dphi``, and by ``2 M A`` whatever the phase; the velocities by up
         to ``2 pi / T`` times that. The centres differ by at most the creep of the
-        amplitude lost (its rate off by 100 %). At rest the model's amplitude and velocity
-        amplitude are below half the rest amplitude; the true ones within ``M`` of them.
+        amplitude lost (its rate off by 100 %). At rest the model's amplitude is below half
+        the rest amplitude, the true one within ``M`` of it, and the velocity's within
+        ``2 pi / T`` times that (``velocity=False``: the position's error alone).
         """
         amp = float(self.decay.amplitude(self.amp0, tau / self.period))
         creep = self.creep_error(amp)
         omega = 2.0 * math.pi / self.period
         if rest_amplitude is not None:
             # Rest at the centre: the true loops left are within M A of it, their
-            # velocity within omega M A of zero (:func:`oscillation_end` runs the model
-            # until both are below half the rest amplitude).
-            return END_AMPLITUDE_MARGIN * amp * max(1.0, omega) + creep
+            # velocity within omega M A of zero (A below half the rest amplitude).
+            return END_AMPLITUDE_MARGIN * amp * (max(1.0, omega) if velocity else 1.0) + creep
         dphi = omega * tau / self.period * self.period_error
         phase = min(END_AMPLITUDE_MARGIN - 1.0 + dphi, 2.0 * END_AMPLITUDE_MARGIN)
         return phase * amp * max(1.0, omega) + creep
@@ -327,7 +328,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay, period_error=cycle_error)
     tau_end, rests = oscillation_end(sv, st, plain)
     rest_amp = sv.rest_amplitude() if rests else None
-    if plain.end_error(tau_end, rest_amp) > tol and plain.error_bound > tol:
+    # At rest the velocity of the loops left (omega times the rest amplitude at most) is the
+    # solver's rest, as when the loops are followed to it; it is stated, not a reason to wait.
+    if plain.end_error(tau_end, rest_amp, velocity=not rests) > tol and plain.error_bound > tol:
         return None
     creep = creep_law(reversal_x)
     if creep is None:
@@ -340,7 +343,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     # tolerance, or else its whole band is (the position's error then is, throughout).
     if model.error_bound > train_band(sv):
         return None
-    if model.end_error(tau_end, rest_amp) > tol and model.error_bound > tol:
+    if model.end_error(tau_end, rest_amp, velocity=not rests) > tol and model.error_bound > tol:
         return None
     return oscillate(sv, st, branch, s, model)
 
@@ -406,12 +409,8 @@ def retrace_error(sv: _Solver, st: _State, ts, xs) -> float:
 
 def oscillation_end(sv: _Solver, st: _State, model: Oscillation) -> tuple[float, bool]:
     """How long the reduced oscillation runs from ``st`` (to a reversal once its amplitude
-    and its velocity amplitude are below half the rest amplitude, or to the horizon), and
-    whether it ends at rest."""
-    # Until the loops' velocity, not only their amplitude, is below half the rest
-    # amplitude: the model costs nothing per cycle, and rest then holds in the state.
-    omega = 2.0 * math.pi / model.period
-    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude() / max(1.0, omega))
+    is below half the rest amplitude, or to the horizon), and whether it ends at rest."""
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
     tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
     if st.t + tau_rest < sv.t_end:
         return tau_rest, True
