@@ -181,17 +181,17 @@ def test_law_is_validated():
 
 
 def test_passive_loops_on_the_stop_repeat():
-    """A mass pressed on a passive stop ends in loops that retrace their curve: a fixed
-    point of the loop map, repeated from a 'reduced' transition with a stated drift bound
-    (the paper's reading shrinks towards rest instead)."""
+    """A mass pressed on a passive stop ends in loops that retrace their curve, a
+    sustained oscillation (the paper's reading shrinks towards rest instead). It is neutral
+    (its cycle depends on its amplitude), so the loops are followed, not repeated from a
+    'reduced' transition (core/hysteretic_reduced.py)."""
     osc = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
     kw = dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
     res = simulate_hysteretic(osc, HystereticStop(0.42, law="passive", **kw), 80.0, 0.0, 0.0,
                               rtol=1e-8, atol=1e-11)
     assert res.steady.kind.value == "periodic"
     assert res.steady.sequence == ("reversal", "reversal")
-    assert any(tr.kind.value == "reduced" for tr in res.transitions)
-    assert res.info["reduced_error"] <= 1e-6 * max(osc.a, osc.b, osc.v)
+    assert not any(tr.kind.value == "reduced" for tr in res.transitions)
     e = res.energy
     balance = np.abs(e.mechanical - e.mechanical[0] - (e.friction_work - e.stop_loss
                                                        - e.stop_stored)).max()

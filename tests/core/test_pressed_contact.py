@@ -319,26 +319,20 @@ def test_a_long_train_laid_out_by_its_map_is_no_event_limit():
 
 
 @pytest.mark.parametrize(("k_c0", "beta", "d"), [(1e3, 100.0, 0.01), (1e4, 1000.0, 0.01)])
-def test_retracing_loops_are_periodic_within_their_stated_error(k_c0, beta, d):
-    """Loops of the passive law that retrace their curve are a sustained oscillation: the
-    repeated cycle's state at t_end is within the stated error of every loop followed from
-    the same solve (the bound left out the phase: stated 2e-9, off by 1e-6), and the solve
-    that follows every loop calls it periodic too (it called it rest, from swings that
-    shrink by 4e-9 per cycle: integration drift)."""
+def test_retracing_loops_are_followed_and_periodic(k_c0, beta, d):
+    """Loops of the passive law that retrace their curve are a sustained oscillation, and
+    a neutral one (its cycle depends on its amplitude, set by the loops before only to the
+    integration's tolerance): no reduced model repeats them (repeating the last cycle was
+    off by up to 3e-3 of the scale by t = 100, against a stated 1.2e-8, on random pressed
+    scenes), and they are labelled periodic (they were called rest, from swings that shrink
+    by 4e-9 per cycle: integration drift)."""
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta,
                           law="passive")
     fast = simulate(PRESSING, stop, 100.0, **STANDARD)
-    # The same tolerances exactly: the oscillation is neutral, so a solve whose atol
-    # differs by an ulp ends up to 3e-6 away after 100 time units.
-    full = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, reduce=False, **STANDARD)
-    assert fast.steady.kind is SteadyKind.PERIODIC is full.steady.kind
-    assert fast.steady.sequence == ("reversal", "reversal") == full.steady.sequence
-    assert full.steady.period == pytest.approx(fast.steady.period, rel=1e-5)
-    assert any(tr.kind is TransitionKind.REDUCED for tr in fast.transitions)
-    bound = fast.info["reduced_error"]
-    # Measured 5.9e-7 and 6.3e-7 against bounds of 9e-7.
-    assert 0.0 < bound <= 1e-6 * SCALE
-    assert max(abs(fast.x[-1] - full.x[-1]), abs(fast.v[-1] - full.v[-1])) <= bound
+    assert fast.steady.kind is SteadyKind.PERIODIC
+    assert fast.steady.sequence == ("reversal", "reversal")
+    assert not any(tr.kind is TransitionKind.REDUCED for tr in fast.transitions)
+    assert "reduced_error" not in fast.info
 
 
 def test_rest_among_creeping_loops_states_the_creep_left():
