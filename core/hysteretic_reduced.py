@@ -297,7 +297,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     swings = np.abs(np.diff(xs))
     amps = 0.25 * (swings[0::2] + swings[1::2])
     decay = fit_decay(amps)
-    if decay is None or not decay_holds(reversal_x, decay):
+    if decay is None:
         return None
     period = (ts[-1] - ts[0]) / DECAY_FIT  # the window's mean cycle: the model keeps phase
     omega = 2.0 * math.pi / period
@@ -321,6 +321,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     cycle_error = period_error(reversal_x)
     plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay, period_error=cycle_error)
     tau_end, rests = oscillation_end(sv, st, plain)
+    amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
+    if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
+        return None
     rest_amp = sv.rest_amplitude() if rests else None
     # At rest the velocity of the loops left (omega times the rest amplitude at most) is the
     # solver's rest, as when the loops are followed to it; it is stated, not a reason to wait.
@@ -342,12 +345,15 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     return oscillate(sv, st, branch, s, model)
 
 
-def decay_holds(reversal_x, decay: Decay) -> bool:
-    """Whether the :data:`DECAY_FIT` cycles before the last ones decay by the same law at
-    the same rate (within twice :data:`DECAY_SPREAD`). Six cycles of loops that turn
-    elastic can fit a geometric decay within the spread while the decrement per cycle
-    keeps falling: on a stiff stop (k_c0 = 23,000, beta = 405) the model rested where every
-    loop followed goes on at a limit amplitude, its velocity 1.7e-4 of the scale."""
+def decay_holds(reversal_x, decay: Decay, amp0: float, amp_end: float) -> bool:
+    """Whether the loops can decay from ``amp0`` to ``amp_end`` by ``decay``: the
+    :data:`DECAY_FIT` cycles before the last ones decay by the same law at nearly the same
+    rate (within twice :data:`DECAY_SPREAD`), and, should the rate keep falling by as much
+    per window of cycles, the decay still reaches ``amp_end`` (the rate's sum over all the
+    windows to come is finite). Loops that turn elastic fit a geometric decay within the
+    spread while the decrement per cycle keeps falling: on stiff stops (k_c0 = 23,000 and
+    58,000, beta ~ 400-460) the model rested where every loop followed goes on at a limit
+    amplitude, its velocity up to 1.7e-4 of the scale."""
     n = 2 * DECAY_FIT + 1
     if len(reversal_x) < 2 * n - 1:
         return False
@@ -356,11 +362,22 @@ def decay_holds(reversal_x, decay: Decay) -> bool:
     before = fit_decay(0.25 * (swings[0::2] + swings[1::2]))
     if before is None or before.law != decay.law:
         return False
-    if decay.law == INVERSE:
-        return abs(before.rate - decay.rate) <= 2.0 * DECAY_SPREAD * abs(decay.rate)
-    # geometric and limit: the decrement per cycle, 1 - q, and the limit
-    return (abs(before.rate - decay.rate) <= 2.0 * DECAY_SPREAD * (1.0 - decay.rate)
-            and abs(before.limit - decay.limit) <= 2.0 * DECAY_SPREAD * max(decay.limit, 0.0))
+    if decay.law == LIMIT:
+        return (abs(before.rate - decay.rate) <= 2.0 * DECAY_SPREAD * (1.0 - decay.rate)
+                and abs(before.limit - decay.limit) <= 2.0 * DECAY_SPREAD * decay.limit)
+    # The rate per cycle: 1 - q (geometric: log A falls by ~ that per cycle) or c
+    # (inverse: 1/A grows by c per cycle).
+    rate, rate_before = ((decay.rate, before.rate) if decay.law == INVERSE
+                         else (1.0 - decay.rate, 1.0 - before.rate))
+    if abs(rate_before - rate) > 2.0 * DECAY_SPREAD * rate:
+        return False
+    fall = (rate_before - rate) / rate_before  # relative fall of the rate per window
+    if fall <= 0.0:
+        return True
+    reachable = DECAY_FIT * rate / fall  # the rate summed over every window to come
+    needed = (1.0 / amp_end - 1.0 / amp0 if decay.law == INVERSE
+              else math.log(amp0 / amp_end))
+    return needed <= reachable
 
 
 def period_error(reversal_x) -> float:
