@@ -131,8 +131,12 @@ def contact_count(res, measured: int) -> int:
     those a reduced model laid out, ``transition_counts`` every one logged (a periodic tail
     tiled from one period included, past the stored ones), ``measured`` the restitutions
     of the stored ones."""
-    logged = int(res.transition_counts.get(TransitionKind.CONTACT.value, 0))
-    return max(int(res.info.get("n_contacts", 0)), logged, measured)
+    return max(int(res.info.get("n_contacts", 0)), _logged(res, TransitionKind.CONTACT),
+               measured)
+
+
+def _logged(res, kind: TransitionKind) -> int:
+    return int(res.transition_counts.get(kind.value, 0))
 
 
 def accuracy_text(sol: Solution) -> str:
@@ -147,9 +151,8 @@ def accuracy_text(sol: Solution) -> str:
         return text
     contacts = contact_count(res, len(sol.restitution_measured))
     # Loops on the stop: the reversals beyond each contact's one, two per loop.
-    reversals = int(res.transition_counts.get(TransitionKind.REVERSAL.value, 0))
-    logged = int(res.transition_counts.get(TransitionKind.CONTACT.value, 0))
-    loops = max(reversals - logged, 0) // 2
+    loops = max(_logged(res, TransitionKind.REVERSAL) - _logged(res, TransitionKind.CONTACT),
+                0) // 2
     if contacts + loops > MANY_CONTACTS:
         what = (f"{contacts} contacts" if loops <= MANY_CONTACTS else
                 f"{contacts} contact{'s' if contacts != 1 else ''} and {loops} loops on the "

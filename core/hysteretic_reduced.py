@@ -80,6 +80,28 @@ END_AMPLITUDE_MARGIN = 1.0 + 2.0 * DECAY_SPREAD
 MAX_CREEP_POWER = 0.5
 
 
+#: Reversals of a window of :data:`DECAY_FIT` cycles, and of the last two windows (which
+#: share a reversal): what the decay, its check, the creep and the cycle's error read.
+WINDOW = 2 * DECAY_FIT + 1
+TWO_WINDOWS = 2 * WINDOW - 1
+
+
+def cycle_amplitudes(xs) -> np.ndarray:
+    """Amplitude of each cycle of the reversal positions ``xs`` (two reversals a cycle):
+    a quarter of its two swings."""
+    swings = np.abs(np.diff(np.asarray(xs, dtype=float)))
+    return 0.25 * (swings[0::2] + swings[1::2])
+
+
+def _two_windows(reversal_x) -> tuple[np.ndarray, np.ndarray] | None:
+    """Times and positions of the reversals of the last two windows of cycles (``None``
+    with fewer)."""
+    if len(reversal_x) < TWO_WINDOWS:
+        return None
+    tail = reversal_x[-TWO_WINDOWS:]
+    return np.array([t for t, _, _ in tail]), np.array([x for _, x, _ in tail])
+
+
 class Decay(NamedTuple):
     """A fitted decay law of the amplitude per cycle (see the module's docstring)."""
 
@@ -280,11 +302,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     are within the tolerance. Loops that die out follow the fitted decay until the rest
     amplitude.
     """
-    if not (sv.use_reduced and sv.pressed() and s > 0) or len(
-        reversal_x
-    ) < 2 * DECAY_FIT + 1:
+    if not (sv.use_reduced and sv.pressed() and s > 0) or len(reversal_x) < WINDOW:
         return None
-    ts, xs, ns = zip(*reversal_x[-(2 * DECAY_FIT + 1):], strict=True)
+    ts, xs, ns = zip(*reversal_x[-WINDOW:], strict=True)
     period = ts[-1] - ts[-3]
     tol = reduce_extent(sv)
     # Loops of the passive law inside the band retrace their curve: an elastic, neutral
@@ -295,7 +315,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     if sv.stop.law == "passive":
         return None
     swings = np.abs(np.diff(xs))
-    amps = 0.25 * (swings[0::2] + swings[1::2])
+    amps = cycle_amplitudes(xs)
     decay = fit_decay(amps)
     if decay is None:
         return None
@@ -318,16 +338,18 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
         return None
     x_c = 0.5 * (xs[-1] + xs[-2])
     # Without its creep first (cheap): most reversals end here while the loops are large.
-    cycle_error = period_error(reversal_x)
-    plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay, period_error=cycle_error)
+    plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay)
     tau_end, rests = oscillation_end(sv, st, plain)
-    amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
-    if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
-        return None
+    # The cycle's error counts only where the model ends moving (at the horizon).
+    cycle_error = math.inf if rests else period_error(reversal_x)
+    plain = plain._replace(period_error=cycle_error)
     rest_amp = sv.rest_amplitude() if rests else None
     # At rest the velocity of the loops left (omega times the rest amplitude at most) is the
     # solver's rest, as when the loops are followed to it; it is stated, not a reason to wait.
     if plain.end_error(tau_end, rest_amp, velocity=not rests) > tol and plain.error_bound > tol:
+        return None
+    amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
+    if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
         return None
     creep = creep_law(reversal_x)
     if creep is None:
@@ -354,12 +376,10 @@ def decay_holds(reversal_x, decay: Decay, amp0: float, amp_end: float) -> bool:
     spread while the decrement per cycle keeps falling: on stiff stops (k_c0 = 23,000 and
     58,000, beta ~ 400-460) the model rested where every loop followed goes on at a limit
     amplitude, its velocity up to 1.7e-4 of the scale."""
-    n = 2 * DECAY_FIT + 1
-    if len(reversal_x) < 2 * n - 1:
+    windows = _two_windows(reversal_x)
+    if windows is None:
         return False
-    xs = np.array([x for _, x, _ in reversal_x[-(2 * n - 1):-(n - 1)]])
-    swings = np.abs(np.diff(xs))
-    before = fit_decay(0.25 * (swings[0::2] + swings[1::2]))
+    before = fit_decay(cycle_amplitudes(windows[1][:WINDOW]))
     if before is None or before.law != decay.law:
         return False
     if decay.law == LIMIT:
@@ -395,11 +415,11 @@ def period_error(reversal_x) -> float:
     standard errors and ``A`` their amplitudes. On that scene, switching at t = 156 to
     1039, this bound on the time of the last reversal by t = 1e4 was 2.9 to 4.2 times the
     error against every loop followed at rtol 1e-10."""
-    n = 2 * DECAY_FIT + 1
-    if len(reversal_x) < 2 * n - 1:
+    windows = _two_windows(reversal_x)
+    if windows is None:
         return math.inf
-    ts = np.array([t for t, _, _ in reversal_x[-(2 * n - 1):]])
-    xs = np.array([x for _, x, _ in reversal_x[-(2 * n - 1):]])
+    ts, xs = windows
+    n = WINDOW
     cycles = ts[2:] - ts[:-2]  # one per reversal: consecutive ones share a half cycle
     swings = np.abs(np.diff(xs))
     old, new = cycles[: n - 1], cycles[-(n - 1):]
@@ -453,8 +473,7 @@ def _window_creep(xs) -> tuple[float, float]:
     """Creep of the centre per amplitude lost over the cycles of the reversals ``xs``, and
     their mean amplitude."""
     xa = np.asarray(xs)
-    swings = np.abs(np.diff(xa))
-    amps = 0.25 * (swings[0::2] + swings[1::2])
+    amps = cycle_amplitudes(xa)
     centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
     return float((centres[-1] - centres[0]) / (amps[0] - amps[-1])), float(amps.mean())
 
@@ -465,12 +484,12 @@ def creep_law(reversal_x) -> tuple[float, float, float] | None:
     :data:`DECAY_FIT` cycles before (``p = 0`` if it does not grow); ``None`` without
     those cycles, or if the creep grows so fast (``p >=`` :data:`MAX_CREEP_POWER`) that
     where it ends cannot be told from a few cycles."""
-    n = 2 * DECAY_FIT + 1
-    if len(reversal_x) < 2 * n - 1:
+    windows = _two_windows(reversal_x)
+    if windows is None:
         return None
-    xs = [x for _, x, _ in reversal_x[-(2 * n - 1):]]
-    kappa, amp = _window_creep(xs[-n:])
-    kappa0, amp0 = _window_creep(xs[-(2 * n - 1):-(n - 1)])
+    xs = windows[1]
+    kappa, amp = _window_creep(xs[-WINDOW:])
+    kappa0, amp0 = _window_creep(xs[:WINDOW])
     if kappa * kappa0 <= 0.0 or not amp0 > amp or abs(kappa) <= abs(kappa0):
         return kappa, 0.0, kappa - kappa0
     power = math.log(kappa / kappa0) / math.log(amp0 / amp)
@@ -491,16 +510,14 @@ def creep_end(sv: _Solver, reversal_x, s: int) -> float | None:
     is gone: the centre creeps ``kappa`` times the amplitude lost
     (:mod:`core.hysteretic_reduced`); ``None`` if it cannot be measured (then rest is
     at the equilibrium on the current branch)."""
-    if not (sv.pressed() and s > 0) or len(reversal_x) < 2 * DECAY_FIT + 1:
+    if not (sv.pressed() and s > 0) or len(reversal_x) < WINDOW:
         return None
-    xa = np.array([x for _, x, _ in reversal_x[-(2 * DECAY_FIT + 1):]])
-    swings = np.abs(np.diff(xa))
-    amps = 0.25 * (swings[0::2] + swings[1::2])
+    xa = np.array([x for _, x, _ in reversal_x[-WINDOW:]])
+    amps = cycle_amplitudes(xa)
     if not np.all(np.diff(amps) < 0.0):
         return None
-    centres = 0.25 * (xa[0:-2:2] + 2.0 * xa[1:-1:2] + xa[2::2])
-    kappa = float((centres[-1] - centres[0]) / (amps[0] - amps[-1]))
-    return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * float(swings[-1])
+    kappa, _ = _window_creep(xa)
+    return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * abs(float(xa[-1] - xa[-2]))
 
 
 def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillation) -> str:
