@@ -15,9 +15,9 @@ largest impactless excursion, and a line wherever the closed-form regime
 Examples
 --------
 >>> from app.state import scene_values
->>> data = sweep_points(scene_values("5a"), "belt_speed", [0.05, 0.1], "impact_speed")
->>> data.x.tolist()
-[0.05, 0.1]
+>>> data = sweep_points(scene_values("5a"), "belt_speed", [0.1, 0.2], "impact_speed")
+>>> data.x.tolist()  # one impact per period at each speed
+[0.1, 0.2]
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ from panel.io.state import set_curdoc
 
 from app import solve_process
 from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
-from app.state import core_inputs
+from app.state import DIMENSIONLESS, Scales, core_inputs
 from core import HystereticStop, RigidStop, theory
 from core import sweep as sweeps
 
@@ -70,9 +70,30 @@ QUANTITY_LABELS: Mapping[str, str] = {
     "x_max": "steady x_max",
     "period": "period",
 }
-#: The card sweeps the core's dimensionless parameters whatever units the page shows (its
-#: ranges, axes and tapped values are the state's own numbers): it says so.
+#: What the card's numbers are in, when the page shows the core's dimensionless units.
 UNITS_NOTE = "dimensionless units"
+#: In SI units (app.state.Scales): a swept parameter's label, the factor of
+#: :class:`app.state.Scales` that turns the core's number into it, and its unit. Lengths
+#: are metres in both systems (SPEC §2 scales time only), friction and restitution have no
+#: unit; the static deflection is shown as the normal force ``N = k u_s``, as in the sidebar.
+PARAMETER_SI: Mapping[str, tuple[str, str | None, str]] = {
+    "belt_speed": ("belt speed v_dr", "velocity", "m/s"),
+    "clearance": ("clearance x_bar", None, "m"),
+    "restitution": ("restitution r", None, ""),
+    "mu_s": ("static friction mu_s", None, ""),
+    "mu_k": ("kinetic friction mu_k", None, ""),
+    "u_s": ("normal force N", "force", "N"),
+}
+#: The same for the quantity on the y axis.
+QUANTITY_SI: Mapping[str, tuple[str, str | None, str]] = {
+    "impact_speed": ("impact speed before (at each impact)", "velocity", "m/s"),
+    "rebound_speed": ("rebound speed after (at each impact)", "velocity", "m/s"),
+    "stick_x": ("x at each slip→stick", None, "m"),
+    "transition_x": ("x at every transition", None, "m"),
+    "force_peak": ("contact force peak (each contact)", "force", "N"),
+    "x_max": ("steady x_max", None, "m"),
+    "period": ("period", "time", "s"),
+}
 #: Quantities read per point rather than per transition.
 PER_POINT = ("x_max", "period")
 #: Points of a new diagram.
@@ -145,6 +166,49 @@ def applicable_quantities(values: Mapping[str, Any]) -> list[str]:
 def default_quantity(values: Mapping[str, Any]) -> str:
     """Impact speed with a stop, the stick onset without (as :func:`core.sweep.sweep`)."""
     return "stick_x" if values["stop_type"] == "none" else "impact_speed"
+
+
+@dataclass(frozen=True)
+class AxisUnits:
+    """How the card shows a sweep in the page's units: the factors from the core's
+    dimensionless numbers to the parameter and the quantity shown, and their axis labels.
+
+    >>> from app.state import ExplorerState
+    >>> units = axis_units("belt_speed", "period", ExplorerState(units="SI").scales())
+    >>> units.parameter, units.quantity, units.parameter_label  # omega = 10 rad/s
+    (10.0, 0.1, 'belt speed v_dr (m/s)')
+    """
+
+    parameter: float
+    quantity: float
+    parameter_label: str
+    quantity_label: str
+
+
+def parameter_name(parameter: str, scales: Scales = DIMENSIONLESS) -> str:
+    """What the card calls a swept parameter in the page's units."""
+    return PARAMETER_SI[parameter][0] if scales.si else PARAMETER_LABELS[parameter]
+
+
+def quantity_name(quantity: str, scales: Scales = DIMENSIONLESS) -> str:
+    """What the card calls a quantity in the page's units."""
+    return QUANTITY_SI[quantity][0] if scales.si else QUANTITY_LABELS[quantity]
+
+
+def axis_units(parameter: str, quantity: str, scales: Scales = DIMENSIONLESS) -> AxisUnits:
+    """The :class:`AxisUnits` of a sweep of ``parameter`` showing ``quantity``."""
+    if not scales.si:
+        return AxisUnits(1.0, 1.0, f"{PARAMETER_LABELS[parameter]} ({UNITS_NOTE})",
+                         f"{QUANTITY_LABELS[quantity]} ({UNITS_NOTE})")
+
+    def shown(name: str, table: Mapping[str, tuple[str, str | None, str]]):
+        label, factor, unit = table[name]
+        return (getattr(scales, factor) if factor else 1.0,
+                f"{label} ({unit})" if unit else label)
+
+    p_factor, p_label = shown(parameter, PARAMETER_SI)
+    q_factor, q_label = shown(quantity, QUANTITY_SI)
+    return AxisUnits(float(p_factor), float(q_factor), p_label, q_label)
 
 
 def default_range(values: Mapping[str, Any], parameter: str) -> tuple[float, float]:
@@ -552,20 +616,24 @@ class BifurcationView:
         The regime map's axes.
     shared : app.plots.SharedModels, optional
         The page's shared ticker, scale, filter... (fewer models to send).
+    scales : app.state.Scales, optional
+        The page's units (:meth:`set_scales` changes them): the boxes, axes and tap are
+        in them; the sweep itself runs on the core's dimensionless numbers.
     """
 
     def __init__(self, values: Callable[[], Mapping[str, Any]],
                  on_pick: Callable[[str, float], None],
                  map_figure: Callable[[], Any], map_frame: Callable[[], tuple],
-                 shared: Any = None) -> None:
+                 shared: Any = None, scales: Scales = DIMENSIONLESS) -> None:
         self._values, self.on_pick, self._shared = values, on_pick, shared
         self._map_figure, self._map_frame = map_figure, map_frame
+        self.scales = scales
         vals = values()
         params = applicable_parameters(vals)
         self.parameter = pn.widgets.Select(
-            label="Swept parameter", options={PARAMETER_LABELS[p]: p for p in params},
+            label="Swept parameter", options=self._parameter_options(params),
             value="belt_speed", width=200, css_classes=["fie-bif-parameter"])
-        lo, hi = default_range(vals, "belt_speed")
+        lo, hi = self._shown_range(default_range(vals, "belt_speed"), "belt_speed")
         self.lo = pn.widgets.FloatInput(label="from", value=_round(lo), width=110,
                                         css_classes=["fie-bif-lo"])
         self.hi = pn.widgets.FloatInput(label="to", value=_round(hi), width=110,
@@ -575,7 +643,7 @@ class BifurcationView:
                                           css_classes=["fie-bif-points"])
         self.quantity = pn.widgets.Select(
             label="On the y axis", value=default_quantity(vals), width=260,
-            options={QUANTITY_LABELS[q]: q for q in applicable_quantities(vals)},
+            options=self._quantity_options(applicable_quantities(vals)),
             css_classes=["fie-bif-quantity"])
         self.run = pn.widgets.Button(label="Sweep", color="primary", width=90,
                                      css_classes=["fie-bif-run"])
@@ -618,9 +686,56 @@ class BifurcationView:
             pn.Row(self.quantity, self.run, self.stop, self.progress, margin=0),
             self.status, pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
             pn.Row(self.sim_layer, self.disagree_layer, margin=0), self.map_status,
-            title=f"Bifurcation diagram and regime map from simulation ({UNITS_NOTE})",
+            title=self._title(),
             sizing_mode="stretch_width", collapsible=True, css_classes=["fie-bifurcation"],
             styles={"flex": "1 1 100%"}, margin=(4, 8))
+
+    def _parameter_options(self, params: list[str]) -> dict[str, str]:
+        return {parameter_name(p, self.scales): p for p in params}
+
+    def _quantity_options(self, quantities: list[str]) -> dict[str, str]:
+        return {quantity_name(q, self.scales): q for q in quantities}
+
+    def _title(self) -> str:
+        units = "SI units" if self.scales.si else UNITS_NOTE
+        return f"Bifurcation diagram and regime map from simulation ({units})"
+
+    def _units(self, spec: SweepSpec | None = None) -> AxisUnits:
+        """The :class:`AxisUnits` of ``spec`` (default: the controls' parameter and
+        quantity) in the page's units."""
+        if spec is not None:
+            return axis_units(spec.parameter, spec.quantity, self.scales)
+        return axis_units(self.parameter.value, self.quantity.value, self.scales)
+
+    def _shown_range(self, lo_hi: tuple[float, float], parameter: str) -> tuple[float, float]:
+        """A dimensionless range of ``parameter`` as the boxes show it (rounded)."""
+        factor = axis_units(parameter, "x_max", self.scales).parameter
+        return _round(lo_hi[0] * factor), _round(lo_hi[1] * factor)
+
+    def set_scales(self, scales: Scales) -> None:
+        """Show the card in other units: the boxes' range is converted, the diagram, its
+        theory lines and the map's simulated layers are drawn again (nothing is swept)."""
+        if scales == self.scales:
+            return
+        old = axis_units(self.parameter.value, self.quantity.value, self.scales).parameter
+        self.scales = scales
+        new = self._units().parameter
+        with pn.io.hold():
+            if new != old:
+                self.lo.value = _round(float(self.lo.value) / old * new)
+                self.hi.value = _round(float(self.hi.value) / old * new)
+            self.layout.title = self._title()
+            self.parameter.options = self._parameter_options(list(self.parameter.values))
+            self.quantity.options = self._quantity_options(list(self.quantity.values))
+            spec = self.spec
+            if spec is not None:
+                self._draw_axes(spec)
+                self._draw_theory(spec)
+                self._draw_points(spec, self.data)
+                self.current.location = float(spec.values[spec.parameter]) * \
+                    self._units(spec).parameter
+            if self.sim_map is not None and self._map_renderers is not None:
+                self._show_layers()
 
     def _build_figure(self) -> None:
         fig = figure(height=FIGURE_HEIGHT, sizing_mode="stretch_width",
@@ -667,19 +782,22 @@ class BifurcationView:
     # --- sweep -------------------------------------------------------------------------
 
     def _on_parameter(self, event) -> None:
-        lo, hi = default_range(self._values(), event.new)
-        self.lo.value, self.hi.value = _round(lo), _round(hi)
+        self.lo.value, self.hi.value = self._shown_range(
+            default_range(self._values(), event.new), event.new)
 
     def start(self) -> None:
         """Sweep with the controls' settings (a running sweep is cancelled)."""
         values = self._values()
+        factor = self._units().parameter
         try:
-            spec = check_spec(values, self.parameter.value, float(self.lo.value),
-                              float(self.hi.value), int(self.points.value),
+            spec = check_spec(values, self.parameter.value, float(self.lo.value) / factor,
+                              float(self.hi.value) / factor, int(self.points.value),
                               self.quantity.value)
         except (ValueError, TypeError) as exc:
             self.job.cancel()
-            self._set_status(f"Not swept: {exc}", error=True)
+            note = (f" (the core's dimensionless values; the boxes show {factor:.4g} times"
+                    " them)" if factor != 1.0 else "")
+            self._set_status(html.escape(f"Not swept: {exc}{note}"), error=True)
             return
         self.spec, self.parts, self.data = spec, [], Points.join([])
         self._started = time.perf_counter()
@@ -687,15 +805,13 @@ class BifurcationView:
         with pn.io.hold():
             self.source.data = {"x": [], "y": [], "color": []}
             self.image_source.data = {"image": [], "x": [], "y": [], "dw": [], "dh": []}
-            self.fig.x_range.update(start=spec.lo, end=spec.hi)
-            self.fig.xaxis.axis_label = f"{PARAMETER_LABELS[spec.parameter]} ({UNITS_NOTE})"
-            self.fig.yaxis.axis_label = f"{QUANTITY_LABELS[spec.quantity]} ({UNITS_NOTE})"
+            self._draw_axes(spec)
             self._draw_theory(spec)
-            self.current.location = float(values[spec.parameter])
+            self.current.location = float(values[spec.parameter]) * self._units(spec).parameter
             self.progress.value = 0
             self.stop.disabled = False
             self._set_status(f"Sweeping {spec.n} values of "
-                             f"{PARAMETER_LABELS[spec.parameter]}…")
+                             f"{parameter_name(spec.parameter, self.scales)}…")
         kind = "closed" if closed_form(values) else "integrated"
         self.job.start(spec, spec.grid(), FIRST_CHUNK[kind], values, CHUNK_SECONDS[kind])
 
@@ -726,16 +842,27 @@ class BifurcationView:
                 counts = {k: int(np.sum(data.swept_label == k)) for k in sweeps.LABELS}
                 found = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
                 self._set_status(
-                    f"{total} of {total} values of {PARAMETER_LABELS[spec.parameter]} in "
+                    f"{total} of {total} values of "
+                    f"{parameter_name(spec.parameter, self.scales)} in "
                     f"{self.last_seconds:.2f} s: {len(data.y)} samples "
                     f"({'density image' if len(data.y) > DENSITY_SAMPLES else 'points'}); "
                     f"steady states: {found}.{_no_samples(data, spec)} {_legend()}",
                     done=True)
             else:
                 self._set_status(f"{done} of {total} values of "
-                                 f"{PARAMETER_LABELS[spec.parameter]}…")
+                                 f"{parameter_name(spec.parameter, self.scales)}…")
+
+    def _draw_axes(self, spec: SweepSpec) -> None:
+        units = self._units(spec)
+        self.fig.x_range.update(start=spec.lo * units.parameter, end=spec.hi * units.parameter)
+        self.fig.xaxis.axis_label = units.parameter_label
+        self.fig.yaxis.axis_label = units.quantity_label
 
     def _draw_points(self, spec: SweepSpec, data: Points) -> None:
+        units = self._units(spec)
+        if units.parameter != 1.0 or units.quantity != 1.0:
+            data = Points(data.x * units.parameter, data.y * units.quantity, data.label,
+                          data.swept * units.parameter, data.swept_label)
         finite = np.isfinite(data.y)
         if finite.any():
             lo, hi = float(data.y[finite].min()), float(data.y[finite].max())
@@ -743,7 +870,8 @@ class BifurcationView:
             self.fig.y_range.update(start=lo - pad, end=hi + pad)
         if len(data.y) > DENSITY_SAMPLES:
             self.source.data = {"x": [], "y": [], "color": []}
-            self.image_source.data = density(data, (spec.lo, spec.hi))
+            self.image_source.data = density(
+                data, (spec.lo * units.parameter, spec.hi * units.parameter))
             self.mapper.update(low=0.0, high=float(np.nanmax(
                 self.image_source.data["image"][0])) or 1.0)
         else:
@@ -757,8 +885,10 @@ class BifurcationView:
                                                 spec.hi, spec.quantity)
         except ValueError:
             vertical, horizontal = [], []
-        self.vlines.data = {"x": [x for x, _ in vertical], "text": [t for _, t in vertical]}
-        self.hlines.data = {"y": [y for y, _ in horizontal],
+        units = self._units(spec)
+        self.vlines.data = {"x": [x * units.parameter for x, _ in vertical],
+                            "text": [t for _, t in vertical]}
+        self.hlines.data = {"y": [y * units.quantity for y, _ in horizontal],
                             "text": [t for _, t in horizontal]}
 
     def _failed(self, exc: Exception) -> None:
@@ -770,17 +900,19 @@ class BifurcationView:
         self.status.object = f"<div class='{cls}'>{text}</div>"
 
     def pick(self, x: float) -> float | None:
-        """The swept value nearest the parameter value ``x`` (a tap), or None."""
+        """The swept value (the core's number) nearest the parameter value ``x`` as the
+        diagram shows it (a tap, in the page's units), or None."""
         swept = self.data.swept
-        if len(swept) == 0 or x is None or not math.isfinite(x):
+        if len(swept) == 0 or self.spec is None or x is None or not math.isfinite(x):
             return None
+        x = x / self._units(self.spec).parameter
         return float(swept[int(np.argmin(np.abs(swept - x)))])
 
     def _on_tap(self, event: Tap) -> None:
         value = self.pick(event.x)
         if value is None or self.spec is None:
             return
-        self.current.location = value
+        self.current.location = value * self._units(self.spec).parameter
         self.on_pick(self.spec.parameter, value)
 
     def on_solution(self, values: Mapping[str, Any]) -> None:
@@ -789,7 +921,8 @@ class BifurcationView:
         spec = self.spec
         if spec is not None:
             if spec.parameter in values:
-                self.current.location = float(values[spec.parameter])
+                self.current.location = (float(values[spec.parameter])
+                                         * self._units(spec).parameter)
             others = {k: v for k, v in values.items() if k != spec.parameter}
             if others != {k: v for k, v in spec.values.items() if k != spec.parameter}:
                 self._refresh_options(values)
@@ -799,11 +932,11 @@ class BifurcationView:
 
     def _refresh_options(self, values: Mapping[str, Any]) -> None:
         params = applicable_parameters(values)
-        self.parameter.options = {PARAMETER_LABELS[p]: p for p in params}
+        self.parameter.options = self._parameter_options(params)
         if self.parameter.value not in params:
             self.parameter.value = params[0]
         quantities = applicable_quantities(values)
-        self.quantity.options = {QUANTITY_LABELS[q]: q for q in quantities}
+        self.quantity.options = self._quantity_options(quantities)
         if self.quantity.value not in quantities:
             self.quantity.value = default_quantity(values)
 
@@ -875,7 +1008,9 @@ class BifurcationView:
             return
         v_hi, x_lo, x_hi = sim.frame
         sim_img, dis_img = rgba(sim)
-        geometry = {"x": [0.0], "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
+        # On the map's axes: its belt speeds in the page's units (app.plots).
+        geometry = {"x": [0.0], "y": [x_lo], "dw": [v_hi * self.scales.velocity],
+                    "dh": [x_hi - x_lo]}
         with pn.io.hold():
             if self._map_renderers is None:
                 self._sim_source = ColumnDataSource({"image": [sim_img], **geometry})
@@ -925,8 +1060,9 @@ class BifurcationView:
         where = (f"Simulation and theory disagree in {bad} of {n} cells (red)."
                  if bad else "Simulation and theory agree in every cell that settled.")
         if unsettled:
-            where += (f" {unsettled} cells had not settled by t = {sim.t_end:g} (grey, "
-                      "not compared).")
+            unit = " s" if self.scales.si else ""
+            where += (f" {unsettled} cells had not settled by t = "
+                      f"{sim.t_end * self.scales.time:.4g}{unit} (grey, not compared).")
         lesson = ""
         if sim.deformable:
             lesson = " The theory is that of the equivalent rigid stop (Eq. 16)" + (

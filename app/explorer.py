@@ -878,7 +878,8 @@ class Explorer(pn.viewable.Viewer):
             self.sweeps = BifurcationView(
                 values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
                 map_figure=self._sweep_map_figure,
-                map_frame=lambda: self._map_frame(self.solution), shared=self.plots.shared)
+                map_frame=lambda: self._map_frame(self.solution), shared=self.plots.shared,
+                scales=self.state.scales())
             self._above_plots(self.sweeps.layout)
             self.sweeps.start()
         else:
@@ -944,6 +945,8 @@ class Explorer(pn.viewable.Viewer):
                 self.caption.object = self._caption_html()
                 if map_data is not None:
                     self.map_legend.object = _map_legend(map_data["labels"])
+                if self.sweeps is not None:
+                    self.sweeps.set_scales(scales)
                 set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
                 set_changed(self.alert, visible=False)
                 if self.trade.visible and self._trade_values != sol.values:

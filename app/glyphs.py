@@ -72,7 +72,12 @@ def add_glyph(fig: Any, method: str, *args: Any, source: Any, **kw: Any) -> Glyp
 
     Examples
     --------
-    >>> add_glyph(fig, "line", "x", "v", source=src, line_color="#777777", line_width=1)
+    >>> from bokeh.models import ColumnDataSource
+    >>> from bokeh.plotting import figure
+    >>> fig, src = figure(), ColumnDataSource({"x": [0, 1], "v": [1, 0]})
+    >>> r = add_glyph(fig, "line", "x", "v", source=src, line_color="#777777", line_width=1)
+    >>> r.glyph.line_color, r.nonselection_glyph
+    ('#777777', 'auto')
     """
     glyph_class, positional = GLYPHS[method]
     if len(args) > len(positional):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import numpy as np
@@ -11,6 +12,7 @@ from app.bifurcation import (
     DENSITY_SAMPLES,
     ChunkedSweep,
     check_spec,
+    default_range,
     sweep_points,
     theory_lines,
 )
@@ -101,16 +103,73 @@ def test_opening_sweeps_1000_belt_speeds_of_the_scene():
     assert view.current.location == ex.state.belt_speed
 
 
-def test_the_card_says_its_numbers_are_dimensionless_in_si_mode():
-    """The sweep's ranges and axes are the core's dimensionless numbers: with the page in
-    SI units the card said 'belt speed v' over 0.05-0.5 beside a slider in m/s."""
+def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
+    """In SI units the card said 'belt speed v (dimensionless units)' over 0.005-0.5 beside
+    a slider in m/s, and its simulated map covered a tenth of the map's m/s axis."""
     ex = _opened()
+    view = ex.sweeps
+    values, osc, stop = _scene_5a_directly()
+    omega = math.sqrt(ex.state.stiffness / ex.state.mass)  # SPEC §2: t = omega tau
+    dimensionless_lo, dimensionless_hi = view.lo.value, view.hi.value
+    view.disagree_layer.value = True
     ex.state.units = "SI"
-    ex.sweeps.start()
-    fig = ex.sweeps.fig
+    fig = view.fig
+    assert fig.xaxis[0].axis_label == "belt speed v_dr (m/s)"
+    assert fig.yaxis[0].axis_label == "impact speed before (at each impact) (m/s)"
+    assert "SI units" in view.layout.title
+    assert view.parameter.labels[view.parameter.values.index("belt_speed")] == \
+        "belt speed v_dr"
+    assert view.parameter.value == "belt_speed"
+    # The boxes, the diagram, the theory's v* and the current value, all in m/s: the same
+    # closed form scaled by omega (rtol: one multiplication's rounding).
+    assert view.lo.value == pytest.approx(dimensionless_lo * omega, rel=1e-3)
+    assert view.hi.value == pytest.approx(dimensionless_hi * omega, rel=1e-3)
+    res = sweep(osc, stop, "belt_speed", view.data.swept, t_end=200.0, x0=values["x0"],
+                v0=values["v0"], quantity="impact_speed")
+    x, y = res.points("impact_speed")
+    np.testing.assert_allclose(view.source.data["x"], x * omega, rtol=1e-15)
+    np.testing.assert_allclose(view.source.data["y"], y * omega, rtol=1e-15)
+    v_star = dict((t.split(":")[0], x) for x, t in zip(view.vlines.data["x"],
+                                                       view.vlines.data["text"],
+                                                       strict=True))["v*"]
+    assert v_star == pytest.approx(theory.critical_speed(osc, values["x0"], values["v0"])
+                                   * omega, rel=1e-15)
+    assert view.current.location == pytest.approx(ex.state.belt_speed * omega, rel=1e-15)
+    # The simulated layer covers the map's own image, whose axis is in m/s.
+    map_image = ex.plots.sources["map"].data
+    assert view._dis_source.data["dw"] == pytest.approx(map_image["dw"], rel=1e-15)
+    # A tap at a point in m/s loads the dimensionless value swept there.
+    swept = view.data.swept
+    view._on_tap(SimpleNamespace(x=swept[300] * omega, y=0.0))
+    assert ex.state.belt_speed == swept[300]
+    # A sweep started from the boxes in m/s sweeps the same dimensionless range.
+    view.start()
+    assert view.spec.lo == pytest.approx(dimensionless_lo, rel=1e-3)
+    assert view.spec.hi == pytest.approx(dimensionless_hi, rel=1e-3)
+    # Back in dimensionless units, everything is the core's numbers again.
+    ex.state.units = "dimensionless"
     assert fig.xaxis[0].axis_label == "belt speed v (dimensionless units)"
-    assert fig.yaxis[0].axis_label.endswith("(dimensionless units)")
-    assert "dimensionless units" in ex.sweeps.layout.title
+    np.testing.assert_allclose(view.source.data["x"], view.data.x, rtol=1e-15)
+    assert view._dis_source.data["dw"] == pytest.approx(ex.plots.sources["map"].data["dw"])
+
+
+def test_in_si_units_a_period_is_in_seconds_and_a_static_deflection_a_normal_force():
+    ex = _opened()
+    view = ex.sweeps
+    ex.state.units = "SI"
+    omega = math.sqrt(ex.state.stiffness / ex.state.mass)
+    view.quantity.value = "period"
+    view.parameter.value = "u_s"
+    lo, hi = default_range(ex.state.values(), "u_s")
+    # The sidebar shows N = k u_s in newtons (app.state.ExplorerState.physical).
+    assert view.lo.value == pytest.approx(lo * ex.state.stiffness, rel=1e-3)
+    view.points.value = 50
+    view.start()
+    assert view.fig.xaxis[0].axis_label == "normal force N (N)"
+    assert view.fig.yaxis[0].axis_label == "period (s)"
+    np.testing.assert_allclose(view.source.data["y"], view.data.y / omega, rtol=1e-15)
+    np.testing.assert_allclose(view.source.data["x"], view.data.x * ex.state.stiffness,
+                               rtol=1e-15)
 
 
 def test_a_tap_loads_the_nearest_swept_value_into_the_explorer():

@@ -355,7 +355,8 @@ def test_overlap_program_scene(ex):
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
                                     "app.readout", "app.export", "app.explorer",
-                                    "app.widgets", "app.trade", "app.compare"])
+                                    "app.widgets", "app.trade", "app.compare",
+                                    "app.bifurcation", "app.glyphs", "app.sampling"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
