@@ -110,7 +110,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                                         "stored: the first ones, then only a reduced "
                                         "model's start, rest or a failed stop)"))
     rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; "
-                          f"accuracy {accuracy_text(sol)}"))
+                          f"accuracy {accuracy_text(sol, scales)}"))
     return rows
 
 
@@ -124,6 +124,8 @@ MANY_CONTACTS = 50
 #: (up to 1.1e-4, k_c0 = 100, beta = 10, D = 0.1: the phase of hundreds of contacts, each
 #: integrated at the preset; benchmarks/results/hysteretic_speed_2026-11-24.txt).
 MANY_CONTACTS_ERROR = 1.1e-4
+#: The horizon of that measurement (dimensionless time).
+MANY_CONTACTS_T_END = 100.0
 
 
 def contact_count(res, measured: int) -> int:
@@ -139,10 +141,12 @@ def _logged(res, kind: TransitionKind) -> int:
     return int(res.transition_counts.get(kind.value, 0))
 
 
-def accuracy_text(sol: Solution) -> str:
+def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     """What the run's accuracy is, as far as it is known: rounding for a closed form; for a
     numerical method the preset's measured error, and for a deformable stop how it grows
-    with the contacts and what a reduced model's stated bound is."""
+    with the contacts and what a reduced model's stated bound is (times in the page's
+    units)."""
+    time_unit = " s" if scales.si else ""
     if sol.method == "exact" and (sol.stop is None or sol.values["stop_type"] == "rigid"):
         return "closed form, rounding only"
     text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
@@ -158,13 +162,15 @@ def accuracy_text(sol: Solution) -> str:
                 f"{contacts} contact{'s' if contacts != 1 else ''} and {loops} loops on the "
                 "stop")
         text += (f" per contact; over {what} their timing errors add up (measured "
-                 f"up to {_num(MANY_CONTACTS_ERROR)} of the scale by t = 100 at standard, more "
+                 f"up to {_num(MANY_CONTACTS_ERROR)} of the scale by t = "
+                 f"{_num(MANY_CONTACTS_T_END * scales.time, time_unit)} at standard, more "
                  "over longer runs)")
     reduced = [t.t for t in res.transitions if t.kind is TransitionKind.REDUCED]
     if reduced:
         # The core states the bound as a length: over its scale, as the preset's error is.
         bound = res.info.get("reduced_error", math.nan) / res.info.get("length_scale", math.nan)
-        text += (f"; from t = {_num(reduced[0])} a reduced model, its stated error "
+        text += (f"; from t = {_num(reduced[0] * scales.time, time_unit)} a reduced model, "
+                 "its stated error "
                  f"<= {_num(bound)} of the scale")
     return text
 

@@ -110,6 +110,14 @@ def test_a_deformable_stop_s_accuracy_says_how_it_grows_and_where_a_model_took_o
     info = sol.result.info
     assert info["length_scale"] == pytest.approx(0.45 * 2.0)
     assert f"<= {info['reduced_error'] / 0.9:.4g} of the scale" in row
+    # In SI units the times are seconds, t = tau / omega (the row said "from t = 8.9"
+    # beside a time axis in seconds).
+    state = ExplorerState(units="SI", mass=2.0, stiffness=50.0)
+    omega = 5.0
+    si_row = dict(readout_rows(sol, state.scales()))["Solve"]
+    assert f"from t = {switch[0] / omega:.4g} s a reduced model" in si_row
+    assert f"by t = {100.0 / omega:.4g} s at standard" in dict(
+        readout_rows(long, state.scales()))["Solve"]
 
 
 def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
