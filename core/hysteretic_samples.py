@@ -407,7 +407,8 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
     if sv.pressed():
-        return pressed_steady(list(sv.log.recent))
+        # The passive law's loops of reversals alone retrace their curve: no loss.
+        return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive")
     endless = getattr(sv, "endless", None)
     if endless is not None:
         if endless.mode is Mode.SLIP:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from core.result import TransitionKind
-from core.steady import FixedPointDetector, fold_times
+from core.result import SteadyKind, Transition, TransitionKind
+from core.steady import FixedPointDetector, fold_times, pressed_steady
 from core.transitions import TransitionLog
 
 IMPACT, SLIP_STICK = TransitionKind.IMPACT, TransitionKind.SLIP_STICK
@@ -114,3 +114,40 @@ def test_numerical_steady_search_uses_the_detector_and_needs_whole_periods():
     assert steady.kind is SteadyKind.PERIODIC
     assert steady.transitions_per_period == 3
     assert steady.period == pytest.approx(3.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("n_reversals", [40, 41])
+def test_creeping_dying_loops_are_rest_whatever_the_last_reversal(n_reversals):
+    """Loops that die while their centre creeps (the paper's loops, docs/contact-law.md):
+    in closed form the amplitude falls by 0.3 % per half cycle and the centre moves by 2 %
+    of it, so the swings alternate in size by ~4 % and a ratio of single swings reads
+    growth every other reversal (it was labelled ``none`` at one parity). Per cycle the
+    amplitude falls by ~0.6 %, far above SWING_STEADY: rest, approached."""
+    amp = 1e-6 * 0.997 ** np.arange(n_reversals)
+    centre = 0.42 - 0.02 * np.concatenate(([0.0], np.cumsum(amp[:-1])))
+    xs = centre + amp * (-1.0) ** np.arange(n_reversals)
+    tail = [Transition(TransitionKind.REVERSAL, 0.1 * k, float(x), 0.0, 0.0)
+            for k, x in enumerate(xs)]
+    steady = pressed_steady(tail)
+    assert steady.kind is SteadyKind.REST
+    # the geometric mean of the swing ratios over a cycle: the closed form's 0.997
+    assert steady.decay_rate == pytest.approx(0.997, abs=1e-4)
+
+
+def test_loops_of_a_lossless_law_are_periodic_whatever_their_drift():
+    """Loops made of reversals alone on a law that dissipates nothing there (the passive
+    law retraces its curve) keep their size; a measured shrink of 1e-5 per cycle (what the
+    roundoff of the law's curve gives on k_c0 = 100, beta = 100, D = 0.01) is the numbers'
+    drift. The same swings from a law that dissipates are rest, approached."""
+    n = 41
+    amp = 1.5e-3 * (1.0 - 0.5e-5) ** np.arange(n)
+    xs = 0.4224 + amp * (-1.0) ** np.arange(n)
+    tail = [Transition(TransitionKind.REVERSAL, 0.29 * k, float(x), 0.0, 0.0)
+            for k, x in enumerate(xs)]
+    lossless = pressed_steady(tail, lossless=True)
+    assert lossless.kind is SteadyKind.PERIODIC
+    assert lossless.period == pytest.approx(0.58, rel=1e-12)
+    assert pressed_steady(tail).kind is SteadyKind.REST
+    # A separation among the loops measured: not loops of reversals alone.
+    tail[-3] = tail[-3]._replace(kind=TransitionKind.SEPARATION)
+    assert pressed_steady(tail, lossless=True).kind is not SteadyKind.PERIODIC
