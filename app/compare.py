@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from app.export import NAMED
+from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
 from app.plots import MODE_NAMES, force_columns, loop_columns, phase_columns, trajectory_columns
 from app.scenes import CUSTOM, SCENES
@@ -158,22 +158,37 @@ def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto"
 
 # --- what a pin shows ----------------------------------------------------------------------
 
-def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any]) -> str:
+def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
+              scales: Scales = DIMENSIONLESS) -> str:
     """A short label: the pin's scene and the parameters in which it differs from the
-    current run (those its stop type uses), at most :data:`LABEL_ITEMS` of them.
+    current run (those its stop type uses), at most :data:`LABEL_ITEMS` of them, in the
+    page's units.
 
     >>> from app.state import scene_values
     >>> pin_label("5b", scene_values("5b"), scene_values("5b"))
     '5b: same parameters'
+    >>> si = ExplorerState(units="SI", mass=2.0, stiffness=50.0).scales()
+    >>> pin_label("5a", scene_values("5a"), {**scene_values("5a"), "belt_speed": 0.3}, si)
+    '5a: v_dr 0.5 m/s'
     """
     stop = str(values["stop_type"])
     names = ("stop_type", *NAMED.get(stop, NAMED["none"]), "program")
-    diff = [f"{'stop' if n == 'stop_type' else URL_KEYS[n]} {_short(values[n])}"
-            for n in names if values.get(n) != current.get(n)]
+    diff = [_item(n, values[n], scales) for n in names if values.get(n) != current.get(n)]
     if not diff:
         diff = ["same parameters"]
     more = ", …" if len(diff) > LABEL_ITEMS else ""
     return f"{scene}: {', '.join(diff[:LABEL_ITEMS])}{more}"
+
+
+def _item(name: str, value: Any, scales: Scales) -> str:
+    """``name value`` of a label: the permalink's key and the core's number, or in SI
+    units the SI name, value and unit (:data:`app.export.SI_PARAMETERS`)."""
+    if name == "stop_type":
+        return f"stop {value}"
+    if scales.si and name in SI_PARAMETERS and SI_PARAMETERS[name][1]:
+        si_name, factor, unit = SI_PARAMETERS[name]
+        return f"{si_name} {_short(value * getattr(scales, factor))} {unit}"
+    return f"{URL_KEYS[name]} {_short(value)}"
 
 
 def _short(value: Any) -> str:
@@ -393,9 +408,10 @@ class Compare:
 
     # --- drawing ---------------------------------------------------------------------------
 
-    def labels(self, current: Mapping[str, Any]) -> list[str]:
-        """Each pin's label against the current values."""
-        return [pin_label(p.scene, p.values, current) for p in self.pins]
+    def labels(self, current: Mapping[str, Any], scales: Scales | None = None) -> list[str]:
+        """Each pin's label against the current values (in the units last drawn in)."""
+        scales = self._scales if scales is None else scales
+        return [pin_label(p.scene, p.values, current, scales) for p in self.pins]
 
     def legend_entries(self, current: Mapping[str, Any]) -> list[tuple[str, str, str]]:
         """Entries for an HTML legend (:func:`app.plots.legend_html`)."""
@@ -408,7 +424,8 @@ class Compare:
         if not self.pins:
             return ""
         rows = [(label, p.color, p.solution)
-                for label, p in zip(self.labels(current.values), self.pins, strict=True)]
+                for label, p in zip(self.labels(current.values, scales), self.pins,
+                                    strict=True)]
         return comparison_html(current, rows, scales)
 
     def draw(self, scales: Scales) -> None:

@@ -1083,7 +1083,7 @@ class Explorer(pn.viewable.Viewer):
     def _file_name(self, what: str) -> str:
         scene = self.figure if self.state.scene == CUSTOM else self.state.scene
         scene = scene if self.state.scene != CUSTOM else f"custom-from-{scene}"
-        return file_name(self.solution.values, scene, what)
+        return file_name(self.solution.values, scene, what, self.state.scales())
 
 
 #: The figure the reset button returns to when the page opens on custom values.

@@ -43,6 +43,44 @@ NAMED = {
 }
 
 
+#: Parameters shown in other units in SI mode: the state's name -> (SI name, the factor of
+#: :class:`app.state.Scales` from the core's number, unit). Lengths are metres in both.
+SI_PARAMETERS: Mapping[str, tuple[str, str | None, str]] = {
+    "belt_speed": ("v_dr", "velocity", "m/s"),
+    "v0": ("v0", "velocity", "m/s"),
+    "t_end": ("t_end", "time", "s"),
+    "u_s": ("F_N", "force", "N"),
+    "k_c0": ("k_c0", "force", "N/m"),
+    "k_e0": ("k_e0", "force", "N/m"),
+    "clearance": ("clearance", None, "m"),
+    "x0": ("x0", None, "m"),
+    "limit_overlap": ("D", None, "m"),
+}
+
+
+def si_values(values: Mapping[str, Any], scales: Scales) -> list[tuple[str, Any, str]]:
+    """The run's parameters as the SI page shows them: ``(name, value, unit)``, first the
+    mass and stiffness that fix the units (``m = k / omega^2``).
+
+    >>> from app.state import ExplorerState, scene_values
+    >>> rows = si_values(scene_values("5a"), ExplorerState(units="SI", mass=2.0,
+    ...                                                     stiffness=50.0).scales())
+    >>> [r for r in rows if r[0] in ("m", "v_dr", "t_end")]
+    [('m', 2.0, 'kg'), ('v_dr', 0.5, 'm/s'), ('t_end', 12.0, 's')]
+    """
+    k, omega = scales.force, scales.velocity
+    out: list[tuple[str, Any, str]] = [("m", k / omega**2, "kg"), ("k", k, "N/m"),
+                                       ("omega", omega, "rad/s")]
+    for name, value in values.items():
+        if name in SI_PARAMETERS and isinstance(value, int | float):
+            si_name, factor, unit = SI_PARAMETERS[name]
+            out.append((si_name, float(value) * (getattr(scales, factor) if factor else 1.0),
+                        unit))
+        else:
+            out.append((name, value, ""))
+    return out
+
+
 def _units(scales: Scales) -> dict[str, str]:
     """Column units: SI, or the core's (time in 1/omega, lengths in the unit of u_s)."""
     if scales.si:
@@ -53,8 +91,14 @@ def _units(scales: Scales) -> dict[str, str]:
 
 def _header(sol: Solution, what: str, scales: Scales) -> str:
     params = ", ".join(f"{k}={v}" for k, v in sol.values.items())
-    units = "SI" if scales.si else "dimensionless (t = omega tau; lengths in the unit of u_s)"
-    return (f"# Friction-Impact Explorer {what}; units: {units}; {params}\n"
+    if scales.si:
+        # The SI values the page showed, then the core's own (a permalink's) numbers.
+        shown = ", ".join(f"{name}={value!r} {unit}" if unit else f"{name}={value}"
+                          for name, value, unit in si_values(sol.values, scales))
+        head = f"units: SI; {shown}; the core's dimensionless values: {params}"
+    else:
+        head = f"units: dimensionless (t = omega tau; lengths in the unit of u_s); {params}"
+    return (f"# Friction-Impact Explorer {what}; {head}\n"
             "# overlap = max(x - clearance, 0): how far the mass is inside the stop "
             "(0 without a stop, and for a rigid stop, which it never enters)\n")
 
@@ -117,17 +161,34 @@ def transitions_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringI
     return _rewound(buf)
 
 
-def file_name(values: Mapping[str, Any], scene: str, what: str) -> str:
+def file_name(values: Mapping[str, Any], scene: str, what: str,
+              scales: Scales = DIMENSIONLESS) -> str:
     """A file name naming the scene and the run's parameters (``key-value`` with the
-    permalink's keys), of safe characters only (letters, digits, ``.``, ``-``, ``_``)."""
+    permalink's keys; in SI mode ``SI``, the mass and stiffness, and the values converted
+    to the page's units under their SI names), of safe characters only (letters, digits,
+    ``.``, ``-``, ``_``).
+
+    >>> from app.state import ExplorerState, scene_values
+    >>> name = file_name(scene_values("5a"), "5a", "trajectory",
+    ...                  ExplorerState(units="SI", mass=2.0, stiffness=50.0).scales())
+    >>> name[:50], name[-29:]
+    ('fie_5a_trajectory_SI_m-2_k-50_stop-rigid_v_dr-0.5_', 'F_N-50_x0-0_v0-0_t_end-12.csv')
+    """
     stop = str(values.get("stop_type", "none"))
     parts = ["fie", scene, what, f"stop-{stop}"]
+    if scales.si:
+        parts[3:3] = ["SI", f"m-{scales.force / scales.velocity**2:.6g}",
+                      f"k-{scales.force:.6g}"]
     for name in NAMED.get(stop, NAMED["none"]):
         value = values.get(name)
         if isinstance(value, str):
             parts.append(f"{URL_KEYS[name]}-{value}")
         elif value is not None:
-            parts.append(f"{URL_KEYS[name]}-{value:.6g}")
+            key = URL_KEYS[name]
+            if scales.si and name in SI_PARAMETERS and SI_PARAMETERS[name][1]:
+                key, factor, _ = SI_PARAMETERS[name]
+                value = value * getattr(scales, factor)
+            parts.append(f"{key}-{value:.6g}")
     return re.sub(r"[^A-Za-z0-9._-]", "-", "_".join(parts)) + ".csv"
 
 

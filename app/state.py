@@ -237,11 +237,21 @@ class ExplorerState(param.Parameterized):
         # need not give back k_c0's last bit.
         values.update({name: merged[name] / merged["k"] for name in STOP_STIFFNESSES
                        if name in si or "k" in si})
+        # Each state value's SI name, unit and factor from the state's number to it (with
+        # the new m and k): a bound is told in the units of the box the user typed in.
+        k = merged["k"]
+        shown = {"mass": ("m", "kg", 1.0), "stiffness": ("k", "N/m", 1.0),
+                 "u_s": ("normal_force", "N", k), "belt_speed": ("belt_speed", "m/s", omega),
+                 "v0": ("v0", "m/s", omega), "t_end": ("t_end", "s", 1.0 / omega),
+                 **{name: (name, "N/m", k) for name in STOP_STIFFNESSES}}
         for name, value in values.items():
             low, high = self.param[name].bounds
             if not low <= value <= high:
+                si_name, unit, factor = shown[name]
                 raise ValueError(
-                    f"{name} = {value:.6g} (from the SI values) must lie in [{low:g}, {high:g}]")
+                    f"{si_name} must lie in [{low * factor:.4g}, {high * factor:.4g}] {unit}"
+                    f" with m = {merged['m']:g} kg, k = {k:g} N/m; got "
+                    f"{value * factor:.6g} {unit}")
         return values
 
     def set_physical(self, **si: float) -> None:

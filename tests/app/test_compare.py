@@ -81,6 +81,21 @@ def test_label_names_what_differs():
         == "7c: r 0.3"
 
 
+def test_in_si_units_a_pin_is_labelled_in_si_units():
+    """The legend and the table said "5a: v 0.1" (the core's belt speed) for a run pinned
+    at 0.5 m/s on a page in SI units."""
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.param.update(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
+        ex.compare.pin(ex.state.scene, ex.state.values())
+        ex._commit({"belt_speed": 0.3})
+        v_dr = f"v_dr {ex.compare.pins[0].values['belt_speed'] * 5.0:.4g} m/s"
+        assert v_dr == "v_dr 0.5 m/s"
+        assert f"pinned 5a: {v_dr}" in ex.plots.legends["phase"].object
+        assert f"5a: {v_dr}" in ex.readout.object
+        assert " v 0.1" not in ex.readout.object
+
+
 def test_no_model_until_used_then_ghosts_and_present_mode():
     ex, doc = _page()
     before = len(doc.models)

@@ -276,7 +276,8 @@ def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
     assert t[-1] == pytest.approx(3.0, rel=1e-6)  # the time axis ends at 3 s
     # A horizon the core cannot take is refused with its range, and the picture stays.
     _release(ex, "t_end_si", 1e6)
-    assert ex.alert.visible and "t_end" in ex.alert.object and "5000" in ex.alert.object
+    # In the seconds the box shows (5000 / omega), not the core's dimensionless bound.
+    assert ex.alert.visible and "t_end must lie in [0.01, 500] s" in ex.alert.object
     assert ex.state.t_end == pytest.approx(3.0 * omega)
     ex.units.value = "dimensionless"
     assert ex.sliders["t_end"].visible and not ex.sliders["t_end_si"].visible
@@ -337,8 +338,18 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
                                         * scales.impulse, rel=1e-12)
         assert float(r[5]) == 0.0  # a rigid stop is never entered
     assert all(r[6] == "" for r in rows if r[1] != "impact" and r[1] != "stick->impact")
+    # The header and the file name give the run as the SI page showed it (they gave the
+    # core's dimensionless numbers under "units: SI", without m and k).
+    head = lines[0]
+    omega = scales.velocity
+    assert head.startswith("# Friction-Impact Explorer transitions; units: SI; m=1.0 kg, "
+                           "k=100.0 N/m, omega=10.0 rad/s, ")
+    assert f"v_dr={ex.state.belt_speed * omega!r} m/s" in head
+    assert f"t_end={ex.state.t_end / omega!r} s" in head
+    assert f"the core's dimensionless values: belt_speed={ex.state.belt_speed}" in head
     name = ex.download_transitions.filename
-    assert name.startswith("fie_7c_transitions_stop-rigid_") and name.endswith(".csv")
+    assert name.startswith("fie_7c_transitions_SI_m-1_k-100_stop-rigid_v_dr-")
+    assert f"_t_end-{ex.state.t_end / omega:.6g}.csv" in name
     assert re.fullmatch(r"[A-Za-z0-9._-]+", name)
     ex._commit({"belt_speed": 0.123})  # custom values: named after the figure they left
     ex._transitions_csv()
