@@ -61,7 +61,9 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                                     "over the program (loop area)"))
         return rows
     if th is not None:
-        rows.append(("Regime", th.regime.description))
+        equivalent = (" (the theory of the equivalent rigid stop, r_eq = sqrt(k_e0/k_c0), "
+                      "Eq. 16)" if isinstance(sol.stop, HystereticStop) else "")
+        rows.append(("Regime", th.regime.description + equivalent))
         v = sol.osc.v
         belt = "fast" if th.fast else "slow"
         rel = ">" if th.fast else "<="
@@ -75,7 +77,8 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     if res is not None:
         rows.append(("x_max simulated", _num(res.x_max, len_unit)))
         rows.append(("Steady state found",
-                     res.steady.describe(scales.time, " s" if scales.si else "")))
+                     res.steady.describe(scales.time, " s" if scales.si else "",
+                                         scales.velocity, vel_unit)))
         pressed = np.asarray(res.mode) == int(Mode.CONTACT)
         if sol.values["stop_type"] == "rigid" and pressed.any():
             force = float(np.asarray(res.contact_force)[pressed][-1]) * scales.force

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -27,6 +28,7 @@ from core.hysteretic_base import (
     _dpoly,
     _poly,
 )
+from core.hysteretic_map import elastic_speed
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.steady import pressed_steady
@@ -422,7 +424,7 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
                 )
         return Steady(SteadyKind.EQUILIBRIUM, x_max=endless.x0, t_reached=endless.t0)
     tail = list(sv.log.recent)
-    return steady_from_transitions(
+    steady = steady_from_transitions(
         tail,
         scale=sv.scale(),
         rtol=FIXED_POINT_RTOL,
@@ -430,3 +432,11 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
         final_mode=int(mode[-1]) if len(mode) else 0,
         final_v=float(xd[-1]) if len(xd) else 0.0,
     )
+    if steady.kind is SteadyKind.GRAZING:
+        # Both readings of Eq. 13 keep a contact whose peak overlap stays below about
+        # D / beta_e on phi_C, i.e. elastic: the impacts do not die out, their speed tends
+        # to w_inf from above (docs/contact-law.md).
+        w_inf = elastic_speed(sv)
+        if math.isfinite(w_inf) and w_inf > 0.0:
+            steady = replace(steady, impact_speed=w_inf)
+    return steady

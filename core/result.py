@@ -88,7 +88,9 @@ class Steady:
     x_max : float
         Maximum displacement on the steady motion.
     impact_speed : float
-        Approach speed at the steady impact (0 for grazing and rest, nan if none).
+        Approach speed at the steady impact (0 for rest, nan if none). Grazing: 0 for a
+        rigid stop; on a deformable stop whose law turns slow contacts elastic, the speed
+        the impacts tend to (the elastic limit, docs/contact-law.md).
     t_reached : float
         Time from which the steady state holds (or the accumulation time); ``nan`` if the
         state is only approached asymptotically.
@@ -106,9 +108,11 @@ class Steady:
     t_reached: float = math.nan
     decay_rate: float = math.nan
 
-    def describe(self, time_scale: float = 1.0, time_unit: str = "") -> str:
+    def describe(self, time_scale: float = 1.0, time_unit: str = "",
+                 velocity_scale: float = 1.0, velocity_unit: str = "") -> str:
         """One line in words, for the readout; times are shown multiplied by
-        ``time_scale`` and followed by ``time_unit`` (e.g. ``1/omega`` and ``" s"``)."""
+        ``time_scale`` and followed by ``time_unit`` (e.g. ``1/omega`` and ``" s"``),
+        speeds by ``velocity_scale`` and ``velocity_unit``."""
         if self.kind is SteadyKind.PERIODIC:
             seq = " -> ".join(self.sequence)
             return (
@@ -117,6 +121,10 @@ class Steady:
                 f"transition{'' if self.transitions_per_period == 1 else 's'} per period: {seq}"
             )
         if self.kind is SteadyKind.GRAZING:
+            if self.impact_speed > 0.0:
+                return (f"grazing approached: impact speeds fall towards "
+                        f"{self.impact_speed * velocity_scale:.4g}{velocity_unit}, below which "
+                        "the stop's law is elastic (a slip circle that just reaches the stop)")
             return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"
         if self.kind is SteadyKind.REST:
             if math.isnan(self.t_reached):

@@ -142,3 +142,16 @@ def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
     rows = dict(readout_rows(sol))
     assert f"from t = {switch[0]:.4g} a reduced model" in rows["Solve"]
     assert "then only a reduced model's start" in rows["Transitions"]
+
+
+def test_a_deformable_stop_s_regime_row_says_it_is_the_equivalent_rigid_stop_s_theory():
+    """Scene 10: the Regime row gave the rigid stop's "impact speeds fall as r^h" as if it
+    were this stop's, beside a steady state that says otherwise (docs/contact-law.md)."""
+    rows = dict(readout_rows(solve(scene_values("10")), ExplorerState(units="SI").scales()))
+    assert rows["Regime"].endswith("(the theory of the equivalent rigid stop, "
+                                   "r_eq = sqrt(k_e0/k_c0), Eq. 16)")
+    found = rows["Steady state found"]
+    # w_inf = 1.768e-3 (tests/core/test_hysteretic.py), times omega = 10 rad/s, in m/s.
+    assert found.startswith("grazing approached: impact speeds fall towards 0.01768 m/s")
+    assert "r^h" not in found
+    assert "equivalent" not in dict(readout_rows(solve(scene_values("7c"))))["Regime"]
