@@ -125,7 +125,7 @@ SIM_MAP_CELLS = {"closed": 128, "integrated": 16}
 #: Steady-state labels' colours in the diagram and in the simulated map.
 LABEL_COLORS: Mapping[str, str] = {
     "periodic": "#1f5fbf", "grazing": "#e07b00", "rest": "#2ca02c", "equilibrium": "#6a3d9a",
-    "pure_slip": "#c8102e", "none": "#7f7f7f",
+    "pure_slip": "#c8102e", "contact_train": "#8c564b", "none": "#7f7f7f",
 }
 #: Colour and opacity of the cells where simulation and theory disagree.
 DISAGREE_RGBA = (200, 16, 46, 220)
@@ -1073,11 +1073,20 @@ class BifurcationView:
 
 
 def _no_samples(data: Points, spec: SweepSpec) -> str:
-    """A note when no point has a sample of the quantity (e.g. no impact at rest)."""
-    if len(data.y):
+    """A note when some or all points have no sample of the quantity: the samples are
+    those of one steady period (e.g. no impact at rest)."""
+    if spec.quantity in PER_POINT:
+        missing = len(data.swept) - len(data.y)
+    else:
+        missing = len(data.swept) - len(np.unique(data.x))
+    if missing <= 0:
         return ""
-    return (f" No point has a sample of '{QUANTITY_LABELS[spec.quantity]}': choose another "
-            "quantity (steady x_max, the period).")
+    name = QUANTITY_LABELS[spec.quantity]
+    if not len(data.y):
+        return (f" No point has a sample of '{name}': choose another quantity (steady "
+                "x_max, the period).")
+    return (f" {missing} of {len(data.swept)} values have no sample of '{name}': the samples "
+            "are those of the steady motion (none at rest, none where nothing settled).")
 
 
 def _legend() -> str:

@@ -243,3 +243,22 @@ def test_the_simulated_map_of_a_rigid_stop_agrees_with_the_theory():
     view.disagree_layer.value = False
     assert not any(r.visible for r in view._map_renderers)
     assert ex.plots.figures["map"].title.text == "Regime map (tap to move there)"
+
+
+def test_every_steady_label_has_its_own_colour_and_missing_samples_are_said():
+    """contact_train (a deformable stop's train of contacts) was drawn black, unnamed in
+    the legend; a clearance sweep of scene 11 drew 3 force peaks for 60 clearances
+    without saying why the others had none."""
+    from app.bifurcation import LABEL_COLORS, Points, SweepSpec, _legend, _no_samples
+    from core.sweep import LABELS
+
+    assert set(LABELS) <= set(LABEL_COLORS)
+    assert len(set(LABEL_COLORS.values())) == len(LABEL_COLORS)
+    assert "contact_train" in _legend()
+    spec = SweepSpec(scene_values("11"), "clearance", 0.1, 0.3, 4, "force_peak")
+    labels = np.array(["rest", "periodic", "periodic", "rest"], dtype=object)
+    data = Points(np.array([0.2, 0.2, 0.3]), np.array([1.0, 2.0, 1.5]),
+                  labels[[1, 1, 2]], np.array([0.1, 0.2, 0.3, 0.4]), labels)
+    assert "2 of 4 values have no sample" in _no_samples(data, spec)
+    assert _no_samples(Points(data.x, data.y, data.label, np.array([0.2, 0.3]),
+                              labels[1:3]), spec) == ""
