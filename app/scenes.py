@@ -368,9 +368,10 @@ _SCENE_LIST = (
     ),
     _scene(
         "10", "Fig. 10: hysteretic stop, slow belt, a < x_bar <= x*",
-        "Compare with Fig. 7c: the contact force dies out through a sequence of contacts and "
-        "detachments, and the motion grazes the stop. Unlike a rigid stop's r, each smaller "
-        "contact dissipates less (see the readout's restitution).",
+        "Compare with Fig. 7c: the contact force dies down through a sequence of contacts and "
+        "detachments, and the motion tends to graze the stop. Unlike a rigid stop's r, each "
+        "smaller contact dissipates less (see the readout's restitution), and the slowest are "
+        "elastic: the impacts tend to a small speed, not to zero.",
         {**_HYST, "belt_speed": V_SLOW_INELASTIC, "clearance": 0.24, "t_end": 80.0},
         HYSTERETIC_PLOTS,
         [SLOW, ("a < x_bar <= x* (x* with r_eq, Eq. 16)", lambda s: _a(s) < _xb(s) <= _xs(s))],
