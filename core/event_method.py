@@ -381,7 +381,7 @@ class EventSolver:
             self.v = 0.0
             d = self.x - self.c
             phi = force_and_slope(d, self.branch, self.stop)[0] if d > 0.0 else 0.0
-            self.branch = reverse(d, phi, self.branch)
+            self.branch = reverse(d, phi, self.branch, self.stop)
             self.log.add(TransitionKind.REVERSAL, self.t, self.x, self.v)
         self.fr = self.start_mode(self.x, self.v)
         self.point(self.t, self.x, self.v, self.acc_of(self.x, self.fr), self.fr)

@@ -81,11 +81,18 @@ class Branch:
         it shrinks (unloading curve towards ``phi_E``).
     delta_r, phi_r : float
         The stored reversal point: overlap (a length) and force over ``k`` (a length).
+    anchor : tuple of float, optional
+        The passive law only: the point ``(overlap, force)`` its curve was created through
+        (a reversal on ``phi_C``, or ``s+``), kept by reversals on that curve (:func:`reverse`).
+        ``None``: the curve through ``(delta_r, phi_r)``. Recomputed from a reversal near
+        ``phi_E``, where the curve is within a few ulps of it, the curve's constant would keep
+        only those ulps, and ``exp(beta_e swing / D)`` would carry them to the top of the loop.
     """
 
     loading: bool
     delta_r: float
     phi_r: float
+    anchor: tuple[float, float] | None = None
 
 
 #: The branch of every new contact: the compression envelope from the origin (paper §2.4).
@@ -221,16 +228,46 @@ def passive_force_and_slope(
         return 0.0, 0.0
     if delta >= d_lim:
         return math.inf, math.inf
-    d_r, p_r = branch.delta_r, branch.phi_r
-    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
-        1.0 - ON_ENVELOPE_RTOL)
-    if branch.loading and on_c:
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None:
         gap = d_lim - delta
         return stop.k_c0 * d_lim * delta / gap, stop.k_c0 * (d_lim / gap) ** 2
+    return _passive_curve(delta, anchor[0], anchor[1], stop)
+
+
+def _on_compression(d_r: float, p_r: float, stop: HystereticStop) -> bool:
+    d_lim = stop.limit_overlap
+    return d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (1.0 - ON_ENVELOPE_RTOL)
+
+
+def _passive_anchor(branch: Branch, stop: HystereticStop) -> tuple[float, float] | None:
+    """The point the passive law's curve of ``branch`` goes through (:func:`_passive_curve`),
+    ``None`` when it is ``phi_C`` (loading from a point of ``phi_C``)."""
+    if branch.anchor is not None:
+        return branch.anchor
+    d_r, p_r = branch.delta_r, branch.phi_r
+    on_c = _on_compression(d_r, p_r, stop)
+    if branch.loading and on_c:
+        return None
     s_plus = leaving_overlap(stop)
     if not branch.loading and on_c and d_r > s_plus:
-        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
-    return _passive_curve(delta, d_r, p_r, stop)
+        d_lim = stop.limit_overlap
+        return s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    return d_r, p_r
+
+
+def _keeps_curve(delta: float, phi: float, anchor: tuple[float, float],
+                 stop: HystereticStop) -> bool:
+    """Whether ``(delta, phi)`` lies on the exponential of the passive curve through
+    ``anchor`` where it is not clipped to ``phi_C`` (it is above ``phi_E`` wherever its
+    constant is positive), to the force's rounding (the ``phi`` the law gave there)."""
+    d_a, p_a = anchor
+    d_lim = stop.limit_overlap
+    if not (0.0 < delta < d_lim) or p_a <= stop.k_e0 * d_lim * d_a / (d_lim - d_a):
+        return False
+    value = _passive_curve(delta, d_a, p_a, stop)[0]
+    return (value < stop.k_c0 * d_lim * delta / (d_lim - delta)
+            and abs(phi - value) <= ON_ENVELOPE_RTOL * value)
 
 
 def force_and_slope(delta: float, branch: Branch, stop: HystereticStop) -> tuple[float, float]:
@@ -342,14 +379,23 @@ def _passive_many(delta, branch: Branch, stop: HystereticStop, which: int):
     return out[()] if out.ndim == 0 else out
 
 
-def reverse(delta: float, phi: float, branch: Branch) -> Branch:
+def reverse(delta: float, phi: float, branch: Branch,
+            stop: HystereticStop | None = None) -> Branch:
     """The branch that starts at a reversal of the overlap rate at ``(delta, phi)``.
 
     Loading turns into unloading and vice versa; the reversal point is stored (paper §2.4:
     "up to a particular closure ... which must be stored, where a velocity sign inversion
-    occurs").
+    occurs"). With ``stop`` on the passive law, a reversal inside the band on the curve of
+    ``branch`` keeps that curve's anchor (:class:`Branch`): the curve retraced is the one
+    the state is on, not one recomputed from the rounded reversal point.
     """
-    return Branch(not branch.loading, float(delta), float(phi))
+    new = Branch(not branch.loading, float(delta), float(phi))
+    if stop is None or stop.law != "passive" or _on_compression(new.delta_r, new.phi_r, stop):
+        return new
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None or not _keeps_curve(new.delta_r, new.phi_r, anchor, stop):
+        return new
+    return Branch(new.loading, new.delta_r, new.phi_r, anchor)
 
 
 # --- work done on the stop -----------------------------------------------------------------
@@ -530,7 +576,7 @@ def program_work(stop: HystereticStop, turns) -> float:
         if target == delta:
             continue
         if (target > delta) != branch.loading:
-            branch = reverse(delta, float(contact_force(delta, branch, stop)), branch)
+            branch = reverse(delta, float(contact_force(delta, branch, stop)), branch, stop)
         work += branch_work(delta, target, branch, stop)
         delta = target
         if delta <= 0.0:
@@ -543,14 +589,11 @@ def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) ->
     ``phi_C``, or the paper's clipped unloading curve through an anchor point (below ``s+``
     when it is on ``phi_C`` there, with ``phi_C`` above)."""
     d_lim = stop.limit_overlap
-    d_r, p_r = branch.delta_r, branch.phi_r
-    on_c = d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (
-        1.0 - ON_ENVELOPE_RTOL)
-    if branch.loading and on_c:
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None:
         return _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(lo, stop.k_c0, d_lim)
     s_plus = leaving_overlap(stop)
-    if not branch.loading and on_c and d_r > s_plus:
-        d_r, p_r = s_plus, stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    d_r, p_r = anchor
     curve, paper = Branch(False, d_r, p_r), _paper_reading(stop)
     capped = s_plus < d_lim and hi > s_plus and passive_force_and_slope(
         s_plus * (1.0 + 1e-12), Branch(False, d_r, p_r), stop
@@ -581,22 +624,27 @@ def stored_energy(delta: float, phi: float, stop: HystereticStop) -> float:
     return branch_work(0.0, delta, Branch(False, delta, phi), stop)
 
 
-def force_on_branches(delta, loading, delta_r, phi_r, stop: HystereticStop) -> np.ndarray:
+def force_on_branches(delta, loading, delta_r, phi_r, stop: HystereticStop,
+                      anchor_d=math.nan, anchor_p=math.nan) -> np.ndarray:
     """:func:`contact_force` for arrays of overlaps, each on its own branch.
 
-    ``loading``, ``delta_r`` and ``phi_r`` are arrays of the fields of :class:`Branch`,
-    broadcast against ``delta``; used to evaluate a response's samples in one pass.
+    ``loading``, ``delta_r`` and ``phi_r`` (and, for the passive law, ``anchor_d`` and
+    ``anchor_p``, ``nan`` where a branch has no anchor) are arrays of the fields of
+    :class:`Branch`, broadcast against ``delta``; used to evaluate a response's samples in
+    one pass.
     """
     delta = np.asarray(delta, dtype=float)
     loading = np.asarray(loading, dtype=bool)
     delta_r = np.asarray(delta_r, dtype=float)
     phi_r = np.asarray(phi_r, dtype=float)
     if stop.law == "passive":
-        b = np.broadcast_arrays(delta, loading, delta_r, phi_r)
-        return np.array([passive_force_and_slope(float(d), Branch(bool(ld), float(r), float(p)),
-                                                 stop)[0]
-                         for d, ld, r, p in zip(*(x.ravel() for x in b), strict=True)]
-                        ).reshape(b[0].shape)
+        b = np.broadcast_arrays(delta, loading, delta_r, phi_r, np.asarray(anchor_d, float),
+                                np.asarray(anchor_p, float))
+        return np.array([passive_force_and_slope(
+            float(d), Branch(bool(ld), float(r), float(p),
+                             None if math.isnan(ad) else (float(ad), float(ap))), stop)[0]
+            for d, ld, r, p, ad, ap in zip(*(x.ravel() for x in b), strict=True)]
+        ).reshape(b[0].shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)
     d = np.where(inside, delta, 0.5 * d_lim)

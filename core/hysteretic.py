@@ -365,7 +365,7 @@ class _Solver:
         self.record(TransitionKind.SLIP_STICK, st, st.v)
         if not branch.loading:  # x' = v > 0: the overlap grows again
             self.close_branch(branch, d_branch0, delta, st)
-            branch = reverse(delta, phi, branch)
+            branch = reverse(delta, phi, branch, self.stop)
             d_branch0 = delta
             self.new_branch(branch, delta, st.work[2])
         return True, s, branch, d_branch0
@@ -544,7 +544,7 @@ class _Solver:
         reversal point (Eq. 13). Returns it, and ``"periodic"`` or ``"rest"`` when the
         contact ends here (a fixed point, or the reversals have died out)."""
         delta = st.x - self.xb
-        branch = reverse(delta, phi, branch)
+        branch = reverse(delta, phi, branch, self.stop)
         self.new_branch(branch, delta, st.work[2])
         self.record(TransitionKind.REVERSAL, st, 0.0, phi=phi)
         if self.steady is not None:

@@ -279,6 +279,16 @@ def _work_at(sv: _Solver, t: np.ndarray) -> np.ndarray:
     return work
 
 
+def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, np.ndarray]:
+    """The anchors of the passive law's curves kept over reversals inside the band
+    (:class:`~core.hysteresis.Branch`), ``nan`` where none, of the branches ``rows``."""
+    a_d, a_p = np.full(len(rows), math.nan), np.full(len(rows), math.nan)
+    if stop.law == "passive":
+        for k, i in enumerate(rows):
+            a_d[k], a_p[k] = brs[i].anchor or (math.nan, math.nan)
+    return a_d, a_p
+
+
 def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
     """State, mode, force, overlap, cumulative work and stored energy at times ``t``."""
     n = len(t)
@@ -363,6 +373,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         loading = np.array([brs[i].loading for i in branch_rows])
         d_r = np.array([brs[i].delta_r for i in branch_rows])
         p_r = np.array([brs[i].phi_r for i in branch_rows])
+        a_d, a_p = _anchors(brs, branch_rows, stop)
         # A reduced train's contact unloads from its own peak (paper Eq. 12): the row's
         # branch is the first loading of every contact, the envelope.
         for r in np.unique(rows[kinds == _TRAIN]):
@@ -373,7 +384,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             loading[sel] = ~unloading
             d_r[sel] = np.where(unloading, peak, d_r[sel])
             p_r[sel] = np.where(unloading, phi_compression(peak, stop), p_r[sel])
-        phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop)
+            a_d[sel] = np.where(unloading, math.nan, a_d[sel])
+        phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop, a_d, a_p)
         primitives: dict[int, BranchPrimitive] = {}
 
         def primitive(bi: int) -> BranchPrimitive:

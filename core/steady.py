@@ -35,9 +35,9 @@ FIXED_POINT_RTOL = 1e-11
 #: Relative change per cycle of the amplitude of an oscillation on the stop below which it
 #: is steady rather than dying out: an amplitude shrinking that slowly keeps 99 % of itself
 #: for 1e4 cycles, more than any horizon offers (t_end <= 1e4, periods ~1), and solves at
-#: rtol 1e-8 to 1e-11 leave retracing loops drifting by ~4e-9 per cycle. (The roundoff of
-#: the passive law's curve moves some by 1e-5 at a reversal: those are labelled by the law,
-#: :func:`pressed_steady`'s ``lossless``.)
+#: rtol 1e-8 to 1e-11 leave retracing loops drifting by ~4e-9 per cycle. (The passive law's
+#: loops are labelled by the law, :func:`pressed_steady`'s ``lossless``: with their curve
+#: kept over reversals they drift by the integration's ~1e-8 per cycle at rtol 1e-8.)
 SWING_STEADY = 1e-6
 #: Swings (two a cycle) whose change the label of an oscillation on the stop is read from:
 #: four cycles, three ratios of successive cycles.

@@ -403,7 +403,8 @@ class SwitchSolver:
             hh, xe, _ = self.locate(s_ev, h, lambda xx, vv: vv, self.rhs)
             if xe > self.c:
                 self.advance(hh, xe, 0.0)
-                self.set_branch(reverse(self.x - self.c, self.phi_at(self.x), self.branch))
+                self.set_branch(reverse(self.x - self.c, self.phi_at(self.x), self.branch,
+                                        self.stop))
                 self.acc = self.eval_rhs(self.x, self.v)
                 self.log.add(TransitionKind.REVERSAL, self.t, self.x, 0.0)
                 self.h = h_next
