@@ -104,11 +104,27 @@ MAX_LOOP_POINTS = 4 * MAX_POINTS
 MAX_MARKERS = 400
 #: Operating points drawn on the friction law.
 MAX_OPERATING_POINTS = 500
-#: Gap [px] between a theory point and its label.
-LABEL_GAP_PX = 6
-#: Vertical offsets [px] of a theory point's label: above it, or below it (a label that
-#: would face another on the same level, see :func:`_theory_points`).
-LABEL_ABOVE_PX, LABEL_BELOW_PX = 4, -14
+#: A theory point's label is anchored by its corner next to the point (``align`` and
+#: ``baseline`` of its source), that corner this far from the point's centre [px]:
+#: sideways, clear of the marker's half width (``PHASE_STYLE["points"]``: a 13 px diamond
+#: is 4.3 px wide each side, plus half its line) by a fifth of the font, and up or down by
+#: a quarter of the font (clear of the stick line under a label above it). The page's font
+#: (12 px) gives ``dx``, ``dy``; the presentation's largest (:data:`PRESENT_LABEL_FONT_PX`,
+#: lines twice as wide) ``pdx``, ``pdy``. Fixed offsets of 6 and 4 px put 18-22 px labels on
+#: their points.
+LABEL_FONT_PX, PRESENT_LABEL_FONT_PX = 12, 22
+
+
+def label_offsets(font_px: float, line_width: float) -> tuple[int, int]:
+    """Sideways and vertical distance [px] of a label's corner from its point's centre.
+
+    >>> label_offsets(LABEL_FONT_PX, 2), label_offsets(PRESENT_LABEL_FONT_PX, 4)
+    ((8, 3), (11, 6))
+    """
+    half_width = PHASE_STYLE["points"]["size"] / 2 / 1.5 + line_width / 2
+    return round(half_width + 0.2 * font_px), round(0.25 * font_px)
+
+
 #: The paper's names of the theory's points, after its transitions (Sec. 2): slip->stick
 #: (SlSt), stick->slip (StSl), slip->contact (SlC), contact->slip (CSl), stick->contact
 #: (StC, a stick segment that ends at the stop); ``lim`` is the point the impacts tend to.
@@ -161,6 +177,20 @@ PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
                "line_color": "#2ca02c", "line_width": 2},
     "start": {"marker": "circle", "size": 8, "fill_color": "#ffffff", "line_color": "#000000"},
 }
+#: Offsets [px] of the theory points' labels on the page (:func:`label_offsets`): sideways,
+#: and up (above the point) or down (below it).
+LABEL_GAP_PX, LABEL_ABOVE_PX = label_offsets(LABEL_FONT_PX, PHASE_STYLE["points"]["line_width"])
+LABEL_BELOW_PX = -LABEL_ABOVE_PX
+#: The same in presentation mode (its fonts, its lines twice as wide).
+PRESENT_GAP_PX, PRESENT_ABOVE_PX = label_offsets(
+    PRESENT_LABEL_FONT_PX, 2 * PHASE_STYLE["points"]["line_width"])
+#: Vertical offsets [px] of the label of a point on the x axis (the limit point): clear of
+#: a marker of the same size on the axis (the start point (0, 0), contact markers by the
+#: stop) by the usual offset.
+LABEL_AXIS_PX = round(LABEL_ABOVE_PX + (PHASE_STYLE["points"]["size"]
+                                        + PHASE_STYLE["points"]["line_width"]) / 2)
+PRESENT_AXIS_PX = round(PRESENT_ABOVE_PX + (PHASE_STYLE["points"]["size"]
+                                            + 2 * PHASE_STYLE["points"]["line_width"]) / 2)
 #: Legend labels of the phase portrait's references, and what they are (tooltips).
 PHASE_LABELS: Mapping[str, tuple[str, str]] = {
     "gamma0": ("Gamma_0", "Gamma_0 (Eq. 21): the disc about (a, 0) of radius v, touching "
@@ -369,7 +399,7 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
         cycle = {"x": _f32(cx), "v": _f32(cv * scales.velocity)}
     stop = sol.stop.clearance if sol.stop is not None else math.inf
     return {"gamma0": gamma0, "cycle": cycle, "removed": removed_circle(sol, scales),
-            "points": _theory_points(th.points, stop, scales)}
+            "points": _theory_points(th.points, stop, scales, a)}
 
 
 def _applicable_points(points: Mapping[str, list], sources: Mapping[str, Any]
@@ -400,19 +430,37 @@ def removed_circle(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
 
 
 def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
-                   scales: Scales) -> dict:
+                   scales: Scales, centre: float = math.nan) -> dict:
     """The theory's points with their labels; points that coincide (a stick segment that
     ends at the stop: its end is the impact point) are one marker with a joint label, not
-    labels printed over each other. Labels of points on the stop, the right edge of the
-    motion, are written to their left (``align``, ``dx`` [px]) so that they stay in view;
-    such a label goes below its point (``dy`` [px]) when a label on the same level, to its
-    left, is written towards it (the stick line's two ends: their labels ran into each
-    other when the stick is short).
+    labels printed over each other.
+
+    Each label is anchored by its corner next to the point (``align``, ``baseline``), that
+    corner off the point by ``dx``, ``dy`` [px] on the page and ``pdx``, ``pdy`` in
+    presentation mode (:func:`label_offsets`), so that no font puts it on its marker. The
+    side is away from the curves through the point:
+
+    - points on the stick line are labelled above it, written rightwards;
+    - points on the stop are labelled left of it (the stop is the motion's right edge: the
+      label stays in view), on the side of the slip arc through the point that faces away
+      from it: the arc about ``(centre, 0)`` leaves the stop leftwards towards the x axis
+      when the stop lies short of the centre and away from it beyond, so the label goes
+      above a point of the upper half beyond the centre (``P_CSl`` of Fig. 5a: towards the
+      axis, inside the orbit) and below one short of it; a label goes below its point too
+      when a label on the same level, to its left, is written towards it (the stick line's
+      two ends: their labels ran into each other when the stick is short);
+    - the limit point on the x axis (``P_lim``) is labelled above it on the side away from
+      the circle's centre: the circle about ``(centre, 0)`` through it lies on the other
+      side (Fig. 6b: the label left of the stop, off the pure slip circle beyond it; Fig.
+      7c: right of the stop, off the grazing circle short of it).
 
     >>> p = _theory_points({"P_stick_end": (0.25, 0.07), "P_impact_in": (0.25, 0.07 + 1e-15),
-    ...                     "P_stick_start": (0.1, 0.07)}, 0.25, DIMENSIONLESS)
-    >>> p["name"], p["align"], p["dy"]
-    (['stick end = impact in', 'stick start'], ['right', 'left'], [-14, 4])
+    ...                     "P_stick_start": (0.1, 0.07)}, 0.25, DIMENSIONLESS, 0.2)
+    >>> p["name"], p["align"], p["baseline"], p["dy"]
+    (['stick end = impact in', 'stick start'], ['right', 'left'], ['top', 'bottom'], [-3, 3])
+    >>> p = _theory_points({"P_limit": (0.24, 0.0)}, 0.24, DIMENSIONLESS, 0.2)
+    >>> p["align"], p["dx"], p["pdx"], p["baseline"]
+    (['left'], [8], [11], ['bottom'])
     """
     merged: list[tuple[float, float, list[str]]] = []
     keys: list[list[str]] = []
@@ -432,12 +480,31 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     facing = [s and any(not other_s and o[0] < m[0] and abs(o[1] - m[1]) <= level
                         for o, other_s in zip(merged, on_stop, strict=True))
               for m, s in zip(merged, on_stop, strict=True)]
+    tiny = 1e-9 * max(1.0, abs(stop) if math.isfinite(stop) else 1.0)
+    rightwards, above, axis = [], [], []
+    for (x, v, _), s, f in zip(merged, on_stop, facing, strict=True):
+        axis.append(s and abs(v) <= tiny)
+        if not s:  # on the stick line: the slip arc leaves its end down to the right
+            rightwards.append(not x > centre)
+            above.append(not x > centre)
+        elif axis[-1]:
+            rightwards.append(x > centre + tiny)
+            above.append(True)
+        else:
+            rightwards.append(False)
+            above.append(not f and v * (x - centre) <= 0.0)
+    side = [1 if r else -1 for r in rightwards]
+    up = [1 if a else -1 for a in above]
+    dy = [u * (LABEL_AXIS_PX if a else LABEL_ABOVE_PX) for u, a in zip(up, axis, strict=True)]
+    pdy = [u * (PRESENT_AXIS_PX if a else PRESENT_ABOVE_PX)
+           for u, a in zip(up, axis, strict=True)]
     return {"x": [m[0] for m in merged], "v": [m[1] * scales.velocity for m in merged],
             "name": [" = ".join(m[2]) for m in merged],
             "paper": [_paper_name(k) for k in keys],
-            "align": ["right" if s else "left" for s in on_stop],
-            "dx": [-LABEL_GAP_PX if s else LABEL_GAP_PX for s in on_stop],
-            "dy": [LABEL_BELOW_PX if f else LABEL_ABOVE_PX for f in facing]}
+            "align": ["left" if r else "right" for r in rightwards],
+            "baseline": ["bottom" if a else "top" for a in above],
+            "dx": [d * LABEL_GAP_PX for d in side], "dy": dy,
+            "pdx": [d * PRESENT_GAP_PX for d in side], "pdy": pdy}
 
 
 def _paper_name(keys: list[str]) -> str:
@@ -719,7 +786,8 @@ class PlotSet:
         # On a light backing: a label next to the stop line was crossed by it ("stick end"
         # of Fig. 5a, "limit" of Fig. 7c).
         labels = LabelSet(x="x", y="v", text="name", source=s["points"], x_offset="dx",
-                          text_align="align", y_offset="dy", text_font_size="12px",
+                          text_align="align", text_baseline="baseline", y_offset="dy",
+                          text_font_size=f"{LABEL_FONT_PX}px",
                           background_fill_color="#ffffff", background_fill_alpha=0.8)
         fig.add_layout(labels)
         theory.append(labels)
@@ -1235,7 +1303,8 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "gamma0": {"x": [], "v": []},
     "removed": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
-    "points": {"x": [], "v": [], "name": [], "paper": [], "align": [], "dx": [], "dy": []},
+    "points": {"x": [], "v": [], "name": [], "paper": [], "align": [], "baseline": [],
+               "dx": [], "dy": [], "pdx": [], "pdy": []},
     "start": {"x": [], "v": []},
     "stems": {"t": [], "j": []},
     "force": {"t": [], "phi": []},

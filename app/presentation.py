@@ -24,7 +24,14 @@ from typing import Any
 import panel as pn
 from bokeh.models import GlyphRenderer, SaveTool, Title
 
-from app.plots import AXIS_LABEL_FONT, PLOT_WIDTHS, TICK_LABEL_FONT, TITLE_FONT
+from app.plots import (
+    AXIS_LABEL_FONT,
+    LABEL_FONT_PX,
+    PLOT_WIDTHS,
+    PRESENT_LABEL_FONT_PX,
+    TICK_LABEL_FONT,
+    TITLE_FONT,
+)
 from app.scenes import SCENES
 
 #: The presentation layouts: the address's value -> menu label (``""``: off).
@@ -36,15 +43,16 @@ GRID_PLOTS = 4
 #: Fonts for a projector by layout: title, axis labels, tick labels, the theory's point
 #: names, legends (a quarter of a 720p screen holds a 230 px plot: smaller than one large).
 FONTS: Mapping[str, Mapping[str, str]] = {
-    "1": {"title": "26px", "axis": "22px", "tick": "18px", "points": "22px",
+    "1": {"title": "26px", "axis": "22px", "tick": "18px", "points": f"{PRESENT_LABEL_FONT_PX}px",
           "legend": "18px"},
     "4": {"title": "20px", "axis": "17px", "tick": "15px", "points": "18px",
           "legend": "14px"},
 }
 #: Ticks asked of the page's (shared) ticker by layout, and off: in a quarter of a 720p
-#: screen the stacked x(t) and x'(t) plots are ~100 px high, and six 15 px tick labels
-#: touched each other there.
-TICKS: Mapping[str, int] = {"": 6, "1": 5, "4": 4}
+#: screen the stacked x(t) and x'(t) plots are ~60 px high, and six 15 px tick labels
+#: touched each other there; asked for 4, Bokeh's ticker still ticked x'(t) of Fig. 5a
+#: (a span of 0.25) every 0.05, six labels; asked for 3 it ticks every 0.1.
+TICKS: Mapping[str, int] = {"": 6, "1": 5, "4": 3}
 #: Line widths are multiplied by this (a 1.5 px line is invisible from the back of a room).
 LINE_SCALE = 2.0
 #: Height left free above the plots [px]: the page's header and the scene's title.
@@ -228,10 +236,13 @@ class Presentation:
             ticker.desired_num_ticks = TICKS[self.mode if self.on else ""]
         if plots.point_labels is not None:
             labels = plots.point_labels
-            text, size = ("paper", self._font("points")) if self.on else ("name", "12px")
+            text, size = ("paper", self._font("points")) if self.on else (
+                "name", f"{LABEL_FONT_PX}px")
             if labels.text != text or labels.text_font_size != size:
+                # The offsets clear the marker for the font and line width (plots.label_offsets).
                 labels.update(text=text, text_font_size=size, text_font_style=(
-                    "bold" if self.on else "normal"))
+                    "bold" if self.on else "normal"), x_offset="pdx" if self.on else "dx",
+                    y_offset="pdy" if self.on else "dy")
         for div in plots.legends.values():
             size = self._font("legend") if self.on else "12px"
             if div.styles.get("font-size") != size:

@@ -104,7 +104,7 @@ def test_no_model_until_used_then_ghosts_and_present_mode():
         assert len(doc.models) == before  # presentation changes properties only
         assert ex.plots.point_labels.text == "paper"
         # Fewer ticks in a quarter of the screen (six touched each other at 720p).
-        assert ex.plots.shared.ticker.desired_num_ticks == 4
+        assert ex.plots.shared.ticker.desired_num_ticks == 3
         ex.menu.presentation.set_mode("1")
         assert ex.plots.shared.ticker.desired_num_ticks == 5
         ex.menu.presentation.set_mode("")

@@ -27,6 +27,80 @@ JS_LABEL_FIELD = """() => {
   const sets = [...doc.all_models].filter(m => m.type === "LabelSet");
   return sets.map(m => m.text.field);
 }"""
+#: Scenes whose point labels and ticks are measured (a stick line and its stop, a limit
+#: point short of the slip circle's centre and beyond it, a hysteretic stop).
+LABEL_SCENES = ("5a", "6b", "7c", "10")
+#: Gap [px] at least between a point's label and a marker or the stop line, and between
+#: two neighbouring tick labels.
+CLEAR_PX = 1.0
+#: JavaScript: on the screen [px], the box of every theory point's label (LabelSet draws on
+#: the canvas: its text boxes are made as its view makes them), of every marker of that
+#: figure (the diamonds of the theory points and the other scatter markers: half widths
+#: from size and line width), of the stop line, and of every tick label of the visible
+#: axes (recorded while each axis repaints).
+JS_LABEL_BOXES = """async () => {
+  const frames = () => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+  const {TextBox} = Bokeh.require("core/graphics");
+  const models = [...Bokeh.documents[0].all_models];
+  const shown = v => {
+    const b = v.plot_view.el.getBoundingClientRect();
+    return b.width > 0 && b.height > 0;
+  };
+  const box = (l, t, r, b) => ({l, t, r, b});
+  const out = {labels: [], markers: [], stops: [], frames: [], ticks: []};
+  for (const lv of Bokeh.index.query(v => v.model.type === "LabelSet")) {
+    if (!shown(lv)) continue;
+    const m = lv.model, pv = lv.plot_view, {x_scale, y_scale} = lv.coordinates;
+    const f = pv.frame.bbox;
+    out.frames.push(box(f.left, f.top, f.right, f.bottom));
+    for (const r of models.filter(r => r.type === "GlyphRenderer" && r.glyph.type === "Scatter"
+                                     && pv.model.renderers.includes(r) && r.glyph.size.value > 0)) {
+      const rad = r.glyph.size.value / 2, lw = r.glyph.line_width.value;
+      const theory = r.data_source === m.source;
+      const hw = (theory ? rad / 1.5 : rad) + lw / 2, hh = rad + lw / 2;
+      const xs = r.data_source.data.x, ys = r.data_source.data.v;
+      for (let i = 0; i < xs.length; i++) {
+        const sx = x_scale.compute(xs[i]), sy = y_scale.compute(ys[i]);
+        out.markers.push({theory, i, ...box(sx - hw, sy - hh, sx + hw, sy + hh)});
+      }
+    }
+    const spans = pv.model.center.filter(a => a.type === "Span" && a.dimension === "height");
+    for (const s of spans.filter(a => a.visible)) {
+      const sx = x_scale.compute(s.location), w = s.line_width / 2;
+      out.stops.push(box(sx - w, f.top, sx + w, f.bottom));
+    }
+    for (let i = 0; i < lv.text.length; i++) {
+      const g = new TextBox({text: `${lv.text.get(i)}`});
+      g.angle = lv.angle.get(i);
+      g.position = {sx: lv.sx[i] + lv.x_offset.get(i), sy: lv.sy[i] - lv.y_offset.get(i)};
+      g.visuals = lv.visuals.text.values(i);
+      const {p0, p1, p2, p3} = g.rect();
+      const xx = [p0.x, p1.x, p2.x, p3.x], yy = [p0.y, p1.y, p2.y, p3.y];
+      out.labels.push({text: `${lv.text.get(i)}`, i, ...box(Math.min(...xx), Math.min(...yy),
+                                                             Math.max(...xx), Math.max(...yy))});
+    }
+  }
+  const axes = [...Bokeh.index.query(v => v.model.type === "LinearAxis")]
+    .filter(v => shown(v) && v.model.visible);
+  const seen = new Map();
+  for (const av of axes) {
+    const draw = av._draw_oriented_labels;
+    av._draw_oriented_labels = function(ctx, labels, ...rest) {
+      draw.call(this, ctx, labels, ...rest);
+      seen.set(this, labels.items.map(l => { const b = l.bbox();
+        return box(b.left, b.top, b.right, b.bottom); }));
+    };
+    av.plot_view.request_paint(av);
+  }
+  await frames();
+  await frames();
+  for (const av of axes) {
+    delete av._draw_oriented_labels;
+    out.ticks.push({plot: av.plot_view.model.title.text, axis: av.model.axis_label,
+                    dim: av.dimension, labels: seen.get(av) || []});
+  }
+  return out;
+}"""
 
 
 def _open(browser, url: str, size: dict) -> Page:
@@ -137,6 +211,59 @@ def test_svg_and_png_for_slides_name_the_scene(browser, server, shots):
             assert q.errors == []
         finally:
             q.close()
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+def _hit(a: dict, b: dict, gap: float = CLEAR_PX) -> bool:
+    return (a["l"] < b["r"] + gap and b["l"] < a["r"] + gap
+            and a["t"] < b["b"] + gap and b["t"] < a["b"] + gap)
+
+
+def _crowding(found: dict) -> list[str]:
+    """What a label or a tick label touches, from :data:`JS_LABEL_BOXES`."""
+    out = []
+    for label in found["labels"]:
+        for marker in found["markers"]:
+            if _hit(label, marker):
+                kind = "its point" if marker["theory"] and marker["i"] == label["i"] else (
+                    "a theory point" if marker["theory"] else "a marker")
+                out.append(f"{label['text']} on {kind}")
+        out += [f"{label['text']} on the stop" for stop in found["stops"] if _hit(label, stop)]
+    for axis in found["ticks"]:
+        key = "l" if axis["dim"] == 0 else "t"
+        boxes = sorted(axis["labels"], key=lambda b: b[key])
+        for a, b in zip(boxes, boxes[1:], strict=False):
+            gap = b["l"] - a["r"] if axis["dim"] == 0 else b["t"] - a["b"]
+            if gap < CLEAR_PX:
+                out.append(f"ticks of {axis['plot']} / {axis['axis']} {gap:.1f} px apart")
+    return out
+
+
+@pytest.mark.parametrize("screen", list(SCREENS))
+def test_point_labels_clear_their_points_and_tick_labels_do_not_touch(browser, server, shots,
+                                                                       screen):
+    """The paper's point names sit off their markers (any marker of the portrait: the
+    start point, contact markers) and off the stop line at the presentation's fonts, and
+    the page's; no two tick labels of an axis touch (the 2x2 layout's stacked x(t), x'(t)
+    plots are ~60 px high on a 720p screen)."""
+    size = SCREENS[screen]
+    p = _open(browser, server + "?scene=5a", size)
+    try:
+        found = {}
+        for mode in ("0", "1", "4"):
+            for scene in LABEL_SCENES:
+                p.page.goto(f"{server}?scene={scene}&present={mode}", timeout=PAGE_TIMEOUT_MS)
+                p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
+                p.page.wait_for_timeout(1000)  # the layout settles once the plots are filled
+                p.settle()
+                boxes = p.page.evaluate(JS_LABEL_BOXES)
+                assert boxes["labels"], (scene, mode)
+                found[f"{scene} present={mode}"] = _crowding(boxes)
+                if mode == "4":
+                    p.page.screenshot(path=shots / f"present-labels-{scene}-{screen}.png")
+        assert {k: v for k, v in found.items() if v} == {}
         assert p.errors == []
     finally:
         p.close()
