@@ -58,11 +58,14 @@ from app.state import (
     STOP_TYPES,
     UNITS,
     URL_KEYS,
+    URL_SI_PARAMS,
     VIEW_PARAMS,
     ExplorerState,
     core_inputs,
     scene_key,
     scene_values,
+    si_bound_error,
+    si_units,
 )
 from app.trade import measure, trade_html
 from app.widgets import ShownLater, TypedSlider, bounds_reason, format_number, set_changed
@@ -466,7 +469,9 @@ class Explorer(pn.viewable.Viewer):
         """Set the state from the URL's parameters in one batch; report what failed.
 
         A parameter is read under its permalink key (``tend``) or its own name (``t_end``);
-        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported."""
+        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported. With
+        ``units=SI`` the values of :data:`URL_SI_PARAMS` are SI values (m/s, s, N/m), as
+        the page writes them, converted with the address's ``m`` and ``k``."""
         names = {**{name: name for name in URL_KEYS},
                  **{key: name for name, key in URL_KEYS.items()}}
         values, unknown = {}, []
@@ -477,13 +482,11 @@ class Explorer(pn.viewable.Viewer):
                     unknown.append(key)
                 continue
             try:
-                value = self.state.param[name].deserialize(raw)
+                values[name] = self.state.param[name].deserialize(raw)
             except Exception:  # noqa: BLE001 - an unreadable value is reported below
-                value = raw
-            if value != getattr(self.state, name):
-                values[name] = value
+                values[name] = raw
         # Each value is checked on its own, so that one bad value does not drop the others.
-        good, bad = {}, {}
+        good, bad, si_errors = {}, {}, []
         for name, value in values.items():
             try:
                 ExplorerState(**{name: value})
@@ -491,12 +494,42 @@ class Explorer(pn.viewable.Viewer):
                 bad[name] = value
             else:
                 good[name] = value
+        if good.get("units", self.state.units) == "SI":
+            si_errors = self._si_from_url(good, bad)
+        good = {name: value for name, value in good.items()
+                if value != getattr(self.state, name)}
         try:
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
             bad.update(good)
-        if bad or unknown:
-            self._url_error(bad, unknown)
+        if bad or unknown or si_errors:
+            self._url_error(bad, unknown, si_errors)
+
+    def _si_from_url(self, good: dict[str, Any], bad: dict[str, Any]) -> list[str]:
+        """Turn the SI values of an SI address (:data:`URL_SI_PARAMS` in ``good`` and
+        ``bad``) into the state's, in place; return the messages of those out of range.
+
+        A value is checked only after conversion (its bounds depend on ``m`` and ``k``)."""
+        mass, stiffness = good.get("mass", self.state.mass), good.get("stiffness",
+                                                                      self.state.stiffness)
+        factors, errors = si_units(mass, stiffness), []
+        for name in URL_SI_PARAMS:
+            raw = good.pop(name, bad.get(name))
+            if raw is None:
+                continue
+            bad.pop(name, None)
+            try:
+                value = float(raw) / factors[name][2]
+            except (TypeError, ValueError):
+                bad[name] = raw
+                continue
+            message = si_bound_error(name, value, mass, stiffness)
+            if message:
+                errors.append(f"{URL_KEYS[name]}: {message}")
+            elif not math.isclose(value, getattr(self.state, name), rel_tol=1e-11):
+                # Within 1e-11 the address is the state's own, written with 12 digits.
+                good[name] = value
+        return errors
 
     def _url_changed(self, *events: param.parameterized.Event) -> None:
         """Rewrite the URL once the state has been still for :data:`URL_DELAY_MS`."""
@@ -524,17 +557,25 @@ class Explorer(pn.viewable.Viewer):
         if loc is None:
             return
         query = {}
+        si = (si_units(self.state.mass, self.state.stiffness) if self.state.units == "SI"
+              else {})
         for name, key in URL_KEYS.items():
-            value = self.state.param[name].serialize(getattr(self.state, name))
+            value = getattr(self.state, name)
+            if name in URL_SI_PARAMS and si:
+                # In SI the address says what the boxes say (12 digits: no rounding tail).
+                value = float(f"{value * si[name][2]:.12g}")
+            value = self.state.param[name].serialize(value)
             query[key] = value if isinstance(value, str) else json.dumps(value)
         query.update(self.menu.query(loc.query_params))
         loc.update_query(**query)
 
-    def _url_error(self, values: Mapping[str, Any], unknown: Sequence[str] = ()) -> None:
+    def _url_error(self, values: Mapping[str, Any], unknown: Sequence[str] = (),
+                   si_errors: Sequence[str] = ()) -> None:
         """Say which of the URL's values were rejected, what each allows and what came, and
         which keys the page does not know."""
         parts = [f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
                  f"got {_shown(value)}" for name, value in values.items()]
+        parts.extend(si_errors)
         if unknown:
             parts.append(f"unknown {'keys' if len(unknown) > 1 else 'key'} "
                          f"{', '.join(_shown(k) for k in unknown)} (known: "

@@ -67,9 +67,19 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         v = sol.osc.v
         belt = "fast" if th.fast else "slow"
         rel = ">" if th.fast else "<="
-        rows.append(("Belt", f"{belt}: v = {_num(v * scales.velocity, vel_unit)} {rel} "
-                             f"v* = {_num(th.critical_speed * scales.velocity, vel_unit)} "
-                             "(critical speed, Eq. 25)"))
+        if scales.si:
+            # The regime's relations (x_max = a + v*, ...) are the paper's, in its time
+            # omega tau, where a speed is a length: v = v_dr / omega.
+            rows.append(("Belt", f"{belt}: v_dr = {_num(v * scales.velocity, vel_unit)} "
+                                 f"{rel} v*_dr = "
+                                 f"{_num(th.critical_speed * scales.velocity, vel_unit)} "
+                                 "(critical speed, Eq. 25); in the Regime row's relations "
+                                 f"v = v_dr/omega = {_num(v)} m and v* = "
+                                 f"{_num(th.critical_speed)} m (the paper's time "
+                                 "t = omega tau)"))
+        else:
+            rows.append(("Belt", f"{belt}: v = {_num(v)} {rel} "
+                                 f"v* = {_num(th.critical_speed)} (critical speed, Eq. 25)"))
         rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
         if sol.stop is not None and th.restitution < 1.0 and not th.fast:
             rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "

@@ -237,21 +237,11 @@ class ExplorerState(param.Parameterized):
         # need not give back k_c0's last bit.
         values.update({name: merged[name] / merged["k"] for name in STOP_STIFFNESSES
                        if name in si or "k" in si})
-        # Each state value's SI name, unit and factor from the state's number to it (with
-        # the new m and k): a bound is told in the units of the box the user typed in.
-        k = merged["k"]
-        shown = {"mass": ("m", "kg", 1.0), "stiffness": ("k", "N/m", 1.0),
-                 "u_s": ("normal_force", "N", k), "belt_speed": ("belt_speed", "m/s", omega),
-                 "v0": ("v0", "m/s", omega), "t_end": ("t_end", "s", 1.0 / omega),
-                 **{name: (name, "N/m", k) for name in STOP_STIFFNESSES}}
+        # A bound is told in the units of the box the user typed in (with the new m and k).
         for name, value in values.items():
-            low, high = self.param[name].bounds
-            if not low <= value <= high:
-                si_name, unit, factor = shown[name]
-                raise ValueError(
-                    f"{si_name} must lie in [{low * factor:.4g}, {high * factor:.4g}] {unit}"
-                    f" with m = {merged['m']:g} kg, k = {k:g} N/m; got "
-                    f"{value * factor:.6g} {unit}")
+            message = si_bound_error(name, value, merged["m"], merged["k"])
+            if message:
+                raise ValueError(message)
         return values
 
     def set_physical(self, **si: float) -> None:
@@ -272,6 +262,43 @@ class ExplorerState(param.Parameterized):
         accuracy and method chosen stay."""
         values = scene_values(key, accuracy=self.accuracy, method=self.method)
         self.param.update(**values, scene=key)
+
+
+
+#: State values a permalink in SI units holds in SI (:func:`si_units`); the others
+#: (lengths, ratios, coefficients) read the same in both unit systems.
+URL_SI_PARAMS = ("belt_speed", "v0", "t_end", "k_c0", "k_e0")
+
+
+def si_units(mass: float, stiffness: float) -> dict[str, tuple[str, str, float]]:
+    """Each state value's SI name, unit and the factor from the state's number to it, with
+    mass ``m`` [kg] and stiffness ``k`` [N/m] (SPEC §2: ``omega = sqrt(k/m)``, velocities
+    ``omega x'``, times ``t / omega``, the stop's stiffnesses ``k`` times their ratio).
+
+    >>> si_units(1.0, 100.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
+    (('belt_speed', 'm/s', 10.0), ('t_end', 's', 0.1))
+    """
+    omega = math.sqrt(stiffness / mass)
+    return {"mass": ("m", "kg", 1.0), "stiffness": ("k", "N/m", 1.0),
+            "u_s": ("normal_force", "N", stiffness),
+            "belt_speed": ("belt_speed", "m/s", omega), "v0": ("v0", "m/s", omega),
+            "t_end": ("t_end", "s", 1.0 / omega),
+            **{name: (name, "N/m", stiffness) for name in STOP_STIFFNESSES}}
+
+
+def si_bound_error(name: str, value: float, mass: float, stiffness: float) -> str | None:
+    """The message, in SI (:func:`si_units`), for a state value outside its bounds, or
+    ``None`` if it is inside.
+
+    >>> si_bound_error("t_end", 1500.0 * 5.0, 2.0, 50.0)
+    't_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s'
+    """
+    low, high = ExplorerState.param[name].bounds
+    if low <= value <= high:
+        return None
+    si_name, unit, factor = si_units(mass, stiffness)[name]
+    return (f"{si_name} must lie in [{low * factor:.4g}, {high * factor:.4g}] {unit} with "
+            f"m = {mass:g} kg, k = {stiffness:g} N/m; got {value * factor:.6g} {unit}")
 
 
 def scene_values(key: str, **overrides: Any) -> dict[str, Any]:

@@ -19,6 +19,7 @@ from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY, MAP_CELLS
+from app.state import scene_values
 
 
 @pytest.fixture
@@ -433,6 +434,51 @@ def test_permalink_reads_a_parameter_by_its_name_and_names_an_unknown_key(monkey
     for other in ("present", "paint_shortcuts", "t_end", "belt_speed"):
         assert repr(other) not in shown
 
+def test_an_si_permalink_holds_and_reads_the_values_the_boxes_show(monkeypatch):
+    """``?units=SI&v=0.5`` gave 2.5 m/s at omega = 5 rad/s: the address held the core's
+    dimensionless values whatever its units. In SI it now holds m/s, s and N/m, as written
+    by the page, so that a link written by hand means what it says and round-trips."""
+    from panel.io.location import Location
+
+    loc = Location(search="?scene=11&units=SI&m=2&k=50&v=0.5&tend=12&kc0=5000&v0=0.25")
+    monkeypatch.setattr(pn.state, "_location", loc)
+    ex = Explorer()
+    ex.sync_url()
+    assert not ex.alert.visible, ex.alert.object
+    phys = ex.state.physical()  # omega = 5 rad/s
+    assert phys["belt_speed"] == pytest.approx(0.5, rel=1e-12)  # 12-digit round trips
+    assert phys["t_end"] == pytest.approx(12.0, rel=1e-12)
+    assert phys["k_c0"] == pytest.approx(5000.0, rel=1e-12)
+    assert phys["v0"] == pytest.approx(0.25, rel=1e-12)
+    assert ex.state.belt_speed == pytest.approx(0.1, rel=1e-12)
+    ex._write_url()
+    written = loc.query_params
+    assert float(written["v"]) == 0.5 and float(written["tend"]) == 12.0
+    assert float(written["kc0"]) == 5000.0
+    # The page's own address, read again, is the same state (no drift, no 'custom').
+    again = Explorer()
+    monkeypatch.setattr(pn.state, "_location", Location(search="?" + "&".join(
+        f"{key}={value}" for key, value in written.items())))
+    again.sync_url()
+    for name in ("belt_speed", "t_end", "k_c0", "v0", "mass", "stiffness"):
+        assert getattr(again.state, name) == pytest.approx(getattr(ex.state, name),
+                                                           rel=1e-11)
+
+
+def test_an_si_permalink_out_of_range_is_refused_in_si(monkeypatch):
+    """A horizon beyond the slider's in an SI link is told in seconds, with m and k."""
+    from panel.io.location import Location
+
+    loc = Location(search="?scene=5a&units=SI&m=2&k=50&tend=1500&v=abc")
+    monkeypatch.setattr(pn.state, "_location", loc)
+    ex = Explorer()
+    ex.sync_url()
+    shown = html.unescape(ex.alert.object)
+    assert "tend: t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s" in shown
+    assert "v (belt_speed)" in shown and "'abc'" in shown
+    assert ex.state.t_end == scene_values("5a")["t_end"]
+
+
 def test_regime_map_of_a_hysteretic_scene(ex):
     """Regression: the map's cache key left out parameters the hysteretic stop needs, so
     'show all plots' on a hysteretic scene failed to draw the map."""
@@ -509,7 +555,6 @@ def test_trade_table_measures_every_method_and_marks_a_changed_verdict():
     """Scene 10: the reference (exact flight, contact at rtol 1e-12) grazes the stop; the
     exact method's error falls with the preset (its contact is integrated at the preset's
     rtol), and the switch model at draft finds a periodic orbit, which the row says."""
-    from app.state import scene_values
     from app.trade import measure, trade_html
 
     rows = {(r.method, r.accuracy): r for r in measure(scene_values("10"))}

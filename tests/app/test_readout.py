@@ -21,6 +21,22 @@ def test_the_period_is_in_the_units_shown():
     assert rows["x_max simulated"].endswith(" m")
 
 
+def test_in_si_the_belt_row_gives_the_speeds_the_regime_s_relations_use():
+    """In SI the Regime row's relations (scene 4a: "x_bar < x_max = a + v*") add a length
+    to a speed in m/s: its v is the paper's v_dr / omega, a length. The Belt row says both,
+    and the relation holds with the numbers it gives."""
+    sol = solve(scene_values("4a"))
+    state = ExplorerState(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
+    rows = dict(readout_rows(sol, state.scales()))
+    assert "a + v*" in rows["Regime"]
+    belt = rows["Belt"]
+    v, vc = sol.osc.v, sol.theory.critical_speed
+    assert f"v_dr = {v * 5.0:.4g} m/s" in belt and f"v*_dr = {vc * 5.0:.4g} m/s" in belt
+    assert f"v = v_dr/omega = {v:.4g} m" in belt and f"v* = {vc:.4g} m" in belt
+    plain = dict(readout_rows(sol))["Belt"]
+    assert "v_dr" not in plain and plain.startswith(f"fast: v = {v:.4g} > v* = {vc:.4g}")
+
+
 def test_the_force_holding_the_mass_on_a_rigid_stop_is_shown():
     """Scenes 6b and 7d end at rest on the stop, pressed by k (a - x_bar) (SPEC §3): the
     readout says so, and the force plot draws it from the accumulation time on."""
