@@ -619,13 +619,18 @@ class BifurcationView:
     scales : app.state.Scales, optional
         The page's units (:meth:`set_scales` changes them): the boxes, axes and tap are
         in them; the sweep itself runs on the core's dimensionless numbers.
+    on_layers : callable(), optional
+        Called when the map's simulated layers appear or go (the map's legend says which
+        colours are on top).
     """
 
     def __init__(self, values: Callable[[], Mapping[str, Any]],
                  on_pick: Callable[[str, float], None],
                  map_figure: Callable[[], Any], map_frame: Callable[[], tuple],
-                 shared: Any = None, scales: Scales = DIMENSIONLESS) -> None:
+                 shared: Any = None, scales: Scales = DIMENSIONLESS,
+                 on_layers: Callable[[], None] | None = None) -> None:
         self._values, self.on_pick, self._shared = values, on_pick, shared
+        self._on_layers = on_layers
         self._map_figure, self._map_frame = map_figure, map_frame
         self.scales = scales
         vals = values()
@@ -1047,6 +1052,13 @@ class BifurcationView:
                  if on]
         fig.title.text = self._map_title_text + (
             f"; simulated: {', '.join(shown)}" if shown else "")
+        if self._on_layers is not None:
+            self._on_layers()
+
+    @property
+    def sim_layer_shown(self) -> bool:
+        """Whether the simulated steady states cover the regime map now."""
+        return bool(self._map_renderers is not None and self._map_renderers[0].visible)
 
     def _map_summary(self, sim: SimMap) -> str:
         n = sim.labels.size

@@ -246,6 +246,8 @@ class Explorer(pn.viewable.Viewer):
         self.measure.on_click(self._measure)
         #: The sweep card (app.bifurcation), built when first opened.
         self.sweeps: Any = None
+        #: The regime labels the map legend names (the last map drawn).
+        self._map_labels: list[str] | None = None
         self.open_sweeps = pn.widgets.Button(
             label="Bifurcation diagram (sweep)", width=WIDGET_WIDTH,
             css_classes=["fie-open-sweeps"])
@@ -920,7 +922,7 @@ class Explorer(pn.viewable.Viewer):
                 values=self.state.values, on_pick=lambda name, v: self._commit({name: v}),
                 map_figure=self._sweep_map_figure,
                 map_frame=lambda: self._map_frame(self.solution), shared=self.plots.shared,
-                scales=self.state.scales())
+                scales=self.state.scales(), on_layers=self._show_map_legend)
             self._above_plots(self.sweeps.layout)
             self.sweeps.start()
         else:
@@ -985,7 +987,7 @@ class Explorer(pn.viewable.Viewer):
                 self._reserve_readout(readout.count("<tr>"))
                 self.caption.object = self._caption_html()
                 if map_data is not None:
-                    self.map_legend.object = _map_legend(map_data["labels"])
+                    self._show_map_legend(map_data["labels"])
                 if self.sweeps is not None:
                     self.sweeps.set_scales(scales)
                 set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
@@ -1071,7 +1073,17 @@ class Explorer(pn.viewable.Viewer):
             return
         with pn.io.hold(), validate(False):
             self.plots.show_map(data)
-            self.map_legend.object = _map_legend(data["labels"])
+            self._show_map_legend(data["labels"])
+
+    def _show_map_legend(self, labels: list[str] | None = None) -> None:
+        """The regime map's legend for ``labels`` (the last ones if ``None``), saying so
+        when the simulated layer of the sweep card covers the theory's colours."""
+        if labels is not None:
+            self._map_labels = labels
+        if self._map_labels is None:
+            return
+        covered = self.sweeps is not None and self.sweeps.sim_layer_shown
+        self.map_legend.object = _map_legend(self._map_labels, covered)
 
     def _caption_html(self) -> str:
         scene = SCENES.get(self.state.scene)
@@ -1228,8 +1240,9 @@ MAP_TERMS = {
 }
 
 
-def _map_legend(labels: list[str]) -> str:
-    """Colour swatches naming the regimes of the map, and what their words mean."""
+def _map_legend(labels: list[str], covered: bool = False) -> str:
+    """Colour swatches naming the regimes of the map, and what their words mean; with
+    ``covered``, first that the simulated layer hides them."""
     items = "".join(
         f"<span class='fie-swatch'><i style='background:{MAP_PALETTE[i % len(MAP_PALETTE)]}'>"
         f"</i>{html.escape(label)}</span>"
@@ -1240,4 +1253,7 @@ def _map_legend(labels: list[str]) -> str:
              if word in words or (word == "slow" and "fast" in words)
              or (word == "elastic" and ("inelastic" in words or "plastic" in words))]
     notes = "".join(f"<div class='fie-look'>{html.escape(t)}</div>" for t in terms)
-    return f"<div class='fie-legend'>{items}{notes}</div>"
+    head = ("<div class='fie-look fie-map-covered'>The simulated steady states cover the "
+            "map (their colours are in the sweep card); the theory's regimes below show "
+            "where that layer is off.</div>" if covered else "")
+    return f"<div class='fie-legend'>{head}{items}{notes}</div>"

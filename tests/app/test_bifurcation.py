@@ -240,9 +240,24 @@ def test_the_simulated_map_of_a_rigid_stop_agrees_with_the_theory():
     assert "map" in ex.plots.figures
     assert view._map_renderers[1].visible and not view._map_renderers[0].visible
     assert "simulated: disagreement in red" in ex.plots.figures["map"].title.text
+    assert "fie-map-covered" not in ex.map_legend.object  # the red cells only mark
     view.disagree_layer.value = False
     assert not any(r.visible for r in view._map_renderers)
     assert ex.plots.figures["map"].title.text == "Regime map (tap to move there)"
+
+
+def test_the_map_legend_says_when_the_simulated_layer_covers_the_theory():
+    """The legend under the map named the theory's colours while the simulated steady
+    states covered them: it now says so, and stops saying it when the layer goes."""
+    ex = _opened()
+    view = ex.sweeps
+    theory_names = ex.map_legend.object
+    view.sim_layer.value = True
+    assert view._map_renderers[0].visible
+    assert "The simulated steady states cover the map" in ex.map_legend.object
+    assert theory_names.split("fie-legend'>")[1] in ex.map_legend.object
+    view.sim_layer.value = False
+    assert "fie-map-covered" not in ex.map_legend.object
 
 
 def test_every_steady_label_has_its_own_colour_and_missing_samples_are_said():
