@@ -500,6 +500,12 @@ class Explorer(pn.viewable.Viewer):
             si_errors = self._si_from_url(good, bad)
         good = {name: value for name, value in good.items()
                 if value != getattr(self.state, name)}
+        # A scene's values changed by the address are no longer that scene: its title and
+        # caption would describe another motion (the reset button still returns to it).
+        scene = good.get("scene", self.state.scene)
+        if scene in SCENES and _differs({**self.state.values(), **good}, scene_values(
+                scene, accuracy=self.state.accuracy, method=self.state.method)):
+            good["scene"] = CUSTOM
         try:
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
@@ -1172,6 +1178,27 @@ def _core_reason(values: Mapping[str, Any]) -> str | None:
 
 #: Characters of a rejected value shown in a message (a long value is cut, and says so).
 SHOWN_CHARS = 60
+
+
+def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
+    """Whether solve values differ from a scene's: numbers beyond 1e-11 relative (an SI
+    address holds 12 digits), anything else at all.
+
+    >>> from app.state import scene_values
+    >>> v = scene_values("7c")
+    >>> _differs({**v, "belt_speed": v["belt_speed"] * (1 + 1e-13)}, v)
+    False
+    >>> _differs({**v, "restitution": 1.0}, v), _differs({**v, "stop_type": "none"}, v)
+    (True, True)
+    """
+    for name in SOLVE_PARAMS:
+        a, b = values[name], scene[name]
+        if isinstance(a, float) and isinstance(b, float | int) and not isinstance(b, bool):
+            if not math.isclose(a, b, rel_tol=1e-11):
+                return True
+        elif a != b:
+            return True
+    return False
 
 
 def _shown(value: Any) -> str:

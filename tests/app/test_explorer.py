@@ -19,7 +19,7 @@ from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY, MAP_CELLS
-from app.state import scene_values
+from app.state import ExplorerState, scene_values
 
 
 @pytest.fixture
@@ -463,6 +463,32 @@ def test_an_si_permalink_holds_and_reads_the_values_the_boxes_show(monkeypatch):
     for name in ("belt_speed", "t_end", "k_c0", "v0", "mass", "stiffness"):
         assert getattr(again.state, name) == pytest.approx(getattr(ex.state, name),
                                                            rel=1e-11)
+
+
+@pytest.mark.parametrize("units", ["dimensionless", "SI"])
+def test_a_link_that_changes_a_scene_s_values_opens_custom_values(monkeypatch, units):
+    """``?scene=4a&v=0.5`` opened under the title and caption of Fig. 4a (fast belt) a
+    slow belt. Values that differ from the scene's make the page 'custom' (reset returns
+    to the scene); the page's own link of an untouched scene keeps its name."""
+    from panel.io.location import Location
+
+    monkeypatch.setattr(pn.state, "_location", Location(search="?scene=4a&v=0.5"))
+    ex = Explorer()
+    ex.sync_url()
+    assert ex.state.belt_speed == 0.5 and ex.state.scene == CUSTOM
+    assert ex.figure == "4a" and not ex.alert.visible
+    # The page's own address of scene 7c (in SI: 12-digit m/s, s and N/m) keeps 7c.
+    own = Explorer(ExplorerState(scene="7c", units=units, mass=3.0, stiffness=70.0,
+                                 **scene_values("7c")))
+    loc = Location(search="?scene=7c")
+    monkeypatch.setattr(pn.state, "_location", loc)
+    own._write_url()
+    monkeypatch.setattr(pn.state, "_location", Location(search="?" + "&".join(
+        f"{key}={value}" for key, value in loc.query_params.items())))
+    again = Explorer()
+    again.sync_url()
+    assert again.state.scene == "7c" and again.state.units == units
+    assert not again.alert.visible
 
 
 def test_an_si_permalink_out_of_range_is_refused_in_si(monkeypatch):

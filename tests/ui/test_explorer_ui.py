@@ -245,8 +245,8 @@ def test_animation_plays_in_the_browser(page, shots):
 
 def test_si_units_take_seconds_and_metres_per_second(browser, server, shots):
     """In SI mode the horizon is typed in seconds and the start velocity in m/s; the state
-    (and so the permalink) holds their dimensionless values (default m = 1 kg, k = 100 N/m:
-    omega = 10 rad/s)."""
+    holds their dimensionless values (default m = 1 kg, k = 100 N/m: omega = 10 rad/s) and
+    the permalink what the boxes say (README, "Links")."""
     p = Page(browser, f"{server}?scene=5b&units=SI")
     try:
         seconds = p.page.locator(".fie-w-t_end_si input").first
@@ -255,12 +255,12 @@ def test_si_units_take_seconds_and_metres_per_second(browser, server, shots):
         assert "t_end (s)" in p.text(".fie-w-t_end_si")
         seconds.fill("3")
         seconds.press("Enter")
-        p.page.wait_for_function("() => location.search.includes('tend=30.0')",
+        p.page.wait_for_function("() => location.search.includes('tend=3.0')",
                                  timeout=30_000)
         speed = p.page.locator(".fie-w-v0_si input").first
         speed.fill("0.5")
         speed.press("Enter")
-        p.page.wait_for_function("() => location.search.includes('v0=0.05')", timeout=30_000)
+        p.page.wait_for_function("() => location.search.includes('v0=0.5')", timeout=30_000)
         p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
         p.settle()
         p.page.screenshot(path=shots / "si-units.png", full_page=True)
