@@ -14,6 +14,8 @@ from __future__ import annotations
 import html
 import math
 from collections.abc import Mapping
+from functools import cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -26,6 +28,7 @@ from bokeh.models import (
     BasicTicker,
     BasicTickFormatter,
     ColumnDataSource,
+    CustomJS,
     DataRange1d,
     GlyphRenderer,
     Grid,
@@ -109,17 +112,17 @@ MAX_OPERATING_POINTS = 500
 #: sideways, clear of the marker's half width (``PHASE_STYLE["points"]``: a 13 px diamond
 #: is 4.3 px wide each side, plus half its line) by a fifth of the font, and up or down by
 #: a quarter of the font (clear of the stick line under a label above it). The page's font
-#: (12 px) gives ``dx``, ``dy``; the presentation's largest (:data:`PRESENT_LABEL_FONT_PX`,
-#: lines twice as wide) ``pdx``, ``pdy``. Fixed offsets of 6 and 4 px put 18-22 px labels on
-#: their points.
+#: (12 px) gives ``dx``, ``dy``: where a label is drawn until the browser places it on the
+#: frame it lays out (:data:`PLACE_LABELS_JS`, which uses the same offsets for the font it
+#: draws, presentation fonts included).
 LABEL_FONT_PX, PRESENT_LABEL_FONT_PX = 12, 22
 
 
 def label_offsets(font_px: float, line_width: float) -> tuple[int, int]:
     """Sideways and vertical distance [px] of a label's corner from its point's centre.
 
-    >>> label_offsets(LABEL_FONT_PX, 2), label_offsets(PRESENT_LABEL_FONT_PX, 4)
-    ((8, 3), (11, 6))
+    >>> label_offsets(LABEL_FONT_PX, 2)
+    (8, 3)
     """
     half_width = PHASE_STYLE["points"]["size"] / 2 / 1.5 + line_width / 2
     return round(half_width + 0.2 * font_px), round(0.25 * font_px)
@@ -181,16 +184,16 @@ PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
 #: and up (above the point) or down (below it).
 LABEL_GAP_PX, LABEL_ABOVE_PX = label_offsets(LABEL_FONT_PX, PHASE_STYLE["points"]["line_width"])
 LABEL_BELOW_PX = -LABEL_ABOVE_PX
-#: The same in presentation mode (its fonts, its lines twice as wide).
-PRESENT_GAP_PX, PRESENT_ABOVE_PX = label_offsets(
-    PRESENT_LABEL_FONT_PX, 2 * PHASE_STYLE["points"]["line_width"])
 #: Vertical offsets [px] of the label of a point on the x axis (the limit point): clear of
 #: a marker of the same size on the axis (the start point (0, 0), contact markers by the
 #: stop) by the usual offset.
 LABEL_AXIS_PX = round(LABEL_ABOVE_PX + (PHASE_STYLE["points"]["size"]
                                         + PHASE_STYLE["points"]["line_width"]) / 2)
-PRESENT_AXIS_PX = round(PRESENT_ABOVE_PX + (PHASE_STYLE["points"]["size"]
-                                            + 2 * PHASE_STYLE["points"]["line_width"]) / 2)
+#: The browser's placement of the theory points' labels (the body of a ``CustomJS``): the
+#: server does not know the frame's pixel size (the figures follow the page and the
+#: ranges fit the aspect in the browser), so it cannot tell which labels would leave the
+#: frame, run into each other or onto a marker.
+PLACE_LABELS_JS = Path(__file__).resolve().parent.parent / "static" / "point_labels.js"
 #: Legend labels of the phase portrait's references, and what they are (tooltips).
 PHASE_LABELS: Mapping[str, tuple[str, str]] = {
     "gamma0": ("Gamma_0", "Gamma_0 (Eq. 21): the disc about (a, 0) of radius v, touching "
@@ -436,9 +439,11 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     labels printed over each other.
 
     Each label is anchored by its corner next to the point (``align``, ``baseline``), that
-    corner off the point by ``dx``, ``dy`` [px] on the page and ``pdx``, ``pdy`` in
-    presentation mode (:func:`label_offsets`), so that no font puts it on its marker. The
-    side is away from the curves through the point:
+    corner off the point by ``dx``, ``dy`` [px] (:func:`label_offsets`). That corner is
+    also the one the browser tries first (``side``, "<align> <baseline>") when it places
+    the labels on the frame it lays out (:data:`PLACE_LABELS_JS`: another one where this
+    one would leave the frame or touch a label, a marker or the stop). The preferred side
+    is away from the curves through the point:
 
     - points on the stick line are labelled above it, written rightwards;
     - points on the stop are labelled left of it (the stop is the motion's right edge: the
@@ -459,8 +464,8 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     >>> p["name"], p["align"], p["baseline"], p["dy"]
     (['stick end = impact in', 'stick start'], ['right', 'left'], ['top', 'bottom'], [-3, 3])
     >>> p = _theory_points({"P_limit": (0.24, 0.0)}, 0.24, DIMENSIONLESS, 0.2)
-    >>> p["align"], p["dx"], p["pdx"], p["baseline"]
-    (['left'], [8], [11], ['bottom'])
+    >>> p["align"], p["dx"], p["baseline"], p["side"]
+    (['left'], [8], ['bottom'], ['left bottom'])
     """
     merged: list[tuple[float, float, list[str]]] = []
     keys: list[list[str]] = []
@@ -496,15 +501,18 @@ def _theory_points(named: Mapping[str, tuple[float, float]], stop: float,
     side = [1 if r else -1 for r in rightwards]
     up = [1 if a else -1 for a in above]
     dy = [u * (LABEL_AXIS_PX if a else LABEL_ABOVE_PX) for u, a in zip(up, axis, strict=True)]
-    pdy = [u * (PRESENT_AXIS_PX if a else PRESENT_ABOVE_PX)
-           for u, a in zip(up, axis, strict=True)]
+    align = ["left" if r else "right" for r in rightwards]
+    baseline = ["bottom" if a else "top" for a in above]
     return {"x": [m[0] for m in merged], "v": [m[1] * scales.velocity for m in merged],
             "name": [" = ".join(m[2]) for m in merged],
-            "paper": [_paper_name(k) for k in keys],
-            "align": ["left" if r else "right" for r in rightwards],
-            "baseline": ["bottom" if a else "top" for a in above],
+            "paper": [_paper_name(k) for k in keys], "align": align, "baseline": baseline,
             "dx": [d * LABEL_GAP_PX for d in side], "dy": dy,
-            "pdx": [d * PRESENT_GAP_PX for d in side], "pdy": pdy}
+            "side": [f"{a} {b}" for a, b in zip(align, baseline, strict=True)]}
+
+
+@cache
+def _place_labels_code() -> str:
+    return PLACE_LABELS_JS.read_text(encoding="utf-8")
 
 
 def _paper_name(keys: list[str]) -> str:
@@ -804,11 +812,30 @@ class PlotSet:
                                   line_dash="dotted", line_width=2, level="underlay")
         fig.add_layout(self.spans["stop"])
         fig.add_layout(self.spans["belt"])
+        self._place_labels(fig, labels)
         # The legend is HTML below the figure (one model, drawn by the browser's layout,
         # not a Bokeh legend with a stand-in renderer per entry).
         self.legends["phase"] = _legend_pane()
         self.figures["phase"] = fig
         self.panes["phase"] = fig
+
+    def _place_labels(self, fig: Any, labels: LabelSet) -> None:
+        """Let the browser place the theory points' labels (:data:`PLACE_LABELS_JS`) each
+        time the frame, the ranges, the labels' font or what the portrait draws changes
+        (renderers added later are avoided but not watched: the animation's marker moves
+        on every frame): one ``CustomJS`` model for the page."""
+        stop = self.spans["stop"]
+        place = CustomJS(args={"labels": labels, "fig": fig, "stop": stop},
+                         code=_place_labels_code())
+        watched = [(fig, ("inner_width", "inner_height")),
+                   (fig.x_range, ("start", "end")), (fig.y_range, ("start", "end")),
+                   (labels, ("text_font_size", "text_font_style", "text")),
+                   (stop, ("location", "visible"))]
+        sources = {r.data_source for r in fig.renderers if isinstance(r, GlyphRenderer)}
+        watched += [(src, ("data",)) for src in sources]
+        for model, attrs in watched:
+            for attr in attrs:
+                model.js_on_change(attr, place)
 
     def _build_time(self, s) -> None:
         fig_x = self._figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
@@ -1304,7 +1331,7 @@ _EMPTY: Mapping[str, Mapping[str, list]] = {
     "removed": {"x": [], "v": []},
     "cycle": {"x": [], "v": []},
     "points": {"x": [], "v": [], "name": [], "paper": [], "align": [], "baseline": [],
-               "dx": [], "dy": [], "pdx": [], "pdy": []},
+               "dx": [], "dy": [], "side": []},
     "start": {"x": [], "v": []},
     "stems": {"t": [], "j": []},
     "force": {"t": [], "phi": []},

@@ -239,10 +239,9 @@ class Presentation:
             text, size = ("paper", self._font("points")) if self.on else (
                 "name", f"{LABEL_FONT_PX}px")
             if labels.text != text or labels.text_font_size != size:
-                # The offsets clear the marker for the font and line width (plots.label_offsets).
+                # The browser places the labels again for the font (plots.PLACE_LABELS_JS).
                 labels.update(text=text, text_font_size=size, text_font_style=(
-                    "bold" if self.on else "normal"), x_offset="pdx" if self.on else "dx",
-                    y_offset="pdy" if self.on else "dy")
+                    "bold" if self.on else "normal"))
         for div in plots.legends.values():
             size = self._font("legend") if self.on else "12px"
             if div.styles.get("font-size") != size:

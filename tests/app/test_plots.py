@@ -108,6 +108,36 @@ def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
         assert ex.plots.sources[name] in sources, name
 
 
+def test_the_browser_places_the_point_labels_on_every_change_of_the_frame():
+    """The server cannot tell which labels leave the frame or run into each other (it does
+    not know the frame's pixel size): one ``CustomJS`` places them again whenever the
+    frame, the ranges, the labels' font or anything the portrait draws changes (but the
+    animation's moving marker); the server sends the corner it prefers (``side``)."""
+    from bokeh.models import CustomJS
+
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    fig, labels = ex.plots.figures["phase"], ex.plots.point_labels
+    callbacks = {id(cb): cb for model in fig.references()
+                 for cbs in model.js_property_callbacks.values() for cb in cbs}
+    assert [type(cb) for cb in callbacks.values()] == [CustomJS]
+    place = next(iter(callbacks.values()))
+    assert place.args["labels"] is labels and place.args["fig"] is fig
+    watched = {
+        (fig, "inner_width"), (fig, "inner_height"), (fig.x_range, "start"),
+        (fig.x_range, "end"), (fig.y_range, "start"), (fig.y_range, "end"),
+        (labels, "text_font_size"), (labels, "text"),
+        *((src, "data") for src in ex.plots.sources.values()
+          if any(getattr(r, "data_source", None) is src for r in fig.renderers)),
+    }
+    for model, attr in watched:
+        assert place in model.js_property_callbacks.get(f"change:{attr}", []), (model, attr)
+    data = labels.source.data
+    assert data["side"] and data["side"] == [
+        f"{a} {b}" for a, b in zip(data["align"], data["baseline"], strict=True)]
+
+
 def test_legends_are_html_and_list_only_what_is_drawn():
     """No legend stand-in renderers (234 of a page's ~950 models): the legends are HTML,
     and the phase portrait's lists what it draws (a pure slip orbit has no stick)."""

@@ -6,6 +6,7 @@ named after the scene, with a caption line that states the scene and its paramet
 from __future__ import annotations
 
 import io
+import math
 
 import pytest
 from uipage import JS_READY, PAGE_TIMEOUT_MS, Page
@@ -30,14 +31,20 @@ JS_LABEL_FIELD = """() => {
 #: Scenes whose point labels and ticks are measured (a stick line and its stop, a limit
 #: point short of the slip circle's centre and beyond it, a hysteretic stop).
 LABEL_SCENES = ("5a", "6b", "7c", "10")
-#: Gap [px] at least between a point's label and a marker or the stop line, and between
-#: two neighbouring tick labels.
+#: The same in the 2x2 layout, whose portrait is ~130 px high on a 720p screen, and more
+#: scenes: four labels round a short stick line and its stop (5a, 5d, 7a, 7b), a stick line
+#: short beside a far start (3a, 8a, 8b, 9a, 9b: the labels of its two ends, of the
+#: stick->contact and contact->slip points, ran into each other or onto the other end's
+#: marker), a limit point inside thin circles (6b).
+GRID_LABEL_SCENES = ("3a", "5a", "5d", "6b", "7a", "7b", "7c", "8a", "8b", "9a", "9b", "10")
+#: Gap [px] at least between a point's label and a marker, the stop line or another label,
+#: and between two neighbouring tick labels.
 CLEAR_PX = 1.0
 #: JavaScript: on the screen [px], the box of every theory point's label (LabelSet draws on
-#: the canvas: its text boxes are made as its view makes them), of every marker of that
-#: figure (the diamonds of the theory points and the other scatter markers: half widths
-#: from size and line width), of the stop line, and of every tick label of the visible
-#: axes (recorded while each axis repaints).
+#: the canvas: its text boxes are made as its view makes them), of its figure's frame, of
+#: every marker of that figure (the diamonds of the theory points and the other scatter
+#: markers: half widths from size and line width), of the stop line, and of every tick
+#: label of the visible axes (recorded while each axis repaints).
 JS_LABEL_BOXES = """async () => {
   const frames = () => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
   const {TextBox} = Bokeh.require("core/graphics");
@@ -76,8 +83,8 @@ JS_LABEL_BOXES = """async () => {
       g.visuals = lv.visuals.text.values(i);
       const {p0, p1, p2, p3} = g.rect();
       const xx = [p0.x, p1.x, p2.x, p3.x], yy = [p0.y, p1.y, p2.y, p3.y];
-      out.labels.push({text: `${lv.text.get(i)}`, i, ...box(Math.min(...xx), Math.min(...yy),
-                                                             Math.max(...xx), Math.max(...yy))});
+      out.labels.push({text: `${lv.text.get(i)}`, i, frame: out.frames.length - 1,
+                       ...box(Math.min(...xx), Math.min(...yy), Math.max(...xx), Math.max(...yy))});
     }
   }
   const axes = [...Bokeh.index.query(v => v.model.type === "LinearAxis")]
@@ -221,16 +228,43 @@ def _hit(a: dict, b: dict, gap: float = CLEAR_PX) -> bool:
             and a["t"] < b["b"] + gap and b["t"] < a["b"] + gap)
 
 
+def _gap(a: dict, b: dict) -> float:
+    """Distance [px] between two boxes along the axis that separates them most (negative:
+    they overlap)."""
+    return max(b["l"] - a["r"], a["l"] - b["r"], b["t"] - a["b"], a["t"] - b["b"])
+
+
+def _margin(label: dict, frame: dict) -> float:
+    """Distance [px] of a label's box inside its frame's edges (negative: it sticks out)."""
+    return min(label["l"] - frame["l"], frame["r"] - label["r"], label["t"] - frame["t"],
+               frame["b"] - label["b"])
+
+
+def _gaps(found: dict) -> tuple[float, float, float]:
+    """The least gaps [px] of the labels from :data:`JS_LABEL_BOXES`: to a marker, to
+    another label, and to the frame's edge."""
+    labels = found["labels"]
+    return (min((_gap(a, m) for a in labels for m in found["markers"]), default=math.inf),
+            min((_gap(a, b) for k, a in enumerate(labels) for b in labels[k + 1:]),
+                default=math.inf),
+            min((_margin(a, found["frames"][a["frame"]]) for a in labels), default=math.inf))
+
+
 def _crowding(found: dict) -> list[str]:
-    """What a label or a tick label touches, from :data:`JS_LABEL_BOXES`."""
+    """What a label or a tick label touches or where it leaves its frame, from
+    :data:`JS_LABEL_BOXES`."""
     out = []
-    for label in found["labels"]:
+    for k, label in enumerate(found["labels"]):
         for marker in found["markers"]:
             if _hit(label, marker):
                 kind = "its point" if marker["theory"] and marker["i"] == label["i"] else (
                     "a theory point" if marker["theory"] else "a marker")
                 out.append(f"{label['text']} on {kind}")
         out += [f"{label['text']} on the stop" for stop in found["stops"] if _hit(label, stop)]
+        out += [f"{label['text']} on {other['text']}" for other in found["labels"][k + 1:]
+                if _hit(label, other)]
+        if _margin(label, found["frames"][label["frame"]]) < 0:
+            out.append(f"{label['text']} out of the frame")
     for axis in found["ticks"]:
         key = "l" if axis["dim"] == 0 else "t"
         boxes = sorted(axis["labels"], key=lambda b: b[key])
@@ -245,24 +279,29 @@ def _crowding(found: dict) -> list[str]:
 def test_point_labels_clear_their_points_and_tick_labels_do_not_touch(browser, server, shots,
                                                                        screen):
     """The paper's point names sit off their markers (any marker of the portrait: the
-    start point, contact markers) and off the stop line at the presentation's fonts, and
-    the page's; no two tick labels of an axis touch (the 2x2 layout's stacked x(t), x'(t)
-    plots are ~60 px high on a 720p screen)."""
+    start point, contact markers), off the stop line and off each other, inside the
+    portrait's frame, at the presentation's fonts and the page's; no two tick labels of an
+    axis touch (the 2x2 layout's stacked x(t), x'(t) plots are ~60 px high on a 720p
+    screen)."""
     size = SCREENS[screen]
     p = _open(browser, server + "?scene=5a", size)
     try:
         found = {}
-        for mode in ("0", "1", "4"):
-            for scene in LABEL_SCENES:
-                p.page.goto(f"{server}?scene={scene}&present={mode}", timeout=PAGE_TIMEOUT_MS)
-                p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
-                p.page.wait_for_timeout(1000)  # the layout settles once the plots are filled
-                p.settle()
-                boxes = p.page.evaluate(JS_LABEL_BOXES)
-                assert boxes["labels"], (scene, mode)
-                found[f"{scene} present={mode}"] = _crowding(boxes)
-                if mode == "4":
-                    p.page.screenshot(path=shots / f"present-labels-{scene}-{screen}.png")
+        runs = [(mode, scene) for mode in ("0", "1") for scene in LABEL_SCENES]
+        runs += [("4", scene) for scene in GRID_LABEL_SCENES]
+        for mode, scene in runs:
+            p.page.goto(f"{server}?scene={scene}&present={mode}", timeout=PAGE_TIMEOUT_MS)
+            p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
+            p.page.wait_for_timeout(1000)  # the layout settles once the plots are filled
+            p.settle()
+            boxes = p.page.evaluate(JS_LABEL_BOXES)
+            assert boxes["labels"], (scene, mode)
+            found[f"{scene} present={mode}"] = _crowding(boxes)
+            marker, label, frame = _gaps(boxes)
+            print(f"{screen} {scene} present={mode}: least gap of a label to a marker "
+                  f"{marker:.1f} px, to a label {label:.1f} px, to the frame {frame:.1f} px")
+            if mode == "4":
+                p.page.screenshot(path=shots / f"present-labels-{scene}-{screen}.png")
         assert {k: v for k, v in found.items() if v} == {}
         assert p.errors == []
     finally:
