@@ -98,8 +98,11 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         if res.steady.sequence:
             rows.append(("Sequence", " -> ".join(res.steady.sequence)))
         if th is not None and th.regime.expected_steady != res.steady.kind.value:
-            rows.append(("Theory expects", f"{th.regime.expected_steady} (for the "
-                                           "equivalent rigid stop, natural path)"))
+            rigid = "the equivalent rigid stop" if isinstance(sol.stop, HystereticStop) else (
+                "this stop")
+            rows.append(("Theory expects", f"{th.regime.expected_steady} (the paper's "
+                                           f"closed forms for {rigid}, which reach it from "
+                                           "the natural path, Sec. 4.5)"))
         measured = sol.restitution_measured
         if len(measured):
             r_eq = _num(th.restitution) if th is not None else "—"

@@ -125,6 +125,10 @@ class Steady:
                 return (f"grazing approached: impact speeds fall towards "
                         f"{self.impact_speed * velocity_scale:.4g}{velocity_unit}, below which "
                         "the stop's law is elastic (a slip circle that just reaches the stop)")
+            if math.isfinite(self.t_reached):  # on the touching circle (a plastic impact)
+                return (f"grazing: on the slip circle that touches the stop at zero speed, "
+                        f"period {self.period * time_scale:.6g}{time_unit} (from t = "
+                        f"{self.t_reached * time_scale:.6g}{time_unit})")
             return "grazing: impact speeds fall as r^h towards a slip circle touching the stop"
         if self.kind is SteadyKind.REST:
             if math.isnan(self.t_reached):

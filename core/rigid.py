@@ -125,7 +125,7 @@ class _Run:
         if ev is None or ev.t >= self.t_end:
             self.table.add(seg, self.t_end, self.osc.v)
             if ev is None:
-                self.steady = _endless(seg, self.t)
+                self.steady = _endless(seg, self.t, self.xb)
             return True
         self.table.add(seg, ev.t, self.osc.v)
         self.t, self.x, self.xd = ev.t, ev.x, ev.v
@@ -234,14 +234,21 @@ def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> S
     return Steady(SteadyKind.GRAZING, period=2.0 * math.pi, x_max=seq.clearance, impact_speed=0.0)
 
 
-def _endless(seg: Segment, t: float) -> Steady:
-    """Steady state of a motion that no event ends."""
+def _endless(seg: Segment, t: float, x_bar: float = math.inf) -> Steady:
+    """Steady state of a motion that no event ends: a slip circle, or the equilibrium.
+    A circle that leaves the stop (at zero speed: after a plastic impact with
+    ``x_bar > a``, paper Secs. 4.3-4.4) grazes it; one that only touches it from an
+    impactless start is the impactless circle (continuous in ``x_bar`` at ``x_bar =
+    x_max``)."""
     if seg.mode is Mode.SLIP and (seg.x0 != seg.centre or seg.v0 != 0.0):
         radius = math.hypot(seg.x0 - seg.centre, seg.v0)
+        x_max = seg.centre + radius
+        grazing = seg.x0 >= x_bar
         return Steady(
-            SteadyKind.PURE_SLIP,
+            SteadyKind.GRAZING if grazing else SteadyKind.PURE_SLIP,
             period=2.0 * math.pi,
-            x_max=seg.centre + radius,
+            x_max=min(x_max, x_bar),
+            impact_speed=0.0 if grazing else math.nan,
             t_reached=seg.t0,
         )
     return Steady(SteadyKind.EQUILIBRIUM, x_max=seg.x0, t_reached=t)

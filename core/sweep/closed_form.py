@@ -315,9 +315,13 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
     if np.any(endless):
         c = blk.s * blk.a
         moving = (blk.mode == SLIP) & ((blk.x != c) | (blk.xd != 0.0))
-        slip_on = endless & moving
+        # A circle that leaves the stop (at zero speed) grazes it (core.rigid._endless).
+        grazes = endless & moving & (blk.x >= blk.xb)
+        slip_on = endless & moving & ~grazes
         out.finish(blk.id[slip_on], SteadyKind.PURE_SLIP, period=TWO_PI,
                    x_max=seg_xmax[slip_on])
+        out.finish(blk.id[grazes], SteadyKind.GRAZING, period=TWO_PI, x_max=blk.xb[grazes],
+                   impact=0.0)
         still = endless & ~moving
         out.finish(blk.id[still], SteadyKind.EQUILIBRIUM, x_max=blk.x[still])
         ended |= endless

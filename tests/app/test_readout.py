@@ -171,3 +171,13 @@ def test_a_deformable_stop_s_regime_row_says_it_is_the_equivalent_rigid_stop_s_t
     assert found.startswith("grazing approached: impact speeds fall towards 0.01768 m/s")
     assert "r^h" not in found
     assert "equivalent" not in dict(readout_rows(solve(scene_values("7c"))))["Regime"]
+
+
+def test_a_plastic_stop_beyond_a_is_the_grazing_the_theory_expects():
+    """Scene 7c with r = 0: the run leaves the stop on the circle that touches it, which
+    the readout called 'pure slip' under 'Theory expects: grazing (for the equivalent
+    rigid stop ...)', for a rigid stop and a run that was the theory's motion."""
+    rows = dict(readout_rows(solve(scene_values("7c", restitution=0.0))))
+    assert rows["Steady state found"].startswith(
+        "grazing: on the slip circle that touches the stop at zero speed")
+    assert "Theory expects" not in rows

@@ -18,6 +18,7 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from core import HystereticStop, Oscillator, RigidStop, SteadyKind, TransitionKind, simulate
+from core.theory import classify
 from tests.core.ivp_reference import Reference
 
 #: Closed-form agreement: the solver evaluates the same circles, so only rounding of a
@@ -260,9 +261,30 @@ def test_plastic_impact_rests_when_belt_presses():
 
 
 def test_plastic_impact_leaves_on_grazing_circle_when_stop_beyond_a():
-    res = simulate(FAST, RigidStop(0.3, 0.0), t_end=20.0)
-    assert res.steady.kind is SteadyKind.PURE_SLIP
+    """After a plastic impact with x_bar > a the mass leaves at zero speed on the slip
+    circle that touches the stop: grazing (paper Sec. 4.3), as the theory and the event
+    method say. It was labelled pure slip, and the page printed 'Theory expects: grazing'
+    under a run that was the theory's motion."""
+    stop = RigidStop(0.3, 0.0)
+    res = simulate(FAST, stop, t_end=20.0)
+    assert res.steady.kind is SteadyKind.GRAZING
+    assert res.steady.impact_speed == 0.0 and res.steady.period == 2.0 * math.pi
+    assert "touches the stop at zero speed" in res.steady.describe()
     assert res.x_max == pytest.approx(0.3, rel=1e-12)
+    assert classify(FAST, stop).expected_steady == "grazing"
+    event = simulate(FAST, stop, t_end=20.0, method="event", rtol=1e-10, atol=1e-12)
+    assert event.steady.kind is SteadyKind.GRAZING
+
+
+@pytest.mark.parametrize("r, steady", [(0.0, "rest"), (0.5, "grazing")])
+def test_a_stop_at_the_slip_centre(r, steady):
+    """x_bar = a: a plastic impact leaves the mass at the centre (a, 0) of the slip
+    circles, pressed with zero force: rest (SPEC §3, a - x_bar >= 0). The theory said
+    that it leaves on a grazing circle. With r > 0 the rebounds are half circles about the
+    stop, each of duration pi, so the impacts never accumulate: grazing."""
+    stop = RigidStop(FAST.a, r)
+    assert classify(FAST, stop).expected_steady == steady
+    assert simulate(FAST, stop, t_end=60.0).steady.kind.value == steady
 
 
 def test_equal_friction_coefficients():
