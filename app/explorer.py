@@ -54,6 +54,7 @@ from app.state import (
     ACCURACIES,
     CONTACT_LAWS,
     METHODS,
+    SI_NAMES,
     SOLVE_PARAMS,
     STOP_TYPES,
     UNITS,
@@ -145,6 +146,8 @@ SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
     "k_c0_si": ("compression stiffness k_c0 (N/m)", 1.0, "k_c0"),
     "k_e0_si": ("expansion stiffness k_e0 (N/m)", 1.0, "k_e0"),
 }
+#: The state value each SI value converts to (its bounds, in SI, are the SI box's).
+SI_STATE_NAME: Mapping[str, str] = {si: name for name, (si, _) in SI_NAMES.items()}
 #: SI sliders that stand for a dimensionless one in SI mode, and the factor that converts
 #: its slider range, a power of an SI value: x'0 [m/s] = omega x'0, t_end [s] =
 #: t_end / omega, k_c0 [N/m] = k (k_c0 / k).
@@ -301,14 +304,17 @@ class Explorer(pn.viewable.Viewer):
                 validate=lambda v, n=name: self._refusal(n, v),
             )
         phys = st.physical()
+        factors = si_units(st.mass, st.stiffness)
         for name, (label, step, key) in SI_SLIDERS.items():
             value = phys[key]
-            soft, bounds = (0.0, max(SI_SOFT_SPAN * value, step)), (0.0, 1e9)
+            param = SI_STATE_NAME[key]
+            # The state's bounds in SI (moved with m and k by _sync_widgets).
+            bounds = tuple(b * factors[param][2] for b in st.param[param].bounds)
+            soft = (0.0, max(SI_SOFT_SPAN * value, step))
             if name in SI_TWINS:
                 twin, factor, power = SI_TWINS[name]
                 scale = phys[factor] ** power
                 soft = tuple(scale * b for b in st.param[twin].softbounds)
-                bounds = (-1e9 if st.param[twin].bounds[0] < 0 else 0.0, 1e9)
             self.sliders[name] = TypedSlider(
                 label, value, step, soft, bounds,
                 on_drag=lambda v, k=key: self._preview_si(k, v),
@@ -667,10 +673,21 @@ class Explorer(pn.viewable.Viewer):
         return reason
 
     def _refusal_si(self, name: str, key: str, value: float) -> str | None:
-        """Why a typed SI ``value`` is refused (see :meth:`_refusal`), or None."""
-        reason = bounds_reason(self.sliders[name].name, value, self.sliders[name].bounds)
-        if reason:
-            return reason
+        """Why a typed SI ``value`` is refused (see :meth:`_refusal`), or None: first the
+        state's bounds in SI with the current m and k, then the conversion's own checks."""
+        st = self.state
+        param = SI_STATE_NAME[key]
+        factor = si_units(st.mass, st.stiffness)[param][2]
+        message = si_bound_error(param, value / factor, st.mass, st.stiffness)
+        if message:
+            return message
+        higher = dict(CONSTRAINTS).get(param)
+        if higher is not None:  # the lower of a pair (k_e0 <= k_c0), as in _refusal
+            top = getattr(st, higher) * factor
+            if value > top and not math.isclose(value, top, rel_tol=1e-12):
+                low = self.sliders[name].bounds[0]
+                return (f"{bounds_reason(self.sliders[name].name, value, (low, top))} (it "
+                        f"may not exceed {higher})")
         try:
             self.state.from_physical(**{key: value})
         except ValueError as exc:
@@ -816,8 +833,12 @@ class Explorer(pn.viewable.Viewer):
             twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
             si_bounded = {twin_of[low]: phys[high] for low, high in CONSTRAINTS
                           if low in twin_of and high in twin_of}
+            factors = si_units(st.mass, st.stiffness)
             for name, (_, step, key) in SI_SLIDERS.items():
                 w, value = self.sliders[name], phys[key]
+                param = SI_STATE_NAME[key]
+                low, high = st.param[param].bounds
+                w.set_bounds((low * factors[param][2], high * factors[param][2]))
                 if name in si_bounded:  # as above, in SI
                     top = si_bounded[name]
                     w.set(value, hard_end=top, soft_end=top)

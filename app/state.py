@@ -237,6 +237,7 @@ class ExplorerState(param.Parameterized):
         # need not give back k_c0's last bit.
         values.update({name: merged[name] / merged["k"] for name in STOP_STIFFNESSES
                        if name in si or "k" in si})
+        values = {name: snap_to_bounds(name, value) for name, value in values.items()}
         # A bound is told in the units of the box the user typed in (with the new m and k).
         for name, value in values.items():
             message = si_bound_error(name, value, merged["m"], merged["k"])
@@ -270,20 +271,43 @@ class ExplorerState(param.Parameterized):
 URL_SI_PARAMS = ("belt_speed", "v0", "t_end", "k_c0", "k_e0")
 
 
+#: The SI value (a key of :meth:`ExplorerState.physical`) each state value is shown as,
+#: and its name in the page's boxes and messages.
+SI_NAMES: Mapping[str, tuple[str, str]] = {
+    "mass": ("m", "mass m"), "stiffness": ("k", "stiffness k"),
+    "u_s": ("normal_force", "normal force F_N"), "belt_speed": ("belt_speed", "belt speed v_dr"),
+    "v0": ("v0", "initial velocity x'0"), "t_end": ("t_end", "horizon t_end"),
+    "k_c0": ("k_c0", "compression stiffness k_c0"), "k_e0": ("k_e0", "expansion stiffness k_e0"),
+}
+
+
 def si_units(mass: float, stiffness: float) -> dict[str, tuple[str, str, float]]:
-    """Each state value's SI name, unit and the factor from the state's number to it, with
-    mass ``m`` [kg] and stiffness ``k`` [N/m] (SPEC §2: ``omega = sqrt(k/m)``, velocities
-    ``omega x'``, times ``t / omega``, the stop's stiffnesses ``k`` times their ratio).
+    """Each state value's SI name in the page, unit and the factor from the state's number
+    to it, with mass ``m`` [kg] and stiffness ``k`` [N/m] (SPEC §2: ``omega = sqrt(k/m)``,
+    velocities ``omega x'``, times ``t / omega``, the stop's stiffnesses ``k`` times their
+    ratio, the normal force ``k u_s``).
 
     >>> si_units(1.0, 100.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
-    (('belt_speed', 'm/s', 10.0), ('t_end', 's', 0.1))
+    (('belt speed v_dr', 'm/s', 10.0), ('horizon t_end', 's', 0.1))
     """
     omega = math.sqrt(stiffness / mass)
-    return {"mass": ("m", "kg", 1.0), "stiffness": ("k", "N/m", 1.0),
-            "u_s": ("normal_force", "N", stiffness),
-            "belt_speed": ("belt_speed", "m/s", omega), "v0": ("v0", "m/s", omega),
-            "t_end": ("t_end", "s", 1.0 / omega),
-            **{name: (name, "N/m", stiffness) for name in STOP_STIFFNESSES}}
+    factors = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0), "u_s": ("N", stiffness),
+               "belt_speed": ("m/s", omega), "v0": ("m/s", omega), "t_end": ("s", 1.0 / omega),
+               **{name: ("N/m", stiffness) for name in STOP_STIFFNESSES}}
+    return {name: (SI_NAMES[name][1], unit, factor) for name, (unit, factor) in factors.items()}
+
+
+def snap_to_bounds(name: str, value: float) -> float:
+    """A state value converted from SI onto the bound it misses by rounding only (1e-12
+    relative): 0.01 s is 0.1 / omega but 0.01 * 10 may not give back 0.1.
+
+    >>> snap_to_bounds("t_end", 0.09999999999999999), snap_to_bounds("t_end", 0.09)
+    (0.1, 0.09)
+    """
+    for bound in ExplorerState.param[name].bounds:
+        if bound is not None and value != bound and math.isclose(value, bound, rel_tol=1e-12):
+            return float(bound)
+    return value
 
 
 def si_bound_error(name: str, value: float, mass: float, stiffness: float) -> str | None:
@@ -291,10 +315,10 @@ def si_bound_error(name: str, value: float, mass: float, stiffness: float) -> st
     ``None`` if it is inside.
 
     >>> si_bound_error("t_end", 1500.0 * 5.0, 2.0, 50.0)
-    't_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s'
+    'horizon t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s'
     """
     low, high = ExplorerState.param[name].bounds
-    if low <= value <= high:
+    if low <= snap_to_bounds(name, value) <= high:
         return None
     si_name, unit, factor = si_units(mass, stiffness)[name]
     return (f"{si_name} must lie in [{low * factor:.4g}, {high * factor:.4g}] {unit} with "

@@ -241,6 +241,13 @@ class TypedSlider:
         finally:
             self._quiet = False
 
+    def set_bounds(self, bounds: tuple[float, float]) -> None:
+        """Move the hard bounds (those of an SI box follow m and k) and say them in the
+        box's tooltip."""
+        if bounds != self.bounds:
+            self.bounds = bounds
+            set_changed(self.input, description=self._describe())
+
     def _show(self, value: float) -> None:
         self.invalid = False
         set_changed(self.input, value=format_number(value), css_classes=["fie-input"])

@@ -500,7 +500,8 @@ def test_an_si_permalink_out_of_range_is_refused_in_si(monkeypatch):
     ex = Explorer()
     ex.sync_url()
     shown = html.unescape(ex.alert.object)
-    assert "tend: t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s" in shown
+    assert ("tend: horizon t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got "
+            "1500 s") in shown
     assert "v (belt_speed)" in shown and "'abc'" in shown
     assert ex.state.t_end == scene_values("5a")["t_end"]
 
@@ -559,6 +560,29 @@ def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
     assert w.invalid and w.input.value == text
     ex._reset()
     assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
+
+
+@pytest.mark.parametrize(("name", "text", "said"), [
+    ("belt_speed_si", "-1", "belt speed v_dr must lie in [0, 100] m/s with m = 1 kg, "
+                            "k = 100 N/m; got -1 m/s"),
+    ("belt_speed_si", "1000", "belt speed v_dr must lie in [0, 100] m/s"),
+    ("normal_force", "-5", "normal force F_N must lie in [0.0001, 1e+04] N"),
+    ("normal_force", "0", "normal force F_N must lie in [0.0001, 1e+04] N"),
+    ("t_end_si", "0.001", "horizon t_end must lie in [0.01, 500] s"),
+])
+def test_a_refused_si_entry_names_its_range_in_si(ex, name, text, said):
+    """In SI a value below the range was told '[0, 1e+09]' (the box's placeholder) or the
+    core's '(0, inf]'; the range is the state's, in SI with the current m and k, and the
+    box's tooltip says it."""
+    ex.state.units = "SI"  # m = 1 kg, k = 100 N/m: omega = 10 rad/s
+    before = ex.state.values()
+    w = ex.sliders[name]
+    w.input.value = text
+    assert ex.state.values() == before
+    assert w.invalid and html.escape(said) in w.message.object
+    assert "1e+09" not in w.input.description
+    w.input.value = "0.01" if name == "t_end_si" else "0.5"  # a bound by rounding is taken
+    assert not w.invalid
 
 
 def test_coupled_bound_note_and_program_toggle(ex):
