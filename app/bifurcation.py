@@ -739,6 +739,10 @@ class BifurcationView:
                 self._draw_points(spec, self.data)
                 self.current.location = float(spec.values[spec.parameter]) * \
                     self._units(spec).parameter
+                if len(self.data.swept) == spec.n and self.stop.disabled:
+                    # A finished sweep's status names the parameter in the new units.
+                    self._set_status(self._finished_status(spec, self.data, spec.n),
+                                     done=True)
             if self.sim_map is not None and self._map_renderers is not None:
                 self._show_layers()
 
@@ -844,18 +848,19 @@ class BifurcationView:
             if done >= total:
                 self.last_seconds = time.perf_counter() - self._started
                 self.stop.disabled = True
-                counts = {k: int(np.sum(data.swept_label == k)) for k in sweeps.LABELS}
-                found = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
-                self._set_status(
-                    f"{total} of {total} values of "
-                    f"{parameter_name(spec.parameter, self.scales)} in "
-                    f"{self.last_seconds:.2f} s: {len(data.y)} samples "
-                    f"({'density image' if len(data.y) > DENSITY_SAMPLES else 'points'}); "
-                    f"steady states: {found}.{_no_samples(data, spec)} {_legend()}",
-                    done=True)
+                self._set_status(self._finished_status(spec, data, total), done=True)
             else:
                 self._set_status(f"{done} of {total} values of "
                                  f"{parameter_name(spec.parameter, self.scales)}…")
+
+    def _finished_status(self, spec: SweepSpec, data: Points, total: int) -> str:
+        """What a complete sweep found, in the card's units."""
+        counts = {k: int(np.sum(data.swept_label == k)) for k in sweeps.LABELS}
+        found = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
+        return (f"{total} of {total} values of {parameter_name(spec.parameter, self.scales)} "
+                f"in {self.last_seconds:.2f} s: {len(data.y)} samples "
+                f"({'density image' if len(data.y) > DENSITY_SAMPLES else 'points'}); "
+                f"steady states: {found}.{_no_samples(data, spec)} {_legend()}")
 
     def _draw_axes(self, spec: SweepSpec) -> None:
         units = self._units(spec)

@@ -189,7 +189,10 @@ def _periodic(
     and the transitions after it (the cycle's, shifted by whole periods)."""
     t_then, t_now, row_then, row_now = cycle.t_then, cycle.t_now, cycle.tag_then, cycle.tag_now
     period = cycle.period
-    in_cycle = [tr for tr in log.stored if t_then < tr.t <= t_now]
+    # The cycle's transitions are the last n_transitions up to now: a stick of zero
+    # length (mu_s = mu_k) puts a stick->slip at the very time t_then, which a window
+    # (t_then, t_now] left out of the tiled log.
+    in_cycle = [tr for tr in log.stored if t_then <= tr.t <= t_now][-cycle.n_transitions:]
     x_max_cycle = max(
         Segment(
             Mode(table.mode[i]), table.t0[i], table.t1[i], table.x0[i], table.v0[i],

@@ -117,6 +117,7 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
     assert fig.xaxis[0].axis_label == "belt speed v_dr (m/s)"
     assert fig.yaxis[0].axis_label == "impact speed before (at each impact) (m/s)"
     assert "SI units" in view.layout.title
+    assert "1000 of 1000 values of belt speed v_dr in" in view.status.object
     assert view.parameter.labels[view.parameter.values.index("belt_speed")] == \
         "belt speed v_dr"
     assert view.parameter.value == "belt_speed"

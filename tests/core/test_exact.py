@@ -296,6 +296,21 @@ def test_equal_friction_coefficients():
     assert res.x_max == pytest.approx(osc.a + osc.v, rel=1e-12)
 
 
+def test_a_stick_of_zero_length_is_kept_in_every_tiled_period():
+    """mu_s = mu_k: the slip circle of radius v touches the stick line at (b, v), where
+    the stick starts and ends at once. The steady state said '2 transitions per period:
+    slip->stick' and the tiled log dropped every later stick->slip."""
+    osc = Oscillator(mu_s=0.1, mu_k=0.1, belt_speed=0.1, u_s=1.0)
+    res = simulate(osc, RigidStop(0.3, 1.0), t_end=60.0)
+    steady = res.steady
+    assert steady.transitions_per_period == len(steady.sequence) == 2
+    assert sorted(steady.sequence) == ["slip->stick", "stick->slip"]
+    counts = res.transition_counts
+    assert counts["slip->stick"] == counts["stick->slip"] > 5
+    kinds = [tr.kind.value for tr in res.transitions]
+    assert all(a != b for a, b in zip(kinds[:-1], kinds[1:], strict=True))  # alternate
+
+
 @pytest.mark.parametrize("v", [1e-12, 1e-6])
 def test_very_slow_belt_sticks_and_creeps(v):
     osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=v)
