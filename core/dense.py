@@ -237,8 +237,12 @@ def _quiet_steady(
     if final_mode == Mode.STICK and final_v == 0.0:
         return Steady(SteadyKind.EQUILIBRIUM, x_max=xmax(t_last, t_end), t_reached=t_last)
     if final_mode == Mode.SLIP and tail and tail[-1].kind in IMPACT_KINDS and not pressed:
-        # impacts died out on a slip circle that touches the stop: grazing (paper §4)
-        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+        # impacts died out on a slip circle that touches the stop: grazing (paper §4),
+        # reached at a plastic impact (the mass leaves at zero speed), else approached
+        plastic = tail[-1].v_after == 0.0
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0,
+                      period=2.0 * math.pi if plastic else math.nan,
+                      t_reached=tail[-1].t if plastic else math.nan)
     if final_mode == Mode.SLIP:
         return Steady(
             SteadyKind.PURE_SLIP,

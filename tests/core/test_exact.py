@@ -274,6 +274,7 @@ def test_plastic_impact_leaves_on_grazing_circle_when_stop_beyond_a():
     assert classify(FAST, stop).expected_steady == "grazing"
     event = simulate(FAST, stop, t_end=20.0, method="event", rtol=1e-10, atol=1e-12)
     assert event.steady.kind is SteadyKind.GRAZING
+    assert "touches the stop at zero speed" in event.steady.describe()
 
 
 @pytest.mark.parametrize("r, steady", [(0.0, "rest"), (0.5, "grazing")])
