@@ -61,7 +61,7 @@ IMPACT_KINDS = {TransitionKind.IMPACT.value, TransitionKind.STICK_IMPACT.value,
 #: current scene with r = 1 loaded and its r < 1 pinned (or the reverse).
 PRESETS: Mapping[str, tuple[str, str] | None] = {
     "7c vs 10: rigid stop vs its equivalent deformable stop": ("10", "7c"),
-    "6b vs 11: fast belt at rest on the stop vs the deformable stop": ("11", "6b"),
+    "7d vs 11: slow belt, mass pressed on a rigid vs a deformable stop": ("11", "7d"),
     "r = 1 vs r < 1 of this scene": None,
 }
 #: The restitution pinned against an elastic scene by the "r = 1 vs r < 1" preset (the

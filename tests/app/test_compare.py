@@ -161,3 +161,18 @@ def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
         own = ex.plots.sources["traj"].data
         assert figs["time_x"].x_range.end == pytest.approx(float(max(own["t"])))
         assert figs["time_x"].y_range.end < 0.5 * max(traj["x"])
+
+
+def test_the_preset_pairs_fig_11_with_fig_7d():
+    """The paper: "Fig. 11a should be compared with Fig. 7d" (same v and x_bar); the preset
+    paired 11 with 6b (a fast belt, another clearance)."""
+    from app.scenes import SCENES
+
+    label = next(k for k in PRESETS if "11" in k)
+    assert label.startswith("7d vs 11")
+    assert "rigid" in label and "deformable" in label
+    assert PRESETS[label] == ("11", "7d")
+    fig7d, fig11 = SCENES["7d"].values, SCENES["11"].values
+    for name in ("belt_speed", "clearance"):
+        assert fig7d[name] == fig11[name], name
+    assert "Fig. 7d" in SCENES["11"].caption
