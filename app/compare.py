@@ -29,6 +29,7 @@ import numpy as np
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
 from app.plots import MODE_NAMES, force_columns, loop_columns, phase_columns, trajectory_columns
+from app.readout import restitution_first_last
 from app.scenes import CUSTOM, SCENES
 from app.solver import Solution, SolveRunner
 from app.state import DIMENSIONLESS, SOLVE_PARAMS, URL_KEYS, ExplorerState, Scales, core_inputs
@@ -251,8 +252,14 @@ def ghost_extents(cols: Mapping[str, Mapping[str, Any]]
 
 def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
     """What the comparison table shows of a run: steady state, period, x_max, impacts per
-    period and the restitution measured (rebound over approach speed of the last impact or
-    contact)."""
+    period and the restitution measured (rebound over approach speed) at the first and the
+    last impact or contact, one number where they agree to the digits shown.
+
+    >>> from app.state import scene_values
+    >>> from app.solver import solve
+    >>> summary(solve(scene_values("10")))["restitution"]
+    '0.399 / 0.969'
+    """
     res = sol.result
     if res is None:
         return {"steady": "overlap program", "period": "—", "x_max": "—", "impacts": "—",
@@ -263,13 +270,11 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
               if steady.kind.value == "periodic" and math.isfinite(steady.period) else "—")
     impacts = (str(sum(k in IMPACT_KINDS for k in steady.sequence))
                if steady.kind.value == "periodic" else "—")
-    measured = np.asarray(sol.restitution_measured)
-    if len(measured):
-        restitution = f"{measured[-1]:.3g}"
-    else:
-        ratios = [-tr.v_after / tr.v for tr in res.transitions
-                  if tr.kind.value in IMPACT_KINDS and tr.v > 0]
-        restitution = f"{ratios[-1]:.3g}" if ratios else "—"
+    ends = restitution_first_last(sol)
+    restitution = "—"
+    if ends is not None:
+        first, last = (f"{r:.3g}" for r in ends)
+        restitution = first if first == last else f"{first} / {last}"
     return {"steady": steady.kind.value.replace("_", " "), "period": period,
             "x_max": f"{res.x_max:.4g}{' m' if scales.si else ''}", "impacts": impacts,
             "restitution": restitution}
@@ -277,7 +282,8 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
 
 #: Rows of the comparison table: summary key -> row label.
 TABLE_ROWS = (("steady", "steady state"), ("period", "period"), ("x_max", "x_max"),
-              ("impacts", "impacts / period"), ("restitution", "restitution measured"))
+              ("impacts", "impacts / period"),
+              ("restitution", "restitution, first / last contact"))
 
 
 def swatch(color: str) -> str:

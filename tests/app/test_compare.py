@@ -176,3 +176,17 @@ def test_the_preset_pairs_fig_11_with_fig_7d():
     for name in ("belt_speed", "clearance"):
         assert fig7d[name] == fig11[name], name
     assert "Fig. 7d" in SCENES["11"].caption
+
+
+def test_the_table_says_which_contact_its_restitution_is_from():
+    """Scene 10 read 0.969 (its last contact) beside rigid 7c's 0.3; the readout says
+    0.3986 at the first contact."""
+    deformable = summary(solve(scene_values("10")))["restitution"]
+    assert deformable == "0.399 / 0.969"
+    assert summary(solve(scene_values("7c")))["restitution"] == "0.3"  # Newton's r, each
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("10")
+        ex.menu.apply_query({"pins": "7c"})
+        assert "restitution, first / last contact" in ex.readout.object
+        assert f"<td>{deformable}</td>" in ex.readout.object

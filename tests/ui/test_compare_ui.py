@@ -4,6 +4,8 @@ paper's pairs."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 from uipage import Page, count_color
 
@@ -45,6 +47,16 @@ def _wait_readout(p: Page, words: str, present: bool = True) -> str:
     raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}")
 
 
+#: The comparison table's restitution row (a cell may hold "first / last").
+RESTITUTION_ROW = "restitution, first / last contact"
+
+
+def _cells(text: str, row: str) -> list[str]:
+    """The cells of the comparison table's ``row`` in the readout's text."""
+    rest = text.split(row)[1]
+    return re.findall(r"[-\d.e]+(?: / [-\d.e]+)?|—", rest)
+
+
 def _ghost_pixels(p: Page) -> int:
     return count_color(p.pixels(".fie-plot-time"), GHOST, GHOST_TOL)
 
@@ -67,7 +79,7 @@ def test_pin_change_unpin_and_permalink(browser, server, shots):
         _set(p, "restitution", "0.5")
         text = _wait_readout(p, "5a: r 1")
         assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
-        row = text.split("restitution measured")[1].split()
+        row = _cells(text, RESTITUTION_ROW)
         assert float(row[0]) == pytest.approx(0.5, rel=1e-9)  # this run: Newton's r
         assert float(row[1]) == pytest.approx(1.0, rel=1e-9)  # the pinned elastic run
         p.page.screenshot(path=shots / "compare-pinned.png", full_page=True)
@@ -104,7 +116,8 @@ def test_preset_7c_vs_10(browser, server, shots):
         text = _wait_readout(p, "7c: stop rigid")
         assert "Fig. 10" in p.text(".fie-caption")
         # The pinned rigid stop's restitution is Newton's r = 0.3 of scene 7c.
-        row = text.split("restitution measured")[1].split()
+        row = _cells(text, RESTITUTION_ROW)
+        assert row[0] == "0.399 / 0.969"  # the deformable stop's first and last contact
         assert float(row[1]) == pytest.approx(0.3, rel=1e-9)
         assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
         p.page.screenshot(path=shots / "compare-7c-vs-10.png", full_page=True)
