@@ -30,8 +30,10 @@ import numpy as np
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
 from app.plots import (
+    FORCE_TITLE,
     MODE_NAMES,
     force_columns,
+    force_quantity,
     loop_columns,
     phase_columns,
     trajectory_columns,
@@ -454,6 +456,8 @@ class Compare:
         self._scales: Scales = DIMENSIONLESS
         #: Per pin slot: what its ghosts span, ``(figure, "x" or "y") -> (min, max)``.
         self._extents: list[dict[tuple[str, str], tuple[float, float]]] = []
+        #: What the contact-force plot says of the pins it does not draw.
+        self.force_note = ""
 
     @property
     def full(self) -> bool:
@@ -538,17 +542,27 @@ class Compare:
                                     strict=True)]
         return comparison_html(current, rows, scales)
 
-    def draw(self, scales: Scales) -> None:
+    def draw(self, current: Solution, scales: Scales) -> None:
         """Put every pin's ghosts, in its own units (:meth:`Pin.scales`), on the built
         figures and blank the unused slots (call under ``pn.io.hold``). Adds renderers only
-        where a pin is drawn."""
+        where a pin is drawn. A pin whose contact-force plot shows another quantity than
+        the ``current`` run's (:func:`app.plots.force_quantity`: impulses, a force) is not
+        drawn there; the plot says so."""
         from app.plots import _assign  # one rule for "assign only what changed"
 
         self._scales = scales
+        notes = []
+        shown = force_quantity(current)
         for slot in range(max(len(self.pins), len(self._sources))):
             pin = self.pins[slot] if slot < len(self.pins) else None
-            cols = (ghost_columns(pin.solution, pin.scales(scales))
-                    if pin is not None and pin.solution is not None else None)
+            cols = None
+            if pin is not None and pin.solution is not None:
+                cols = ghost_columns(pin.solution, pin.scales(scales))
+                own = force_quantity(pin.solution)
+                if own != shown and len(cols["force"]["t"]):
+                    notes.append(f"{pin.scene}: {own}, not comparable with {shown}: "
+                                 "not drawn")
+                    cols["force"] = {k: _f32([]) for k in cols["force"]}
             if cols is None and slot >= len(self._sources):
                 continue
             sources = self._slot_sources(slot)
@@ -558,6 +572,19 @@ class Compare:
             self._extents[slot] = ghost_extents(cols) if cols is not None else {}
             if pin is not None:
                 self._attach(slot, pin.color)
+        self.force_note = "\n".join(notes)
+        self._show_note()
+
+    def _show_note(self) -> None:
+        """The contact-force plot's note on the pins it does not draw: a second line of
+        its title (a title added to a figure on screen is laid out by BokehJS before its
+        view exists)."""
+        fig = self.plots.figures.get("force")
+        if fig is None:
+            return
+        text = FORCE_TITLE + (f"\n{self.force_note}" if self.force_note else "")
+        if fig.title.text != text:
+            fig.title.text = text
 
     def extents(self) -> dict[tuple[str, str], list[float]]:
         """What the drawn ghosts span, for the axes (:attr:`app.plots.PlotSet.more_extents`):
@@ -573,6 +600,7 @@ class Compare:
         for slot, pin in enumerate(self.pins):
             if slot < len(self._sources):
                 self._attach(slot, pin.color)
+        self._show_note()
 
     def _slot_sources(self, slot: int) -> dict[str, Any]:
         while len(self._sources) <= slot:

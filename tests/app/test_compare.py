@@ -175,6 +175,36 @@ def _query(ex, doc, **query) -> None:
         ex.menu.apply_query({"pins": query["pins"]})
 
 
+def test_a_pin_of_another_force_quantity_is_not_drawn_on_the_force_axis():
+    """/main?scene=7c&units=SI&pins=10 drew scene 10's contact force (up to 175 N) on the
+    axis of 7c's impulses (at most 0.91 N s); the preset "7c vs 10" drew 7c's impulses on
+    10's axis of newtons."""
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("7c")
+    _query(ex, doc, units="SI", pins="10")
+    with set_curdoc(doc):
+        assert "force" in ex.plots.figures
+        assert len(_force_ghost(ex)["t"]) == 0
+        assert len(ex.compare._sources[0]["traj"].data["t"]) > 100  # drawn elsewhere
+        note = "10: contact force, not comparable with impulses: not drawn"
+        assert ex.compare.force_note == note
+        assert ex.plots.figures["force"].title.text == f"Contact force\n{note}"
+        # The axis is fitted to the run's own impulses, not to the pin's newtons.
+        impulses = ex.plots.sources["stems"].data["j"]
+        assert ex.plots.figures["force"].y_range.end < 2 * float(max(impulses))
+        ex.menu.preset(next(k for k in PRESETS if k.startswith("7c vs 10")))
+        assert ex.state.scene == "10"
+        assert len(_force_ghost(ex)["t"]) == 0
+        assert ex.compare.force_note == ("7c: impulses, not comparable with contact force: "
+                                         "not drawn")
+        # A deformable stop beside a deformable stop: the same quantity, drawn, no note.
+        ex.menu.apply_query({"pins": "11"})
+        assert len(_force_ghost(ex)["t"]) > 100
+        assert ex.compare.force_note == ""
+        assert ex.plots.figures["force"].title.text == "Contact force"
+
+
 def test_the_preset_pairs_fig_11_with_fig_7d():
     """The paper: "Fig. 11a should be compared with Fig. 7d" (same v and x_bar); the preset
     paired 11 with 6b (a fast belt, another clearance)."""

@@ -120,6 +120,9 @@ def test_preset_7c_vs_10(browser, server, shots):
         assert row[0] == "0.399 / 0.969"  # the deformable stop's first and last contact
         assert float(row[1]) == pytest.approx(0.3, rel=1e-9)
         assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        # 7c's impulses are not drawn on 10's axis of contact force.
+        force = count_color(p.pixels(".fie-plot-force"), GHOST, GHOST_TOL)
+        assert force < MIN_GHOST_PIXELS / 3, force
         p.page.screenshot(path=shots / "compare-7c-vs-10.png", full_page=True)
         assert p.errors == []
     finally:
@@ -163,6 +166,38 @@ def test_a_far_off_pin_is_not_clipped(browser, server, shots):
                               "Velocity x'(t)"}, shown
         assert all(shown.values()), shown
         p.page.screenshot(path=shots / "compare-far-off-pin.png", full_page=True)
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+#: JavaScript: the contact-force figure's y range, the largest impulse of the run's own stems
+#: and the texts of its titles.
+JS_FORCE_AXIS = """() => {
+  const doc = Bokeh.documents[0];
+  const fig = [...doc.all_models].find(m => m.type === "Figure"
+                                            && m.title.text.startsWith("Contact force"));
+  const stems = fig.renderers.find(r => r.glyph.type === "Segment").data_source.data;
+  return {end: fig.y_range.end, j: Math.max(...stems.j), title: fig.title.text};
+}"""
+
+
+def test_a_deformable_pin_does_not_flatten_rigid_impulses(browser, server, shots):
+    """/main?scene=7c&units=SI&pins=10 drew scene 10's contact force (up to 175 N) on the
+    axis of 7c's impulses (at most 0.91 N s): the impulses were a flat line at zero."""
+    p = Page(browser, server + "?scene=7c&units=SI&pins=10")
+    try:
+        _wait_readout(p, "compared")
+        p.page.wait_for_timeout(300)
+        p.settle()
+        axis = p.page.evaluate(JS_FORCE_AXIS)
+        assert axis["j"] <= axis["end"] < 2 * axis["j"], axis
+        assert axis["title"].endswith(
+            "\n10: contact force, not comparable with impulses: not drawn"), axis
+        force = count_color(p.pixels(".fie-plot-force"), GHOST, GHOST_TOL)
+        assert force < MIN_GHOST_PIXELS / 3, force
+        p.page.locator(".fie-plot-force").first.screenshot(
+            path=shots / "compare-7c-pin-10-force.png")
         assert p.errors == []
     finally:
         p.close()
