@@ -1,19 +1,20 @@
 """Pinned runs: earlier parameter sets kept on the plots as muted ghosts beside the current run.
 
-A pin stores the run's *parameters* (scene and solve values), never its samples: it is solved
-again in the worker pool (:class:`app.solver.SolveRunner`), so a permalink that names the
-pins (:func:`encode_pins`, :func:`decode_pins`) redraws them on load. Ghost renderers are
-added to a figure the first time a pin is drawn on it (:class:`Compare`); a page with no pin
-holds no model of this module. The ``*_columns``, label and table functions are pure and
+A pin stores the run's *parameters* (scene and solve values, and the mass and stiffness of
+its SI units: :class:`PinSpec`), never its samples: it is solved again in the worker pool
+(:class:`app.solver.SolveRunner`), so a permalink that names the pins (:func:`encode_pins`,
+:func:`decode_pins`) redraws them on load. Ghost renderers are added to a figure the first
+time a pin is drawn on it (:class:`Compare`); a page with no pin holds no model of this
+module. The ``*_columns``, label and table functions are pure and
 tested without a browser.
 
 Examples
 --------
 >>> from app.state import scene_values
->>> decode_pins(encode_pins([("7c", scene_values("7c"))]))[0][0]
+>>> decode_pins(encode_pins([PinSpec("7c", scene_values("7c"))]))[0].scene
 '7c'
 >>> pin_label("7c", scene_values("7c"), scene_values("10"))
-'7c: stop rigid, r 0.3, tend 60'
+'7c: stop rigid, r 0.3, t_end 60'
 """
 
 from __future__ import annotations
@@ -22,16 +23,33 @@ import html
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
-from app.plots import MODE_NAMES, force_columns, loop_columns, phase_columns, trajectory_columns
+from app.plots import (
+    FORCE_TITLE,
+    MODE_NAMES,
+    force_columns,
+    force_quantity,
+    loop_columns,
+    phase_columns,
+    trajectory_columns,
+)
+from app.readout import restitution_first_last
 from app.scenes import CUSTOM, SCENES
 from app.solver import Solution, SolveRunner
-from app.state import DIMENSIONLESS, SOLVE_PARAMS, URL_KEYS, ExplorerState, Scales, core_inputs
+from app.state import (
+    DIMENSIONLESS,
+    SOLVE_PARAMS,
+    URL_KEYS,
+    ExplorerState,
+    Scales,
+    core_inputs,
+    si_scales,
+)
 from app.state import scene_values as _scene_values
 from core import TransitionKind
 
@@ -47,6 +65,24 @@ URL_KEY = "pins"
 PIN_SEP, ITEM_SEP = "|", ","
 #: Parameters named at most in a pin's label (the rest are summed up as "…").
 LABEL_ITEMS = 3
+#: Names of the parameters in a pin's label, as the page's boxes name them: parameter ->
+#: (dimensionless name, SI name); the SI units and factors come from
+#: :data:`app.export.SI_PARAMETERS`.
+LABEL_NAMES: Mapping[str, tuple[str, str]] = {
+    "belt_speed": ("v", "v_dr"), "clearance": ("x_bar", "x_bar"), "restitution": ("r", "r"),
+    "mu_s": ("mu_s", "mu_s"), "mu_k": ("mu_k", "mu_k"), "u_s": ("u_s", "F_N"),
+    "k_c0": ("k_c0/k", "k_c0"), "k_e0": ("k_e0/k", "k_e0"), "limit_overlap": ("D", "D"),
+    "beta_c": ("beta_c", "beta_c"), "beta_e": ("beta_e", "beta_e"),
+    "contact_law": ("law", "law"), "x0": ("x0", "x0"), "v0": ("x'0", "x'0"),
+    "t_end": ("t_end", "t_end"),
+}
+#: Relative difference below which a label calls two SI values the same (each is the
+#: product of a state value and its own unit's factor: equal runs may differ in the last
+#: bits).
+SAME_RTOL = 1e-9
+#: Mass m [kg] and stiffness k [N/m] of a pin whose permalink names none (the page's are
+#: passed in their place, :func:`decode_pins`).
+MASS, STIFFNESS = ExplorerState.param["mass"].default, ExplorerState.param["stiffness"].default
 #: Ghost sources and the figures that draw them: source -> (figure, x column, y column).
 GHOSTS: Mapping[str, tuple[tuple[str, str, str], ...]] = {
     "phase": (("phase", "x", "v"),),
@@ -61,7 +97,7 @@ IMPACT_KINDS = {TransitionKind.IMPACT.value, TransitionKind.STICK_IMPACT.value,
 #: current scene with r = 1 loaded and its r < 1 pinned (or the reverse).
 PRESETS: Mapping[str, tuple[str, str] | None] = {
     "7c vs 10: rigid stop vs its equivalent deformable stop": ("10", "7c"),
-    "6b vs 11: fast belt at rest on the stop vs the deformable stop": ("11", "6b"),
+    "7d vs 11: slow belt, mass pressed on a rigid vs a deformable stop": ("11", "7d"),
     "r = 1 vs r < 1 of this scene": None,
 }
 #: The restitution pinned against an elastic scene by the "r = 1 vs r < 1" preset (the
@@ -75,24 +111,41 @@ def _f32(a: Any) -> np.ndarray:
 
 # --- permalink -----------------------------------------------------------------------------
 
-def encode_pins(pins: Sequence[tuple[str, Mapping[str, Any]]]) -> str:
+class PinSpec(NamedTuple):
+    """What a pin is: its scene, its solve values (the core's dimensionless ones) and the
+    mass m [kg] and stiffness k [N/m] of the page it was pinned on, which make it one
+    physical run: the SI page shows it in its own seconds, m/s and newtons."""
+
+    scene: str
+    values: dict[str, Any]
+    mass: float = MASS
+    stiffness: float = STIFFNESS
+
+
+def encode_pins(pins: Sequence[PinSpec], mass: float = MASS,
+                stiffness: float = STIFFNESS) -> str:
     """The pins as the permalink's value: per pin its scene, then the values that differ
-    from that scene's (``key=value`` with the permalink's keys).
+    from that scene's (``key=value`` with the permalink's keys), then its mass ``m`` and
+    stiffness ``k`` where they differ from the page's (``mass``, ``stiffness``).
 
     >>> from app.state import scene_values
     >>> elastic = {**scene_values("7c"), "restitution": 1.0}
-    >>> encode_pins([("7c", scene_values("7c")), ("7c", elastic)])
-    '7c|7c,r=1.0'
+    >>> encode_pins([PinSpec("7c", scene_values("7c")), PinSpec("7c", elastic, mass=4.0)])
+    '7c|7c,r=1.0,m=4.0'
     """
     parts = []
-    for scene, values in pins:
-        base = _scene_values(scene) if scene in SCENES else _defaults()
-        items = [scene]
+    for pin in pins:
+        base = _scene_values(pin.scene) if pin.scene in SCENES else _defaults()
+        items = [pin.scene]
         for name in SOLVE_PARAMS:
             if name in ("accuracy", "method"):
                 continue  # a pin is solved with the page's accuracy and method
-            if values[name] != base[name]:
-                items.append(f"{URL_KEYS[name]}={_text(values[name])}")
+            if pin.values[name] != base[name]:
+                items.append(f"{URL_KEYS[name]}={_text(pin.values[name])}")
+        for name, value, page in (("mass", pin.mass, mass),
+                                  ("stiffness", pin.stiffness, stiffness)):
+            if value != page:
+                items.append(f"{URL_KEYS[name]}={_text(float(value))}")
         parts.append(ITEM_SEP.join(items))
     return PIN_SEP.join(parts)
 
@@ -107,13 +160,17 @@ def _defaults() -> dict[str, Any]:
     return {name: ExplorerState.param[name].default for name in SOLVE_PARAMS}
 
 
-def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto"
-                ) -> list[tuple[str, dict[str, Any]]]:
+def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto",
+                mass: float = MASS, stiffness: float = STIFFNESS) -> list[PinSpec]:
     """Read the permalink's pins back (:func:`encode_pins`); raises ``ValueError`` naming
-    the pin and the item it could not read, and what is allowed.
+    the pin and the item it could not read, and what is allowed. A pin that names no mass
+    or stiffness has the page's (``mass``, ``stiffness``: so did every pin of the links
+    written before pins kept their own).
 
-    >>> decode_pins("5b,r=0.5")[0][1]["restitution"]
+    >>> decode_pins("5b,r=0.5")[0].values["restitution"]
     0.5
+    >>> decode_pins("5b,m=4", mass=2.0)[0][2:]
+    (4.0, 100.0)
     >>> decode_pins("5b,r=2")
     Traceback (most recent call last):
     ...
@@ -131,10 +188,11 @@ def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto"
                              f"{', '.join(SCENES)} or custom; got {scene!r}")
         values = _scene_values(scene) if scene in SCENES else _defaults()
         values.update(accuracy=accuracy, method=method)
+        units = {"mass": float(mass), "stiffness": float(stiffness)}
         for item in items:
             key, _, text_value = item.partition("=")
             name = names.get(key)
-            if name not in SOLVE_PARAMS or name in ("accuracy", "method"):
+            if name not in (*SOLVE_PARAMS, *units) or name in ("accuracy", "method"):
                 raise ValueError(f"pin {i + 1} ({chunk}): unknown parameter {key!r}")
             p = ExplorerState.param[name]
             try:
@@ -147,48 +205,82 @@ def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto"
                            else f"one of {', '.join(map(str, p.objects))}")
                 raise ValueError(f"pin {i + 1} ({chunk}): {key} ({name}) must be {allowed}; "
                                  f"got {text_value!r}") from None
-            values[name] = value
+            if name in units:
+                units[name] = value
+            else:
+                values[name] = value
         try:
             core_inputs(values)
         except ValueError as exc:
             raise ValueError(f"pin {i + 1} ({chunk}): {exc}") from None
-        pins.append((scene, values))
+        pins.append(PinSpec(scene, values, units["mass"], units["stiffness"]))
     return pins
 
 
 # --- what a pin shows ----------------------------------------------------------------------
 
 def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
-              scales: Scales = DIMENSIONLESS) -> str:
+              scales: Scales = DIMENSIONLESS, pin_scales: Scales | None = None) -> str:
     """A short label: the pin's scene and the parameters in which it differs from the
-    current run (those its stop type uses), at most :data:`LABEL_ITEMS` of them, in the
-    page's units.
+    current run (those its stop type uses), at most :data:`LABEL_ITEMS` of them, named as
+    the page's boxes name them. In SI units (``scales``: the current run's,
+    ``pin_scales``: the pin's own, :meth:`Pin.scales`) the physical values are compared,
+    the mass and stiffness first.
 
-    >>> from app.state import scene_values
+    >>> from app.state import scene_values, si_scales
     >>> pin_label("5b", scene_values("5b"), scene_values("5b"))
     '5b: same parameters'
-    >>> si = ExplorerState(units="SI", mass=2.0, stiffness=50.0).scales()
+    >>> si = si_scales(2.0, 50.0)
     >>> pin_label("5a", scene_values("5a"), {**scene_values("5a"), "belt_speed": 0.3}, si)
     '5a: v_dr 0.5 m/s'
+    >>> pin_label("6b", scene_values("6b"), scene_values("5a"), si)
+    '6b: v_dr 1.5 m/s, x_bar 0.1 m, r 0.7'
+    >>> pin_label("5a", scene_values("5a"), scene_values("5a"), si, si_scales(1.0, 50.0))
+    '5a: m 1 kg, v_dr 0.7071 m/s, t_end 8.485 s'
     """
+    pin_scales = scales if pin_scales is None else pin_scales
     stop = str(values["stop_type"])
-    names = ("stop_type", *NAMED.get(stop, NAMED["none"]), "program")
-    diff = [_item(n, values[n], scales) for n in names if values.get(n) != current.get(n)]
+    names = ("stop_type", *(("mass", "stiffness") if scales.si else ()),
+             *NAMED.get(stop, NAMED["none"]), "program")
+    diff = []
+    for name in names:
+        mine, text = _shown(name, values, pin_scales)
+        theirs, _ = _shown(name, current, scales)
+        if not _same(mine, theirs):
+            diff.append(text)
     if not diff:
         diff = ["same parameters"]
     more = ", …" if len(diff) > LABEL_ITEMS else ""
     return f"{scene}: {', '.join(diff[:LABEL_ITEMS])}{more}"
 
 
-def _item(name: str, value: Any, scales: Scales) -> str:
-    """``name value`` of a label: the permalink's key and the core's number, or in SI
-    units the SI name, value and unit (:data:`app.export.SI_PARAMETERS`)."""
+def _shown(name: str, values: Mapping[str, Any], scales: Scales) -> tuple[Any, str]:
+    """A parameter of a run as its label shows it: its value in the units of ``scales``
+    and ``name value unit`` (SI units and factors: :data:`app.export.SI_PARAMETERS`)."""
+    if name in ("mass", "stiffness"):
+        value = getattr(scales, name)
+        unit = "kg" if name == "mass" else "N/m"
+        return value, f"{URL_KEYS[name]} {_short(value)} {unit}"
+    value = values.get(name)
     if name == "stop_type":
-        return f"stop {value}"
-    if scales.si and name in SI_PARAMETERS and SI_PARAMETERS[name][1]:
-        si_name, factor, unit = SI_PARAMETERS[name]
-        return f"{si_name} {_short(value * getattr(scales, factor))} {unit}"
-    return f"{URL_KEYS[name]} {_short(value)}"
+        return value, f"stop {value}"
+    if name == "program":
+        return bool(value), "overlap program" if value else "no overlap program"
+    dimensionless, si_name = LABEL_NAMES[name]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return value, f"{dimensionless} {value}"
+    value = float(value)
+    if not scales.si:
+        return value, f"{dimensionless} {_short(value)}"
+    _, factor, unit = SI_PARAMETERS.get(name, (si_name, None, ""))
+    value *= getattr(scales, factor) if factor else 1.0
+    return value, f"{si_name} {_short(value)}{' ' + unit if unit else ''}"
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, float) and isinstance(b, float):
+        return math.isclose(a, b, rel_tol=SAME_RTOL)
+    return a == b
 
 
 def _short(value: Any) -> str:
@@ -251,8 +343,14 @@ def ghost_extents(cols: Mapping[str, Mapping[str, Any]]
 
 def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
     """What the comparison table shows of a run: steady state, period, x_max, impacts per
-    period and the restitution measured (rebound over approach speed of the last impact or
-    contact)."""
+    period and the restitution measured (rebound over approach speed) at the first and the
+    last impact or contact, one number where they agree to the digits shown.
+
+    >>> from app.state import scene_values
+    >>> from app.solver import solve
+    >>> summary(solve(scene_values("10")))["restitution"]
+    '0.399 / 0.969'
+    """
     res = sol.result
     if res is None:
         return {"steady": "overlap program", "period": "—", "x_max": "—", "impacts": "—",
@@ -263,13 +361,11 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
               if steady.kind.value == "periodic" and math.isfinite(steady.period) else "—")
     impacts = (str(sum(k in IMPACT_KINDS for k in steady.sequence))
                if steady.kind.value == "periodic" else "—")
-    measured = np.asarray(sol.restitution_measured)
-    if len(measured):
-        restitution = f"{measured[-1]:.3g}"
-    else:
-        ratios = [-tr.v_after / tr.v for tr in res.transitions
-                  if tr.kind.value in IMPACT_KINDS and tr.v > 0]
-        restitution = f"{ratios[-1]:.3g}" if ratios else "—"
+    ends = restitution_first_last(sol)
+    restitution = "—"
+    if ends is not None:
+        first, last = (f"{r:.3g}" for r in ends)
+        restitution = first if first == last else f"{first} / {last}"
     return {"steady": steady.kind.value.replace("_", " "), "period": period,
             "x_max": f"{res.x_max:.4g}{' m' if scales.si else ''}", "impacts": impacts,
             "restitution": restitution}
@@ -277,7 +373,8 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
 
 #: Rows of the comparison table: summary key -> row label.
 TABLE_ROWS = (("steady", "steady state"), ("period", "period"), ("x_max", "x_max"),
-              ("impacts", "impacts / period"), ("restitution", "restitution measured"))
+              ("impacts", "impacts / period"),
+              ("restitution", "restitution, first / last contact"))
 
 
 def swatch(color: str) -> str:
@@ -287,13 +384,14 @@ def swatch(color: str) -> str:
             f'stroke-dasharray="5 3"/></svg>')
 
 
-def comparison_html(current: Solution, pinned: Sequence[tuple[str, str, Solution | None]],
+def comparison_html(current: Solution,
+                    pinned: Sequence[tuple[str, str, Solution | None, Scales]],
                     scales: Scales = DIMENSIONLESS) -> str:
     """The current run and each pin side by side (one column each); ``pinned`` holds
-    ``(label, colour, solution or None while it is solved)``."""
+    ``(label, colour, solution or None while it is solved, the pin's own units)``."""
     cols = [("this run", "", summary(current, scales))]
-    for label, color, sol in pinned:
-        cols.append((label, color, summary(sol, scales) if sol is not None else None))
+    for label, color, sol, own in pinned:
+        cols.append((label, color, summary(sol, own) if sol is not None else None))
     head = "".join(f"<th class='fie-pin-head'>{swatch(c) if c else ''}{html.escape(lab)}</th>"
                    for lab, c, _ in cols)
     body = ""
@@ -309,14 +407,25 @@ def comparison_html(current: Solution, pinned: Sequence[tuple[str, str, Solution
 
 @dataclass
 class Pin:
-    """One pinned run: its scene and solve values, its colour, and its solution once
-    solved."""
+    """One pinned run: its scene and solve values, the mass m [kg] and stiffness k [N/m]
+    it was pinned with (:class:`PinSpec`), its colour, and its solution once solved."""
 
     scene: str
     values: dict[str, Any]
+    mass: float
+    stiffness: float
     color: str
     solution: Solution | None = None
     runner: SolveRunner | None = field(default=None, repr=False)
+
+    @property
+    def spec(self) -> PinSpec:
+        return PinSpec(self.scene, self.values, self.mass, self.stiffness)
+
+    def scales(self, page: Scales) -> Scales:
+        """The pin's own units on a page in ``page``'s: SI with its own m and k (its
+        seconds, m/s and newtons are those of the run pinned), or dimensionless."""
+        return si_scales(self.mass, self.stiffness) if page.si else DIMENSIONLESS
 
 
 class Compare:
@@ -347,29 +456,33 @@ class Compare:
         self._scales: Scales = DIMENSIONLESS
         #: Per pin slot: what its ghosts span, ``(figure, "x" or "y") -> (min, max)``.
         self._extents: list[dict[tuple[str, str], tuple[float, float]]] = []
+        #: What the contact-force plot says of the pins it does not draw.
+        self.force_note = ""
 
     @property
     def full(self) -> bool:
         return len(self.pins) >= MAX_PINS
 
-    def pin(self, scene: str, values: Mapping[str, Any]) -> None:
-        """Pin a run (the oldest pin goes when :data:`MAX_PINS` are pinned)."""
+    def pin(self, scene: str, values: Mapping[str, Any], mass: float,
+            stiffness: float) -> None:
+        """Pin a run: its scene, solve values, and the page's mass m [kg] and stiffness k
+        [N/m] (the oldest pin goes when :data:`MAX_PINS` are pinned)."""
         if self.full:
             self.pins.pop(0)
         used = {p.color for p in self.pins}
         color = next(c for c in PIN_COLORS if c not in used)
-        pin = Pin(scene, dict(values), color)
+        pin = Pin(scene, dict(values), float(mass), float(stiffness), color)
         self.pins.append(pin)
         self._solve(pin)
 
-    def set_pins(self, pins: Sequence[tuple[str, Mapping[str, Any]]]) -> None:
+    def set_pins(self, pins: Sequence[PinSpec]) -> None:
         """Replace every pin (a permalink, a preset)."""
         for pin in self.pins:
             if pin.runner is not None:
                 pin.runner.cancel()
         self.pins = []
-        for scene, values in pins[-MAX_PINS:]:
-            self.pin(scene, values)
+        for spec in pins[-MAX_PINS:]:
+            self.pin(*spec)
         if not pins:
             self.on_change()
 
@@ -411,7 +524,8 @@ class Compare:
     def labels(self, current: Mapping[str, Any], scales: Scales | None = None) -> list[str]:
         """Each pin's label against the current values (in the units last drawn in)."""
         scales = self._scales if scales is None else scales
-        return [pin_label(p.scene, p.values, current, scales) for p in self.pins]
+        return [pin_label(p.scene, p.values, current, scales, p.scales(scales))
+                for p in self.pins]
 
     def legend_entries(self, current: Mapping[str, Any]) -> list[tuple[str, str, str]]:
         """Entries for an HTML legend (:func:`app.plots.legend_html`)."""
@@ -423,21 +537,32 @@ class Compare:
         """The comparison table, or '' with no pin."""
         if not self.pins:
             return ""
-        rows = [(label, p.color, p.solution)
+        rows = [(label, p.color, p.solution, p.scales(scales))
                 for label, p in zip(self.labels(current.values, scales), self.pins,
                                     strict=True)]
         return comparison_html(current, rows, scales)
 
-    def draw(self, scales: Scales) -> None:
-        """Put every pin's ghosts on the built figures and blank the unused slots (call
-        under ``pn.io.hold``). Adds renderers only where a pin is drawn."""
+    def draw(self, current: Solution, scales: Scales) -> None:
+        """Put every pin's ghosts, in its own units (:meth:`Pin.scales`), on the built
+        figures and blank the unused slots (call under ``pn.io.hold``). Adds renderers only
+        where a pin is drawn. A pin whose contact-force plot shows another quantity than
+        the ``current`` run's (:func:`app.plots.force_quantity`: impulses, a force) is not
+        drawn there; the plot says so."""
         from app.plots import _assign  # one rule for "assign only what changed"
 
         self._scales = scales
+        notes = []
+        shown = force_quantity(current)
         for slot in range(max(len(self.pins), len(self._sources))):
             pin = self.pins[slot] if slot < len(self.pins) else None
-            cols = (ghost_columns(pin.solution, scales)
-                    if pin is not None and pin.solution is not None else None)
+            cols = None
+            if pin is not None and pin.solution is not None:
+                cols = ghost_columns(pin.solution, pin.scales(scales))
+                own = force_quantity(pin.solution)
+                if own != shown and len(cols["force"]["t"]):
+                    notes.append(f"{pin.scene}: {own}, not comparable with {shown}: "
+                                 "not drawn")
+                    cols["force"] = {k: _f32([]) for k in cols["force"]}
             if cols is None and slot >= len(self._sources):
                 continue
             sources = self._slot_sources(slot)
@@ -447,6 +572,19 @@ class Compare:
             self._extents[slot] = ghost_extents(cols) if cols is not None else {}
             if pin is not None:
                 self._attach(slot, pin.color)
+        self.force_note = "\n".join(notes)
+        self._show_note()
+
+    def _show_note(self) -> None:
+        """The contact-force plot's note on the pins it does not draw: a second line of
+        its title (a title added to a figure on screen is laid out by BokehJS before its
+        view exists)."""
+        fig = self.plots.figures.get("force")
+        if fig is None:
+            return
+        text = FORCE_TITLE + (f"\n{self.force_note}" if self.force_note else "")
+        if fig.title.text != text:
+            fig.title.text = text
 
     def extents(self) -> dict[tuple[str, str], list[float]]:
         """What the drawn ghosts span, for the axes (:attr:`app.plots.PlotSet.more_extents`):
@@ -462,6 +600,7 @@ class Compare:
         for slot, pin in enumerate(self.pins):
             if slot < len(self._sources):
                 self._attach(slot, pin.color)
+        self._show_note()
 
     def _slot_sources(self, slot: int) -> dict[str, Any]:
         while len(self._sources) <= slot:
@@ -567,7 +706,8 @@ class CompareMenu:
         value = event.new
         ex = self.explorer
         if value == PIN_LABEL or value is None:
-            ex.compare.pin(ex.state.scene, ex.state.values())
+            ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
+                           ex.state.stiffness)
         elif value.startswith("unpin:"):
             which = value.split(":")[1]
             ex.compare.unpin(None if which == "all" else int(which))
@@ -584,10 +724,11 @@ class CompareMenu:
         ex = self.explorer
         pair = PRESETS[label]
         acc = {"accuracy": ex.state.accuracy, "method": ex.state.method}
+        units = (ex.state.mass, ex.state.stiffness)
         if pair is not None:
             loaded, pinned = pair
             ex.state.load_scene(loaded)
-            ex.compare.set_pins([(pinned, _scene_values(pinned, **acc))])
+            ex.compare.set_pins([PinSpec(pinned, _scene_values(pinned, **acc), *units)])
             return
         values = ex.state.values()
         if values["stop_type"] != "rigid":
@@ -596,7 +737,8 @@ class CompareMenu:
             return
         r = values["restitution"]
         other = R_INELASTIC_PRESET if r == 1.0 else 1.0
-        ex.compare.set_pins([(ex.state.scene, {**values, "restitution": other})])
+        ex.compare.set_pins([PinSpec(ex.state.scene, {**values, "restitution": other},
+                                     *units)])
 
     # --- permalink -------------------------------------------------------------------------
 
@@ -606,7 +748,8 @@ class CompareMenu:
         raw = query.get(URL_KEY)
         if raw not in (None, ""):
             try:
-                pins = decode_pins(raw, ex.state.accuracy, ex.state.method)
+                pins = decode_pins(raw, ex.state.accuracy, ex.state.method,
+                                   ex.state.mass, ex.state.stiffness)
             except ValueError as exc:
                 ex._show_error(f"The pinned runs of the address could not be restored: {exc}")
             else:
@@ -620,6 +763,7 @@ class CompareMenu:
         ex = self.explorer
         out: dict[str, str] = {}
         if ex.compare.pins or URL_KEY in current:
-            out[URL_KEY] = encode_pins([(p.scene, p.values) for p in ex.compare.pins])
+            out[URL_KEY] = encode_pins([p.spec for p in ex.compare.pins], ex.state.mass,
+                                       ex.state.stiffness)
         out.update(self.presentation.query(current))
         return out

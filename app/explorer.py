@@ -1005,7 +1005,7 @@ class Explorer(pn.viewable.Viewer):
             self._show_plots(visible)
             with validate(False):
                 if self.compare.pins:  # first: the axes fitted next show the ghosts too
-                    self.compare.draw(scales)
+                    self.compare.draw(sol, scales)
                 self.plots.update(sol, scales, visible, map_data)
                 if "anim" in visible:
                     self.anim.update(sol, scales)
@@ -1137,7 +1137,7 @@ class Explorer(pn.viewable.Viewer):
         if sol is not None:
             scales = self.state.scales()
             with pn.io.hold(), validate(False):
-                self.compare.draw(scales)
+                self.compare.draw(sol, scales)
                 self.plots.fit_ranges()
                 self.plots.refresh_legend()
                 readout = readout_html(sol, scales) + self.compare.table(sol, scales)

@@ -526,6 +526,29 @@ def _paper_name(keys: list[str]) -> str:
     return " = ".join(PAPER_NAMES.get(k, k) for k in keys)
 
 
+#: The contact-force plot's title.
+FORCE_TITLE = "Contact force"
+#: What the contact-force plot's left axis shows, by run (:func:`force_quantity`).
+IMPULSES, CONTACT_FORCE, PROGRAM_FORCE = ("impulses", "contact force",
+                                          "contact force over the program phase")
+
+
+def force_quantity(sol: Solution) -> str:
+    """What the contact-force plot draws of ``sol`` on its left axis: a rigid stop's
+    impulses (:data:`IMPULSES`), the overlap program's force over its phase
+    (:data:`PROGRAM_FORCE`), otherwise the contact force over time (:data:`CONTACT_FORCE`).
+    Runs of different quantities are not drawn on one axis.
+
+    >>> from app.state import scene_values
+    >>> from app.solver import solve
+    >>> force_quantity(solve(scene_values("7c"))), force_quantity(solve(scene_values("10")))
+    ('impulses', 'contact force')
+    """
+    if sol.program is not None:
+        return PROGRAM_FORCE
+    return IMPULSES if sol.values["stop_type"] == "rigid" else CONTACT_FORCE
+
+
 def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
     """Contact force: rigid impulses as stems (``t``, ``j``) and, once the mass rests on a
     rigid stop, the force that holds it there (``rest``: ``k (a - x_bar)``, SPEC §3, on an
@@ -855,7 +878,7 @@ class PlotSet:
         self.panes["time"] = column(fig_x, fig_v, sizing_mode="stretch_width")
 
     def _build_force(self, s) -> None:
-        fig = self._figure("Contact force", SMALL_SIZE, x_axis_label="t",
+        fig = self._figure(FORCE_TITLE, SMALL_SIZE, x_axis_label="t",
                            y_axis_label="impulse / force")
         add_glyph(fig, "segment", "t", 0.0, "t", "j", source=s["stems"], line_color=MODE_COLORS[2],
                   line_width=1.5)
@@ -1185,7 +1208,7 @@ class PlotSet:
             program = sol.program is not None
             f["force"].xaxis.axis_label = "program phase s" if program else scales.time_label
             f["force"].left[0].axis_label = (scales.impulse_label
-                                             if sol.values["stop_type"] == "rigid"
+                                             if force_quantity(sol) == IMPULSES
                                              else scales.force_label)
             self.rest_axis.axis_label = f"force at rest: {scales.force_label}"
         if "loop" in f:

@@ -106,15 +106,11 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         measured = sol.restitution_measured
         if len(measured):
             r_eq = _num(th.restitution) if th is not None else "—"
-            # The stored transitions may end long before the run does (a capped log, a train
-            # laid out by its map): the last contact is the core's, the count the run's.
-            last = float(res.info.get("effective_restitution", math.nan))
-            if not math.isfinite(last):
-                last = float(measured[-1])
+            first, last = restitution_first_last(sol)
             total = contact_count(res, len(measured))
-            spread = (f"{_num(measured[0])} at the first contact, {_num(last)} at the "
+            spread = (f"{_num(first)} at the first contact, {_num(last)} at the "
                       f"last of {total}" if total > 1
-                      else f"{_num(measured[0])} (one contact)")
+                      else f"{_num(first)} (one contact)")
             rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
                          "holds only for beta * overlap / D >> 1"))
         if isinstance(sol.stop, HystereticStop):
@@ -142,6 +138,33 @@ MANY_CONTACTS = 50
 MANY_CONTACTS_ERROR = 1.1e-4
 #: The horizon of that measurement (dimensionless time).
 MANY_CONTACTS_T_END = 100.0
+
+
+#: Transitions at which a rigid stop gives the mass an impulse (Newton's law).
+RIGID_IMPACTS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
+
+
+def restitution_first_last(sol: Solution) -> tuple[float, float] | None:
+    """Rebound over approach speed at the run's first and last impact or contact, or
+    ``None`` without one: a deformable stop's measured ones (its last the core's: the
+    stored transitions may end long before the run does, a capped log, a train laid out by
+    its map), a rigid stop's from its impacts (Newton's r, Eq. 8).
+
+    >>> from app.state import scene_values
+    >>> from app.solver import solve
+    >>> [round(r, 6) for r in restitution_first_last(solve(scene_values("7c")))]
+    [0.3, 0.3]
+    """
+    measured = np.asarray(sol.restitution_measured)
+    res = sol.result
+    if res is None:
+        return None
+    if len(measured):
+        last = float(res.info.get("effective_restitution", math.nan))
+        return float(measured[0]), last if math.isfinite(last) else float(measured[-1])
+    ratios = [-tr.v_after / tr.v for tr in res.transitions
+              if tr.kind in RIGID_IMPACTS and tr.v > 0]
+    return (ratios[0], ratios[-1]) if ratios else None
 
 
 def contact_count(res, measured: int) -> int:

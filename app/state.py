@@ -85,9 +85,31 @@ class Scales:
     energy_label: str = "energy / k"
     friction_label: str = "friction force / k"
     si: bool = False
+    #: Mass m [kg] and stiffness k [N/m] of SI units (``None`` in dimensionless ones).
+    mass: float | None = None
+    stiffness: float | None = None
 
 
 DIMENSIONLESS = Scales()
+
+
+def si_scales(mass: float, stiffness: float) -> Scales:
+    """The factors and labels of SI units with mass ``m`` [kg] and stiffness ``k`` [N/m]
+    (SPEC §2: ``omega = sqrt(k/m)``).
+
+    >>> s = si_scales(4.0, 100.0)
+    >>> s.time, s.velocity, s.force, s.impulse
+    (0.2, 5.0, 100.0, 20.0)
+    """
+    omega = math.sqrt(stiffness / mass)
+    return Scales(
+        time=1.0 / omega, velocity=omega, force=stiffness,
+        impulse=mass * omega, energy=stiffness,
+        time_label="time (s)", length_label="x (m)", velocity_label="dx/dt (m/s)",
+        force_label="contact force (N)", impulse_label="impulse (N s)",
+        energy_label="energy (J)", friction_label="friction force (N)", si=True,
+        mass=mass, stiffness=stiffness,
+    )
 
 
 class SceneSelector(param.Selector):
@@ -178,16 +200,7 @@ class ExplorerState(param.Parameterized):
 
     def scales(self) -> Scales:
         """Conversion factors and labels for the units selected."""
-        if self.units != "SI":
-            return DIMENSIONLESS
-        omega = self.omega
-        return Scales(
-            time=1.0 / omega, velocity=omega, force=self.stiffness,
-            impulse=self.mass * omega, energy=self.stiffness,
-            time_label="time (s)", length_label="x (m)", velocity_label="dx/dt (m/s)",
-            force_label="contact force (N)", impulse_label="impulse (N s)",
-            energy_label="energy (J)", friction_label="friction force (N)", si=True,
-        )
+        return si_scales(self.mass, self.stiffness) if self.units == "SI" else DIMENSIONLESS
 
     def physical(self) -> dict[str, float]:
         """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s],

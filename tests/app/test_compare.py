@@ -13,6 +13,7 @@ from app.compare import (
     MAX_PINS,
     PIN_COLORS,
     PRESETS,
+    PinSpec,
     decode_pins,
     encode_pins,
     ghost_columns,
@@ -35,13 +36,12 @@ def _page():
 
 def test_pins_round_trip_through_the_permalink():
     custom = {**scene_values("5b"), "restitution": 0.55, "belt_speed": 0.08}
-    pins = [("7c", scene_values("7c")), ("custom", custom), ("10", scene_values("10"))]
+    pins = [PinSpec("7c", scene_values("7c")), PinSpec("custom", custom),
+            PinSpec("10", scene_values("10"))]
     text = encode_pins(pins)
     assert text.startswith("7c|")  # a scene's own values are not repeated
     back = decode_pins(text)
-    assert [scene for scene, _ in back] == ["7c", "custom", "10"]
-    for (_, values), (_, restored) in zip(pins, back, strict=True):
-        assert restored == values
+    assert back == pins
 
 
 @pytest.mark.parametrize("raw, words", [
@@ -87,7 +87,8 @@ def test_in_si_units_a_pin_is_labelled_in_si_units():
     ex, doc = _page()
     with set_curdoc(doc):
         ex.state.param.update(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
-        ex.compare.pin(ex.state.scene, ex.state.values())
+        ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
+                       ex.state.stiffness)
         ex._commit({"belt_speed": 0.3})
         v_dr = f"v_dr {ex.compare.pins[0].values['belt_speed'] * 5.0:.4g} m/s"
         assert v_dr == "v_dr 0.5 m/s"
@@ -111,7 +112,8 @@ def test_no_model_until_used_then_ghosts_and_present_mode():
         assert ex.plots.point_labels.text == "name"
         assert ex.plots.shared.ticker.desired_num_ticks == 6
         assert ex.compare.renderer_count == 0
-        ex.compare.pin(ex.state.scene, ex.state.values())
+        ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
+                       ex.state.stiffness)
         assert ex.compare.pins[0].solution is not None
         assert ex.compare.renderer_count > 0
         assert len(doc.models) > before
@@ -147,7 +149,7 @@ def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
     with set_curdoc(doc):
         ex.state.load_scene("5a")
         figs = ex.plots.figures
-        ex.compare.pin("5a", {**scene_values("5a"), **FAR_PIN})
+        ex.compare.pin("5a", {**scene_values("5a"), **FAR_PIN}, 1.0, 100.0)
         traj = ex.compare._sources[0]["traj"].data
         for fig, column in (("time_x", "x"), ("time_v", "v")):
             assert _covers(figs[fig].y_range, traj[column]), fig
@@ -161,3 +163,162 @@ def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
         own = ex.plots.sources["traj"].data
         assert figs["time_x"].x_range.end == pytest.approx(float(max(own["t"])))
         assert figs["time_x"].y_range.end < 0.5 * max(traj["x"])
+
+
+def _force_ghost(ex) -> dict:
+    return ex.compare._sources[0]["force"].data
+
+
+def _query(ex, doc, **query) -> None:
+    with set_curdoc(doc):
+        ex.state.param.update(**{k: v for k, v in query.items() if k != "pins"})
+        ex.menu.apply_query({"pins": query["pins"]})
+
+
+def test_a_pin_of_another_force_quantity_is_not_drawn_on_the_force_axis():
+    """/main?scene=7c&units=SI&pins=10 drew scene 10's contact force (up to 175 N) on the
+    axis of 7c's impulses (at most 0.91 N s); the preset "7c vs 10" drew 7c's impulses on
+    10's axis of newtons."""
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("7c")
+    _query(ex, doc, units="SI", pins="10")
+    with set_curdoc(doc):
+        assert "force" in ex.plots.figures
+        assert len(_force_ghost(ex)["t"]) == 0
+        assert len(ex.compare._sources[0]["traj"].data["t"]) > 100  # drawn elsewhere
+        note = "10: contact force, not comparable with impulses: not drawn"
+        assert ex.compare.force_note == note
+        assert ex.plots.figures["force"].title.text == f"Contact force\n{note}"
+        # The axis is fitted to the run's own impulses, not to the pin's newtons.
+        impulses = ex.plots.sources["stems"].data["j"]
+        assert ex.plots.figures["force"].y_range.end < 2 * float(max(impulses))
+        ex.menu.preset(next(k for k in PRESETS if k.startswith("7c vs 10")))
+        assert ex.state.scene == "10"
+        assert len(_force_ghost(ex)["t"]) == 0
+        assert ex.compare.force_note == ("7c: impulses, not comparable with contact force: "
+                                         "not drawn")
+        # A deformable stop beside a deformable stop: the same quantity, drawn, no note.
+        ex.menu.apply_query({"pins": "11"})
+        assert len(_force_ghost(ex)["t"]) > 100
+        assert ex.compare.force_note == ""
+        assert ex.plots.figures["force"].title.text == "Contact force"
+
+
+def test_the_preset_pairs_fig_11_with_fig_7d():
+    """The paper: "Fig. 11a should be compared with Fig. 7d" (same v and x_bar); the preset
+    paired 11 with 6b (a fast belt, another clearance)."""
+    from app.scenes import SCENES
+
+    label = next(k for k in PRESETS if "11" in k)
+    assert label.startswith("7d vs 11")
+    assert "rigid" in label and "deformable" in label
+    assert PRESETS[label] == ("11", "7d")
+    fig7d, fig11 = SCENES["7d"].values, SCENES["11"].values
+    for name in ("belt_speed", "clearance"):
+        assert fig7d[name] == fig11[name], name
+    assert "Fig. 7d" in SCENES["11"].caption
+
+
+def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
+    """/main?scene=5a&units=SI&pins=5a: typing m = 4 turned the pin into another physical
+    run ("5a: v_dr 0.5 m/s, t_end 12 s", period 1.119 s instead of 0.5597 s)."""
+    ex, doc = _page()
+    _query(ex, doc, units="SI", pins="5a")
+    with set_curdoc(doc):
+        pinned = summary(ex.compare.pins[0].solution, ex.state.scales())["period"]
+        assert pinned == "0.5597 s"
+        t_end = max(ex.compare._sources[0]["traj"].data["t"])
+        ex._commit_si({"m": 4.0})
+        assert ex.state.mass == 4.0
+        text = ex.readout.object
+        assert "5a: m 1 kg" in text and "v_dr" not in text.split("compared")[1]
+        assert f"<td>{pinned}</td>" in text  # the pin's own period, in its own seconds
+        # Its ghost keeps its own time axis (seconds with its own omega).
+        assert max(ex.compare._sources[0]["traj"].data["t"]) == pytest.approx(t_end)
+        # The permalink names the pin's mass, the page's is 4 kg.
+        assert ex.menu.query({})["pins"] == "5a,m=1.0"
+        back = decode_pins("5a,m=1.0", mass=4.0)[0]
+        assert (back.mass, back.stiffness) == (1.0, 100.0)
+        # A link written before pins kept their own m and k: the page's.
+        old = decode_pins("5a", mass=4.0, stiffness=50.0)[0]
+        assert (old.mass, old.stiffness) == (4.0, 50.0)
+
+
+def test_a_pin_keeps_its_stiffness_in_newtons():
+    # Scene 10's contact force, pinned with k = 100 N/m, stays in those newtons with k = 400.
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("10")
+    _query(ex, doc, units="SI", pins="10")
+    with set_curdoc(doc):
+        before = float(np.nanmax(_force_ghost(ex)["f"]))
+        ex._commit_si({"k": 400.0})
+        assert float(np.nanmax(_force_ghost(ex)["f"])) == pytest.approx(before, rel=1e-6)
+        assert "10: k 100 N/m" in ex.readout.object
+
+
+def test_the_table_says_which_contact_its_restitution_is_from():
+    """Scene 10 read 0.969 (its last contact) beside rigid 7c's 0.3; the readout says
+    0.3986 at the first contact."""
+    deformable = summary(solve(scene_values("10")))["restitution"]
+    assert deformable == "0.399 / 0.969"
+    assert summary(solve(scene_values("7c")))["restitution"] == "0.3"  # Newton's r, each
+    ex, doc = _page()
+    with set_curdoc(doc):
+        ex.state.load_scene("10")
+        ex.menu.apply_query({"pins": "7c"})
+        assert "restitution, first / last contact" in ex.readout.object
+        assert f"<td>{deformable}</td>" in ex.readout.object
+
+
+@pytest.mark.parametrize("units, scene, current, words", [
+    # The clearance by its display name and, in SI, its unit (it read "xbar 0.1").
+    ("SI", "6b", "5a", ("v_dr 3 m/s", "x_bar 0.1 m", "r 0.7")),
+    ("dimensionless", "6b", "5a", ("v 0.3", "x_bar 0.1", "r 0.7")),
+    ("dimensionless", "7c", "10", ("stop rigid", "r 0.3", "t_end 60")),
+    ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 6 s")),
+])
+def test_label_items_are_named_as_the_page_names_them(units, scene, current, words):
+    from app.state import ExplorerState
+
+    scales = ExplorerState(units=units).scales()
+    label = pin_label(scene, scene_values(scene), scene_values(current), scales)
+    assert label == f"{scene}: {', '.join(words)}"
+    for key in ("xbar", "tend", "us ", "kc0", "ke0"):
+        assert key not in label
+
+
+def test_every_label_item_has_its_name_and_unit():
+    from app.state import si_scales
+
+    pin = {**scene_values("10"), "u_s": 2.0, "k_c0": 300.0, "k_e0": 30.0,
+           "limit_overlap": 0.02, "x0": -0.1, "v0": 0.2, "beta_c": 200.0, "beta_e": 250.0,
+           "contact_law": "passive", "mu_s": 0.4, "mu_k": 0.25, "belt_speed": 0.05,
+           "clearance": 0.3, "t_end": 40.0}
+    cur = scene_values("10")
+    items = dict(LABEL_ITEMS_EXPECTED)
+    for name, (dimensionless, si) in items.items():
+        one = {**cur, name: pin[name]}
+        assert pin_label("10", one, cur) == f"10: {dimensionless}", name
+        assert pin_label("10", one, cur, si_scales(1.0, 100.0)) == f"10: {si}", name
+
+
+#: Each parameter of scene 10 changed alone, as a label says it: dimensionless, SI (m = 1 kg,
+#: k = 100 N/m: omega = 10 rad/s).
+LABEL_ITEMS_EXPECTED = (
+    ("belt_speed", ("v 0.05", "v_dr 0.5 m/s")),
+    ("clearance", ("x_bar 0.3", "x_bar 0.3 m")),
+    ("mu_s", ("mu_s 0.4", "mu_s 0.4")),
+    ("mu_k", ("mu_k 0.25", "mu_k 0.25")),
+    ("u_s", ("u_s 2", "F_N 200 N")),
+    ("k_c0", ("k_c0/k 300", "k_c0 3e+04 N/m")),
+    ("k_e0", ("k_e0/k 30", "k_e0 3000 N/m")),
+    ("limit_overlap", ("D 0.02", "D 0.02 m")),
+    ("beta_c", ("beta_c 200", "beta_c 200")),
+    ("beta_e", ("beta_e 250", "beta_e 250")),
+    ("contact_law", ("law passive", "law passive")),
+    ("x0", ("x0 -0.1", "x0 -0.1 m")),
+    ("v0", ("x'0 0.2", "x'0 2 m/s")),
+    ("t_end", ("t_end 40", "t_end 4 s")),
+)

@@ -4,6 +4,8 @@ paper's pairs."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 from uipage import Page, count_color
 
@@ -45,6 +47,16 @@ def _wait_readout(p: Page, words: str, present: bool = True) -> str:
     raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}")
 
 
+#: The comparison table's restitution row (a cell may hold "first / last").
+RESTITUTION_ROW = "restitution, first / last contact"
+
+
+def _cells(text: str, row: str) -> list[str]:
+    """The cells of the comparison table's ``row`` in the readout's text."""
+    rest = text.split(row)[1]
+    return re.findall(r"[-\d.e]+(?: / [-\d.e]+)?|—", rest)
+
+
 def _ghost_pixels(p: Page) -> int:
     return count_color(p.pixels(".fie-plot-time"), GHOST, GHOST_TOL)
 
@@ -67,7 +79,7 @@ def test_pin_change_unpin_and_permalink(browser, server, shots):
         _set(p, "restitution", "0.5")
         text = _wait_readout(p, "5a: r 1")
         assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
-        row = text.split("restitution measured")[1].split()
+        row = _cells(text, RESTITUTION_ROW)
         assert float(row[0]) == pytest.approx(0.5, rel=1e-9)  # this run: Newton's r
         assert float(row[1]) == pytest.approx(1.0, rel=1e-9)  # the pinned elastic run
         p.page.screenshot(path=shots / "compare-pinned.png", full_page=True)
@@ -104,9 +116,13 @@ def test_preset_7c_vs_10(browser, server, shots):
         text = _wait_readout(p, "7c: stop rigid")
         assert "Fig. 10" in p.text(".fie-caption")
         # The pinned rigid stop's restitution is Newton's r = 0.3 of scene 7c.
-        row = text.split("restitution measured")[1].split()
+        row = _cells(text, RESTITUTION_ROW)
+        assert row[0] == "0.399 / 0.969"  # the deformable stop's first and last contact
         assert float(row[1]) == pytest.approx(0.3, rel=1e-9)
         assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        # 7c's impulses are not drawn on 10's axis of contact force.
+        force = count_color(p.pixels(".fie-plot-force"), GHOST, GHOST_TOL)
+        assert force < MIN_GHOST_PIXELS / 3, force
         p.page.screenshot(path=shots / "compare-7c-vs-10.png", full_page=True)
         assert p.errors == []
     finally:
@@ -150,6 +166,38 @@ def test_a_far_off_pin_is_not_clipped(browser, server, shots):
                               "Velocity x'(t)"}, shown
         assert all(shown.values()), shown
         p.page.screenshot(path=shots / "compare-far-off-pin.png", full_page=True)
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+#: JavaScript: the contact-force figure's y range, the largest impulse of the run's own stems
+#: and the texts of its titles.
+JS_FORCE_AXIS = """() => {
+  const doc = Bokeh.documents[0];
+  const fig = [...doc.all_models].find(m => m.type === "Figure"
+                                            && m.title.text.startsWith("Contact force"));
+  const stems = fig.renderers.find(r => r.glyph.type === "Segment").data_source.data;
+  return {end: fig.y_range.end, j: Math.max(...stems.j), title: fig.title.text};
+}"""
+
+
+def test_a_deformable_pin_does_not_flatten_rigid_impulses(browser, server, shots):
+    """/main?scene=7c&units=SI&pins=10 drew scene 10's contact force (up to 175 N) on the
+    axis of 7c's impulses (at most 0.91 N s): the impulses were a flat line at zero."""
+    p = Page(browser, server + "?scene=7c&units=SI&pins=10")
+    try:
+        _wait_readout(p, "compared")
+        p.page.wait_for_timeout(300)
+        p.settle()
+        axis = p.page.evaluate(JS_FORCE_AXIS)
+        assert axis["j"] <= axis["end"] < 2 * axis["j"], axis
+        assert axis["title"].endswith(
+            "\n10: contact force, not comparable with impulses: not drawn"), axis
+        force = count_color(p.pixels(".fie-plot-force"), GHOST, GHOST_TOL)
+        assert force < MIN_GHOST_PIXELS / 3, force
+        p.page.locator(".fie-plot-force").first.screenshot(
+            path=shots / "compare-7c-pin-10-force.png")
         assert p.errors == []
     finally:
         p.close()
