@@ -26,9 +26,11 @@ moves in while it runs (``band``: ``info['reduced_band']``) and whether the ener
 closes.
 
     PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
-        [--no-reference] [--cells k_c0,beta,D ...]
+        [--repeat-long N] [--no-reference] [--cells k_c0,beta,D ...] [--law paper|passive]
 
-``--quick`` runs 8 cells (the corners and the worst cells of the old solver).
+``--quick`` runs 8 cells (the corners and the worst cells of the old solver); ``--law``
+picks the contact law's reading (docs/contact-law.md; the paper's by default);
+``--repeat-long`` the runs at ``t_end = 1e4`` (a third of ``--repeat`` by default).
 """
 
 from __future__ import annotations
@@ -64,8 +66,9 @@ QUICK = [(1e6, 1000.0, 1e-3), (1e6, 1000.0, 1e-2), (1e5, 1000.0, 1e-3), (1e2, 1.
          (1e4, 100.0, 1e-2), (1e3, 10.0, 1e-1), (1e6, 1.0, 1e-3), (1e2, 1000.0, 1e-3)]
 
 
-def stop_of(k_c0: float, beta: float, d: float) -> HystereticStop:
-    return HystereticStop(CLEARANCE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
+def stop_of(k_c0: float, beta: float, d: float, law: str = "paper") -> HystereticStop:
+    return HystereticStop(CLEARANCE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta,
+                          beta_e=beta, law=law)
 
 
 def balance(res) -> float:
@@ -105,10 +108,11 @@ def timed(stop, t_end: float, repeat: int):
 
 def row(cell, args) -> str:
     k_c0, beta, d = cell
-    stop = stop_of(k_c0, beta, d)
+    stop = stop_of(k_c0, beta, d, args.law)
     scale = max(OSC.a, OSC.b, OSC.v)
     t100, res = timed(stop, HORIZONS[0], args.repeat)
-    t1e4, _ = timed(stop, HORIZONS[1], max(1, args.repeat // 3))
+    long_runs = args.repeat_long if args.repeat_long else max(1, args.repeat // 3)
+    t1e4, _ = timed(stop, HORIZONS[1], long_runs)
     red = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
     err_bound = res.info.get("reduced_error", 0.0) / scale
     band = res.info.get("reduced_band", 0.0) / scale
@@ -140,7 +144,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="8 cells instead of 80")
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--repeat-long", type=int, default=0,
+                        help="runs at t_end = 1e4 (default: a third of --repeat)")
     parser.add_argument("--no-reference", action="store_true", help="skip the error columns")
+    parser.add_argument("--law", choices=("paper", "passive"), default="paper",
+                        help="the contact law's reading")
     parser.add_argument("--cells", nargs="*", default=None, help="k_c0,beta,D triples")
     args = parser.parse_args()
     if args.cells:
@@ -153,7 +161,8 @@ def main() -> None:
           f"{platform.node()}, {platform.processor() or platform.machine()}, "
           f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}")
     print(f"# preset rtol {PRESET['rtol']:g} atol {PRESET['atol']:g} (stated error "
-          f"{STATED_ERROR:g}); reference rtol {REFERENCE['rtol']:g}, reduce=False")
+          f"{STATED_ERROR:g}); reference rtol {REFERENCE['rtol']:g}, reduce=False; "
+          f"law {args.law}")
     head = (f"{'k_c0':>7} {'beta':>6} {'D':>6} {'ms t100':>8} {'ms t1e4':>8} {'steady':>13} "
             f"{'reduced':>8} {'bound':>8} {'band':>8} {'balance':>8}")
     if not args.no_reference:
