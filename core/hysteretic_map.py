@@ -369,7 +369,7 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     :func:`core.hysteretic_reduced.advance_train` (each flight conserves the slip
     circle's energy, so the stop takes what the approach speed loses).
     """
-    if not (sv.use_reduced and sv.pressed() and sv.stop.law == "paper") or sv.map_tried:
+    if not (sv.use_reduced and sv.pressed()) or sv.map_tried:
         return False
     if len(train) < MIN_CONTACTS + 1:
         return False
