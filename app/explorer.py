@@ -837,12 +837,15 @@ class Explorer(pn.viewable.Viewer):
             for name, (_, step, key) in SI_SLIDERS.items():
                 w, value = self.sliders[name], phys[key]
                 param = SI_STATE_NAME[key]
-                low, high = st.param[param].bounds
-                w.set_bounds((low * factors[param][2], high * factors[param][2]))
+                low, high = (b * factors[param][2] for b in st.param[param].bounds)
+                # Set once per sync: a tooltip that changes is a model sent to the page.
                 if name in si_bounded:  # as above, in SI
                     top = si_bounded[name]
-                    w.set(value, hard_end=top, soft_end=top)
-                elif not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                    w.set_bounds((low, top))
+                    w.set(value, soft_end=top)
+                    continue
+                w.set_bounds((low, high))
+                if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                     grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
                     w.set(value, soft_end=max(w.slider.end, grow * value, step))
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),

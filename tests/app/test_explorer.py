@@ -585,6 +585,21 @@ def test_a_refused_si_entry_names_its_range_in_si(ex, name, text, said):
     assert not w.invalid
 
 
+@pytest.mark.parametrize("units", ["dimensionless", "SI"])
+def test_a_release_sends_no_tooltip_that_did_not_change(units):
+    """Each release set the SI box of k_e0 to its state bounds and then to k_c0's value as
+    its upper end: its tooltip changed twice, two models sent per release (+60 ms of
+    scene 10's release latency in Chromium)."""
+    ex = Explorer(ExplorerState(scene="10", units=units, **scene_values("10")))
+    changed = []
+    for w in ex.sliders.values():
+        w.input.param.watch(lambda e, n=w.name: changed.append(n), "description")
+    for step in (1, 2):
+        _release(ex, "clearance", ex.state.clearance + 1e-3 * step)
+    assert changed == []
+    assert ex.sliders["k_e0_si"].bounds[1] == pytest.approx(ex.state.physical()["k_c0"])
+
+
 def test_coupled_bound_note_and_program_toggle(ex):
     ex.sliders["mu_s"].input.value = "0.1"
     assert ex.state.mu_k == 0.1
