@@ -327,12 +327,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
                  + retrace_error(sv, st, ts, xs))
         if error > tol:
             return None
-        sv.periodic(ts[-3], ns[-3], st)
-        if sv.steady is None:
-            return None
-        sv.record(TransitionKind.REDUCED, st, 0.0)
-        sv.reduced_error = max(sv.reduced_error, error)
-        return "periodic"
+        return _repeat_last_cycle(sv, st, ts, ns, error)
     if 2.0 * amps[-1] > train_band(sv) or 2.0 * math.pi / period * amps[-1] >= sv.vb:
         return None
     x_c = 0.5 * (xs[-1] + xs[-2])
@@ -405,7 +400,13 @@ def repeat_retracing(sv: _Solver, st: _State, ts, xs, ns) -> str | None:
     """
     if not retraces_one_curve(sv, ns):
         return None
-    error = retrace_error(sv, st, ts, xs, periodic=True)
+    return _repeat_last_cycle(sv, st, ts, ns, retrace_error(sv, st, ts, xs, periodic=True))
+
+
+def _repeat_last_cycle(sv: _Solver, st: _State, ts, ns, error: float):
+    """Hand the loops to the periodic steady state from their last cycle (two reversals
+    before the last), a ``reduced`` transition with ``error`` stated; ``None`` if the
+    cycle does not close."""
     sv.periodic(ts[-3], ns[-3], st)
     if sv.steady is None:
         return None
