@@ -7,6 +7,7 @@ imported elsewhere it does nothing.
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -39,6 +40,13 @@ JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_present": f"{ASSETS}/present.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
+#: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
+#: the integrity check of every new document (~25 ms of server CPU per page, and its only
+#: findings are the hidden, still empty plot panes) and the signature check of each of the
+#: ~430 callbacks Panel registers per page (~20 ms; an ``inspect.signature`` each). The
+#: environment decides where it sets them; ``tests/app/test_main.py`` runs both checks on a
+#: whole page, so a defect they would find still fails the tests.
+DEVELOPMENT_CHECKS = {"BOKEH_VALIDATE_DOC": "false", "BOKEH_PERFORM_ERROR_DIAGNOSTICS": "false"}
 
 
 def create_app() -> pn.template.BaseTemplate:
@@ -79,7 +87,15 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
         template.server_doc(doc, title=TITLE)
 
 
+def skip_development_checks() -> None:
+    """Turn off Bokeh's development checks (:data:`DEVELOPMENT_CHECKS`) for this server
+    process, except those the environment sets."""
+    for name, value in DEVELOPMENT_CHECKS.items():
+        os.environ.setdefault(name, value)
+
+
 if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:  # served
+    skip_development_checks()  # before Bokeh validates this session's document
     report()  # logs each perf patch left out (app.perf)
     warm_up()  # the solver's child processes (once per server process)
     serve(create_app(), pn.state.curdoc)

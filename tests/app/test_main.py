@@ -21,3 +21,45 @@ def test_a_page_attached_in_one_pass_lists_every_model_of_its_roots():
     assert {m.id for m in doc.models} == reachable
     figure = template.explorer.plots.figures["phase"]
     assert doc.get_model_by_id(figure.id) is figure
+
+
+def test_a_page_passes_bokeh_s_integrity_checks_that_the_server_skips(monkeypatch):
+    """A served page skips Bokeh's document validation and callback signature checks
+    (app.main.DEVELOPMENT_CHECKS); here both run on a whole page. Callback signatures are
+    checked as Panel and the explorer register them (with the diagnostics on), and the
+    document's integrity check finds no error, and no warning but the empty layouts of the
+    hidden plot panes and control groups not yet shown (Panel silences those when it
+    serves)."""
+    from bokeh.core.validation.check import check_integrity
+    from bokeh.settings import settings
+
+    for name in ("BOKEH_VALIDATE_DOC", "BOKEH_PERFORM_ERROR_DIAGNOSTICS"):
+        monkeypatch.delenv(name, raising=False)
+    assert settings.perform_error_diagnostics() and settings.perform_document_validation()
+    main = importlib.import_module("app.main")
+    doc = Document()
+    with set_curdoc(doc):
+        template = main.create_app()
+        main.serve(template, doc)
+    issues = check_integrity(doc.models)
+    assert issues.error == []
+    others = []
+    for warning in issues.warning:
+        model = doc.get_model_by_id(warning.extra.split("'")[1])
+        if not (warning.name == "EMPTY_LAYOUT" and not model.visible):
+            others.append((warning.name, warning.extra))
+    assert others == []
+
+
+def test_a_served_page_skips_bokeh_s_development_checks_unless_the_environment_sets_them(
+        monkeypatch):
+    from bokeh.settings import settings
+
+    main = importlib.import_module("app.main")
+    # Set, then removed: the monkeypatch restores the variable's absence after the test.
+    monkeypatch.setenv("BOKEH_VALIDATE_DOC", "true")
+    monkeypatch.delenv("BOKEH_VALIDATE_DOC")
+    monkeypatch.setenv("BOKEH_PERFORM_ERROR_DIAGNOSTICS", "true")
+    main.skip_development_checks()
+    assert not settings.perform_document_validation()
+    assert settings.perform_error_diagnostics()  # the operator's choice stays
