@@ -24,11 +24,11 @@ from bokeh.events import Tap
 from panel.io.state import set_curdoc
 
 from app import presentation
-from app.animation import Animation
+from app.animation import ANIM_SIZE, Animation
 from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
-from app.plots import MAP_PALETTE, PLOT_WIDTHS, PlotSet
+from app.plots import MAP_PALETTE, MAP_SIZE, PHASE_SIZE, PLOT_WIDTHS, SMALL_SIZE, TIME_SIZE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
     CUSTOM,
@@ -192,11 +192,24 @@ class Explorer(pn.viewable.Viewer):
     ----------
     state : ExplorerState, optional
         Start from this state instead of the default scene.
+    lazy_plots : bool
+        Build only the scene's first plots (:data:`FIRST_PLOTS`) with the page; each other
+        plot waits as an empty pane until the browser reports it in view
+        (static/lazy_plots.js). The served page is lazy; without a browser (tests, exports)
+        every plot of the scene is built at once.
     """
 
-    def __init__(self, state: ExplorerState | None = None, **params: Any) -> None:
+    def __init__(self, state: ExplorerState | None = None, lazy_plots: bool = False,
+                 **params: Any) -> None:
         super().__init__(**params)
         self.state = state or ExplorerState()
+        self._lazy = lazy_plots
+        #: The waiting plots the browser has reported in view (built since).
+        self._in_view: set[str] = set()
+        #: Where the browser writes the names of waiting plots in view (a hidden box).
+        self.in_view = pn.widgets.TextInput(value="", visible=False, margin=0,
+                                            css_classes=["fie-in-view"])
+        self.in_view.param.watch(self._on_in_view, "value")
         self.solution: Solution | None = None
         self.error: str | None = None
         self._syncing = False
@@ -382,9 +395,52 @@ class Explorer(pn.viewable.Viewer):
             panes[name] = pn.Column(css_classes=["fie-plot", f"fie-plot-{name}"],
                                     name=PLOT_TITLES[name], margin=(4, 8), visible=False,
                                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
-                                    max_width=PLOT_WIDTHS[1],
-                                    styles={"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"})
+                                    max_width=PLOT_WIDTHS[1], styles=_pane_styles(False))
         return panes
+
+    def _drawn(self, visible: tuple[str, ...]) -> tuple[str, ...]:
+        """The plots of ``visible`` that are built and drawn: all of them, or on a lazy
+        page those built already, the first ones and those the browser saw."""
+        if not self._lazy:
+            return visible
+        return tuple(p for p in visible if p in FIRST_PLOTS or p in self._in_view
+                     or self.plot_panes[p].objects)
+
+    def _on_in_view(self, event: param.parameterized.Event) -> None:
+        """The browser reports waiting plots in view: build and draw them."""
+        names = {n for n in str(event.new).split(",") if n in PLOTS} - self._in_view
+        if not names:
+            return
+        self._in_view |= names
+        self._draw_new_plots()
+        self.in_view.value = ""  # so that a later report of the same names is a change
+
+    def _draw_new_plots(self) -> None:
+        """Build the plots now due (:meth:`_drawn`) and fill them from the solution on
+        screen; the plots drawn already are not sent again."""
+        visible = self.visible_plots()
+        new = [p for p in self._drawn(visible) if not self.plot_panes[p].objects]
+        if not new:
+            return
+        sol = self.solution
+        map_data = None
+        with pn.io.hold():
+            self._show_plots(visible)
+            if sol is None:
+                return
+            scales = self.state.scales()
+            if "map" in new:
+                map_data = regime_map(sol.values, compute=False, frame=self._map_frame(sol))
+            with validate(False):
+                if self.compare.pins:
+                    self.compare.draw(sol, scales)
+                self.plots.refresh(self._drawn(visible), map_data)
+                if "anim" in new:
+                    self.anim.update(sol, scales)
+                if map_data is not None:
+                    self._show_map_legend(map_data["labels"])
+        if "map" in new and map_data is None:
+            self._later(lambda: self._draw_map(sol), 0)
 
     def _build_plot(self, name: str) -> pn.viewable.Viewable:
         """The body of the pane of plot ``name``, its figures built now (with their links
@@ -410,10 +466,15 @@ class Explorer(pn.viewable.Viewer):
         the others (call under ``pn.io.hold``; a new figure is filled by the next
         :meth:`PlotSet.refresh`)."""
         shown = self.menu.presentation.shown(visible)
+        drawn = self._drawn(visible)
         for name, pane in self.plot_panes.items():
-            if name in visible and not pane.objects:
+            if name in drawn and not pane.objects:
                 pane.objects = [self._build_plot(name)]
-            set_changed(pane, visible=name in shown)
+            waiting = name in shown and not pane.objects
+            set_changed(pane, visible=name in shown, styles=_pane_styles(waiting),
+                        min_height=PANE_HEIGHTS[name] if waiting else None,
+                        css_classes=["fie-plot", f"fie-plot-{name}",
+                                     *(["fie-plot-pending"] if waiting else [])])
         self.compare.attach_all()
         self.menu.presentation.restyle()
 
@@ -441,7 +502,8 @@ class Explorer(pn.viewable.Viewer):
         """The alert, the caption, the readout and the plots."""
         self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                                     css_classes=["fie-plots"])
-        return [self.alert, self.caption, self.readout, self.arrived, self._plot_box]
+        return [self.alert, self.caption, self.readout, self.arrived, self.in_view,
+                self._plot_box]
 
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""
@@ -971,6 +1033,9 @@ class Explorer(pn.viewable.Viewer):
             return None
         if "map" not in self.visible_plots():
             self._commit({"show_all": True})
+        if "map" not in self.plots.figures:  # a lazy page's map not yet in view
+            self._in_view.add("map")
+            self._draw_new_plots()
         return self.plots.figures.get("map")
 
     def _solve_failed(self, exc: Exception) -> None:
@@ -997,8 +1062,9 @@ class Explorer(pn.viewable.Viewer):
         st = self.state
         scales = st.scales()
         visible = self.visible_plots()
+        drawn = self._drawn(visible)  # the others wait, empty, until in view
         map_data = (regime_map(sol.values, compute=False, frame=self._map_frame(sol))
-                    if "map" in visible else None)
+                    if "map" in drawn else None)
         # The values come from the solver and the plot code, valid by construction: Bokeh's
         # check of each of the ~100 properties set here is skipped (server time on the
         # critical path of every release).
@@ -1009,8 +1075,8 @@ class Explorer(pn.viewable.Viewer):
             with validate(False):
                 if self.compare.pins:  # first: the axes fitted next show the ghosts too
                     self.compare.draw(sol, scales)
-                self.plots.update(sol, scales, visible, map_data)
-                if "anim" in visible:
+                self.plots.update(sol, scales, drawn, map_data)
+                if "anim" in drawn:
                     self.anim.update(sol, scales)
                 readout = readout_html(sol, scales) + self.compare.table(sol, scales)
                 self.readout.object = readout
@@ -1030,7 +1096,7 @@ class Explorer(pn.viewable.Viewer):
             self._say_cut_short(sol)
         else:
             self._show_retry(None)
-        if "map" in visible and map_data is None:
+        if "map" in drawn and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
@@ -1099,7 +1165,7 @@ class Explorer(pn.viewable.Viewer):
         except Exception:  # noqa: BLE001 - a map that fails leaves the old one
             log.exception("regime map failed")
             return
-        if "map" not in self.visible_plots():
+        if "map" not in self._drawn(self.visible_plots()):
             return
         with pn.io.hold(), validate(False):
             self.plots.show_map(data)
@@ -1171,6 +1237,21 @@ class Explorer(pn.viewable.Viewer):
 
 #: The figure the reset button returns to when the page opens on custom values.
 DEFAULT_FIGURE = DEFAULT_SCENE
+#: The plots a lazy page builds with the page, where a scene shows them (the first row of
+#: a wide window); the others are built when the browser reports them in view.
+FIRST_PLOTS = frozenset({"phase", "time"})
+#: Height [px] of each plot's pane while it waits to be built: about the plot's own, so
+#: that the page does not jump when it is drawn and only the plots in view are reported.
+PANE_HEIGHTS = {"phase": PHASE_SIZE[1] + 60, "time": 2 * TIME_SIZE[1], "anim": ANIM_SIZE[1] + 90,
+                "force": SMALL_SIZE[1], "loop": SMALL_SIZE[1], "friction": SMALL_SIZE[1],
+                "energy": SMALL_SIZE[1] + 60, "map": MAP_SIZE[1] + 100}
+
+
+def _pane_styles(waiting: bool) -> dict[str, str]:
+    """Inline styles of a plot's pane: its share of the grid's row, and a light ground
+    while it waits to be built (lazy plots)."""
+    flex = {"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"}
+    return {**flex, "background": "#f5f6f8", "border-radius": "4px"} if waiting else flex
 
 
 def _reset_label(scene: str) -> str:

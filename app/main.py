@@ -31,13 +31,15 @@ ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
 #: in the page's address turns them off), no history entry per change of the address,
-#: a name on every slider's handle for screen readers (``static/a11y.js``), and the
-#: presentation mode's page classes (app.presentation).
+#: a name on every slider's handle for screen readers (``static/a11y.js``), the
+#: presentation mode's page classes (app.presentation), and the report of the waiting
+#: plots in view (``static/lazy_plots.js``, app.explorer's lazy plots).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
             "fie_url_history": f"{ASSETS}/url_history.js",
             "fie_a11y": f"{ASSETS}/a11y.js",
-            "fie_present": f"{ASSETS}/present.js"}
+            "fie_present": f"{ASSETS}/present.js",
+            "fie_lazy_plots": f"{ASSETS}/lazy_plots.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 #: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
@@ -53,7 +55,7 @@ def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
     pn.extension(notifications=False, design="bootstrap", js_files=JS_FILES)
     cache_immutable_defaults()  # before the page's models are built
-    explorer = Explorer()
+    explorer = Explorer(lazy_plots=True)
     explorer.sync_url()
     template = pn.template.BootstrapTemplate(
         title=TITLE,

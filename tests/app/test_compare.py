@@ -25,12 +25,15 @@ from app.state import scene_values
 
 
 def _page():
+    """A served page, its every plot reported in view (as the browser does on scrolling)."""
     import app.main as main
+    from app.scenes import PLOTS
 
     doc = Document()
     with set_curdoc(doc):
         template = main.create_app()
         main.serve(template, doc)
+        template.explorer.in_view.value = ",".join(PLOTS)
     return template.explorer, doc
 
 

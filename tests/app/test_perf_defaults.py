@@ -31,7 +31,9 @@ def _page_models():
     main = importlib.import_module("app.main")
     doc = Document()
     with set_curdoc(doc):
-        main.serve(main.create_app(), doc)
+        template = main.create_app()
+        main.serve(template, doc)
+        template.explorer.in_view.value = "anim,force,map"  # the scene's other plots too
     doc.to_json()
     return list(doc.models)
 
