@@ -26,7 +26,7 @@ import numpy as np
 
 from app.plots import MODE_NAMES
 from app.solver import Solution
-from app.state import DIMENSIONLESS, URL_KEYS, Scales
+from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
 
 #: Significant digits written (double precision round-trips with 17).
@@ -44,14 +44,12 @@ NAMED = {
 
 
 #: Parameters shown in other units in SI mode: the state's name -> (SI name, the factor of
-#: :class:`app.state.Scales` from the core's number, unit). Lengths are metres in both.
+#: :class:`app.state.Scales` from the core's number, unit), the factors and units those of
+#: :data:`app.state.SI_CONVERSIONS`. Lengths are metres in both.
 SI_PARAMETERS: Mapping[str, tuple[str, str | None, str]] = {
-    "belt_speed": ("v_dr", "velocity", "m/s"),
-    "v0": ("v0", "velocity", "m/s"),
-    "t_end": ("t_end", "time", "s"),
-    "u_s": ("F_N", "force", "N"),
-    "k_c0": ("k_c0", "force", "N/m"),
-    "k_e0": ("k_e0", "force", "N/m"),
+    **{name: (si_name, SI_CONVERSIONS[name][1], SI_CONVERSIONS[name][0])
+       for name, si_name in (("belt_speed", "v_dr"), ("v0", "v0"), ("t_end", "t_end"),
+                             ("u_s", "F_N"), ("k_c0", "k_c0"), ("k_e0", "k_e0"))},
     "clearance": ("clearance", None, "m"),
     "x0": ("x0", None, "m"),
     "limit_overlap": ("D", None, "m"),

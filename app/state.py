@@ -294,20 +294,28 @@ SI_NAMES: Mapping[str, tuple[str, str]] = {
 }
 
 
+#: The state values that read in other units in SI: the unit, and the factor of
+#: :class:`Scales` from the core's number to it (SPEC §2: velocities ``omega x'``, times
+#: ``t / omega``, the stop's stiffnesses ``k`` times their ratio, the normal force
+#: ``k u_s``). Lengths, ratios and coefficients read the same in both unit systems.
+SI_CONVERSIONS: Mapping[str, tuple[str, str]] = {
+    "u_s": ("N", "force"), "belt_speed": ("m/s", "velocity"), "v0": ("m/s", "velocity"),
+    "t_end": ("s", "time"), **{name: ("N/m", "force") for name in STOP_STIFFNESSES},
+}
+
+
 def si_units(mass: float, stiffness: float) -> dict[str, tuple[str, str, float]]:
     """Each state value's SI name in the page, unit and the factor from the state's number
-    to it, with mass ``m`` [kg] and stiffness ``k`` [N/m] (SPEC §2: ``omega = sqrt(k/m)``,
-    velocities ``omega x'``, times ``t / omega``, the stop's stiffnesses ``k`` times their
-    ratio, the normal force ``k u_s``).
+    to it (:data:`SI_CONVERSIONS`), with mass ``m`` [kg] and stiffness ``k`` [N/m].
 
     >>> si_units(1.0, 100.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
     (('belt speed v_dr', 'm/s', 10.0), ('horizon t_end', 's', 0.1))
     """
-    omega = math.sqrt(stiffness / mass)
-    factors = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0), "u_s": ("N", stiffness),
-               "belt_speed": ("m/s", omega), "v0": ("m/s", omega), "t_end": ("s", 1.0 / omega),
-               **{name: ("N/m", stiffness) for name in STOP_STIFFNESSES}}
-    return {name: (SI_NAMES[name][1], unit, factor) for name, (unit, factor) in factors.items()}
+    scales = si_scales(mass, stiffness)
+    units = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0),
+             **{name: (unit, getattr(scales, factor))
+                for name, (unit, factor) in SI_CONVERSIONS.items()}}
+    return {name: (SI_NAMES[name][1], unit, factor) for name, (unit, factor) in units.items()}
 
 
 def snap_to_bounds(name: str, value: float) -> float:
