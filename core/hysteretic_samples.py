@@ -403,17 +403,27 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             d0, w0 = c.branch_start[bi]
             prim = primitive(bi)
             work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
-        # The energy the stop gives back on unloading from the law's current state: while
-        # loading, a new unloading branch would start here (Eq. 12); while unloading, the
-        # current branch goes on (not a fresh one from (delta, phi): they differ where the
-        # branch has been clipped onto the compression envelope).
-        stored[idx] = stored_energy_many(delta, phi[idx], stop)
-        for k in np.nonzero(~loading & (delta > 0.0) & ~is_osc)[0]:
-            prim = primitive(branch_rows[k])
-            stored[idx[k]] = prim(delta[k]) - prim(0.0)
+        stored[idx] = _stored(delta, phi[idx], ~loading & (delta > 0.0) & ~is_osc, d_r, p_r,
+                              branch_rows, primitive, stop)
         for j, value in osc_stored.items():
             stored[j] = value
     return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np.ndarray:
+    """The energy the stop gives back on unloading from the law's current state: while
+    loading, a new unloading branch would start here (Eq. 12); while unloading
+    (``on_branch``), the current branch goes on (not a fresh one from ``(delta, phi)``:
+    they differ where the branch has been clipped onto the compression envelope)."""
+    if stop.law != "passive":
+        return stored_energy_many(delta, phi, stop, np.where(on_branch, d_r, delta),
+                                  np.where(on_branch, p_r, phi))
+    # the passive law's branches keep an anchor: integrated one branch at a time
+    stored = stored_energy_many(delta, phi, stop)
+    for k in np.nonzero(on_branch)[0]:
+        prim = primitive(branch_rows[k])
+        stored[k] = prim(delta[k]) - prim(0.0)
+    return stored
 
 
 def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
