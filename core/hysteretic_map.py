@@ -108,7 +108,19 @@ class ContactMap(NamedTuple):
 
     def evaluate(self, series, w):
         u = (np.asarray(w, dtype=float) - 0.5 * (self.lo + self.hi)) / (0.5 * (self.hi - self.lo))
-        return np.polynomial.polynomial.polyval(u, series)
+        return _horner(series, u)
+
+
+def _horner(series, u):
+    """``polyval(u, series)`` in place: the same operations in the same order (so the same
+    bits), without two temporaries per coefficient (the sweeps of :func:`_block` evaluate
+    millions of contacts)."""
+    y = u * 0.0
+    y += series[-1]
+    for c in series[-2::-1]:
+        y *= u
+        y += c
+    return y
 
 
 def solve_contact(sv: _Solver, w: float):
@@ -290,18 +302,30 @@ def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
     ``(m L')^j / j!``)."""
     loss0 = float(cmap.evaluate(cmap.loss, w0))
     w = w0 - loss0 * np.arange(m + 1, dtype=float)
+    new = np.empty(m + 1)
+    new[0] = w0
+    sums = np.empty(m + 1)  # sums[k] = sum_(j<k) L(w_j)
+    sums[0] = 0.0
+    p = 0  # w[:p + 1] no longer changes: nor do their losses, nor sums[:p + 2]
     for _ in range(MAX_SWEEPS):
-        new = np.empty(m + 1)
-        new[0] = w0
         with np.errstate(over="ignore", invalid="ignore"):  # a sweep running away
-            np.cumsum(cmap.evaluate(cmap.loss, w[:-1]), out=new[1:])
-            new[1:] = w0 - new[1:]
-            change = np.max(np.abs(new - w))
+            # The sums continue from sums[p], one addition after the other, as a cumsum
+            # over the whole block does: the same bits, for the part that still changes.
+            tail = cmap.evaluate(cmap.loss, w[p:-1])
+            tail[0] += sums[p]
+            np.cumsum(tail, out=sums[p + 1:])
+            new[p + 1:] = w0 - sums[p + 1:]
+            diff = np.abs(new[p:] - w[p:])
+            change = np.max(diff)
         if not np.isfinite(change):
             return None
         if change <= SWEEP_RTOL * w0:
             return new
-        w = new
+        # new[p] == w[p] always; the first change is at p + agree: the next sweep starts
+        # at the last point that agrees (both buffers hold the same bits up to there).
+        agree = int(np.argmax(diff > 0.0))
+        p += max(agree - 1, 0)
+        w, new = new, w
     return None
 
 
