@@ -321,7 +321,6 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         is_osc = (kinds == _OSC) | (kinds == _TRAIN)
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
-        osc_stored: dict[int, float] = {}
         # A reduced model's samples, one call per row (a train's lays out its contacts by
         # a search over thousands: vectorised, not per sample).
         for r in np.unique(rows[is_osc]):
@@ -337,8 +336,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             work[js, 1] = wb + c.friction[r] * sv.vb * tau
             work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
             dissipated = model.energy(model.amp0) - model.energy(amp)
-            osc_stored.update(zip(js.tolist(), (work[js, 2] - (loss_s + dissipated)).tolist(),
-                                  strict=True))
+            stored[js] = work[js, 2] - (loss_s + dissipated)
         plain = ~is_arc & ~is_osc
         for j, r in zip(idx[plain], rows[plain], strict=True):
             kind = c.kind[r]
@@ -403,10 +401,10 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             d0, w0 = c.branch_start[bi]
             prim = primitive(bi)
             work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
-        stored[idx] = _stored(delta, phi[idx], ~loading & (delta > 0.0) & ~is_osc, d_r, p_r,
-                              branch_rows, primitive, stop)
-        for j, value in osc_stored.items():
-            stored[j] = value
+        # (a reduced model's samples hold their own, above)
+        own = np.nonzero(~is_osc)[0]
+        stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
+                                   d_r[own], p_r[own], branch_rows[own], primitive, stop)
     return x, xd, mode, phi, x - stop.clearance, work, stored
 
 
