@@ -146,16 +146,18 @@ def solve_contact(sv: _Solver, w: float):
 
 def _profile(one: _Solver, dur: float) -> np.ndarray:
     """Overlap and velocity of a solved contact at :data:`PROFILE_POINTS` times spread
-    evenly over its duration (rows of the contact's Hermite steps)."""
+    evenly over its duration (rows of the contact's Hermite steps, evaluated at once)."""
     c = one.contact
     times = np.linspace(0.0, dur, PROFILE_POINTS)
     t0 = np.array(c.t0)
     rows = np.clip(np.searchsorted(t0, times, side="right") - 1, 0, len(t0) - 1)
+    data = np.array([c.data[r][:7] for r in rows])
+    h = data[:, 6]
+    th = (times - t0[rows]) / h
+    coeffs = data[:, :6].T  # each row a coefficient over the points: _poly takes arrays
     out = np.empty((2, PROFILE_POINTS))
-    for i, (t, r) in enumerate(zip(times, rows, strict=True)):
-        coeffs, h = c.data[r][:6], c.data[r][6]
-        th = (t - t0[r]) / h
-        out[0, i], out[1, i] = _poly(coeffs, th) - one.xb, _dpoly(coeffs, th) / h
+    out[0] = _poly(coeffs, th) - one.xb
+    out[1] = _dpoly(coeffs, th) / h
     out[0, -1] = 0.0  # the separation
     return out
 
