@@ -243,6 +243,17 @@ class _Solver:
             k_own, k_env, side = ke, kc, 1.0
             gap, rate = branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
 
+        if gap == 0.0:
+            # On its own envelope (a first loading, every contact of a train): the
+            # exponential term is 0 and the clip keeps the envelope, the same bits.
+            def acc_envelope(x: float) -> float:
+                d = x - xb
+                if d <= 0.0:
+                    return sa - x - kc * d / (d_lim - d)
+                return sa - x - k_own * (d / (d_lim - d))
+
+            return acc_envelope
+
         def acc(x: float) -> float:
             d = x - xb
             if d <= 0.0:
