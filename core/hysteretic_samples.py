@@ -396,11 +396,16 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
                 primitives[bi] = BranchPrimitive(brs[bi], stop, lo, hi)
             return primitives[bi]
 
+        # Once per branch and overlap: the samples of a rest share both (1,600 of them
+        # when the mass rests early in a long horizon).
+        stop_work: dict[tuple[int, float], float] = {}
         for k in np.nonzero(plain)[0]:
-            bi = branch_rows[k]
-            d0, w0 = c.branch_start[bi]
-            prim = primitive(bi)
-            work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
+            key = (int(branch_rows[k]), max(float(delta[k]), 0.0))
+            if key not in stop_work:
+                d0, w0 = c.branch_start[key[0]]
+                prim = primitive(key[0])
+                stop_work[key] = w0 + prim(key[1]) - prim(d0)
+            work[idx[k], 2] = stop_work[key]
         # (a reduced model's samples hold their own, above)
         own = np.nonzero(~is_osc)[0]
         stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
