@@ -297,8 +297,9 @@ class MapRun(NamedTuple):
 
 def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
     """The next ``m`` speeds from ``w0``, ``w_(k+1) = w_k - L(w_k)``, all at once: the
-    sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the whole block until they no
-    longer change (to rounding), which makes them the sequential iterates; ``None`` if
+    sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the block (from the first iterate
+    that still changed) until they no longer change (to rounding), which makes them the
+    sequential iterates; ``None`` if
     that takes more than :data:`MAX_SWEEPS` sweeps (the block is too long for the loss's
     slope: each sweep fixes at least one more iterate, the error falls like
     ``(m L')^j / j!``)."""
