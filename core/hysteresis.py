@@ -701,22 +701,33 @@ def _envelope_energy_many(delta: np.ndarray, stiffness: float, d_lim: float) -> 
     """:func:`_envelope_energy` for an array of overlaps in ``[0, D)``."""
     x = np.clip(delta / d_lim, 0.0, None)
     small = x < SERIES_CUTOFF
-    xs = np.where(small, x, 0.0)
-    series = np.zeros_like(x)
+    out = np.empty_like(x)
+    # Each form only where it is used: the series' 24 terms are most of the cost.
+    xs = x[small]
+    series = np.zeros_like(xs)
     term = xs.copy()
     for n in range(2, SERIES_TERMS + 2):
         term = term * xs
         series += term / n
-    xd = np.where(small, 0.5, x)
-    direct = -xd - np.log1p(-xd)
-    return stiffness * d_lim * d_lim * np.where(small, series, direct)
+    out[small] = series
+    xd = x[~small]
+    out[~small] = -xd - np.log1p(-xd)
+    return stiffness * d_lim * d_lim * out
 
 
-def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
+def stored_energy_many(delta, phi, stop: HystereticStop, delta_r=None,
+                       phi_r=None) -> np.ndarray:
     """:func:`stored_energy` for arrays of states ``(delta, phi)``, in one vectorised pass.
 
-    The unloading curve from each state is clipped to ``phi_C`` where
-    ``f(s) = (k_c0 - k_e0) D s/(D - s) - c exp(-beta_e (delta - s)/D) < 0``; on the monotone
+    With ``delta_r`` and ``phi_r`` (arrays, broadcast against ``delta``), the energy given
+    back from ``delta`` along the unloading curve through the reversal point
+    ``(delta_r, phi_r)`` instead of a fresh one from ``(delta, phi)``: a state on an
+    unloading branch keeps to its branch (``int_0^delta`` of
+    ``Branch(False, delta_r, phi_r)``, as :func:`branch_work`). The paper's reading only
+    (the passive law's branches keep an anchor).
+
+    The unloading curve through ``(d_r, phi_r)`` is clipped to ``phi_C`` where
+    ``f(s) = (k_c0 - k_e0) D s/(D - s) - c exp(-beta_e (d_r - s)/D) < 0``; on the monotone
     pieces of ``log f`` (split at ``s (D - s) = D^2 / beta_e``, as in :func:`_clip_breaks`)
     each sign change is bracketed and bisected to the last bit, then the pieces are summed
     in closed form. States below the expansion envelope (``c < 0``, rounding) unload on it.
@@ -724,6 +735,10 @@ def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
     delta = np.asarray(delta, dtype=float)
     phi = np.asarray(phi, dtype=float)
     if stop.law == "passive":
+        if delta_r is not None:
+            # its branches keep an anchor that a reversal point alone does not give
+            raise ValueError("delta_r and phi_r apply to the paper's reading only; got "
+                             f"law={stop.law!r}")
         return np.array([stored_energy(float(d), float(p), stop)
                          for d, p in zip(delta.ravel(), phi.ravel(), strict=True)]
                         ).reshape(delta.shape)
@@ -733,12 +748,17 @@ def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
     if not np.any(inside):
         return out
     dl, ph = delta[inside], phi[inside]
+    if delta_r is None:
+        rd = dl
+    else:
+        rd, ph = (np.broadcast_to(np.asarray(q, dtype=float), delta.shape)[inside]
+                  for q in (delta_r, phi_r))
     ke, kc, beta = stop.k_e0 * d_lim, stop.k_c0 * d_lim, stop.beta_e
-    c = ph - ke * dl / (d_lim - dl)
+    c = ph - ke * rd / (d_lim - rd)
     kr = kc - ke
 
-    def f(s):
-        return kr * s / (d_lim - s) - c * np.exp(np.minimum(-beta * (dl - s) / d_lim, EXP_CAP))
+    def f(s, c, rd):
+        return kr * s / (d_lim - s) - c * np.exp(np.minimum(-beta * (rd - s) / d_lim, EXP_CAP))
 
     splits = [np.zeros_like(dl)]
     if beta > 4.0:
@@ -748,33 +768,35 @@ def stored_energy_many(delta, phi, stop: HystereticStop) -> np.ndarray:
     splits.append(dl)
     breaks = []
     for p, q in zip(splits[:-1], splits[1:], strict=False):
-        fp, fq = f(p), f(q)
-        change = (fp * fq < 0.0) & (c > 0.0) & (kr > 0.0)
-        lo, hi = p.copy(), q.copy()
-        if np.any(change):
-            flo = fp
+        fp, fq = f(p, c, rd), f(q, c, rd)
+        brk = dl.copy()
+        # Bisected only where the sign changes (few states: the others stay off phi_C).
+        sub = np.nonzero((fp * fq < 0.0) & (c > 0.0) & (kr > 0.0))[0]
+        if len(sub):
+            lo, hi, flo, cs, rs = p[sub], q[sub], fp[sub], c[sub], rd[sub]
             for _ in range(80):
                 mid = 0.5 * (lo + hi)
-                fm = f(mid)
+                fm = f(mid, cs, rs)
                 left = np.sign(fm) == np.sign(flo)
                 lo = np.where(left, mid, lo)
                 flo = np.where(left, fm, flo)
                 hi = np.where(left, hi, mid)
-                if np.all((hi - lo)[change] <= 2.0 * np.finfo(float).eps * hi[change]):
+                if np.all(hi - lo <= 2.0 * np.finfo(float).eps * hi):
                     break
-        breaks.append(np.where(change, 0.5 * (lo + hi), dl))
+            brk[sub] = 0.5 * (lo + hi)
+        breaks.append(brk)
     points = np.sort(np.stack([np.zeros_like(dl), *breaks, dl]), axis=0)
     raw_c = np.where(c > 0.0, c, 0.0)
 
     def raw_primitive(s):
         return _envelope_energy_many(s, stop.k_e0, d_lim) + raw_c * d_lim / beta * np.exp(
-            np.minimum(-beta * (dl - s) / d_lim, EXP_CAP)
+            np.minimum(-beta * (rd - s) / d_lim, EXP_CAP)
         )
 
     total = np.zeros_like(dl)
     for p, q in zip(points[:-1], points[1:], strict=False):
         mid = 0.5 * (p + q)
-        on_c = (f(mid) < 0.0) & (c > 0.0)
+        on_c = (f(mid, c, rd) < 0.0) & (c > 0.0)
         env_c = _envelope_energy_many(q, stop.k_c0, d_lim) - _envelope_energy_many(
             p, stop.k_c0, d_lim
         )

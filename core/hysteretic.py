@@ -243,6 +243,17 @@ class _Solver:
             k_own, k_env, side = ke, kc, 1.0
             gap, rate = branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
 
+        if gap == 0.0:
+            # On its own envelope (a first loading, every contact of a train): the
+            # exponential term is 0 and the clip keeps the envelope, the same bits.
+            def acc_envelope(x: float) -> float:
+                d = x - xb
+                if d <= 0.0:
+                    return sa - x - kc * d / (d_lim - d)
+                return sa - x - k_own * (d / (d_lim - d))
+
+            return acc_envelope
+
         def acc(x: float) -> float:
             d = x - xb
             if d <= 0.0:
@@ -254,7 +265,8 @@ class _Solver:
                 return sa - x - kc * d / (d_lim - d)
             hyper = d / (d_lim - d)
             envelope = k_env * hyper
-            phi = k_own * hyper + gap * exp(min(rate * (d - r), cap))
+            z = rate * (d - r)
+            phi = k_own * hyper + gap * exp(z if z < cap else cap)
             return sa - x - (phi if side * (phi - envelope) < 0.0 else envelope)
 
         return acc
@@ -371,9 +383,23 @@ class _Solver:
         return True, s, branch, d_branch0
 
     def slip_in_contact(self, st: _State, s: int, branch: Branch) -> tuple[str, int]:
-        """Dormand-Prince 5(4) steps until an event; ``st`` is left at the event."""
+        """Dormand-Prince 5(4) steps until an event; ``st`` is left at the event.
+
+        The step is the solve's inner loop (~200 steps a contact at the map's node
+        tolerance): the rows are appended and the work advanced here, and the events are
+        located (:meth:`step_events`) only when a step's end leaves the mode."""
         stop, xb, vb = self.stop, self.xb, self.vb
         rtol, atol = self.rtol, self.atol
+        t_end, d_lim, d_max = self.t_end, stop.limit_overlap, self.d_max
+        loading = branch.loading
+        strength_finite = math.isfinite(stop.strength)
+        sa = s * self.a
+        sav = sa * vb
+        c = self.contact
+        kind_add, t0_add, t1_add, data_add = c.kind.append, c.t0.append, c.t1.append, c.data.append
+        branch_add, friction_add, work_add = c.branch.append, c.friction.append, c.work0.append
+        bi = len(c.branches) - 1
+        isfinite, sqrt = math.isfinite, math.sqrt
         x, u, t = st.x, st.v, st.t
         acc = self.accel(s, branch)
         a0 = acc(x)
@@ -382,10 +408,14 @@ class _Solver:
         omega = math.sqrt(1.0 + max(slope, 0.0))
         h = FIRST_STEP_FRACTION * 2.0 * math.pi / omega
         h_min = MIN_STEP_FRACTION * 2.0 * math.pi / omega
+        x_max = self.x_max
         while True:
-            h = min(h, self.t_end - t)
+            left = t_end - t
+            if left < h:
+                h = left
             if h <= 0.0:
                 self.rhs_evals += n_evals
+                self.x_max = x_max
                 return "horizon", s
             n_evals += 6
             # Dormand-Prince stages; the acceleration depends on x only.
@@ -406,7 +436,7 @@ class _Solver:
             k6x, k6u = y6u, acc(y6x)
             x1 = x + h * (_B1 * k1x + _B3 * k3x + _B4 * k4x + _B5 * k5x + _B6 * k6x)
             u1 = u + h * (_B1 * k1u + _B3 * k3u + _B4 * k4u + _B5 * k5u + _B6 * k6u)
-            if not (math.isfinite(x1) and math.isfinite(u1)) or x1 - xb >= stop.limit_overlap:
+            if not (isfinite(x1) and isfinite(u1)) or x1 - xb >= d_lim:
                 err = math.inf
                 a1 = math.nan
             else:
@@ -414,48 +444,76 @@ class _Solver:
                 k7x, k7u = u1, a1
                 ex = h * (_E1 * k1x + _E3 * k3x + _E4 * k4x + _E5 * k5x + _E6 * k6x + _E7 * k7x)
                 eu = h * (_E1 * k1u + _E3 * k3u + _E4 * k4u + _E5 * k5u + _E6 * k6u + _E7 * k7u)
-                sx = atol + rtol * max(abs(x), abs(x1))
-                su = atol + rtol * max(abs(u), abs(u1))
-                err = math.sqrt(0.5 * ((ex / sx) ** 2 + (eu / su) ** 2))
+                ax, ax1, au, au1 = abs(x), abs(x1), abs(u), abs(u1)
+                sx = atol + rtol * (ax if ax >= ax1 else ax1)
+                su = atol + rtol * (au if au >= au1 else au1)
+                err = sqrt(0.5 * ((ex / sx) ** 2 + (eu / su) ** 2))
             if err > 1.0:
                 self.rejected += 1
-                h *= max(MIN_FACTOR, SAFETY * err**-0.2) if math.isfinite(err) else MIN_FACTOR
+                h *= max(MIN_FACTOR, SAFETY * err**-0.2) if isfinite(err) else MIN_FACTOR
                 if h < h_min:
                     self.rhs_evals += n_evals
+                    self.x_max = x_max
                     self.status = Status.INTEGRATION_FAILED
                     st.t, st.x, st.v = t, x, u
                     return "failed", s
                 continue
             coeffs = _hermite_coeffs(x, u, a0, x1, u1, a1, h)
-            found = self.step_events(coeffs, h, x1, u1, s, branch)
+            if (x1 < xb or (u1 < 0.0 if loading else u1 > 0.0)
+                    or (u1 > vb if s > 0 else u1 < vb) or x1 - xb > d_max or strength_finite):
+                found = self.step_events(coeffs, h, x1, u1, s, branch)
+            else:
+                found = None
             if found:
                 self.rhs_evals += n_evals
-                th, name = min(found)
-                t_ev = t + th * h
-                x_ev = _poly(coeffs, th)
-                u_ev = _dpoly(coeffs, th) / h
-                if name == "reversal":
-                    u_ev = 0.0
-                elif name == "friction":
-                    u_ev = vb
-                elif name == "separated":
-                    x_ev = xb
-                self.add_step(t, t_ev, coeffs, h, s, st)
-                self.steps += 1
-                st.t, st.x, st.v = t_ev, x_ev, u_ev
-                self.x_max = max(self.x_max, x_ev)
-                if name == "failed":
-                    self.status = Status.STOP_FAILED
-                    self.record(TransitionKind.FAILURE, st, st.v)
-                elif name == "limit":
-                    self.status = Status.LIMIT_OVERLAP
-                return name, -s
-            self.add_step(t, t + h, coeffs, h, s, st)
+                self.x_max = x_max
+                return self.end_at_event(st, t, coeffs, h, s, min(found)), -s
+            # The step's row (add_step, inlined) and the work it adds.
+            t1 = t + h
+            if t1 > t:
+                if not c.kind or self.timeline[-1][1] != 1:
+                    self.timeline.append((t, 1, len(c.kind)))
+                work = st.work
+                kind_add(_HERMITE)
+                t0_add(t)
+                t1_add(t1)
+                data_add((*coeffs, h))
+                branch_add(bi)
+                friction_add(sa)
+                work_add(work)
+                x_end = _poly(coeffs, (t1 - t) / h)
+                wf, wb, ws = work
+                st.work = (wf + sa * (x_end - x), wb + sav * (t1 - t), ws)
             self.steps += 1
-            t, x, u, a0 = t + h, x1, u1, a1
+            t, x, u, a0 = t1, x1, u1, a1
             st.t, st.x, st.v = t, x, u
-            self.x_max = max(self.x_max, x)
+            if x > x_max:
+                x_max = x
             h *= min(MAX_FACTOR, SAFETY * err**-0.2) if err > 0.0 else MAX_FACTOR
+
+    def end_at_event(self, st: _State, t: float, coeffs, h: float, s: int, event) -> str:
+        """Cut the step ``(t, coeffs, h)`` at ``event = (theta, name)``, store it, move ``st``
+        there and return the name (recording a failure of the stop)."""
+        th, name = event
+        t_ev = t + th * h
+        x_ev = _poly(coeffs, th)
+        u_ev = _dpoly(coeffs, th) / h
+        if name == "reversal":
+            u_ev = 0.0
+        elif name == "friction":
+            u_ev = self.vb
+        elif name == "separated":
+            x_ev = self.xb
+        self.add_step(t, t_ev, coeffs, h, s, st)
+        self.steps += 1
+        st.t, st.x, st.v = t_ev, x_ev, u_ev
+        self.x_max = max(self.x_max, x_ev)
+        if name == "failed":
+            self.status = Status.STOP_FAILED
+            self.record(TransitionKind.FAILURE, st, st.v)
+        elif name == "limit":
+            self.status = Status.LIMIT_OVERLAP
+        return name
 
     def step_events(self, coeffs, h: float, x1: float, u1: float, s: int, branch: Branch):
         """Events of one step: which condition is violated at the step's end, then its

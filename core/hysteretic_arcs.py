@@ -291,22 +291,29 @@ def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
     def mean_phi(e):
         return kk * dr / gap + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
 
-    def rate(th):  # dt/dtheta
-        e = d * np.sin(0.5 * th) ** 2
-        q = base + 0.5 * e + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
-        return np.abs(d) * np.cos(0.5 * th) / np.sqrt(np.maximum(-2.0 * d * q, 1e-300))
+    def rate(th, k):  # dt/dtheta of the samples k
+        dk = d[k]
+        e = dk * np.sin(0.5 * th) ** 2
+        q = (base[k] + 0.5 * e + kg[k] * _log_mean_m1_arr(e / gap[k])
+             + cc[k] * _exp_mean_arr(lam[k] * e))
+        return np.abs(dk) * np.cos(0.5 * th) / np.sqrt(np.maximum(-2.0 * dk * q, 1e-300))
 
     xi = np.array(_GK_X)
     wk = np.array(_GK_WK)
     th = np.clip(math.pi * tau / period, 0.0, math.pi)
+    # Newton on the samples not yet converged only (most converge in a few iterations; a
+    # sample's angle then no longer depends on which others are evaluated with it).
+    act = np.arange(len(th))
     for _ in range(ARC_SAMPLE_NEWTON):
-        nodes = 0.5 * th[:, None] * (1.0 + xi[None, :])
-        t_th = 0.5 * th * (rate(nodes.T).T @ wk) if len(th) else th
-        g = rate(th)
-        step = (t_th - tau) / np.where(g > 0.0, g, 1.0)
-        th = np.clip(th - step, 0.0, math.pi)
-        if np.all(np.abs(step) <= 1e-14):
+        if not len(act):
             break
+        ta = th[act]
+        nodes = 0.5 * ta[:, None] * (1.0 + xi[None, :])
+        t_th = 0.5 * ta * (rate(nodes.T, act).T @ wk)
+        g = rate(ta, act)
+        step = (t_th - tau[act]) / np.where(g > 0.0, g, 1.0)
+        th[act] = np.clip(ta - step, 0.0, math.pi)
+        act = act[np.abs(step) > 1e-14]
     e = d * np.sin(0.5 * th) ** 2
     q = base + 0.5 * e + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
     x[idx] = x_r + e

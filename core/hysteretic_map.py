@@ -108,7 +108,19 @@ class ContactMap(NamedTuple):
 
     def evaluate(self, series, w):
         u = (np.asarray(w, dtype=float) - 0.5 * (self.lo + self.hi)) / (0.5 * (self.hi - self.lo))
-        return np.polynomial.polynomial.polyval(u, series)
+        return _horner(series, u)
+
+
+def _horner(series, u):
+    """``polyval(u, series)`` in place: the same operations in the same order (so the same
+    bits), without two temporaries per coefficient (the sweeps of :func:`_block` evaluate
+    millions of contacts)."""
+    y = u * 0.0
+    y += series[-1]
+    for c in series[-2::-1]:
+        y *= u
+        y += c
+    return y
 
 
 def solve_contact(sv: _Solver, w: float):
@@ -134,16 +146,18 @@ def solve_contact(sv: _Solver, w: float):
 
 def _profile(one: _Solver, dur: float) -> np.ndarray:
     """Overlap and velocity of a solved contact at :data:`PROFILE_POINTS` times spread
-    evenly over its duration (rows of the contact's Hermite steps)."""
+    evenly over its duration (rows of the contact's Hermite steps, evaluated at once)."""
     c = one.contact
     times = np.linspace(0.0, dur, PROFILE_POINTS)
     t0 = np.array(c.t0)
     rows = np.clip(np.searchsorted(t0, times, side="right") - 1, 0, len(t0) - 1)
+    data = np.array([c.data[r][:7] for r in rows])
+    h = data[:, 6]
+    th = (times - t0[rows]) / h
+    coeffs = data[:, :6].T  # each row a coefficient over the points: _poly takes arrays
     out = np.empty((2, PROFILE_POINTS))
-    for i, (t, r) in enumerate(zip(times, rows, strict=True)):
-        coeffs, h = c.data[r][:6], c.data[r][6]
-        th = (t - t0[r]) / h
-        out[0, i], out[1, i] = _poly(coeffs, th) - one.xb, _dpoly(coeffs, th) / h
+    out[0] = _poly(coeffs, th) - one.xb
+    out[1] = _dpoly(coeffs, th) / h
     out[0, -1] = 0.0  # the separation
     return out
 
@@ -218,8 +232,21 @@ class MapTrain(NamedTuple):
         return float(self.w[0])
 
     def _nearest(self, w: np.ndarray) -> np.ndarray:
-        """Index of the node contact nearest in speed to each of ``w``."""
-        return np.abs(self.nodes[None, :] - w[:, None]).argmin(axis=1)
+        """Index of the node contact nearest in speed to each of ``w`` (the first of equals,
+        as ``argmin``), by a search in the sorted nodes: a train has ~1e4 samples."""
+        order = np.argsort(self.nodes, kind="stable")
+        sorted_nodes = self.nodes[order]
+        right = np.clip(np.searchsorted(sorted_nodes, w), 1, len(order) - 1)
+        left = right - 1
+        d_left = np.abs(sorted_nodes[left] - w)
+        d_right = np.abs(sorted_nodes[right] - w)
+        # Duplicate nodes sit next to each other in the stable order: the leftmost of a
+        # run of equal nodes is the first in the original order.
+        first = np.searchsorted(sorted_nodes, sorted_nodes, side="left")
+        pick = np.where((d_right < d_left) | ((d_right == d_left) & (order[first[right]]
+                                                                    < order[first[left]])),
+                        right, left)
+        return order[first[pick]]
 
     def energy(self, w):
         """Energy of the train above its touching limit at approach speed ``w``: the
@@ -251,7 +278,7 @@ class MapTrain(NamedTuple):
         the drawn node profile's, scaled as in :meth:`state`."""
         tau, s, d, w_in, w_out, inside = contact_at(self.start, self.w, self.dur, tau)
         j = self._nearest(w_in)
-        return np.where(inside, w_in / self.nodes[j] * self.profiles[j, 0].max(axis=1), 0.0)
+        return np.where(inside, w_in / self.nodes[j] * self.profiles[:, 0].max(axis=1)[j], 0.0)
 
 
 class MapRun(NamedTuple):
@@ -270,25 +297,38 @@ class MapRun(NamedTuple):
 
 def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
     """The next ``m`` speeds from ``w0``, ``w_(k+1) = w_k - L(w_k)``, all at once: the
-    sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the whole block until they no
-    longer change (to rounding), which makes them the sequential iterates; ``None`` if
+    sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the block (from the first iterate
+    that still changed) until they no longer change (to rounding), which makes them the
+    sequential iterates; ``None`` if
     that takes more than :data:`MAX_SWEEPS` sweeps (the block is too long for the loss's
     slope: each sweep fixes at least one more iterate, the error falls like
     ``(m L')^j / j!``)."""
     loss0 = float(cmap.evaluate(cmap.loss, w0))
     w = w0 - loss0 * np.arange(m + 1, dtype=float)
+    new = np.empty(m + 1)
+    new[0] = w0
+    sums = np.empty(m + 1)  # sums[k] = sum_(j<k) L(w_j)
+    sums[0] = 0.0
+    p = 0  # w[:p + 1] no longer changes: nor do their losses, nor sums[:p + 2]
     for _ in range(MAX_SWEEPS):
-        new = np.empty(m + 1)
-        new[0] = w0
         with np.errstate(over="ignore", invalid="ignore"):  # a sweep running away
-            np.cumsum(cmap.evaluate(cmap.loss, w[:-1]), out=new[1:])
-            new[1:] = w0 - new[1:]
-            change = np.max(np.abs(new - w))
+            # The sums continue from sums[p], one addition after the other, as a cumsum
+            # over the whole block does: the same bits, for the part that still changes.
+            tail = cmap.evaluate(cmap.loss, w[p:-1])
+            tail[0] += sums[p]
+            np.cumsum(tail, out=sums[p + 1:])
+            new[p + 1:] = w0 - sums[p + 1:]
+            diff = np.abs(new[p:] - w[p:])
+            change = np.max(diff)
         if not np.isfinite(change):
             return None
         if change <= SWEEP_RTOL * w0:
             return new
-        w = new
+        # new[p] == w[p] always; the first change is at p + agree: the next sweep starts
+        # at the last point that agrees (both buffers hold the same bits up to there).
+        agree = int(np.argmax(diff > 0.0))
+        p += max(agree - 1, 0)
+        w, new = new, w
     return None
 
 

@@ -342,9 +342,8 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     # solver's rest, as when the loops are followed to it; it is stated, not a reason to wait.
     if plain.end_error(tau_end, rest_amp, velocity=not rests) > tol and plain.error_bound > tol:
         return None
-    amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
-    if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
-        return None
+    # The checks below are pure: the cheaper and more often failing ones first (loops
+    # whose creep grows too fast fail creep_law at every try on soft stops).
     creep = creep_law(reversal_x)
     if creep is None:
         return None
@@ -357,6 +356,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     if model.error_bound > train_band(sv):
         return None
     if model.end_error(tau_end, rest_amp, velocity=not rests) > tol and model.error_bound > tol:
+        return None
+    amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
+    if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
         return None
     return oscillate(sv, st, branch, s, model)
 

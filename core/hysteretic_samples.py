@@ -321,7 +321,6 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
         is_osc = (kinds == _OSC) | (kinds == _TRAIN)
         if np.any(is_arc):
             _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
-        osc_stored: dict[int, float] = {}
         # A reduced model's samples, one call per row (a train's lays out its contacts by
         # a search over thousands: vectorised, not per sample).
         for r in np.unique(rows[is_osc]):
@@ -337,8 +336,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
             work[js, 1] = wb + c.friction[r] * sv.vb * tau
             work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
             dissipated = model.energy(model.amp0) - model.energy(amp)
-            osc_stored.update(zip(js.tolist(), (work[js, 2] - (loss_s + dissipated)).tolist(),
-                                  strict=True))
+            stored[js] = work[js, 2] - (loss_s + dissipated)
         plain = ~is_arc & ~is_osc
         for j, r in zip(idx[plain], rows[plain], strict=True):
             kind = c.kind[r]
@@ -398,22 +396,37 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
                 primitives[bi] = BranchPrimitive(brs[bi], stop, lo, hi)
             return primitives[bi]
 
+        # Once per branch and overlap: the samples of a rest share both (1,600 of them
+        # when the mass rests early in a long horizon).
+        stop_work: dict[tuple[int, float], float] = {}
         for k in np.nonzero(plain)[0]:
-            bi = branch_rows[k]
-            d0, w0 = c.branch_start[bi]
-            prim = primitive(bi)
-            work[idx[k], 2] = w0 + prim(max(delta[k], 0.0)) - prim(d0)
-        # The energy the stop gives back on unloading from the law's current state: while
-        # loading, a new unloading branch would start here (Eq. 12); while unloading, the
-        # current branch goes on (not a fresh one from (delta, phi): they differ where the
-        # branch has been clipped onto the compression envelope).
-        stored[idx] = stored_energy_many(delta, phi[idx], stop)
-        for k in np.nonzero(~loading & (delta > 0.0) & ~is_osc)[0]:
-            prim = primitive(branch_rows[k])
-            stored[idx[k]] = prim(delta[k]) - prim(0.0)
-        for j, value in osc_stored.items():
-            stored[j] = value
+            key = (int(branch_rows[k]), max(float(delta[k]), 0.0))
+            if key not in stop_work:
+                d0, w0 = c.branch_start[key[0]]
+                prim = primitive(key[0])
+                stop_work[key] = w0 + prim(key[1]) - prim(d0)
+            work[idx[k], 2] = stop_work[key]
+        # (a reduced model's samples hold their own, above)
+        own = np.nonzero(~is_osc)[0]
+        stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
+                                   d_r[own], p_r[own], branch_rows[own], primitive, stop)
     return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np.ndarray:
+    """The energy the stop gives back on unloading from the law's current state: while
+    loading, a new unloading branch would start here (Eq. 12); while unloading
+    (``on_branch``), the current branch goes on (not a fresh one from ``(delta, phi)``:
+    they differ where the branch has been clipped onto the compression envelope)."""
+    if stop.law != "passive":
+        return stored_energy_many(delta, phi, stop, np.where(on_branch, d_r, delta),
+                                  np.where(on_branch, p_r, phi))
+    # the passive law's branches keep an anchor: integrated one branch at a time
+    stored = stored_energy_many(delta, phi, stop)
+    for k in np.nonzero(on_branch)[0]:
+        prim = primitive(branch_rows[k])
+        stored[k] = prim(delta[k]) - prim(0.0)
+    return stored
 
 
 def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
