@@ -395,7 +395,7 @@ class Explorer(pn.viewable.Viewer):
             panes[name] = pn.Column(css_classes=["fie-plot", f"fie-plot-{name}"],
                                     name=PLOT_TITLES[name], margin=(4, 8), visible=False,
                                     sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
-                                    max_width=PLOT_WIDTHS[1], styles=_pane_styles(False))
+                                    max_width=PLOT_WIDTHS[1], styles=_pane_styles())
         return panes
 
     def _drawn(self, visible: tuple[str, ...]) -> tuple[str, ...]:
@@ -471,7 +471,9 @@ class Explorer(pn.viewable.Viewer):
             if name in drawn and not pane.objects:
                 pane.objects = [self._build_plot(name)]
             waiting = name in shown and not pane.objects
-            set_changed(pane, visible=name in shown, styles=_pane_styles(waiting),
+            # (An empty pane of the plot's height: a style that marked it stayed, in
+            # BokehJS, on some of the plot's edge pixels once the plot was drawn.)
+            set_changed(pane, visible=name in shown,
                         min_height=PANE_HEIGHTS[name] if waiting else None,
                         css_classes=["fie-plot", f"fie-plot-{name}",
                                      *(["fie-plot-pending"] if waiting else [])])
@@ -1247,11 +1249,9 @@ PANE_HEIGHTS = {"phase": PHASE_SIZE[1] + 60, "time": 2 * TIME_SIZE[1], "anim": A
                 "energy": SMALL_SIZE[1] + 60, "map": MAP_SIZE[1] + 100}
 
 
-def _pane_styles(waiting: bool) -> dict[str, str]:
-    """Inline styles of a plot's pane: its share of the grid's row, and a light ground
-    while it waits to be built (lazy plots)."""
-    flex = {"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"}
-    return {**flex, "background": "#f5f6f8", "border-radius": "4px"} if waiting else flex
+def _pane_styles() -> dict[str, str]:
+    """Inline styles of a plot's pane: its share of the grid's row."""
+    return {"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"}
 
 
 def _reset_label(scene: str) -> str:

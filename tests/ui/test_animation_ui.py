@@ -31,6 +31,7 @@ def test_animation_steps_and_scrubs_with_its_clock_in_the_frame(browser, server,
     try:
         anim = ".fie-plot-anim"
         p.page.locator(anim).first.scroll_into_view_if_needed()
+        p.wait_plots()
         first = p.pixels(anim)
         for _ in range(5):
             p.page.locator(".fie-anim-forward button").first.click()

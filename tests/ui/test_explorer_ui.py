@@ -101,6 +101,7 @@ def test_paint_shortcuts_change_no_pixel(browser, server, key):
     for flag in ("", "&paint_shortcuts=off"):
         p = Page(browser, f"{server}?scene={key}{flag}")
         try:
+            p.wait_plots(everywhere=True)  # the screenshot of the plots scrolls past all
             p.page.wait_for_timeout(500)  # any late repaint lands first
             p.settle()
             loaded = p.pixels(".fie-plots"), _legend_line_ends(p)
@@ -266,6 +267,32 @@ def test_si_units_take_seconds_and_metres_per_second(browser, server, shots):
         p.page.screenshot(path=shots / "si-units.png", full_page=True)
         assert count_color(p.pixels(".fie-plot-phase"), SLIP) > MIN_TRAJECTORY_PIXELS
         assert not p.page.locator(".fie-alert").first.is_visible()
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+def test_a_plot_below_the_fold_is_built_when_scrolled_into_view(browser, server, shots):
+    """Lazy plots (app.explorer, static/lazy_plots.js): on a 1280 x 800 window, scene 5a's
+    regime map waits, empty and of its own height, until it is scrolled into view; then it
+    is drawn (its colours appear) without a reload and with no error."""
+    p = Page(browser, f"{server}?scene=5a", viewport={"width": 1280, "height": 800})
+    try:
+        waiting = p.page.locator(".fie-plot-map.fie-plot-pending")
+        assert waiting.count() == 1
+        assert waiting.first.bounding_box()["height"] > 300  # its place is kept
+        figures = "() => [...Bokeh.documents[0].all_models].filter(m => m.type === 'Figure')" \
+                  ".map(m => m.title.text)"
+        assert not any("Regime map" in t for t in p.page.evaluate(figures))
+        p.page.locator(".fie-plot-map").first.scroll_into_view_if_needed()
+        p.wait_plots()
+        p.page.wait_for_timeout(300)
+        p.settle()
+        assert p.page.locator(".fie-plot-pending").count() == 0
+        assert any("Regime map" in t for t in p.page.evaluate(figures))
+        rgb = p.pixels(".fie-plot-map")
+        p.page.locator(".fie-plot-map").first.screenshot(path=shots / "lazy-map-drawn.png")
+        assert len(np.unique(rgb.reshape(-1, 3), axis=0)) > 20  # a map, not an empty pane
         assert p.errors == []
     finally:
         p.close()

@@ -31,19 +31,51 @@ JS_DEEP_TEXT = """el => {
   }
   return t(el).replace(/\\s+/g, " ").trim();
 }"""
+#: JavaScript: the number of plots that wait to be built (lazy plots, app.explorer) within
+#: ``margin`` pixels of the window, or in the whole page with no margin given.
+JS_WAITING = """margin => {
+  let n = 0;
+  function walk(root) {
+    for (const el of root.querySelectorAll("*")) {
+      if (el.shadowRoot) walk(el.shadowRoot);
+      if (!el.classList.contains("fie-plot-pending")) continue;
+      const r = el.getBoundingClientRect();
+      if (r.width > 0 && (margin == null ||
+          (r.top < window.innerHeight + margin && r.bottom > -margin))) n += 1;
+    }
+  }
+  walk(document);
+  return n;
+}"""
 
 
 class Page:
     """A page of the explorer with its console messages collected."""
 
-    def __init__(self, browser, url: str) -> None:
-        self.page = browser.new_page(viewport=VIEWPORT)
+    def __init__(self, browser, url: str, wait_plots: bool = True,
+                 viewport: dict[str, int] | None = None) -> None:
+        self.page = browser.new_page(viewport=viewport or VIEWPORT)
         self.errors: list[str] = []
         self.page.on("console", self._console)
         self.page.on("pageerror", lambda exc: self.errors.append(f"pageerror: {exc}"))
         self.page.goto(url, timeout=PAGE_TIMEOUT_MS)
         self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
+        if wait_plots:
+            self.wait_plots()
         self.settle()
+
+    def wait_plots(self, everywhere: bool = False) -> None:
+        """Wait until no plot in view (within the page's 400 px margin) waits to be built;
+        with ``everywhere``, scroll each waiting plot of the page into view first."""
+        deadline = time.monotonic() + PAGE_TIMEOUT_MS / 1000
+        while time.monotonic() < deadline:
+            if everywhere and self.page.evaluate(JS_WAITING, None):
+                self.page.locator(".fie-plot-pending").first.scroll_into_view_if_needed()
+            elif not self.page.evaluate(JS_WAITING, 400):
+                self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
+                return
+            self.page.wait_for_timeout(50)
+        raise AssertionError("plots still wait to be built")
 
     def _console(self, msg) -> None:
         if msg.type == "error":
