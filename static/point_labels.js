@@ -72,9 +72,30 @@ function place() {
     if (isFinite(x)) walls.push(box(x - w, 0, x + w, H));
   }
 
+  // Text size as BokehJS measures it (core/util/text: the font's bounding box); one
+  // measuring canvas per label set, kept between placements.
+  const size = parseFloat(val(labels.text_font_size)) || 12;
+  const ctx = (labels._fie_ctx ??= document.createElement("canvas").getContext("2d"));
+  ctx.font = `${val(labels.text_font_style) ?? "normal"} ${val(labels.text_font_size)} `
+           + `${val(labels.text_font) ?? "helvetica"}`;
+  const fm = ctx.measureText("ÅŚg|");
+  const th = fm.fontBoundingBoxAscent + fm.fontBoundingBoxDescent;
+  const texts = data[labels.text.field] ?? data.name;
+  const pad = Math.max(CLEAR + 1, 0.2 * size);
+  const widths = [];
+  // Where a label's positions can lie (the farthest ring, below): only segments that pass
+  // there can cross one.
+  const reach = [];
+  for (let i = 0; i < n; i++) {
+    const x = sx(data.x[i]), y = sy(data.v[i]), w = ctx.measureText(`${texts[i]}`).width;
+    widths.push(w);
+    const rx = own.hw + pad + 2 * size + w, ry = own.hh + pad + size + th;
+    if (isFinite(x + y)) reach.push(box(x - rx, y - ry, x + rx, y + ry));
+  }
+
   // Curves [px]: a position costs for each curve that crosses it. Their segments inside the
-  // frame go into cells of CELL px (a phase path has thousands), so that a position tests
-  // only the segments of the cells it covers.
+  // frame and near a label go into cells of CELL px (a phase path has thousands), so that a
+  // position tests only the segments of the cells it covers.
   const CELL = 32, cols = Math.ceil(W / CELL) + 1, rows = Math.ceil(H / CELL) + 1;
   const cells = new Map();  // cell index -> [[curve, x0, y0, x1, y1], ...]
   const cellOf = (x, y) => Math.min(Math.max(Math.floor(y / CELL), 0), rows - 1) * cols
@@ -88,6 +109,8 @@ function place() {
       const x0 = sx(xs[i - 1]), y0 = sy(ys[i - 1]), x1 = sx(xs[i]), y1 = sy(ys[i]);
       if (!isFinite(x0 + y0 + x1 + y1) || Math.max(x0, x1) < 0 || Math.min(x0, x1) > W
           || Math.max(y0, y1) < 0 || Math.min(y0, y1) > H) continue;
+      const seg = box(Math.min(x0, x1), Math.min(y0, y1), Math.max(x0, x1), Math.max(y0, y1));
+      if (!reach.some((a) => hit(a, seg))) continue;
       const [c0, c1] = [cellOf(Math.min(x0, x1), Math.min(y0, y1)),
                         cellOf(Math.max(x0, x1), Math.max(y0, y1))];
       for (let row = Math.floor(c0 / cols); row <= Math.floor(c1 / cols); row++) {
@@ -129,21 +152,11 @@ function place() {
     return true;
   }
 
-  // Text size as BokehJS measures it (core/util/text: the font's bounding box).
-  const size = parseFloat(val(labels.text_font_size)) || 12;
-  const ctx = document.createElement("canvas").getContext("2d");
-  ctx.font = `${val(labels.text_font_style) ?? "normal"} ${val(labels.text_font_size)} `
-           + `${val(labels.text_font) ?? "helvetica"}`;
-  const fm = ctx.measureText("ÅŚg|");
-  const th = fm.fontBoundingBoxAscent + fm.fontBoundingBoxDescent;
-  const texts = data[labels.text.field] ?? data.name;
-
   // Candidate positions of each label and what each costs before the other labels are known.
-  const pad = Math.max(CLEAR + 1, 0.2 * size);
   const cands = [];
   for (let i = 0; i < n; i++) {
     const x = sx(data.x[i]), y = sy(data.v[i]);
-    const w = ctx.measureText(`${texts[i]}`).width;
+    const w = widths[i];
     const [align0, baseline0] = `${data.side[i]}`.split(" ");
     const h0 = align0 === "right" ? -1 : 1, v0 = baseline0 === "top" ? -1 : 1;
     const list = [];
