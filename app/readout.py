@@ -108,9 +108,16 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
             r_eq = _num(th.restitution) if th is not None else "—"
             first, last = restitution_first_last(sol)
             total = contact_count(res, len(measured))
+            # A run that ends on the stop has a last contact without a rebound yet: the
+            # restitutions are those of the contacts that ended.
+            on_stop = len(res.mode) > 0 and int(res.mode[-1]) == int(Mode.CONTACT)
+            ended = total - 1 if on_stop else total
             spread = (f"{_num(first)} at the first contact, {_num(last)} at the "
-                      f"last of {total}" if total > 1
+                      f"last of {ended}" if ended > 1
                       else f"{_num(first)} (one contact)")
+            if on_stop:
+                spread += (f"{' that ended' if ended > 1 else ''}; contact {total} has not "
+                           "ended (the mass stays on the stop)")
             rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
                          "holds only for beta * overlap / D >> 1"))
         if isinstance(sol.stop, HystereticStop):

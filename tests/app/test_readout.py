@@ -181,3 +181,16 @@ def test_a_plastic_stop_beyond_a_is_the_grazing_the_theory_expects():
     assert rows["Steady state found"].startswith(
         "grazing: on the slip circle that touches the stop at zero speed")
     assert "Theory expects" not in rows
+
+
+def test_a_contact_that_has_not_ended_gives_no_restitution():
+    """Scene 11: the second contact never separates (the belt holds the mass on the stop),
+    so the run has one rebound. The readout said "0.2369 at the first contact, 0.2369 at
+    the last of 2", giving the first contact's rebound to a contact without one."""
+    sol = solve(scene_values("11"))
+    rows = dict(readout_rows(sol, DIMENSIONLESS))
+    separations = sum(t.kind.value == "separation" for t in sol.result.transitions)
+    assert separations == 1 and sol.result.info["n_contacts"] == 2
+    text = rows["Restitution"]
+    assert text.startswith("0.2369 (one contact); contact 2 has not ended")
+    assert "last of 2" not in text
