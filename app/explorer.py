@@ -101,11 +101,14 @@ TOOLTIPS: Mapping[str, str] = {
     "mu_s": "Static friction coefficient; b = mu_s u_s is the stick limit.",
     "mu_k": "Kinetic friction coefficient (at most mu_s); a = mu_k u_s is the slip centre.",
     "u_s": "Static deflection u_s = F_N / k: the spring stretch the normal force makes.",
-    "k_c0": "Stiffness of the stop when first compressed, over k.",
-    "k_e0": "Stiffness of the stop when first expanding, over k (at most k_c0).",
-    "limit_overlap": "Overlap D at which the stop's stiffness is exhausted.",
-    "beta_c": "How fast the stiffness changes on compression (at most beta_e).",
-    "beta_e": "How fast the stiffness changes on expansion.",
+    "k_c0": "Slope of the compression envelope at zero overlap, over k (Eq. 11).",
+    "k_e0": "Slope of the expansion envelope at zero overlap, over k (at most k_c0; "
+            "Eq. 11).",
+    "limit_overlap": "Limit overlap D: both envelopes grow without bound as the overlap "
+                     "nears D, so the stop cannot be pushed past it (Eq. 11).",
+    "beta_c": "How fast a reloading curve approaches the compression envelope, per D "
+              "(at most beta_e; Eq. 13).",
+    "beta_e": "How fast an unloading curve approaches the expansion envelope, per D (Eq. 13).",
     "x0": "Initial displacement of the mass.",
     "v0": "Initial velocity of the mass.",
     "t_end": "Length of the simulated run (dimensionless time t = omega tau).",
@@ -115,8 +118,8 @@ TOOLTIPS: Mapping[str, str] = {
     "belt_speed_si": "Belt speed v_dr.",
     "v0_si": "Initial velocity of the mass.",
     "t_end_si": "Length of the simulated run in seconds.",
-    "k_c0_si": "Stiffness of the stop when first compressed.",
-    "k_e0_si": "Stiffness of the stop when first expanding (at most k_c0).",
+    "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
+    "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
 }
 #: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
 CONTACT_LAW_TIPS: Mapping[str, str] = {

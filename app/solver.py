@@ -36,6 +36,7 @@ from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import (
     DEFAULT_MAX_STEPS,
+    ETA_MAX_REL,
     FIRST_LOADING,
     HystereticStop,
     Mode,
@@ -600,6 +601,17 @@ def _solve_cached(key: tuple, preview: bool, budget: float | None = None) -> Sol
     return solution
 
 
+def preset_options(accuracy: Mapping[str, Any], used: tuple[str, ...], osc: Any
+                   ) -> dict[str, Any]:
+    """A preset's values (:data:`ACCURACY`) of the options a method ``used``; the switch
+    model's band at most the widest the core takes on this belt (``ETA_MAX_REL * v``: a
+    slow belt gets a narrower band than the preset's)."""
+    options = {k: accuracy[k] for k in used if k in accuracy}
+    if "eta" in options and osc.v > 0.0:
+        options["eta"] = min(options["eta"], ETA_MAX_REL * osc.v)
+    return options
+
+
 def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
     values = MappingProxyType(dict(key))
     osc, stop, x0, v0, t_end = core_inputs(values)
@@ -618,7 +630,7 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         used = method_options(method, stop)
         # The preset's tolerances, for the options this method uses (core refuses others);
         # the numerical methods stop at their budget themselves.
-        options = {k: accuracy[k] for k in used if k in accuracy}
+        options = preset_options(accuracy, used, osc)
         if "time_budget" in used:
             options["time_budget"] = _budget(preview, budget)
         if "max_steps" in used and budget is not None and budget > SOLVE_BUDGET_S:
@@ -857,5 +869,5 @@ __all__ = [
     "ACCURACY", "Mode", "Program", "SolveRunner", "SolveTooSlow", "Solution", "Theory",
     "choose_method", "cut_short", "executor_for", "forget", "retry_budget", "submit",
     "mode_intervals",
-    "overlap_program", "regime_labels", "regime_map", "solve",
+    "overlap_program", "preset_options", "regime_labels", "regime_map", "solve",
 ]

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from app.solver import ACCURACY
+from app.solver import ACCURACY, preset_options
 from app.state import ACCURACIES, core_inputs
 from core import method_options, simulate
 
@@ -50,8 +50,8 @@ SENTENCES: Mapping[str, str] = {
              "deformable stop only the contact phase is integrated.",
     "event": "A general-purpose integrator (solve_ivp) on the non-smooth model, stopped at "
              "each stick, slip and contact event: its error follows rtol.",
-    "switch": "The paper's switch model: sticking is a band |x' - v| < eta of steep "
-              "friction, integrated by RKF 4(5); its error follows eta, not rtol.",
+    "switch": "The paper's switch model: the mass sticks (x'' = 0) while |x' - v| <= eta, "
+              "integrated by RKF 4(5); its error follows eta, not rtol.",
 }
 
 #: One worker per server: measurements queue rather than load the machine; a solve past
@@ -89,7 +89,7 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
         for accuracy in ACCURACIES:
             acc = ACCURACY[accuracy]
             used = method_options(method, stop)
-            kwargs = {k: acc[k] for k in used if k in acc}
+            kwargs = preset_options(acc, used, osc)
             if "time_budget" in used:  # the solve itself stops, not only the wait for it
                 kwargs["time_budget"] = budget_s
 

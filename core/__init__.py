@@ -38,11 +38,13 @@ from core.simulate import method_options as method_options
 from core.simulate import simulate as simulate
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
+from core.switch import ETA_MAX_REL as ETA_MAX_REL
 from core.validation import check_range as check_range
 from core.validation import check_start as check_start
 
 __all__ = [
     "DEFAULT_MAX_STEPS",
+    "ETA_MAX_REL",
     "FIRST_LOADING",
     "METHODS",
     "STATS_KEYS",

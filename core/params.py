@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from core.validation import check_range
+from core.validation import MAX_MAGNITUDE, check_range, check_size
 
 #: Standard gravity, only used by helpers that speak of weight (m/s^2).
 GRAVITY = 9.80665
@@ -44,8 +44,11 @@ class Oscillator:
     def __post_init__(self) -> None:
         mu_s = check_range("mu_s", self.mu_s, 0.0)
         mu_k = check_range("mu_k", self.mu_k, 0.0, mu_s)
-        v = check_range("belt_speed", self.belt_speed, 0.0)
-        u_s = check_range("u_s", self.u_s, 0.0, low_open=True)
+        v = check_size("belt_speed", self.belt_speed, 0.0)
+        u_s = check_size("u_s", self.u_s, 0.0, low_open=True)
+        if mu_s * u_s > MAX_MAGNITUDE:
+            raise ValueError(f"mu_s * u_s (the static friction limit b) must lie in "
+                             f"[0, {MAX_MAGNITUDE:g}]; got {mu_s * u_s:g}")
         for name, value in (("mu_s", mu_s), ("mu_k", mu_k), ("belt_speed", v), ("u_s", u_s)):
             object.__setattr__(self, name, value)
 
@@ -119,7 +122,7 @@ class RigidStop:
     restitution: float = 1.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "clearance", check_range("clearance", self.clearance))
+        object.__setattr__(self, "clearance", check_size("clearance", self.clearance))
         object.__setattr__(
             self, "restitution", check_range("restitution", self.restitution, 0.0, 1.0)
         )
@@ -167,7 +170,7 @@ class HystereticStop:
             raise ValueError(
                 f"law must be one of {', '.join(map(repr, CONTACT_LAWS))}; got {self.law!r}"
             )
-        object.__setattr__(self, "clearance", check_range("clearance", self.clearance))
+        object.__setattr__(self, "clearance", check_size("clearance", self.clearance))
         k_c0 = check_range("k_c0", self.k_c0, 0.0, low_open=True)
         object.__setattr__(self, "k_c0", k_c0)
         object.__setattr__(
@@ -176,7 +179,7 @@ class HystereticStop:
         object.__setattr__(
             self,
             "limit_overlap",
-            check_range("limit_overlap", self.limit_overlap, 0.0, low_open=True),
+            check_size("limit_overlap", self.limit_overlap, 0.0, low_open=True),
         )
         beta_c = check_range("beta_c", self.beta_c, 0.0, low_open=True)
         object.__setattr__(self, "beta_c", beta_c)

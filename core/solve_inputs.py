@@ -24,6 +24,7 @@ from core.validation import (
     check_integer,
     check_oscillator,
     check_range,
+    check_size,
     check_start,
     check_stop,
     check_times,
@@ -82,8 +83,8 @@ def check_solve_inputs(
     check_oscillator(osc)
     check_stop(stop)
     t_end = check_range("t_end", t_end, 0.0, low_open=True)
-    x0 = check_range("x0", x0)
-    v0 = check_range("v0", v0)
+    x0 = check_size("x0", x0)
+    v0 = check_size("v0", v0)
     if stop is not None:
         soft = isinstance(stop, HystereticStop)
         check_start(x0, stop.clearance, stop.limit_overlap if soft else None)

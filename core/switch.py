@@ -80,6 +80,8 @@ FIRST_STEP = 1e-3
 #: Default stick-band half-width relative to the belt speed, ``eta = ETA_REL * v``
 #: (``eta << v``, ``docs/physics.md``); on a still belt relative to ``max(a, b)``.
 ETA_REL = 1e-4
+#: Widest stick band, relative to the belt speed (:func:`check_eta`).
+ETA_MAX_REL = 0.1
 #: Newton corrections of a located event with the recomputed Runge-Kutta step.
 EVENT_NEWTON = 2
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it.
@@ -540,9 +542,25 @@ def _friction_transition(run: SwitchSolver, fr: int, fr_new: int, step: tuple) -
     run.log.add(kind, t0 + s * h, xs, vs)
 
 
-def _default_eta(osc: Oscillator) -> float:
-    scale = osc.v if osc.v > 0.0 else max(osc.a, osc.b, osc.u_s)
-    return ETA_REL * scale
+def check_eta(eta: float, osc: Oscillator) -> float:
+    """The stick band's half-width ``eta``, in ``(0, ETA_MAX_REL * v]`` on a moving belt (the
+    model needs ``eta << v``, SPEC §5: a band that reaches ``x' = 0`` holds a mass at rest
+    in "stick"; ``eta = v`` gave ``x_max = 0`` where the exact motion grazes the stop), in
+    ``(0, 1]`` on a still one.
+
+    >>> from core import Oscillator
+    >>> check_eta(0.1, Oscillator(0.3, 0.2, 0.1))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: eta must lie in (0, 0.01] (a tenth of the belt speed v = 0.1: ...); got 0.1
+    """
+    eta = check_range("eta", eta, 0.0, low_open=True)
+    high = ETA_MAX_REL * osc.v if osc.v > 0.0 else 1.0
+    if eta > high:
+        why = (f" (a tenth of the belt speed v = {osc.v:g}: the stick band |v - x'| <= eta "
+               "must stay clear of x' = 0)" if osc.v > 0.0 else "")
+        raise ValueError(f"eta must lie in (0, {high:g}]{why}; got {eta:g}")
+    return eta
 
 
 def solve_switch(
@@ -603,7 +621,7 @@ def solve_switch(
     0.4
     """
     osc = inputs.osc
-    eta = _default_eta(osc) if eta is None else check_range("eta", eta, 0.0, low_open=True)
+    eta = _default_eta(osc) if eta is None else check_eta(eta, osc)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
     run = SwitchSolver(inputs, opts, WorkLimit(max_steps, time_budget))

@@ -12,6 +12,17 @@ import numbers
 
 import numpy as np
 
+#: Largest magnitude of a length or speed the core takes (in its dimensionless units: lengths
+#: in units of ``u_s``, speeds in ``omega u_s``). Their squares (energies, the slip circles'
+#: radii) stay finite below it; a start at ``x0 = 1e300`` ran to ``x_max = inf`` reported as
+#: a success.
+MAX_MAGNITUDE = 1e100
+
+
+def check_size(name: str, value: float, low: float = -MAX_MAGNITUDE, **kw) -> float:
+    """:func:`check_range` of a length or speed: within ``[low, MAX_MAGNITUDE]``."""
+    return check_range(name, value, low, MAX_MAGNITUDE, **kw)
+
 
 def check_finite(name: str, value: float) -> float:
     """Return ``value`` as float, or raise if it is not a finite real number."""
@@ -158,6 +169,8 @@ def check_times(name: str, times: object, t_end: float) -> np.ndarray:
         raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]") from None
     if t.ndim != 1:
         raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]; got {t.ndim}-D")
+    if t.size == 0:
+        raise ValueError(f"{name} must hold at least one time in [0, t_end]; got none")
     outside = ~np.isfinite(t) | (t < 0.0) | (t > t_end)
     if np.any(outside):
         raise ValueError(

@@ -410,11 +410,38 @@ def test_grazing_long_horizon_counts_every_impact():
         (lambda: simulate(SLOW, None, t_end=0.0), "t_end"),
         (lambda: simulate(SLOW, None, t_end=math.inf), "t_end"),
         (lambda: simulate(SLOW, None, method="magic"), "method"),
+        # Each of these was taken: an empty t_eval crashed (IndexError); x0 = 1e300 and
+        # v0 = 1e200 ran to x_max = inf as a success; eta = v made the switch model hold the
+        # mass at rest (x_max 0, where the motion grazes the stop); rtol = 0.5 gave an
+        # energy balance off by seven times the motion's energy, as a success.
+        (lambda: simulate(SLOW, None, t_eval=[]), r"t_eval must hold at least one time"),
+        (lambda: simulate(SLOW, None, x0=1e300), r"x0 must lie in \[-1e\+100, 1e\+100\]"),
+        (lambda: simulate(SLOW, None, v0=1e200), r"v0 must lie in"),
+        (lambda: RigidStop(-1e300), r"clearance must lie in"),
+        (lambda: Oscillator(0.3, 0.2, belt_speed=1e200), r"belt_speed must lie in"),
+        (lambda: Oscillator(1e60, 0.2, 0.1, u_s=1e60), r"mu_s \* u_s"),
+        (lambda: simulate(SLOW, RigidStop(0.25, 0.7), method="switch", eta=SLOW.v),
+         r"eta must lie in \(0, 0.01\] \(a tenth of the belt speed"),
+        (lambda: simulate(SLOW, RigidStop(0.25, 0.7), method="event", rtol=0.5),
+         r"rtol must lie in \(0, 0.01\]"),
     ],
 )
 def test_bad_input_names_the_parameter(make, name):
     with pytest.raises(ValueError, match=name):
         make()
+
+
+def test_the_largest_lengths_taken_give_finite_answers():
+    """At the bound of :data:`core.validation.MAX_MAGNITUDE` the motion, its extremes and
+    its energy terms stay finite (their squares are ~1e200)."""
+    from core.validation import MAX_MAGNITUDE
+
+    for kw in ({"x0": MAX_MAGNITUDE}, {"v0": -MAX_MAGNITUDE}):
+        res = simulate(SLOW, None, t_end=20.0, **kw)
+        assert np.isfinite(res.x).all() and np.isfinite(res.x_max)
+        energy = [np.asarray(getattr(res.energy, f), dtype=float)
+                  for f in res.energy.__dataclass_fields__]
+        assert all(np.isfinite(e).all() for e in energy)
 
 
 def test_core_imports_no_ui_library():
