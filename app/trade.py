@@ -102,8 +102,9 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
             try:
                 seconds, res = future.result(timeout=budget_s)
             except FutureTimeout:
+                finer = ": finer presets not tried" if accuracy != ACCURACIES[-1] else ""
                 rows.append(TradeRow(method, accuracy, math.inf, math.nan, "—",
-                                     f"over {budget_s:g} s: finer presets not tried"))
+                                     f"over {budget_s:g} s{finer}"))
                 break
             except Exception as exc:  # noqa: BLE001 - a method that fails is reported
                 rows.append(TradeRow(method, accuracy, math.nan, math.nan, "—",
