@@ -38,7 +38,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from core.hysteresis import stored_energy
+from core.hysteresis import ElasticLimit, elastic_limit, stored_energy
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
@@ -53,7 +53,7 @@ from core.result import (
     TransitionKind,
 )
 from core.solve_inputs import SolveInputs, StopFacts
-from core.steady import FixedPointDetector, pressed_steady
+from core.steady import FixedPointDetector, pressed_steady, train_loses, train_steady
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -167,6 +167,8 @@ def steady_from_transitions(
     final_v: float,
     x_max_between=None,
     pressed: bool = False,
+    limit: ElasticLimit | None = None,
+    lossless: bool = False,
 ) -> Steady:
     """The steady state read off the most recent transitions (``docs/physics.md``).
 
@@ -211,15 +213,26 @@ def steady_from_transitions(
         if quiet is not None:
             return quiet
 
-    periodic = _periodic_tail(tail, scale, rtol, xmax, pressed)
+    if limit is not None:
+        train = train_steady(tail, limit)
+        if train is not None:
+            return train
+    periodic = _periodic_tail(tail, scale, rtol, xmax, pressed, limit)
     if periodic is not None:
         return periodic
     if pressed:
-        return pressed_steady(tail)
+        return pressed_steady(tail, lossless=lossless)
     falling = _falling_contacts(tail)
-    if falling is not None:
-        kind = SteadyKind.REST if falling == "rest" else SteadyKind.GRAZING
-        return Steady(kind, impact_speed=0.0, t_reached=math.nan)
+    if falling == "rest":
+        return Steady(SteadyKind.REST, impact_speed=0.0, t_reached=math.nan)
+    if falling == "grazing" and limit is None:
+        return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    if falling == "grazing":
+        # a deformable stop's contacts, not a regular train: they fall towards the elastic
+        # speed only while above it (slower ones are elastic, docs/contact-law.md)
+        speeds = [tr.v for tr in tail[-ASYMPTOTIC_MIN:] if tr.kind is TransitionKind.CONTACT]
+        if 0.0 < limit.w_inf < min(speeds, default=0.0):
+            return Steady(SteadyKind.GRAZING, impact_speed=limit.w_inf, t_reached=math.nan)
     return Steady(SteadyKind.NONE)
 
 
@@ -256,13 +269,18 @@ def _quiet_steady(
 
 
 def _periodic_tail(
-    tail: list[Transition], scale: float, rtol: float, xmax, pressed: bool
+    tail: list[Transition], scale: float, rtol: float, xmax, pressed: bool,
+    limit: ElasticLimit | None = None,
 ) -> Steady | None:
     """The periodic steady state (or its grazing limit) the transitions end on, or ``None``.
 
     Every transition goes through :class:`core.steady.FixedPointDetector`; the tail is
     periodic when each transition of its last ``STEADY_PERIODS`` periods of ``j``
     transitions repeats the state ``j`` transitions earlier (the smallest such ``j``).
+    Not a period: reversals alone (loops on the stop, which :func:`core.steady.
+    pressed_steady` labels from their swings: one reversal is half a loop, and loops
+    that die out come within a tolerance of each other), nor a train of contacts the law
+    makes lose energy (:func:`core.steady.train_loses`).
     """
     det = FixedPointDetector(scale, rtol=rtol, min_cycle_size=scale)
     for i, tr in enumerate(tail):
@@ -276,10 +294,14 @@ def _periodic_tail(
             break
     else:
         return None
+    last = tail[-j:]
+    if all(tr.kind is TransitionKind.REVERSAL for tr in last):
+        return None
+    if limit is not None and train_loses(last, limit):
+        return None
     k = n - 1 - STEADY_PERIODS * j
     while k - j >= 0 and j in det.repeats[k]:
         k -= 1
-    last = tail[-j:]
     speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
     if speeds and max(speeds) <= det.tol:
         # impacts of vanishing speed: the grazing limit, reached to the tolerance, or, on a
@@ -358,6 +380,8 @@ def result_from_dense(
     rtol: float = 1e-6,
     model_rtol: float = 0.0,
     pressed: bool = False,
+    limit: ElasticLimit | None = None,
+    lossless: bool = False,
     belt_speed: float = math.nan,
     x_max: float | None = None,
     x_upper: float | None = None,
@@ -416,6 +440,8 @@ def result_from_dense(
         error it does not grow with the horizon.
     pressed : bool
         The belt presses the mass on the stop (see :func:`steady_from_transitions`).
+    limit, lossless : optional
+        A deformable stop's law (see :func:`steady_from_transitions`).
     belt_speed : float
         ``v`` (for the belt's work).
     x_max : float, optional
@@ -527,7 +553,8 @@ def result_from_dense(
             steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
         else:
             steady_rtol = steady_tol / scale
-        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed)
+        steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed, limit,
+                            lossless)
 
     return Result(
         t=ts,
@@ -584,6 +611,8 @@ def result_from_track(
         rtol=rtol,
         model_rtol=model_rtol,
         pressed=facts.pressed,
+        limit=elastic_limit(osc.a, c, stop) if soft and osc.v > 0.0 else None,
+        lossless=soft and stop.law == "passive",
         belt_speed=osc.v,
         x_upper=c if facts.rigid else None,
         **result,
@@ -610,6 +639,8 @@ def _steady_of(
     rtol: float,
     t_stop: float,
     pressed: bool,
+    limit: ElasticLimit | None,
+    lossless: bool,
 ) -> Steady:
     """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
     n = len(t)
@@ -630,6 +661,8 @@ def _steady_of(
         final_v=float(v[-1]) if n else math.nan,
         x_max_between=x_max_between,
         pressed=pressed,
+        limit=limit,
+        lossless=lossless,
     )
 
 

@@ -49,8 +49,10 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from core.params import HystereticStop
@@ -804,3 +806,92 @@ def stored_energy_many(delta, phi, stop: HystereticStop, delta_r=None,
         total += np.where(q > p, np.where(on_c, env_c, raw), 0.0)
     out[inside] = total
     return out
+
+
+#: Relative accuracy of the elastic limit contact's duration (a quadrature of
+#: ``1 / sqrt(2 (E - V))``, whose difference ``E - V`` near the turning point keeps ~8 digits).
+QUAD_RTOL = 1e-8
+
+
+class ElasticLimit(NamedTuple):
+    """What the law makes of a contact loaded from rest along ``phi_C`` with the belt
+    pushing (kinetic friction ``+a`` throughout, approach speed below the belt's), as a
+    function of its approach speed ``w`` (docs/contact-law.md).
+
+    The unloading curve from a reversal at ``r`` is ``phi_E + (phi_C(r) - phi_E(r))
+    exp(-beta_e (r - delta) / D)``; with ``h = delta / (D - delta)`` it stays above
+    ``phi_C`` (and is clipped onto it) down to 0 iff ``ln h - beta_e delta / D`` rises on
+    ``(0, r]``, i.e. iff ``r (D - r) <= D^2 / beta_e``. So contacts peaking at
+    ``r <= r_inf`` are elastic, and those peaking in ``(r_inf, r_deep)`` lose energy at once
+    (the curve leaves ``phi_C`` downwards at the reversal), under both readings.
+
+    Attributes
+    ----------
+    w_inf : float
+        Approach speed of the contact peaking at ``r_inf``: slower contacts are elastic;
+        ``inf`` when every contact is (``beta_e <= 4``), ``0`` when none is (the spring and
+        friction alone carry the mass past ``r_inf``).
+    w_deep : float
+        Approach speed of the contact peaking at ``r_deep``: contacts between ``w_inf`` and
+        ``w_deep`` lose energy (``w_deep = w_inf`` when ``beta_e <= 4``).
+    r_inf : float
+        Peak overlap of the contact at ``w_inf`` (``nan`` when it is not defined).
+    force_peak : float
+        ``phi_C(r_inf)`` over ``k`` (a length), the peak force of that contact.
+    duration : float
+        How long that contact lasts (dimensionless time); ``nan`` when not defined.
+    a, clearance : float
+        The friction's pull and the stop's face it was found for.
+    """
+
+    w_inf: float
+    w_deep: float
+    r_inf: float
+    force_peak: float
+    duration: float
+    a: float
+    clearance: float
+
+
+def elastic_limit(a: float, clearance: float, stop: HystereticStop) -> ElasticLimit:
+    """The contacts a belt pushing with kinetic friction ``+a`` makes elastic
+    (:class:`ElasticLimit`): ``w^2 / 2`` is the work against ``phi_C``, the spring and
+    friction up to the peak overlap (paper Eq. 14).
+
+    Examples
+    --------
+    >>> lim = elastic_limit(0.2, 0.24, HystereticStop(0.24, 400.0, 36.0, 0.01, 300.0, 300.0))
+    >>> round(lim.w_inf, 6), lim.w_inf < lim.w_deep
+    (0.001768, True)
+    """
+    d_lim = stop.limit_overlap
+    disc = 1.0 - 4.0 / stop.beta_e
+    if disc <= 0.0:
+        return ElasticLimit(math.inf, math.inf, math.nan, math.nan, math.nan, a, clearance)
+
+    def potential(r: float) -> float:
+        return (branch_work(0.0, r, FIRST_LOADING, stop)
+                + 0.5 * ((clearance + r) ** 2 - clearance**2) - a * r)
+
+    root = math.sqrt(disc)
+    r_inf, r_deep = 0.5 * d_lim * (1.0 - root), 0.5 * d_lim * (1.0 + root)
+    e_inf, e_deep = potential(r_inf), potential(r_deep)
+    if e_inf <= 0.0:
+        return ElasticLimit(0.0, math.sqrt(2.0 * max(e_deep, 0.0)), math.nan, math.nan,
+                            math.nan, a, clearance)
+
+    def integrand(s: float) -> float:
+        # delta = r (1 - s^2) removes the turning point's 1/sqrt singularity; the potential's
+        # drop from r to delta is summed as differences (no cancellation near r)
+        step = r_inf * s * s
+        delta = r_inf - step
+        drop = (branch_work(delta, r_inf, FIRST_LOADING, stop)
+                + 0.5 * step * (2.0 * clearance + r_inf + delta) - a * step)
+        if drop <= 0.0:
+            return 0.0
+        return 2.0 * r_inf * s / math.sqrt(2.0 * drop)
+
+    half, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=QUAD_RTOL, limit=200)
+    force = float(phi_compression(r_inf, stop))
+    return ElasticLimit(math.sqrt(2.0 * e_inf), math.sqrt(2.0 * e_deep), r_inf, force,
+                        2.0 * half, a, clearance)

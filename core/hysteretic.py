@@ -70,7 +70,9 @@ from core.hysteresis import (
     EXP_CAP,
     FIRST_LOADING,
     Branch,
+    ElasticLimit,
     branch_work,
+    elastic_limit,
     force_and_slope,
     reverse,
 )
@@ -131,7 +133,7 @@ from core.hysteretic_samples import _assemble
 from core.params import HystereticStop
 from core.result import Mode, Result, Status, Steady, SteadyKind, TransitionKind
 from core.solve_inputs import SolveInputs, solve_entry
-from core.steady import FixedPointDetector, pressed_on_stop
+from core.steady import FixedPointDetector, pressed_on_stop, train_loses
 from core.trajectory import SegmentTable
 from core.transitions import TransitionLog
 
@@ -201,6 +203,7 @@ class _Solver:
         self.steady: Steady | None = None
         self.tail: tuple[float, float, float, tuple[float, float, float]] | None = None
         self.detector: FixedPointDetector | None = None
+        self._limit: ElasticLimit | None = None
         self.reduced_error = 0.0  # bound of the reduced models' error in the end state
         self.reduced_band = 0.0  # bound of their error in the position while they run
         self.train: list[tuple[float, float, float, int]] = []  # contacts: t, w, peak, n
@@ -741,11 +744,25 @@ class _Solver:
         if cycle is not None:
             self.periodic(cycle.t_then, cycle.tag_then, st)
 
+    def elastic_limit(self) -> ElasticLimit | None:
+        """What the law makes of a regular train's contacts
+        (:func:`core.hysteresis.elastic_limit`); ``None`` on a still belt."""
+        if self.vb <= 0.0:
+            return None
+        if self._limit is None:
+            self._limit = elastic_limit(self.a, self.xb, self.stop)
+        return self._limit
+
     def periodic(self, t_then: float, n_then: int, st: _State) -> None:
         period = st.t - t_then
         if period <= 0.0:
             return
         cycle = [tr for tr in self.log.recent if t_then < tr.t <= st.t]
+        limit = self.elastic_limit()
+        if limit is not None and train_loses(cycle, limit):
+            # contacts the law makes lose energy repeat only to the tolerance: their speeds
+            # fall at every contact (towards w_inf), never a fixed point
+            return
         impact = [tr.v for tr in cycle if tr.kind is TransitionKind.CONTACT]
         self.steady = Steady(
             SteadyKind.PERIODIC,

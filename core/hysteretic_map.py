@@ -43,7 +43,7 @@ import numpy as np
 from numpy.polynomial import chebyshev as cheb
 from numpy.polynomial import polynomial as poly
 
-from core.hysteresis import FIRST_LOADING, branch_work
+from core.hysteresis import FIRST_LOADING, elastic_limit
 from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
 from core.hysteretic_reduced import contact_at, record_last_restitution
 from core.result import TransitionKind
@@ -382,19 +382,11 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
 
 def elastic_speed(sv: _Solver) -> float:
     """Approach speed ``w_inf`` of the contact whose peak overlap ``r`` just stays elastic,
-    ``r (D - r) = D^2 / beta_e`` (docs/contact-law.md): the first loading follows the
-    compression envelope, so ``w_inf^2 / 2`` is the work against it, the spring and
-    friction up to ``r`` (paper Eq. 14). A train of the paper's law tends to it from above
-    and never passes it (slower contacts are elastic: ``P(w) = w``); ``nan`` when every
-    contact is elastic (``beta_e <= 4``)."""
-    stop, d_lim = sv.stop, sv.d_lim
-    disc = 1.0 - 4.0 / stop.beta_e
-    if disc <= 0.0:
-        return math.nan
-    r = 0.5 * d_lim * (1.0 - math.sqrt(disc))
-    energy = (branch_work(0.0, r, FIRST_LOADING, stop) + 0.5 * ((sv.xb + r) ** 2 - sv.xb ** 2)
-              - sv.a * r)
-    return math.sqrt(2.0 * energy) if energy > 0.0 else math.nan
+    ``r (D - r) = D^2 / beta_e`` (:func:`core.hysteresis.elastic_limit`). A train of the
+    paper's law tends to it from above and never passes it (slower contacts are elastic:
+    ``P(w) = w``); ``nan`` when every contact is elastic (``beta_e <= 4``) or none is."""
+    w_inf = elastic_limit(sv.a, sv.xb, sv.stop).w_inf
+    return w_inf if 0.0 < w_inf < math.inf else math.nan
 
 
 def map_train(sv: _Solver, st: _State, train: list) -> bool:

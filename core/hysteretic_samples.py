@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -28,10 +27,9 @@ from core.hysteretic_base import (
     _dpoly,
     _poly,
 )
-from core.hysteretic_map import elastic_speed
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
-from core.steady import pressed_steady
+from core.steady import pressed_steady, train_steady
 from core.trajectory import evaluate
 
 if TYPE_CHECKING:
@@ -433,7 +431,11 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
     """Steady state read off the last transitions when no fixed point was found."""
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
+    limit = sv.elastic_limit()
     if sv.pressed():
+        train = train_steady(list(sv.log.recent), limit) if limit is not None else None
+        if train is not None:
+            return train
         # The passive law's loops of reversals alone retrace their curve: no loss.
         return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive")
     endless = getattr(sv, "endless", None)
@@ -448,20 +450,15 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
                     t_reached=endless.t0,
                 )
         return Steady(SteadyKind.EQUILIBRIUM, x_max=endless.x0, t_reached=endless.t0)
-    tail = list(sv.log.recent)
-    steady = steady_from_transitions(
-        tail,
+    # A train of contacts is labelled by the law (core.steady.train_steady): slower than
+    # w_inf its contacts are elastic (periodic, whatever the integration's drift), faster
+    # they lose energy and the speeds fall towards w_inf (docs/contact-law.md).
+    return steady_from_transitions(
+        list(sv.log.recent),
         scale=sv.scale(),
         rtol=FIXED_POINT_RTOL,
         t_end=t_end,
         final_mode=int(mode[-1]) if len(mode) else 0,
         final_v=float(xd[-1]) if len(xd) else 0.0,
+        limit=limit,
     )
-    if steady.kind is SteadyKind.GRAZING:
-        # Both readings of Eq. 13 keep a contact whose peak overlap stays below about
-        # D / beta_e on phi_C, i.e. elastic: the impacts do not die out, their speed tends
-        # to w_inf from above (docs/contact-law.md).
-        w_inf = elastic_speed(sv)
-        if math.isfinite(w_inf) and w_inf > 0.0:
-            steady = replace(steady, impact_speed=w_inf)
-    return steady

@@ -90,7 +90,8 @@ class Steady:
     impact_speed : float
         Approach speed at the steady impact (0 for rest, nan if none). Grazing: 0 for a
         rigid stop; on a deformable stop whose law turns slow contacts elastic, the speed
-        the impacts tend to (the elastic limit, docs/contact-law.md).
+        the impacts tend to (the elastic limit, docs/contact-law.md), whose train of elastic
+        contacts also gives ``period`` and ``x_max``.
     t_reached : float
         Time from which the steady state holds (or the accumulation time); ``nan`` if the
         state is only approached asymptotically.
@@ -122,9 +123,12 @@ class Steady:
             )
         if self.kind is SteadyKind.GRAZING:
             if self.impact_speed > 0.0:
+                limit = (f", period {self.period * time_scale:.6g}{time_unit}"
+                         if math.isfinite(self.period) else "")
                 return (f"grazing approached: impact speeds fall towards "
                         f"{self.impact_speed * velocity_scale:.4g}{velocity_unit}, below which "
-                        "the stop's law is elastic (a slip circle that just reaches the stop)")
+                        "the stop's law is elastic (the limit: elastic contacts at that speed"
+                        f"{limit}, on a slip circle that just reaches the stop)")
             if math.isfinite(self.t_reached):  # on the touching circle (a plastic impact)
                 return (f"grazing: on the slip circle that touches the stop at zero speed, "
                         f"period {self.period * time_scale:.6g}{time_unit} (from t = "

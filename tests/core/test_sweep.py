@@ -360,3 +360,29 @@ def test_still_belt_accumulation_comes_to_rest_as_simulate_decides():
         ref = simulate(osc, RigidStop(float(c), 0.5), 200.0, -0.5, 0.6, transition_cap=100_000)
         _assert_lane(res, i, ref, 0.6)
     assert set(res.labels) == {"rest", "equilibrium"}
+
+
+def test_a_deformable_stops_grazing_limit_is_swept_at_the_elastic_speed():
+    """Fig. 10's stop: the bifurcation diagram plotted impact speed 0 at every grazing
+    point (the rigid stop's limit) while the label said "towards w_inf = 0.001768", and
+    steady x_max, period and force peak had no sample (x_max nan). The limit is the train of
+    elastic contacts at w_inf (core.hysteresis.elastic_limit): its speed, its peak, its
+    force and its period are sampled."""
+    from core.hysteresis import elastic_limit, phi_compression
+
+    stop = HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
+    clearances = [0.23, 0.24]
+    res = sweep(osc, stop, "clearance", clearances, t_end=80.0)
+    for i, c in enumerate(clearances):
+        lim = elastic_limit(osc.a, c, stop)
+        assert LABELS[res.label[i]] == "grazing"
+        assert res.impact_speed[i] == lim.w_inf
+        assert res.x_max[i] == c + lim.r_inf
+        assert res.period[i] == pytest.approx(
+            2.0 * math.pi - 2.0 * math.atan(lim.w_inf / (c - osc.a)) + lim.duration, rel=1e-12)
+    speeds, offsets = res.samples("impact_speed")
+    assert np.all(np.diff(offsets) == 1) and np.all(speeds > 0.0)
+    forces, _ = res.samples("force_peak")
+    assert forces[1] == pytest.approx(float(phi_compression(elastic_limit(
+        osc.a, 0.24, stop).r_inf, stop)), rel=1e-12)
