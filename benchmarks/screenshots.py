@@ -41,6 +41,19 @@ JS_CONTENT_HEIGHT = """() => {
 }"""
 
 
+#: JavaScript: true when no plot waits to be built (app.explorer's lazy plots).
+JS_NONE_WAITING = """() => {
+  function waiting(root) {
+    for (const el of root.querySelectorAll("*")) {
+      if (el.classList.contains("fie-plot-pending")) return true;
+      if (el.shadowRoot && waiting(el.shadowRoot)) return true;
+    }
+    return false;
+  }
+  return !waiting(document);
+}"""
+
+
 def serve(port: int) -> subprocess.Popen:
     """``panel serve`` of the explorer on loopback ``port``, once it answers."""
     proc = subprocess.Popen(
@@ -90,6 +103,8 @@ def shoot(url: str, out: Path, scenes: list[str]) -> list[Path]:
                 # whole page is drawn by a window as tall as their content.
                 tall = page.evaluate(JS_CONTENT_HEIGHT)
                 page.set_viewport_size({"width": width, "height": max(height, tall)})
+                # Every plot is in view now: those that waited (lazy plots) are built.
+                page.wait_for_function(JS_NONE_WAITING, timeout=TIMEOUT_S * 1000)
                 page.wait_for_timeout(SETTLE_MS)
                 page.screenshot(path=out / f"{name}_full.png")
                 page.set_viewport_size({"width": width, "height": height})

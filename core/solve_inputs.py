@@ -96,7 +96,7 @@ def check_solve_inputs(
         v0,
         check_integer("n_samples", n_samples, 2, MAX_SAMPLES),
         check_integer("transition_cap", transition_cap, 0, MAX_TRANSITION_CAP),
-        None if t_eval is None else check_times("t_eval", t_eval, t_end),
+        None if t_eval is None else check_times("t_eval", t_eval, t_end, empty=False),
     )
 
 

@@ -160,16 +160,16 @@ def check_integer(name: str, value: object, low: int, high: int) -> int:
     return value
 
 
-def check_times(name: str, times: object, t_end: float) -> np.ndarray:
+def check_times(name: str, times: object, t_end: float, *, empty: bool = True) -> np.ndarray:
     """Return ``times`` as a 1-D float array of finite, non-decreasing times in
-    ``[0, t_end]``."""
+    ``[0, t_end]`` (and at least one of them unless ``empty``)."""
     try:
         t = np.asarray(times, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]") from None
     if t.ndim != 1:
         raise ValueError(f"{name} must be a 1-D array of times in [0, t_end]; got {t.ndim}-D")
-    if t.size == 0:
+    if t.size == 0 and not empty:
         raise ValueError(f"{name} must hold at least one time in [0, t_end]; got none")
     outside = ~np.isfinite(t) | (t < 0.0) | (t > t_end)
     if np.any(outside):
