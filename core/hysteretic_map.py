@@ -13,7 +13,8 @@ Trains whose contacts turn elastic as they shrink (a peak overlap ``r`` with ``r
 power of ``w - w_inf``: they never repeat to a fixed point, and a fitted decay law does not
 hold their phase. Here the loss ``L`` and the duration ``d`` are solved for one contact
 each at the Chebyshev nodes of the range of ``w`` the train visits, at a tight tolerance
-(:data:`NODE_RTOL`), and the interpolants are iterated a block of contacts at a time
+(:data:`NODE_RTOL`; below ``s+``, in closed form and by quadrature,
+:mod:`core.hysteretic_node`), and the interpolants are iterated a block of contacts at a time
 (:func:`_block`): a fraction of a microsecond per contact instead of a contact integrated
 step by step (~1 ms).
 
@@ -45,6 +46,7 @@ from numpy.polynomial import polynomial as poly
 
 from core.hysteresis import FIRST_LOADING, elastic_limit
 from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
+from core.hysteretic_node import node_contact
 from core.hysteretic_reduced import contact_at, record_last_restitution
 from core.result import TransitionKind
 
@@ -123,9 +125,16 @@ def _horner(series, u):
     return y
 
 
-def solve_contact(sv: _Solver, w: float):
-    """One contact from the face at approach speed ``w`` with the law's state fresh, at
-    :data:`NODE_RTOL`: ``(separation speed, duration, peak x, largest |x''|, kinds)``."""
+def solve_contact(sv: _Solver, w: float, profile: bool = True):
+    """One contact from the face at approach speed ``w`` with the law's state fresh:
+    ``(separation speed, duration, peak x, largest |x''|, kinds, profile)``. In closed form
+    and by quadrature where it is one regular contact below ``s+``
+    (:func:`core.hysteretic_node.node_contact`), else integrated step by step at
+    :data:`NODE_RTOL`."""
+    closed = node_contact(sv, w, PROFILE_POINTS if profile else None)
+    if closed is not None:
+        w_out, dur, peak, accel, prof = closed
+        return w_out, dur, peak, accel, REGULAR, prof
     rtol = min(NODE_RTOL, sv.rtol)
     one = type(sv)(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
     one.use_reduced = False
@@ -193,7 +202,7 @@ def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
     half_u = 0.5 * (u[:-1] + u[1:])[CHECK_INTERVALS]
     for uc in half_u:
         w = 0.5 * (lo + hi) + 0.5 * (hi - lo) * float(uc)
-        w_out, d_c, _, _, kinds, _ = solve_contact(sv, w)
+        w_out, d_c, _, _, kinds, _ = solve_contact(sv, w, profile=False)
         if kinds != REGULAR:
             return None
         e_loss = max(e_loss, 2.0 * abs(poly.polyval(uc, loss_s) - (w - w_out)))
