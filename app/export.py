@@ -87,12 +87,28 @@ def _units(scales: Scales) -> dict[str, str]:
             "impulse": "m omega length"}
 
 
+#: The deformable stop's values.
+DEFORMABLE_VALUES = ("k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "contact_law",
+                     "program")
+#: State values a stop type does not use: the page keeps them for the other stop types.
+UNUSED_BY_STOP: Mapping[str, tuple[str, ...]] = {
+    "none": ("clearance", "restitution", *DEFORMABLE_VALUES),
+    "rigid": DEFORMABLE_VALUES,
+    "hysteretic": ("restitution",),
+}
+
+
 def _header(sol: Solution, what: str, scales: Scales) -> str:
-    params = ", ".join(f"{k}={v}" for k, v in sol.values.items())
+    unused = UNUSED_BY_STOP.get(sol.values.get("stop_type"), ())
+    used = {k: v for k, v in sol.values.items() if k not in unused}
+    params = ", ".join(f"{k}={v}" for k, v in used.items())
+    kept = ", ".join(f"{k}={sol.values[k]}" for k in unused if k in sol.values)
+    if kept:
+        params += f"; kept by the page, not used with this stop: {kept}"
     if scales.si:
         # The SI values the page showed, then the core's own (a permalink's) numbers.
         shown = ", ".join(f"{name}={value!r} {unit}" if unit else f"{name}={value}"
-                          for name, value, unit in si_values(sol.values, scales))
+                          for name, value, unit in si_values(used, scales))
         head = f"units: SI; {shown}; the core's dimensionless values: {params}"
     else:
         head = f"units: dimensionless (t = omega tau; lengths in the unit of u_s); {params}"

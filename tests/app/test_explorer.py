@@ -321,6 +321,21 @@ def test_csv_export(ex):
     assert ex.download.filename.startswith("fie_5a_trajectory_stop-rigid_v-0.1_xbar-0.32")
 
 
+def test_a_csv_header_keeps_apart_the_values_the_stop_does_not_use(ex):
+    """Scene 10's deformable stop has no Newton restitution: its CSV header listed
+    restitution=1.0 among the run's parameters (the rigid stop's slider value, kept by the
+    page). It now says which values this stop does not use; a rigid stop's file lists its
+    restitution and keeps the deformable stop's values apart."""
+    ex.scene_select.value = "10"
+    head = ex._csv().getvalue().splitlines()[0]
+    used, _, kept = head.partition("; kept by the page, not used with this stop: ")
+    assert "restitution" not in used and kept == "restitution=1.0"
+    assert "k_c0=400.0" in used and "beta_e=300.0" in used
+    ex.scene_select.value = "7c"
+    used, _, kept = ex._csv().getvalue().splitlines()[0].partition("; kept by the page")
+    assert "restitution=0.3" in used and "k_c0=" not in used and "k_c0=" in kept
+
+
 def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     """Scene 7c (r = 0.3): each impact's impulse is m (v_before - v_after) and Newton's law
     v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
