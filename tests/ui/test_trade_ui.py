@@ -1,5 +1,5 @@
 """'Measure the trade' in the browser: every method at every preset, timed now and compared
-with a reference, and the switch model's change of verdict at scene 10 shown as such."""
+with a reference; on scene 10 every method and preset finds the same steady state."""
 
 from __future__ import annotations
 
@@ -23,10 +23,11 @@ def test_measure_the_trade_for_the_run_on_screen(browser, server, shots):
             (m, a) for m in ("exact", "event", "switch") for a in ("draft", "standard",
                                                                   "precise")]
         assert all(c[2].endswith("ms") for c in cells)
-        # Scene 10 grazes the stop; the switch model at draft calls it periodic, and says so.
-        switch_draft = cells[6]
-        assert switch_draft[4] == "periodic" and "verdict differs" in switch_draft[5]
-        assert cells[2][4] == "grazing"  # the exact method at precise
+        # Scene 10's contacts fall towards the stop's elastic speed: every method at every
+        # preset says so (the switch model at draft called it periodic while the speeds
+        # still fell; the note a differing verdict gets is tested in tests/app).
+        assert [c[4] for c in cells] == ["grazing"] * 9
+        assert not any("verdict differs" in c[5] for c in cells if len(c) > 5)
         # (The deep text puts a space after each element: "switch : The paper's ...".)
         text = p.text(".fie-trade-pane").replace(" :", ":")
         assert "switch: The paper's switch model" in text
