@@ -45,9 +45,10 @@ TITLE = "Friction–Impact Explorer"
 #: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
 #: the integrity check of every new document (~25 ms of server CPU per page, and its only
 #: findings are the hidden, still empty plot panes) and the signature check of each of the
-#: ~430 callbacks Panel registers per page (~20 ms; an ``inspect.signature`` each). The
-#: environment decides where it sets them; ``tests/app/test_main.py`` runs both checks on a
-#: whole page, so a defect they would find still fails the tests.
+#: ~430 callbacks Panel registers per page (~20 ms, an ``inspect.signature`` each; Bokeh
+#: 3.9.2 and later: before, they always run). The environment decides where it sets them;
+#: ``tests/app/test_main.py`` runs both checks on a whole page, so a defect they would find
+#: still fails the tests.
 DEVELOPMENT_CHECKS = {"BOKEH_VALIDATE_DOC": "false", "BOKEH_PERFORM_ERROR_DIAGNOSTICS": "false"}
 
 
