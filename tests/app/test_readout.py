@@ -194,3 +194,10 @@ def test_a_contact_that_has_not_ended_gives_no_restitution():
     text = rows["Restitution"]
     assert text.startswith("0.2369 (one contact); contact 2 has not ended")
     assert "last of 2" not in text
+
+
+def test_an_inelastic_restitution_is_not_printed_as_one():
+    """``?scene=7c&r=0.999999`` printed "r = 1" in the x* row beside "inelastic impact"."""
+    rows = dict(readout_rows(solve(scene_values("7c") | {"restitution": 0.999999})))
+    assert "r = 0.999999" in rows["x*"]
+    assert "r = 1)" not in rows["x*"]
