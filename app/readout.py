@@ -208,6 +208,9 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     time_unit = " s" if scales.si else ""
     if sol.method == "exact" and (sol.stop is None or sol.values["stop_type"] == "rigid"):
         return "closed form, rounding only"
+    if sol.error_measured:
+        return (f"{_num(sol.error_estimate)} relative, measured against the closed form "
+                f"({sol.values['accuracy']})")
     text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):
