@@ -605,7 +605,8 @@ def result_from_track(
         t_eval=inputs.t_eval,
         transition_cap=log.cap,
         acc=track.acc,
-        contact_force=track.phi if soft else None,
+        # a rigid stop's reaction is recorded only at rest on it (zero elsewhere)
+        contact_force=track.phi,
         overlap=[xx - c for xx in track.x] if soft else None,
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,
