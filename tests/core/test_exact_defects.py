@@ -261,3 +261,18 @@ def test_a_plastic_impact_that_leaves_the_stop_still_grazes():
     assert res.transition_counts == {"impact": 1}
     assert res.steady.kind is SteadyKind.GRAZING and res.steady.t_reached == 0.0
 
+
+def test_a_range_in_an_error_holds_only_values_that_are_taken():
+    """t_end = -1 was told "must lie in (0, inf]", yet t_end = inf is refused as not
+    finite: an infinite end is printed closed only where it is accepted."""
+    from core.validation import check_range
+
+    with pytest.raises(ValueError, match=r"t_end must lie in \(0, inf\); got -1"):
+        simulate(START_OSC, None, t_end=-1.0)
+    with pytest.raises(ValueError, match="t_end must be a finite number"):
+        simulate(START_OSC, None, t_end=math.inf)
+    with pytest.raises(ValueError, match=r"must lie in \[0, inf\]; got -1"):
+        check_range("strength", -1.0, 0.0, allow_inf=True)
+    assert check_range("strength", math.inf, 0.0, allow_inf=True) == math.inf
+    with pytest.raises(ValueError, match=r"x must lie in \(-inf, 0\]; got 1"):
+        check_range("x", 1.0, high=0.0)
