@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from core.flight import FreeEvent, Motion, Segment, after_event, free_flight, start_motion
-from core.impact_sequence import ImpactSequence, impact_sequence
+from core.impact_sequence import ImpactSequence, impact_sequence, tail_impacts
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, solve_entry
@@ -224,6 +224,12 @@ def _periodic(
 def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> Steady:
     """Record the impacts of an endless sequence and say where it leads."""
     log.add_impacts(seq.t_impacts[1:], seq.clearance, seq.speeds[1:], seq.r)
+    t_counted = float(seq.t_impacts[-1])
+    if seq.truncated:
+        # the impacts past the explicit ones, up to the horizon or the speed floor: counted
+        h_end, t_h = tail_impacts(seq, np.array([t_end]))
+        log.count(TransitionKind.IMPACT, int(h_end[0]) - (len(seq.t_impacts) - 1))
+        t_counted = float(t_h[0])
     if seq.zeno:
         if seq.limit_follows and seq.t_accumulation <= t_end:
             for kind in (TransitionKind.ACCUMULATION, TransitionKind.REST):
@@ -236,7 +242,7 @@ def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> S
         # when it shrinks to the point at the stop): counted, not stored.
         d = seq.clearance - seq.a
         turn = 2.0 * math.pi if d > 0.0 else math.pi
-        log.count(TransitionKind.IMPACT, int((t_end - float(seq.t_impacts[-1])) // turn))
+        log.count(TransitionKind.IMPACT, int((t_end - t_counted) // turn))
     return Steady(SteadyKind.GRAZING, period=2.0 * math.pi, x_max=seq.clearance, impact_speed=0.0)
 
 
