@@ -68,8 +68,9 @@ def check_range(
     below = value <= low if low_open else value < low
     above = value >= high if high_open else value > high
     if below or above:
-        left = "(" if low_open else "["
-        right = ")" if high_open else "]"
+        # an infinite end is in the range only where allow_inf lets +inf through
+        left = "(" if low_open or low == -math.inf else "["
+        right = ")" if high_open or (high == math.inf and not allow_inf) else "]"
         raise ValueError(
             f"{name} must lie in {left}{_fmt(low)}, {_fmt(high)}{right}; got {_fmt(value)}"
         )
