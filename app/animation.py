@@ -111,6 +111,11 @@ STEPS = 200
 class Animation:
     """The mechanism figure, its Play/Pause toggle and speed slider.
 
+    A new page makes only what the first row of plots carries (the marker of the phase
+    portrait, the cursor of the time histories); the figure, its sources and its controls
+    are made with the mechanism's pane (:meth:`panel`), which a lazy page builds when the
+    browser reports it in view.
+
     Parameters
     ----------
     traj : ColumnDataSource
@@ -119,8 +124,21 @@ class Animation:
     """
 
     def __init__(self, traj: ColumnDataSource, shared: SharedModels | None = None) -> None:
-        shared = shared if shared is not None else SharedModels()
-        self.figure = fig = figure(
+        self._traj = traj
+        self._shared = shared if shared is not None else SharedModels()
+        #: Current state marker for the phase portrait (added by :meth:`attach_phase`).
+        self.marker = self._shared.source({"x": [0.0], "v": [0.0]}, syncable=False)
+        self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
+                           line_dash="dashed", syncable=False)
+        #: The mechanism's figure, once built (:meth:`panel`).
+        self.figure: Any = None
+
+    def _build(self) -> None:
+        """Make the figure, its sources and controls (once)."""
+        if self.figure is not None:
+            return
+        shared = self._shared
+        fig = figure(
             width=ANIM_SIZE[0], height=ANIM_SIZE[1], tools="save", toolbar_location="right",
             x_range=Range1d(-1, 1), y_range=Range1d(BELT_BOTTOM - 0.05, 1.0),
             title="Mechanism: belt, spring, mass, stop",
@@ -138,8 +156,6 @@ class Animation:
                             "top": [MASS_TOP], "color": [MODE_COLORS[0]]}, syncable=False)
         self.spring = source(_spring(-1.0, -0.1), syncable=False)
         self.belt = source({"x0": [], "x1": []}, syncable=False)
-        #: Current state marker for the phase portrait (added by :meth:`attach`).
-        self.marker = source({"x": [0.0], "v": [0.0]}, syncable=False)
         add_glyph(fig, "quad", left="left", right="right", bottom="bottom", top="top",
                   color="color", source=self.static)
         add_glyph(fig, "segment", x0="x0", x1="x1", y0=BELT_BOTTOM + 0.04, y1=BELT_TOP - 0.04,
@@ -155,8 +171,6 @@ class Animation:
                            syncable=False)
         fig.add_layout(self.clock)
         shared.lighten(fig)
-        self.cursor = Span(location=0.0, dimension="height", line_color="#555555",
-                           line_dash="dashed", syncable=False)
         self.play = pn.widgets.Toggle(label="Play / pause", color="primary", width=120)
         self.speed = pn.widgets.FloatSlider(label="speed", start=0.1, end=5.0, step=0.1,
                                             value=1.0, width=160)
@@ -168,15 +182,16 @@ class Animation:
         self.forward = pn.widgets.Button(label="step ▶", width=70,
                                          css_classes=["fie-anim-forward"])
         colors = [MODE_COLORS[m] for m in sorted(MODE_COLORS)]
-        args = {"traj": traj, "geom": self.geom, "mass": self.mass, "spring": self.spring,
-                "belt": self.belt, "marker": self.marker, "cursor": self.cursor,
-                "clock": self.clock, "speed": self.speed, "play": self.play,
-                "scrub": self.scrub, "colors": colors, "rate": float(TIME_PER_SECOND),
-                "steps": STEPS}
+        args = {"traj": self._traj, "geom": self.geom, "mass": self.mass,
+                "spring": self.spring, "belt": self.belt, "marker": self.marker,
+                "cursor": self.cursor, "clock": self.clock, "speed": self.speed,
+                "play": self.play, "scrub": self.scrub, "colors": colors,
+                "rate": float(TIME_PER_SECOND), "steps": STEPS}
         self.play.jscallback(value=_JS_PLAY, args=args)
         self.scrub.jscallback(value=_JS_SCRUB, args=args)
         self.back.jscallback(clicks=_JS_STEP, args={**args, "dir": -1})
         self.forward.jscallback(clicks=_JS_STEP, args={**args, "dir": 1})
+        self.figure = fig
 
     def attach_phase(self, phase_fig: Any) -> None:
         """Show the animated state in the phase portrait."""
@@ -189,7 +204,8 @@ class Animation:
             fig.add_layout(self.cursor)
 
     def panel(self) -> pn.Column:
-        """The figure with its controls."""
+        """The figure with its controls (made on the first call)."""
+        self._build()
         # The controls wrap on a narrow page (in one row the speed slider was cut at 800 px).
         return pn.Column(self.figure, pn.Row(self.play, self.back, self.forward, self.speed,
                                              styles={"flex-wrap": "wrap"}),
@@ -197,6 +213,7 @@ class Animation:
 
     def update(self, sol: Solution, scales: Scales) -> None:
         """Redraw the mechanism at the start of the new motion (call under ``pn.io.hold``)."""
+        self._build()
         res = sol.result
         x = np.asarray(res.x) if res is not None and len(res.x) else np.array([sol.x0])
         clearance = sol.stop.clearance if sol.stop is not None else None

@@ -160,6 +160,13 @@ SI_TWINS: Mapping[str, tuple[str, str, int]] = {
 }
 #: Sliders of a length: their label gains "(m)" in SI mode.
 LENGTH_SLIDERS = ("clearance", "limit_overlap", "x0")
+#: Sliders in groups that join the page when first shown (:class:`~app.widgets.ShownLater`):
+#: the deformable stop's, the SI set's and the SI twins of the start and horizon. A new
+#: page makes their widgets only then.
+HYSTERETIC_SLIDERS = ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")
+SI_BOX_SLIDERS = ("mass", "stiffness", "normal_force", "belt_speed_si")
+SI_START_SLIDERS = ("v0_si", "t_end_si")
+SHOWN_LATER = frozenset(HYSTERETIC_SLIDERS + SI_BOX_SLIDERS + SI_START_SLIDERS)
 #: Constraints kept by the widgets: the first may not exceed the second.
 CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
 #: Smallest mu_s the slider allows (a zero-width mu_k slider cannot be drawn).
@@ -317,7 +324,7 @@ class Explorer(pn.viewable.Viewer):
                 on_drag=lambda v, n=name: self._preview(n, v), on_commit=on_commit,
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
                 css_class=f"fie-w-{name}", name=name, tooltip=TOOLTIPS[name],
-                validate=lambda v, n=name: self._refusal(n, v),
+                validate=lambda v, n=name: self._refusal(n, v), lazy=name in SHOWN_LATER,
             )
         phys = st.physical()
         factors = si_units(st.mass, st.stiffness)
@@ -338,6 +345,7 @@ class Explorer(pn.viewable.Viewer):
                 on_release=self._release_arrived, width=WIDGET_WIDTH,
                 css_class=f"fie-w-{name}", name=label.split(" (")[0], tooltip=TOOLTIPS[name],
                 validate=lambda v, n=name, k=key: self._refusal_si(n, k, v),
+                lazy=name in SHOWN_LATER,
             )
         self.scene_select = pn.widgets.Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
@@ -378,15 +386,13 @@ class Explorer(pn.viewable.Viewer):
                               (self.show_all, "show_all"), (self.program, "program"),
                               (self.contact_law, "contact_law")):
             widget.param.watch(lambda e, n=pname: self._commit({n: e.new}), "value")
-        # Groups shown only in some states join the page when first shown.
-        self.hysteretic_box = ShownLater(self.contact_law, *(
-            self.sliders[n].layout
-            for n in ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")))
-        self.si_box = ShownLater(
-            *(self.sliders[n].layout
-              for n in ("mass", "stiffness", "normal_force", "belt_speed_si")))
+        # Groups shown only in some states join the page when first shown (their sliders'
+        # widgets are made then).
+        self.hysteretic_box = ShownLater(
+            self.contact_law, *(self.sliders[n] for n in HYSTERETIC_SLIDERS))
+        self.si_box = ShownLater(*(self.sliders[n] for n in SI_BOX_SLIDERS))
         #: The SI twins outside those groups, each in a column of its own.
-        self.si_start = {n: ShownLater(self.sliders[n].layout) for n in ("v0_si", "t_end_si")}
+        self.si_start = {n: ShownLater(self.sliders[n]) for n in SI_START_SLIDERS}
 
     def _build_plot_panes(self) -> dict[str, pn.viewable.Viewable]:
         """An empty, hidden pane per plot; :meth:`_show_plots` builds a plot into its pane
@@ -487,7 +493,8 @@ class Explorer(pn.viewable.Viewer):
 
     def sidebar(self) -> list[Any]:
         """The controls, top to bottom."""
-        w = {name: slider.layout for name, slider in self.sliders.items()}
+        w = {name: slider.layout for name, slider in self.sliders.items()
+             if name not in SHOWN_LATER}
         return [
             self.scene_select, self.reset,
             pn.pane.HTML("<b>Stop</b>", margin=(8, 10, 0, 10)), self.stop_type, self.program,
@@ -914,7 +921,7 @@ class Explorer(pn.viewable.Viewer):
                 w.set_bounds((low, high))
                 if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                     grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
-                    w.set(value, soft_end=max(w.slider.end, grow * value, step))
+                    w.set(value, soft_end=max(w.end, grow * value, step))
         for widget, value in ((self.stop_type, st.stop_type), (self.units, st.units),
                               (self.accuracy, st.accuracy), (self.method, st.method),
                               (self.show_all, st.show_all), (self.scene_select, st.scene),

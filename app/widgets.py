@@ -11,6 +11,7 @@ from __future__ import annotations
 import html
 import math
 from collections.abc import Callable
+from typing import Any
 
 import panel as pn
 import param
@@ -36,8 +37,8 @@ class ShownLater(pn.Column):
 
     Hidden widgets still cost a new session their Bokeh models (built and sent with the
     page): a rigid-stop scene in dimensionless units never shows the deformable stop's or
-    the SI sliders, 13 of the 22. Their Python objects exist from the start (the explorer
-    keeps every widget in step with the state); only their models wait.
+    the SI sliders, 13 of the 22. A :class:`TypedSlider` made with ``lazy=True`` and put
+    here waits too: its widgets are made when the column is first shown.
 
     Parameters
     ----------
@@ -55,7 +56,7 @@ class ShownLater(pn.Column):
     def show(self, visible: bool) -> None:
         """Show (adding the contents if still waiting) or hide the column."""
         if visible and self._later:
-            contents, self._later = self._later, []
+            contents, self._later = [pn.panel(obj) for obj in self._later], []
             set_changed(self, objects=contents, visible=True)
         else:
             set_changed(self, visible=visible)
@@ -123,6 +124,10 @@ class TypedSlider:
         the value), or None; by default the hard bounds are checked.
     tooltip : str
         What the symbol means; the allowed range is added.
+    lazy : bool
+        Make the widgets when first needed (:attr:`layout`, :attr:`input`,
+        :attr:`slider`, a message), for a slider that a new page does not show
+        (:class:`ShownLater`); until then the slider keeps its values itself.
     """
 
     def __init__(self, label: str, value: float, step: float, soft: tuple[float, float],
@@ -130,11 +135,12 @@ class TypedSlider:
                  on_commit: Callable[[float], None], width: int, css_class: str,
                  on_release: Callable[[], None] | None = None, name: str = "",
                  validate: Callable[[float], str | None] | None = None,
-                 tooltip: str = "") -> None:
+                 tooltip: str = "", lazy: bool = False) -> None:
         self.step = step
         self.bounds = bounds
         self.name = name or label
         self._on_drag, self._on_commit = on_drag, on_commit
+        self._on_release = on_release
         self._validate = validate
         self._tooltip = tooltip
         self._quiet = False
@@ -143,29 +149,79 @@ class TypedSlider:
         start, end = min(soft[0], value), max(soft[1], value)
         if end <= start:
             end = start + step
-        self.input = pn.widgets.TextInput(
-            label=label, value=format_number(value), width=width, margin=(2, 10, 0, 10),
-            css_classes=["fie-input"], stylesheets=[INPUT_CSS],
-            description=self._describe(),
+        self._width = width
+        self._css_class = css_class
+        #: The message below the box (:attr:`message`), made when first needed.
+        self._message: pn.pane.HTML | None = None
+        #: The widgets' values until they are made (a lazy slider), else None.
+        self._pending: dict[str, _Values] | None = {
+            "input": _Values(label=label, value=format_number(value), description=self._describe(),
+                             css_classes=["fie-input"]),
+            "slider": _Values(label=label, value=value, start=start, end=end,
+                              step=key_step(start, end, step), value_throttled=value),
+            "layout": _Values(visible=True),
+        }
+        if not lazy:
+            self._build()
+
+    def _build(self) -> None:
+        """Make the widgets from the values kept so far (once)."""
+        pending, self._pending = self._pending, None
+        if pending is None:
+            return
+        into, slid, laid = pending["input"], pending["slider"], pending["layout"]
+        width = self._width
+        self._input = pn.widgets.TextInput(
+            label=into.label, value=into.value, width=width, margin=(2, 10, 0, 10),
+            css_classes=into.css_classes, stylesheets=[INPUT_CSS],
+            description=into.description,
         )
         # The slider's title is its handle's accessible name (static/a11y.js), not shown:
         # the box above it carries the visible label.
-        self.slider = _Slider(
-            label=label, value=value, start=start, end=end, step=key_step(start, end, step),
-            show_value=False, width=width - 20, margin=(0, 10, 4, 10),
+        self._slider = _Slider(
+            label=slid.label, value=slid.value, start=slid.start, end=slid.end,
+            step=slid.step, show_value=False, width=width - 20, margin=(0, 10, 4, 10),
             css_classes=["fie-slider"], stylesheets=[SLIDER_CSS],
         )
-        self.slider.on_release = on_release
-        self.slider.param.watch(self._moved, ["value", "value_throttled"])
-        self.input.param.watch(self._typed, "value")
-        self._width = width
-        #: The message below the box (:attr:`message`), made when first needed.
-        self._message: pn.pane.HTML | None = None
+        if slid.value_throttled != self._slider.value_throttled:
+            self._slider.expect_release_from(slid.value_throttled)
+        self._slider.on_release = self._on_release
+        self._slider.param.watch(self._moved, ["value", "value_throttled"])
+        self._input.param.watch(self._typed, "value")
         # The message joins the layout when first needed (a model less per slider shown).
-        self.layout = pn.Column(
-            self.input, self.slider, width=width, margin=(2, 0),
-            css_classes=["fie-typed", css_class],
+        self._layout = pn.Column(
+            self._input, self._slider, width=width, margin=(2, 0),
+            css_classes=["fie-typed", self._css_class], visible=laid.visible,
         )
+
+    @property
+    def built(self) -> bool:
+        """Whether the widgets are made."""
+        return self._pending is None
+
+    @property
+    def layout(self) -> pn.Column:
+        """The box, the slider and the message, in one column (made on first use)."""
+        self._build()
+        return self._layout
+
+    @property
+    def input(self) -> pn.widgets.TextInput:
+        """The number box (made on first use)."""
+        self._build()
+        return self._input
+
+    @property
+    def slider(self) -> pn.widgets.FloatSlider:
+        """The slider (made on first use)."""
+        self._build()
+        return self._slider
+
+    def _part(self, name: str) -> Any:
+        """The widget ``name`` (input, slider, layout), or its kept values if not made."""
+        if self._pending is not None:
+            return self._pending[name]
+        return getattr(self, f"_{name}")
 
     # --- state ---------------------------------------------------------------------------
 
@@ -174,6 +230,7 @@ class TypedSlider:
         """The message below the box, hidden until :meth:`note` shows one; made on first
         use (a pane per slider was ~1 ms of every new page, and most never say anything)."""
         if self._message is None:
+            self._build()
             self._message = pn.pane.HTML(
                 "", visible=False, width=self._width - 20, margin=(0, 10, 2, 10),
                 css_classes=["fie-input-message"], stylesheets=[MESSAGE_CSS])
@@ -187,23 +244,28 @@ class TypedSlider:
     @property
     def value(self) -> float:
         """The number shown (the slider's value)."""
-        return self.slider.value
+        return self._part("slider").value
+
+    @property
+    def end(self) -> float:
+        """The upper end of the slider's range."""
+        return self._part("slider").end
 
     @property
     def label(self) -> str:
-        return self.input.label
+        return self._part("input").label
 
     @property
     def visible(self) -> bool:
-        return self.layout.visible
+        return self._part("layout").visible
 
     @visible.setter
     def visible(self, show: bool) -> None:
-        set_changed(self.layout, visible=show)
+        set_changed(self._part("layout"), visible=show)
 
     def set_label(self, label: str) -> None:
-        set_changed(self.input, label=label)
-        set_changed(self.slider, label=label)
+        set_changed(self._part("input"), label=label)
+        set_changed(self._part("slider"), label=label)
 
     def _describe(self) -> str:
         low, high = self.bounds
@@ -217,26 +279,27 @@ class TypedSlider:
         A refused entry stays in its box (red) while the value it would have replaced is
         unchanged; a new value replaces it.
         """
-        start, end = self.slider.start, self.slider.end
+        slider, box = self._part("slider"), self._part("input")
+        start, end = slider.start, slider.end
         if soft_end is not None:
             end = soft_end
         start, end = min(start, value), max(end, value)
         if end <= start:
             start = min(start, value - self.step)
-        shown = self.invalid or self.input.value == format_number(value)
-        if ((start, end, value) == (self.slider.start, self.slider.end, self.slider.value)
-                and shown and value == self.slider.value_throttled
+        shown = self.invalid or box.value == format_number(value)
+        if ((start, end, value) == (slider.start, slider.end, slider.value)
+                and shown and value == slider.value_throttled
                 and hard_end in (None, self.bounds[1])):
             return  # nothing to change (this runs for several sliders on every release)
         self._quiet = True
         try:
             if hard_end is not None and hard_end != self.bounds[1]:
                 self.bounds = (self.bounds[0], hard_end)
-                self.input.description = self._describe()
+                box.description = self._describe()
             step = key_step(start, end, self.step)
-            self.slider.param.update(start=start, end=end, value=value, step=step)
-            self.slider.expect_release_from(value)
-            if value != self.slider.value_throttled or not self.invalid:
+            slider.param.update(start=start, end=end, value=value, step=step)
+            slider.expect_release_from(value)
+            if value != slider.value_throttled or not self.invalid:
                 self._show(value)
         finally:
             self._quiet = False
@@ -246,11 +309,11 @@ class TypedSlider:
         box's tooltip."""
         if bounds != self.bounds:
             self.bounds = bounds
-            set_changed(self.input, description=self._describe())
+            set_changed(self._part("input"), description=self._describe())
 
     def _show(self, value: float) -> None:
         self.invalid = False
-        set_changed(self.input, value=format_number(value), css_classes=["fie-input"])
+        set_changed(self._part("input"), value=format_number(value), css_classes=["fie-input"])
         self.note("")
 
     def note(self, text: str, error: bool = False) -> None:
@@ -274,7 +337,7 @@ class TypedSlider:
         """Forget a refused entry and any note: the box shows the slider's value."""
         self._quiet = True
         try:
-            self._show(self.slider.value)
+            self._show(self.value)
         finally:
             self._quiet = False
 
@@ -330,6 +393,24 @@ class TypedSlider:
 
     def __panel__(self) -> pn.Column:
         return self.layout
+
+
+class _Values:
+    """The parameter values of a widget not made yet, read and set as the widget's
+    (``obj.name``, ``obj.param.update(...)``, :meth:`_Slider.expect_release_from`)."""
+
+    def __init__(self, **values: Any) -> None:
+        self.__dict__.update(values)
+
+    @property
+    def param(self) -> _Values:
+        return self
+
+    def update(self, **values: Any) -> None:
+        self.__dict__.update(values)
+
+    def expect_release_from(self, value: float) -> None:
+        self.value_throttled = value
 
 
 #: Arrow-key presses that cross a slider's range (PageUp/PageDown move five steps).

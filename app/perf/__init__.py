@@ -69,7 +69,9 @@ PATCHES = {
               "a document update is one message of three frames (patch_doc.create)"),
         Patch("immutable-defaults", "bokeh", "3.9", "3.10",
               "an unset property's immutable, unthemed default is computed once per model "
-              "class, not on every read"),
+              "class, not on every read; a container default is copied from the class's; "
+              "whether a default is per instance is asked once per class; a model without "
+              "a theme says so without an exception"),
         Patch("slider-release", "panel", "1.9", "1.10",
               "a slider's release is processed at once, not after the drag's debounce"),
     )

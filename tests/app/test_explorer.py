@@ -14,7 +14,7 @@ import pytest
 from bokeh.events import Tap
 
 import app.solver as solver_module
-from app.explorer import Explorer
+from app.explorer import SHOWN_LATER, Explorer
 from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
@@ -208,11 +208,21 @@ def test_hidden_slider_groups_join_the_page_when_first_shown(ex):
     assert ex.state.stop_type == "rigid" and ex.state.units != "SI"
     waiting = (ex.hysteretic_box, ex.si_box, *ex.si_start.values())
     assert not any(box.built or box.objects for box in waiting)
+    # Nor are their sliders' widgets made (Python objects a new page does not need).
+    assert not any(ex.sliders[n].built for n in SHOWN_LATER)
+    assert all(ex.sliders[n].built for n in set(ex.sliders) - SHOWN_LATER)
+    ex.state.param.update(k_c0=250.0, k_e0=30.0)
+    assert not ex.sliders["k_c0"].built and ex.sliders["k_e0"].value == 30.0
     ex.stop_type.value = "hysteretic"
     assert ex.hysteretic_box.built and ex.hysteretic_box.visible
     assert ex.sliders["k_c0"].layout in ex.hysteretic_box.objects
-    # Kept in step while it waited: the widget shows the state's value when it joins.
-    assert ex.sliders["k_c0"].value == ex.state.k_c0
+    # Kept in step while it waited: the widgets show the state's values when they join.
+    k_c0, k_e0 = ex.sliders["k_c0"], ex.sliders["k_e0"]
+    assert k_c0.value == ex.state.k_c0 == 250.0
+    assert (k_c0.slider.value, k_c0.input.value) == (250.0, "250")
+    assert k_e0.slider.value == 30.0 and k_e0.bounds[1] == 250.0  # k_e0 <= k_c0
+    assert "to 250." in k_e0.input.description
+    assert not ex.sliders["mass"].built
     ex.units.value = "SI"
     assert all(box.built and box.visible for box in (ex.si_box, *ex.si_start.values()))
     ex.units.value = "dimensionless"

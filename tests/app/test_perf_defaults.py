@@ -1,15 +1,19 @@
 """The patch that keeps Bokeh's immutable property defaults per class
-(app.perf.defaults): every read answers what Bokeh itself computes, and no instance shares a
-mutable default with another."""
+(app.perf.defaults): every read answers what Bokeh itself computes, no instance shares a
+mutable default with another, and the page's JSON is the same with and without it."""
 
 from __future__ import annotations
 
 import importlib
+import json
+import re
 
 import pytest
+from bokeh.core.has_props import HasProps
 from bokeh.core.property.descriptors import PropertyDescriptor
 from bokeh.document import Document
-from bokeh.models import ColumnDataSource, Line
+from bokeh.models import Column, ColumnDataSource, Div, Line
+from bokeh.themes import Theme
 from panel.io.state import set_curdoc
 
 import app.perf as perf
@@ -20,22 +24,55 @@ from app.perf import defaults
 def patched(monkeypatch):
     """The patch applied for one test, Bokeh's own descriptor restored after it."""
     monkeypatch.setenv(perf.SWITCH, "on")
-    monkeypatch.setattr(PropertyDescriptor, "_get_default", PropertyDescriptor._get_default)
-    monkeypatch.setattr(defaults, "_DEFAULTS", {})
+    _restore_bokeh(monkeypatch)
+    for kept in ("_DEFAULTS", "_CONTAINERS", "_UNSTABLE"):
+        monkeypatch.setattr(defaults, kept, {})
     defaults.cache_immutable_defaults()
     assert PropertyDescriptor._get_default is defaults._get_default
+    assert PropertyDescriptor.has_unstable_default is defaults._has_unstable_default
+    assert HasProps.themed_values is defaults._themed_values
     yield
 
 
-def _page_models():
+#: What the patch replaces: (class, name, the patch's function, where it keeps Bokeh's).
+REPLACED = ((PropertyDescriptor, "_get_default", "_get_default", "_bokeh_get_default"),
+            (PropertyDescriptor, "has_unstable_default", "_has_unstable_default",
+             "_bokeh_has_unstable_default"),
+            (HasProps, "themed_values", "_themed_values", "_bokeh_themed_values"))
+
+
+def _restore_bokeh(monkeypatch):
+    """Bokeh's own functions for the test (also where an earlier page applied the patch),
+    whatever was there back after it."""
+    for cls, name, ours, kept in REPLACED:
+        current = getattr(cls, name)
+        monkeypatch.setattr(cls, name, getattr(defaults, kept)
+                            if current is getattr(defaults, ours) else current)
+
+
+def _page() -> Document:
     main = importlib.import_module("app.main")
     doc = Document()
     with set_curdoc(doc):
         template = main.create_app()
         main.serve(template, doc)
         template.explorer.in_view.value = "anim,force,map"  # the scene's other plots too
+    return doc
+
+
+def _page_models():
+    doc = _page()
     doc.to_json()
     return list(doc.models)
+
+
+def _page_json() -> str:
+    """The page's JSON with what differs between two builds of it made equal: model ids,
+    the counters and object addresses in names, the solve's measured time."""
+    text = json.dumps(_page().to_json(), default=repr, sort_keys=True)
+    text = re.sub(r"(?<=['\":])p\d+", "p", text)
+    text = re.sub(r"(?<=[A-Za-z])\d{5}\b|0x[0-9a-f]+|\d{9,}", "N", text)
+    return re.sub(r"\d+\.\d+ ms", "T ms", text)
 
 
 def test_every_unset_property_of_a_page_reads_as_bokeh_computes_it(patched):
@@ -70,9 +107,64 @@ def test_mutable_defaults_stay_per_instance(patched):
     assert t.data == {}
 
 
+def test_container_defaults_are_fresh_copies_that_notify(patched):
+    """A container default made from the class's kept one is the instance's own, of
+    Bokeh's type, and a change to it in place is a change of the model (its owner)."""
+    Column(), Column()  # the first computes and keeps it, the others copy it
+    assert any(key[0].name == "children" for key in defaults._CONTAINERS)
+    c, d = Column(), Column()
+    assert c.children == d.children == [] and c.children is not d.children
+    assert type(c.children) is type(d.children) and (c, c.lookup("children")) in {
+        (o, desc) for o, desc in c.children._owners}
+    changes = []
+    c.on_change("children", lambda attr, old, new: changes.append(new))
+    c.children.append(Div())
+    assert len(changes) == 1 and d.children == []
+
+
+def test_unstable_default_answers_as_bokeh(patched):
+    """Whether a default is kept per instance, asked of every property of a page's models,
+    is Bokeh's own answer."""
+    models = _page_models()
+    for model in models:
+        for name in model.properties():
+            descriptor = model.lookup(name)
+            assert descriptor.has_unstable_default(model) == \
+                defaults._bokeh_has_unstable_default(descriptor, model), name
+
+
+def test_a_theme_still_applies(patched):
+    """A theme's value is read where it applies, and the default again once it is gone."""
+    div = Div()
+    assert div.themed_values() is None and div.width is None
+    theme = Theme(json={"attrs": {"Div": {"width": 123}}})
+    doc = Document()
+    doc.add_root(div)
+    doc.theme = theme
+    assert div.themed_values() == {"width": 123} and div.width == 123
+    doc.theme = Theme(json={})
+    assert div.themed_values() is None and div.width is None
+
+
+def test_the_page_is_the_same_with_and_without_it(monkeypatch):
+    """The default page with every plot, serialized: the same JSON whether Bokeh or the
+    patch answers the defaults."""
+    monkeypatch.setenv(perf.SWITCH, "off")
+    _restore_bokeh(monkeypatch)
+    _page()  # imports and caches, then a page as the server builds the next one
+    without = _page_json()
+    monkeypatch.setenv(perf.SWITCH, "on")
+    defaults.cache_immutable_defaults()
+    assert PropertyDescriptor._get_default is defaults._get_default
+    _page()
+    assert _page_json() == without
+
+
 def test_switched_off_it_leaves_bokeh_alone(monkeypatch):
     monkeypatch.setenv(perf.SWITCH, "off")
-    monkeypatch.setattr(PropertyDescriptor, "_get_default", PropertyDescriptor._get_default)
-    own = PropertyDescriptor._get_default
+    _restore_bokeh(monkeypatch)
+    own = (PropertyDescriptor._get_default, PropertyDescriptor.has_unstable_default,
+           HasProps.themed_values)
     defaults.cache_immutable_defaults()
-    assert PropertyDescriptor._get_default is own
+    assert (PropertyDescriptor._get_default, PropertyDescriptor.has_unstable_default,
+            HasProps.themed_values) == own

@@ -55,6 +55,7 @@ def test_a_new_page_builds_its_first_plots_and_the_others_when_the_browser_sees_
     waiting = [n for n in visible if "fie-plot-pending" in ex.plot_panes[n].css_classes]
     assert sorted(waiting) == ["anim", "force", "map"]
     assert set(ex.plots.figures) == {"phase", "time_x", "time_v"}
+    assert ex.anim.figure is None  # nor the mechanism's figure, sources and controls
     assert all(ex.plot_panes[n].min_height and not ex.plot_panes[n].objects for n in waiting)
     assert FIRST_PLOTS <= set(visible)
     phase = ex.plots.sources["path_slip"].data
@@ -71,4 +72,7 @@ def test_a_new_page_builds_its_first_plots_and_the_others_when_the_browser_sees_
     with set_curdoc(doc):
         ex.in_view.value = "anim,map"
     assert "map" in ex.plots.figures and ex.plot_panes["anim"].objects
+    # The mechanism, built now, is drawn at the start of the motion on screen.
+    assert ex.anim.figure is not None and ex.anim.mass.data["left"][0] != -0.1
+    assert len(ex.anim.belt.data["x0"]) > 0
     assert count_models() < len(doc.models)  # built on demand, not with the page
