@@ -176,10 +176,12 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
         band = k_d * r / gap + k_d * d_lim / gap * _log_mean_m1(-span / gap)
         return span * (band - c0 * _exp_mean(-lam * span))
 
-    # from a peak above s+, less the part above the first break, where the curve is
-    # above phi_C (clipped to it)
-    loss = area(r - breaks[-1]) - (area(r - breaks[0]) if len(breaks) == 2 else 0.0)
-    out2 = w * w - 2.0 * loss if breaks else w * w
+    # none: an elastic contact; two (from a peak above s+): less the part above the
+    # first, where the curve is above phi_C (clipped to it)
+    loss = 0.0
+    if breaks:
+        loss = area(r - breaks[-1]) - (area(r - breaks[0]) if len(breaks) == 2 else 0.0)
+    out2 = w * w - 2.0 * loss
     if not out2 > 0.0:
         return v
     out = -math.sqrt(out2)
