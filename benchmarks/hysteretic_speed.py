@@ -90,8 +90,9 @@ def reference_rest_time(ref, amplitude: float) -> float:
     reference's reversals: the first reversal whose last four (itself included, all in one
     contact) lie within ``amplitude``, the candidate's rest amplitude. The loops die like
     ``1/k`` and never stop: a time of rest is the time a rule says so, and the reference's
-    own rest is declared at its own, far smaller amplitude. (Before, the first of those four reversals was taken:
-    1.5 cycles before the candidate's rule can say rest, 9e-3 to 0.12 of time.)"""
+    own rest is declared at its own, far smaller amplitude. (Before, the first of those four
+    reversals was taken: 1.5 cycles before the candidate's rule can say rest, 9e-3 to 0.12
+    of time.)"""
     rev, contact, n = [], [], 0  # reversals and the contact each is in
     for tr in ref.transitions:
         n += tr.kind is TransitionKind.CONTACT
