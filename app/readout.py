@@ -32,6 +32,19 @@ def _num(x: float, unit: str = "") -> str:
     return f"{x:.{DIGITS}g}{unit}"
 
 
+def _ratio(r: float) -> str:
+    """A restitution with the digits that tell it from 0 and 1: 0.999999 is an inelastic
+    impact, and "1" beside "inelastic impact" said otherwise.
+
+    >>> _ratio(0.999999), _ratio(0.3), _ratio(1.0), _ratio(1e-9)
+    ('0.999999', '0.3', '1', '1e-09')
+    """
+    text = _num(r)
+    if r is not None and math.isfinite(r) and float(text) in (0.0, 1.0) and r != float(text):
+        text = f"{r:.12g}"
+    return text
+
+
 def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[str, str]]:
     """The readout as ``(label, text)`` rows.
 
@@ -83,7 +96,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
         rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
         if sol.stop is not None and th.restitution < 1.0 and not th.fast:
             rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
-                               f"r = {_num(th.restitution)})"))
+                               f"r = {_ratio(th.restitution)})"))
     if res is not None:
         rows.append(("x_max simulated", _num(res.x_max, len_unit)))
         rows.append(("Steady state found",
@@ -105,16 +118,16 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                                            "the natural path, Sec. 4.5)"))
         measured = sol.restitution_measured
         if len(measured):
-            r_eq = _num(th.restitution) if th is not None else "—"
+            r_eq = _ratio(th.restitution) if th is not None else "—"
             first, last = restitution_first_last(sol)
             total = contact_count(res, len(measured))
             # A run that ends on the stop has a last contact without a rebound yet: the
             # restitutions are those of the contacts that ended.
             on_stop = len(res.mode) > 0 and int(res.mode[-1]) == int(Mode.CONTACT)
             ended = total - 1 if on_stop else total
-            spread = (f"{_num(first)} at the first contact, {_num(last)} at the "
+            spread = (f"{_ratio(first)} at the first contact, {_ratio(last)} at the "
                       f"last of {ended}" if ended > 1
-                      else f"{_num(first)} (one contact)")
+                      else f"{_ratio(first)} (one contact)")
             if on_stop:
                 spread += (f"{' that ended' if ended > 1 else ''}; contact {total} has not "
                            "ended (the mass stays on the stop)")
@@ -198,6 +211,9 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     time_unit = " s" if scales.si else ""
     if sol.method == "exact" and (sol.stop is None or sol.values["stop_type"] == "rigid"):
         return "closed form, rounding only"
+    if sol.error_measured:
+        return (f"{_num(sol.error_estimate)} relative, measured against the closed form "
+                f"({sol.values['accuracy']})")
     text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):

@@ -403,11 +403,19 @@ def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
     if not periodic:
         return t, x, v, mode
     t0, period = cycle
-    cyc = t >= t0
-    # One copy of the cycle without its closing end (it is the next copy's start).
+    # The cycle: its pieces' samples from t0 on. A transition at t0 ends a piece that is
+    # not part of the cycle: its state before (an impact's approach speed) happens once,
+    # not every period (a plastic impact onto a grazing circle drew a spike each turn).
+    cyc = (t > t0) | ((t == t0) & (bt[p] >= t0))
+    # One copy of the cycle without its closing end (it is the next copy's start), which
+    # is the left limit at each repeat of t0: the tiles open with it.
     ct, cx, cv, cm = t[cyc], x[cyc], v[cyc], mode[cyc]
     keep = ct < t0 + period * (1.0 - 1e-12)
+    closing = (ct[-1:] - t0, cx[-1:], cv[-1:], cm[-1:])
     ct, cx, cv, cm = ct[keep] - t0, cx[keep], cv[keep], cm[keep]
+    if (~cyc & (t == t0)).any():
+        ct, cx, cv, cm = (np.r_[0.0, ct], np.r_[closing[1], cx], np.r_[closing[2], cv],
+                          np.r_[closing[3], cm])
     if column_width >= period and len(ct) > 2:
         run = np.flatnonzero(cm[1:] != cm[:-1])
         key = np.unique(np.r_[0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),

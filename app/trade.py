@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from app.solver import ACCURACY, preset_options
+from app.solver import ACCURACY, position_error, preset_options
 from app.state import ACCURACIES, core_inputs
 from core import method_options, simulate
 
@@ -83,7 +83,6 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
              if k in method_options("exact", stop)}
     ref = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method="exact", **tight)
     x_ref = _at(ref, t_eval)
-    scale = max(float(np.max(np.abs(x_ref - x_ref.mean()))), 1e-300)
     rows: list[TradeRow] = []
     for method in methods:
         for accuracy in ACCURACIES:
@@ -110,7 +109,7 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
                 rows.append(TradeRow(method, accuracy, math.nan, math.nan, "—",
                                      f"failed: {exc}"))
                 continue
-            error = float(np.max(np.abs(_at(res, t_eval) - x_ref))) / scale
+            error = position_error(_at(res, t_eval), x_ref)
             verdict = res.steady.kind.value
             note = (f"verdict differs from the reference ({ref.steady.kind.value})"
                     if verdict != ref.steady.kind.value else "")

@@ -53,7 +53,13 @@ from core.result import (
     TransitionKind,
 )
 from core.solve_inputs import SolveInputs, StopFacts
-from core.steady import FixedPointDetector, pressed_steady, train_loses, train_steady
+from core.steady import (
+    FixedPointDetector,
+    impacts_lose,
+    pressed_steady,
+    train_loses,
+    train_steady,
+)
 from core.theory import accumulation_time
 from core.transitions import IMPACT_KINDS, TransitionLog
 
@@ -280,7 +286,8 @@ def _periodic_tail(
     Not a period: reversals alone (loops on the stop, which :func:`core.steady.
     pressed_steady` labels from their swings: one reversal is half a loop, and loops
     that die out come within a tolerance of each other), nor a train of contacts the law
-    makes lose energy (:func:`core.steady.train_loses`).
+    makes lose energy (:func:`core.steady.train_loses`), nor inelastic rigid impacts with
+    nothing but slip on one circle between them (:func:`core.steady.impacts_lose`).
     """
     det = FixedPointDetector(scale, rtol=rtol, min_cycle_size=scale)
     for i, tr in enumerate(tail):
@@ -309,6 +316,8 @@ def _periodic_tail(
         if pressed:
             return Steady(SteadyKind.REST, x_max=last[-1].x, impact_speed=0.0, t_reached=math.nan)
         return Steady(SteadyKind.GRAZING, impact_speed=0.0, t_reached=math.nan)
+    if impacts_lose(last):
+        return None
     return Steady(
         SteadyKind.PERIODIC,
         period=period,
@@ -605,7 +614,8 @@ def result_from_track(
         t_eval=inputs.t_eval,
         transition_cap=log.cap,
         acc=track.acc,
-        contact_force=track.phi if soft else None,
+        # a rigid stop's reaction is recorded only at rest on it (zero elsewhere)
+        contact_force=track.phi,
         overlap=[xx - c for xx in track.x] if soft else None,
         stop_stored=(lambda d, p: stored_energy(d, p, stop)) if soft else None,
         rtol=rtol,

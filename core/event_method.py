@@ -63,6 +63,7 @@ from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
 from core.params import HystereticStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
+from core.steady import rest_force
 from core.validation import check_integer, check_range
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
@@ -194,8 +195,11 @@ class EventSolver:
         t_rest = log_rest_at_stop(self.log, self.t, w, self.r, self.osc.a, self.c, self.t_end)
         self.contact = True
         t_hold = min(max(t_rest, self.t), self.t_end)
+        # the stop's reaction joins the spring in x'' + x + phi = friction, so that the belt's
+        # work at rest is that of kinetic friction, a (docs/physics.md, Rest at the stop)
+        force = rest_force(self.osc, self.c)
         for tt in (self.t, t_hold, self.t_end):
-            self.point(tt, self.c, 0.0, 0.0, 0)
+            self.track.add(tt, self.c, 0.0, 0.0, Mode.CONTACT, force)
         self.dense.add(self.t, self.t_end, line_piece(self.t, self.c, 0.0))
         self.at_rest = True
 

@@ -11,7 +11,11 @@ impact speeds are ``w_h = r^h w`` for ever. With ``d = x_bar - a``:
 * ``d >= 0`` (**grazing**): each arc lasts ``2 pi - 2 atan2(w_h, d)``; impacts go on for all
   time and the motion tends to the slip circle about ``(a, 0)`` that touches the stop.
 
-The whole sequence is evaluated with numpy, so a million impacts cost milliseconds.
+The whole sequence is evaluated with numpy, so a million impacts cost milliseconds. Past
+:data:`MAX_ARCS` explicit impacts (``r`` within ~3e-5 of 1) the impact at or before a time is
+found by bisection on its index, with the time left to the accumulation summed in closed
+form (:func:`core.theory.accumulation.accumulation_times`): the motion is exact up to the
+speed floor, never the limit drawn early.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ import numpy as np
 
 from core.result import Mode
 from core.theory import accumulation_time
+from core.theory.accumulation import accumulation_times
 
 #: Impact speeds below this fraction of the problem's length scale are indistinguishable
 #: from the limit (the state differs from it by less than this): the explicit sequence ends.
@@ -36,7 +41,9 @@ class ImpactSequence:
     """The impact sequence that starts with an impact at ``t_start`` of approach speed ``w``.
 
     ``t_impacts[k]`` is the time of impact ``k`` (``t_impacts[0] = t_start``) and
-    ``speeds[k] = r^k w`` its approach speed, for the explicitly evaluated impacts.
+    ``speeds[k] = r^k w`` its approach speed, for the explicitly evaluated impacts;
+    ``n_floor`` impacts are faster than the speed floor (more than the explicit ones when
+    :data:`MAX_ARCS` cut them short).
     """
 
     t_start: float
@@ -48,6 +55,13 @@ class ImpactSequence:
     speeds: np.ndarray
     t_accumulation: float  # inf when grazing
     limit_follows: bool  # True when the limit follows the last explicit impact before t_end
+    n_floor: int = 1
+
+    @property
+    def truncated(self) -> bool:
+        """True when impacts above the speed floor follow the explicit ones before the
+        horizon (:data:`MAX_ARCS` reached): :func:`tail_impacts` places them."""
+        return self.limit_follows and len(self.t_impacts) < self.n_floor
 
     @property
     def zeno(self) -> bool:
@@ -85,8 +99,61 @@ def impact_sequence(
     if d < 0.0:
         t_acc = float(t_impacts[-1]) + accumulation_time(float(speeds[-1]) * r, r, -d)
     return ImpactSequence(
-        t_start, w, r, clearance, a, t_impacts[:cut], speeds[:cut], t_acc, limit_follows
+        t_start, w, r, clearance, a, t_impacts[:cut], speeds[:cut], t_acc, limit_follows,
+        n_floor,
     )
+
+
+def tail_impacts(seq: ImpactSequence, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index ``h`` and time of the last impact at or before each ``t``, for times after the
+    explicit impacts of a truncated sequence; ``h`` stops at the last impact above the
+    speed floor, ``n_floor - 1``.
+
+    Impact ``h`` (approach speed ``w r^h``) comes at ``T(h)``: for an accumulation
+    ``t_acc - R(h)`` with ``R(h) = sum_{j>h} 2 atan(w r^j / |d|)`` the time still to go
+    (:func:`core.theory.accumulation.accumulation_times`); when grazing, each arc lasts
+    ``2 pi - 2 atan(w r^j / d)``, so ``T(h) = T(last) + 2 pi (h - last) - (R(last) - R(h))``
+    (``pi`` an arc for ``d = 0``). ``T`` increases with ``h``: bisection on the integer.
+    """
+    t = np.asarray(t, dtype=float)
+    r, w, d = seq.r, seq.w, seq.clearance - seq.a
+    last = len(seq.t_impacts) - 1
+    t_last = float(seq.t_impacts[-1])
+    log_r = math.log(r)
+
+    def remaining(h: np.ndarray) -> np.ndarray:
+        return accumulation_times(w * np.exp((h + 1.0) * log_r), r, abs(d))
+
+    if d < 0.0:
+        def time_of(h):
+            return seq.t_accumulation - remaining(h)
+    elif d > 0.0:
+        r_last = float(remaining(np.array([float(last)]))[0])
+
+        def time_of(h):
+            return t_last + 2.0 * math.pi * (h - last) - (r_last - remaining(h))
+    else:
+        def time_of(h):
+            return t_last + math.pi * (h - last)
+
+    top = float(seq.n_floor - 1)
+    lo = np.full(t.shape, float(last))
+    hi = np.full(t.shape, top)
+    if d >= 0.0:  # every arc lasts at least pi
+        hi = np.minimum(hi, last + np.floor((t - t_last) / math.pi) + 1.0)
+    hi_ok = time_of(hi) <= t
+    while True:
+        open_ = ~hi_ok & (hi - lo > 1.0)
+        if not np.any(open_):
+            break
+        mid = np.floor(0.5 * (lo + hi))
+        ok = np.zeros(t.shape, bool)
+        ok[open_] = time_of(mid[open_]) <= t[open_]
+        lo = np.where(open_ & ok, mid, lo)
+        hi = np.where(open_ & ~ok, mid, hi)
+    h = np.where(hi_ok, hi, lo)
+    t_h = np.where(h == last, t_last, time_of(h))
+    return h, np.minimum(t_h, t)
 
 
 def evaluate_sequence(
@@ -110,7 +177,21 @@ def evaluate_sequence(
     k -= at_impact
     tau = t - seq.t_impacts[k]
     rebound = seq.speeds[k] * r
+    n_impacts = k + 1.0
     beyond = (k == last) & seq.limit_follows
+    if seq.truncated:
+        # past MAX_ARCS: the impacts above the speed floor, placed in closed form
+        late = beyond & (t > seq.t_impacts[last])
+        if seq.zeno:
+            late &= t < seq.t_accumulation
+        if np.any(late):
+            h, t_h = tail_impacts(seq, t[late])
+            tau[late] = t[late] - t_h
+            rebound[late] = w_late = seq.w * np.exp((h + 1.0) * math.log(r))
+            n_impacts[late] = h + 1.0
+            beyond[late] = h >= seq.n_floor - 1
+            if seq.zeno:  # an arc from the stop and back lasts 2 atan(w / |d|)
+                tau[late] = np.minimum(tau[late], 2.0 * np.arctan2(w_late, a - xb))
     if seq.zeno:
         rebound = np.where(beyond, 0.0, rebound)
         tau = np.where(beyond, 0.0, tau)
@@ -121,9 +202,12 @@ def evaluate_sequence(
     if np.any(at_impact):  # the state Newton's law acts on, exactly
         x[at_impact] = xb
         v[at_impact] = seq.speeds[k[at_impact] + 1]
-    n_impacts = k + 1.0
+    at_rest = seq.zeno & (t >= seq.t_accumulation)
+    # at rest every impact has taken its share: the whole kinetic energy w^2/2 (a sum
+    # stopped at the explicit impacts leaves out (r^n w)^2/2, 7e-4 of 1.25e-3 at r = 1 - 1e-6)
+    n_impacts = np.where(at_rest, np.inf, n_impacts)
     loss = 0.5 * seq.w**2 * -np.expm1(2.0 * n_impacts * math.log(r))
-    mode = np.where(seq.zeno & (t >= seq.t_accumulation), Mode.CONTACT, Mode.SLIP)
+    mode = np.where(at_rest, Mode.CONTACT, Mode.SLIP)
     return {
         "x": x,
         "v": v,

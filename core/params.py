@@ -10,7 +10,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from core.validation import MAX_MAGNITUDE, check_range, check_size
+from core.validation import (
+    MAX_BETA,
+    MAX_MAGNITUDE,
+    MAX_STOP_STIFFNESS,
+    check_range,
+    check_size,
+)
 
 #: Standard gravity, only used by helpers that speak of weight (m/s^2).
 GRAVITY = 9.80665
@@ -143,11 +149,12 @@ class HystereticStop:
         Position of the stop face (a length).
     k_c0, k_e0 : float
         Initial stiffness of the compression and expansion envelopes, relative to the
-        spring stiffness ``k`` (``k_c0`` means ``k_c0/k``); ``0 < k_e0 <= k_c0``.
+        spring stiffness ``k`` (``k_c0`` means ``k_c0/k``); ``0 < k_e0 <= k_c0 <= 1e12``.
     limit_overlap : float
         ``D = |U_c| > 0``: the envelopes' asymptote (a length).
     beta_c, beta_e : float
-        Rates of approach to the compression / expansion envelope, ``0 < beta_c <= beta_e``.
+        Rates of approach to the compression / expansion envelope,
+        ``0 < beta_c <= beta_e <= 1e6``.
     strength : float
         Compressive strength ``phi_u`` over ``k`` (a length); ``inf`` for none.
     law : str
@@ -171,7 +178,7 @@ class HystereticStop:
                 f"law must be one of {', '.join(map(repr, CONTACT_LAWS))}; got {self.law!r}"
             )
         object.__setattr__(self, "clearance", check_size("clearance", self.clearance))
-        k_c0 = check_range("k_c0", self.k_c0, 0.0, low_open=True)
+        k_c0 = check_range("k_c0", self.k_c0, 0.0, MAX_STOP_STIFFNESS, low_open=True)
         object.__setattr__(self, "k_c0", k_c0)
         object.__setattr__(
             self, "k_e0", check_range("k_e0", self.k_e0, 0.0, k_c0, low_open=True)
@@ -181,9 +188,9 @@ class HystereticStop:
             "limit_overlap",
             check_size("limit_overlap", self.limit_overlap, 0.0, low_open=True),
         )
-        beta_c = check_range("beta_c", self.beta_c, 0.0, low_open=True)
+        beta_c = check_range("beta_c", self.beta_c, 0.0, MAX_BETA, low_open=True)
         object.__setattr__(self, "beta_c", beta_c)
-        object.__setattr__(self, "beta_e", check_range("beta_e", self.beta_e, beta_c))
+        object.__setattr__(self, "beta_e", check_range("beta_e", self.beta_e, beta_c, MAX_BETA))
         object.__setattr__(
             self,
             "strength",

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from core.flight import FreeEvent, Motion, Segment, after_event, free_flight, start_motion
-from core.impact_sequence import ImpactSequence, impact_sequence
+from core.impact_sequence import ImpactSequence, impact_sequence, tail_impacts
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, solve_entry
@@ -92,6 +92,8 @@ class _Run:
         self.sequence: ImpactSequence | None = None
         self.steady = Steady(SteadyKind.NONE)
         self.t, self.x, self.xd = 0.0, x0, v0
+        #: Time of the latest impact the mass left the stop at (nan: none yet).
+        self.t_rebound = math.nan
         self.motion = start_motion(osc, x0, v0)
         at_stop = stop is not None and x0 >= self.xb
         self.pending_impact = at_stop and v0 > 0.0
@@ -125,7 +127,7 @@ class _Run:
         if ev is None or ev.t >= self.t_end:
             self.table.add(seg, self.t_end, self.osc.v)
             if ev is None:
-                self.steady = _endless(seg, self.t, self.xb)
+                self.steady = _endless(seg, self.t, self.xb, rebound=self.t == self.t_rebound)
             return True
         self.table.add(seg, ev.t, self.osc.v)
         self.t, self.x, self.xd = ev.t, ev.x, ev.v
@@ -161,6 +163,7 @@ class _Run:
             self.log.add(TransitionKind.REST, t, xb, 0.0, 0.0)
             self.motion = Motion(Mode.CONTACT)
         else:
+            self.t_rebound = t
             self.motion = start_motion(osc, self.x, after)
             if 0.0 < r < 1.0 and osc.v > 0.0 and self._returns_to_stop():
                 self.sequence = impact_sequence(t, w, r, xb, osc.a, self.t_end, self.scale)
@@ -221,6 +224,12 @@ def _periodic(
 def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> Steady:
     """Record the impacts of an endless sequence and say where it leads."""
     log.add_impacts(seq.t_impacts[1:], seq.clearance, seq.speeds[1:], seq.r)
+    t_counted = float(seq.t_impacts[-1])
+    if seq.truncated:
+        # the impacts past the explicit ones, up to the horizon or the speed floor: counted
+        h_end, t_h = tail_impacts(seq, np.array([t_end]))
+        log.count(TransitionKind.IMPACT, int(h_end[0]) - (len(seq.t_impacts) - 1))
+        t_counted = float(t_h[0])
     if seq.zeno:
         if seq.limit_follows and seq.t_accumulation <= t_end:
             for kind in (TransitionKind.ACCUMULATION, TransitionKind.REST):
@@ -233,25 +242,26 @@ def _sequence_steady(seq: ImpactSequence, log: TransitionLog, t_end: float) -> S
         # when it shrinks to the point at the stop): counted, not stored.
         d = seq.clearance - seq.a
         turn = 2.0 * math.pi if d > 0.0 else math.pi
-        log.count(TransitionKind.IMPACT, int((t_end - float(seq.t_impacts[-1])) // turn))
+        log.count(TransitionKind.IMPACT, int((t_end - t_counted) // turn))
     return Steady(SteadyKind.GRAZING, period=2.0 * math.pi, x_max=seq.clearance, impact_speed=0.0)
 
 
-def _endless(seg: Segment, t: float, x_bar: float = math.inf) -> Steady:
+def _endless(
+    seg: Segment, t: float, x_bar: float = math.inf, rebound: bool = False
+) -> Steady:
     """Steady state of a motion that no event ends: a slip circle, or the equilibrium.
-    A circle that leaves the stop (at zero speed: after a plastic impact with
-    ``x_bar > a``, paper Secs. 4.3-4.4) grazes it; one that only touches it from an
-    impactless start is the impactless circle (continuous in ``x_bar`` at ``x_bar =
-    x_max``)."""
+    A circle that leaves the stop at an impact (``rebound``: at zero speed, after a plastic
+    impact with ``x_bar > a``, paper Secs. 4.3-4.4) grazes it; one that only touches it
+    from an impactless start, even a start at rest on the stop, is the impactless circle
+    (continuous in ``x_bar`` and ``x0`` at ``x_bar = x_max``, docs/physics.md)."""
     if seg.mode is Mode.SLIP and (seg.x0 != seg.centre or seg.v0 != 0.0):
         radius = math.hypot(seg.x0 - seg.centre, seg.v0)
         x_max = seg.centre + radius
-        grazing = seg.x0 >= x_bar
         return Steady(
-            SteadyKind.GRAZING if grazing else SteadyKind.PURE_SLIP,
+            SteadyKind.GRAZING if rebound else SteadyKind.PURE_SLIP,
             period=2.0 * math.pi,
             x_max=min(x_max, x_bar),
-            impact_speed=0.0 if grazing else math.nan,
+            impact_speed=0.0 if rebound else math.nan,
             t_reached=seg.t0,
         )
     return Steady(SteadyKind.EQUILIBRIUM, x_max=seg.x0, t_reached=t)

@@ -200,6 +200,29 @@ def train_loses(cycle: list[Transition], limit: ElasticLimit) -> bool:
             and all(limit.w_inf < w < limit.w_deep for w in speeds))
 
 
+def impacts_lose(cycle: list[Transition]) -> bool:
+    """True when a cycle of transitions is rigid impacts alone, some of them inelastic: no
+    fixed point, however small its loss is against a tolerance.
+
+    Between such impacts the mass slips on circles about one centre ``(s a, 0)`` (a stick or
+    a change of slip direction is a transition of its own), where friction is the constant
+    ``s a`` and its work ``s a dx``. Over a closed cycle ``x`` returns, so friction does no
+    net work, while each impact with ``|x'(+)| < x'(-)`` takes
+    ``(x'(-)^2 - x'(+)^2) / 2``: the mechanical energy falls every cycle and the approach
+    speeds fall as ``r^h`` (docs/physics.md, Zeno and grazing sums). Only a stick or slip on
+    the other circle can feed the energy back, so only a cycle containing one can repeat.
+
+    Examples
+    --------
+    >>> hit = Transition(TransitionKind.IMPACT, 1.0, 0.1, 0.05, -0.0499)
+    >>> impacts_lose([hit]), impacts_lose([hit._replace(v_after=-0.05)])
+    (True, False)
+    """
+    return bool(cycle) and all(
+        tr.kind is TransitionKind.IMPACT for tr in cycle
+    ) and any(-tr.v_after < tr.v for tr in cycle)
+
+
 def train_steady(tail: list[Transition], limit: ElasticLimit) -> Steady | None:
     """Steady state of a regular train of contacts (:func:`train_contacts`) read off the
     contact law (:class:`core.hysteresis.ElasticLimit`), whatever a tolerance says:

@@ -73,6 +73,7 @@ from core.numerics.rk import STAGES_PER_STEP, StepControl, rkf45_step
 from core.params import HystereticStop, Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
+from core.steady import rest_force
 from core.validation import check_range
 
 #: First trial step (dimensionless time); the controller grows it within a few steps.
@@ -258,7 +259,12 @@ class SwitchSolver:
     def record(self) -> None:
         """Store the current state as a dense point (mode of the interval that follows)."""
         mode = Mode.CONTACT if self.contact else (Mode.STICK if self.fr == 0 else Mode.SLIP)
-        phi = self.phi_at(self.x) if self.soft else 0.0
+        if self.soft:
+            phi = self.phi_at(self.x)
+        else:
+            # at rest the rigid stop's reaction joins the spring in x'' + x + phi = friction,
+            # so that the belt's work there is that of kinetic friction (docs/physics.md)
+            phi = rest_force(self.osc, self.c) if self.at_rest else 0.0
         tr = self.track
         tr.t.append(self.t)
         tr.x.append(self.x)

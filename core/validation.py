@@ -17,6 +17,15 @@ import numpy as np
 #: radii) stay finite below it; a start at ``x0 = 1e300`` ran to ``x_max = inf`` reported as
 #: a success.
 MAX_MAGNITUDE = 1e100
+#: Largest stiffness ratio ``k_c0 = k_c0/k`` (and ``k_e0``) of a deformable stop the core
+#: takes. Every method finishes on stops up to it (tests/core/test_hysteretic.py); at
+#: ``k_c0 = 1e300`` the switch model overflowed and the others failed without a word about
+#: the stiffness. The page's own bound is lower.
+MAX_STOP_STIFFNESS = 1e12
+#: Largest rate ``beta_c``, ``beta_e`` of approach to an envelope the core takes. At
+#: ``beta = 1e300`` the event method ran for minutes on one contact; past ``beta ~ 1e3`` a
+#: contact's loops are already on their envelope (docs/contact-law.md).
+MAX_BETA = 1e6
 
 
 def check_size(name: str, value: float, low: float = -MAX_MAGNITUDE, **kw) -> float:
@@ -59,8 +68,9 @@ def check_range(
     below = value <= low if low_open else value < low
     above = value >= high if high_open else value > high
     if below or above:
-        left = "(" if low_open else "["
-        right = ")" if high_open else "]"
+        # an infinite end is in the range only where allow_inf lets +inf through
+        left = "(" if low_open or low == -math.inf else "["
+        right = ")" if high_open or (high == math.inf and not allow_inf) else "]"
         raise ValueError(
             f"{name} must lie in {left}{_fmt(low)}, {_fmt(high)}{right}; got {_fmt(value)}"
         )

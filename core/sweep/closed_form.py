@@ -173,6 +173,7 @@ class _Block:
         self.pending_kind = np.zeros(n, np.int8)
         self.push_impact = np.zeros(n, bool)  # an impact state waits for its history entry
         self.check_sequence = np.zeros(n, bool)
+        self.rebound = np.zeros(n, bool)  # the latest event was an impact the mass left
         self.seg_xmax = np.full(n, -np.inf)
         self.impact_w = np.zeros(n)
         self.h_kind = np.full((n, HISTORY), -1, np.int8)
@@ -263,6 +264,7 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
         blk.pending_kind[go] = np.where(blk.mode[go] == STICK, STICK_IMPACT, IMPACT)
         blk.push_impact[go] = True
         blk.xd[go] = -blk.r[go] * blk.xd[go]
+        blk.rebound[go] = True
         blk.mode[go], blk.s[go] = start_motion(blk.x[go], blk.xd[go], blk.v[go], blk.b[go])
         blk.check_sequence[go] = (blk.r[go] > 0.0) & (blk.r[go] < 1.0) & (blk.v[go] > 0.0)
         blk.pending[p] = False
@@ -315,8 +317,9 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
     if np.any(endless):
         c = blk.s * blk.a
         moving = (blk.mode == SLIP) & ((blk.x != c) | (blk.xd != 0.0))
-        # A circle that leaves the stop (at zero speed) grazes it (core.rigid._endless).
-        grazes = endless & moving & (blk.x >= blk.xb)
+        # A circle that leaves the stop at an impact (at zero speed) grazes it; one that
+        # starts on it without an impact is the impactless circle (core.rigid._endless).
+        grazes = endless & moving & blk.rebound
         slip_on = endless & moving & ~grazes
         out.finish(blk.id[slip_on], SteadyKind.PURE_SLIP, period=TWO_PI,
                    x_max=seg_xmax[slip_on])
@@ -341,6 +344,7 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
         idx = np.flatnonzero(friction)
         k = kind[idx]
         blk.mode[idx] = np.where(k == SLIP_STICK, STICK, SLIP)
+        blk.rebound[idx] = False
         blk.s[idx] = np.where(
             k == STICK_SLIP, 1, np.where(k == SIGN_CHANGE, -blk.s[idx], blk.s[idx])
         )

@@ -159,3 +159,43 @@ def _atan_geometric_series(y: float, log_r: float, n_terms: int | None) -> float
             break
         power *= y2
     return total
+
+
+def accumulation_times(w0: np.ndarray, r: float, d: float) -> np.ndarray:
+    """:func:`accumulation_time` at each of the rebound speeds ``w0`` (same ``r``, ``d``).
+
+    Speeds with ``w0 / d <= 1/2`` (the tail of a long sequence) are summed together, by the
+    series of :func:`accumulation_time`'s last band over arrays; the others one by one.
+
+    Examples
+    --------
+    >>> w = np.array([0.01, 0.3])
+    >>> bool(np.allclose(accumulation_times(w, 0.9, 0.1),
+    ...                  [accumulation_time(x, 0.9, 0.1) for x in w], rtol=1e-14))
+    True
+    """
+    w0 = np.asarray(w0, dtype=float)
+    out = np.empty(w0.shape)
+    y = w0 / d
+    small = (y <= SERIES_Y_LOW) & (0.0 < r < 1.0)
+    if np.any(small):
+        out[small] = 2.0 * _atan_geometric_arrays(y[small], math.log(r))
+    for i in np.flatnonzero(~small):
+        out.flat[i] = accumulation_time(float(w0.flat[i]), r, d)
+    return out
+
+
+def _atan_geometric_arrays(y: np.ndarray, log_r: float) -> np.ndarray:
+    """``sum_{j>=0} atan(y r^j)`` for ``0 <= y <= 1/2``, elementwise
+    (:func:`_atan_geometric_series` over arrays)."""
+    total = np.zeros(y.shape)
+    y2 = y * y
+    power = y.copy()
+    for k in range(SERIES_MAX_TERMS):
+        m = 2 * k + 1
+        term = power / (m * -math.expm1(m * log_r))
+        total += -term if k % 2 else term
+        if np.all(term <= SERIES_RTOL * np.abs(total)):
+            break
+        power *= y2
+    return total

@@ -17,7 +17,15 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from core import HystereticStop, Oscillator, RigidStop, SteadyKind, TransitionKind, simulate
+from core import (
+    HystereticStop,
+    Oscillator,
+    RigidStop,
+    Status,
+    SteadyKind,
+    TransitionKind,
+    simulate,
+)
 from core.theory import classify
 from tests.core.ivp_reference import Reference
 
@@ -424,6 +432,12 @@ def test_grazing_long_horizon_counts_every_impact():
          r"eta must lie in \(0, 0.01\] \(a tenth of the belt speed"),
         (lambda: simulate(SLOW, RigidStop(0.25, 0.7), method="event", rtol=0.5),
          r"rtol must lie in \(0, 0.01\]"),
+        # Taken before: k_c0 = 1e300 overflowed in the switch model (OverflowError);
+        # beta = 1e300 kept the event method on one contact for minutes.
+        (lambda: HystereticStop(0.3, k_c0=1e300, k_e0=1e299), r"k_c0 must lie in \(0, 1e\+12\]"),
+        (lambda: HystereticStop(0.3, beta_c=1e300, beta_e=1e300),
+         r"beta_c must lie in \(0, 1e\+06\]"),
+        (lambda: HystereticStop(0.3, beta_c=5.0, beta_e=1e7), r"beta_e must lie in \[5, 1e\+06\]"),
     ],
 )
 def test_bad_input_names_the_parameter(make, name):
@@ -442,6 +456,22 @@ def test_the_largest_lengths_taken_give_finite_answers():
         energy = [np.asarray(getattr(res.energy, f), dtype=float)
                   for f in res.energy.__dataclass_fields__]
         assert all(np.isfinite(e).all() for e in energy)
+
+
+@pytest.mark.parametrize("method", ["exact", "event", "switch"])
+def test_the_stiffest_stop_taken_gives_an_answer(method):
+    """At the bounds :data:`core.validation.MAX_STOP_STIFFNESS` and ``MAX_BETA`` every method
+    finishes with a result whose contacts stay within the stop's tiny overlap."""
+    from core.validation import MAX_BETA, MAX_STOP_STIFFNESS
+
+    stop = HystereticStop(0.3, k_c0=MAX_STOP_STIFFNESS, k_e0=0.5 * MAX_STOP_STIFFNESS,
+                          limit_overlap=1.0, beta_c=MAX_BETA, beta_e=MAX_BETA)
+    res = simulate(FAST, stop, t_end=10.0, method=method)
+    assert res.status is Status.SUCCESS, res.status
+    assert np.isfinite(res.x).all()
+    # The overlap at a contact is about v / sqrt(k_c0) ~ 1e-6 here; 1e-4 is far above it
+    # and far below the slip amplitude.
+    assert res.x.max() < stop.clearance + 1e-4
 
 
 def test_core_imports_no_ui_library():

@@ -208,3 +208,71 @@ def test_work_limits_reach_the_numerical_methods(method):
     assert res.t[-1] < 50.0
     with pytest.raises(TypeError, match="max_steps"):
         simulate(SLOW, RigidStop(0.25, 0.7), t_end=50.0, max_steps=10)
+
+
+#: A start at rest on a stop the belt does not press on (x_bar = 0.25 > a = 0.2): the slip
+#: circle about (a, 0) through it only touches the stop.
+START_OSC = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1)
+
+
+@pytest.mark.parametrize("r", [0.0, 0.7, 1.0])
+def test_a_start_at_rest_on_the_stop_is_the_impactless_circle(r):
+    """x0 = x_bar, v0 = 0 was "grazing" with no impact at all, while x0 = x_bar - 1e-7 and
+    the event method gave pure slip. Grazing is a limit of impacts; a circle that only
+    touches the stop from an impactless start is the impactless one (docs/physics.md).
+    Reference: the start 1e-7 inside (the label must not jump), the event method, the
+    circle's closed form (x_max = x0, period 2 pi), and the sweep's vectorised lanes."""
+    from core.sweep import sweep
+
+    stop = RigidStop(0.25, r)
+    on = simulate(START_OSC, stop, t_end=40.0, x0=0.25)
+    near = simulate(START_OSC, stop, t_end=40.0, x0=0.25 - 1e-7)
+    event = simulate(START_OSC, stop, t_end=40.0, x0=0.25, method="event")
+    assert on.transition_counts == {}
+    assert on.steady.kind is near.steady.kind is event.steady.kind is SteadyKind.PURE_SLIP
+    assert on.steady.x_max == 0.25 and on.steady.period == 2.0 * math.pi
+    lanes = sweep(START_OSC, stop, "restitution", [r, 0.5 * (1.0 + r)], x0=0.25, t_end=40.0)
+    assert all(str(k) == "pure_slip" for k in np.ravel(lanes.labels))
+
+
+def test_a_start_at_rest_on_a_deformable_stop_is_the_impactless_circle():
+    """The deformable stop's exact solver already reads it so: zero overlap, no contact."""
+    from core import HystereticStop
+
+    stop = HystereticStop(0.25, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
+    res = simulate(START_OSC, stop, t_end=40.0, x0=0.25)
+    assert res.transition_counts == {} and res.steady.kind is SteadyKind.PURE_SLIP
+
+
+@pytest.mark.parametrize("v0", [-0.05, 0.05])
+def test_a_start_on_the_stop_with_speed_impacts_and_grazes(v0):
+    """Moving into the stop it impacts at once, moving away it comes back to it: either
+    way the impacts die out as r^h towards the touching circle (grazing), in every method."""
+    stop = RigidStop(0.25, 0.7)
+    labels = {m: simulate(START_OSC, stop, t_end=60.0, x0=0.25, v0=v0, method=m).steady.kind
+              for m in ("exact", "event", "switch")}
+    assert set(labels.values()) == {SteadyKind.GRAZING}, labels
+
+
+def test_a_plastic_impact_that_leaves_the_stop_still_grazes():
+    """The rule the start at rest must not break: after a plastic impact with x_bar > a
+    the mass leaves the stop at zero speed on the touching circle, grazing reached."""
+    res = simulate(START_OSC, RigidStop(0.25, 0.0), t_end=40.0, x0=0.25, v0=0.05)
+    assert res.transition_counts == {"impact": 1}
+    assert res.steady.kind is SteadyKind.GRAZING and res.steady.t_reached == 0.0
+
+
+def test_a_range_in_an_error_holds_only_values_that_are_taken():
+    """t_end = -1 was told "must lie in (0, inf]", yet t_end = inf is refused as not
+    finite: an infinite end is printed closed only where it is accepted."""
+    from core.validation import check_range
+
+    with pytest.raises(ValueError, match=r"t_end must lie in \(0, inf\); got -1"):
+        simulate(START_OSC, None, t_end=-1.0)
+    with pytest.raises(ValueError, match="t_end must be a finite number"):
+        simulate(START_OSC, None, t_end=math.inf)
+    with pytest.raises(ValueError, match=r"must lie in \[0, inf\]; got -1"):
+        check_range("strength", -1.0, 0.0, allow_inf=True)
+    assert check_range("strength", math.inf, 0.0, allow_inf=True) == math.inf
+    with pytest.raises(ValueError, match=r"x must lie in \(-inf, 0\]; got 1"):
+        check_range("x", 1.0, high=0.0)
