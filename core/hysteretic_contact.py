@@ -49,8 +49,10 @@ TIGHT_RTOL, TIGHT_RTOL_MIN = 1e-3, 1e-13
 #: fraction of the step.
 KINK_LANDING = 1e-6
 #: Clip points within this fraction of the peak overlap are the peak itself (the unloading
-#: curve leaves ``phi_C`` there), or the face.
+#: curve leaves ``phi_C`` there).
 KINK_MARGIN = 1e-9
+#: Kinks within this fraction of the peak overlap from the face are left to the separation.
+KINK_FACE = 1e-6
 #: Newton steps for where an unloading curve meets ``phi_C`` again (:func:`unloading_breaks`;
 #: then brentq).
 BREAK_NEWTON = 60
@@ -77,13 +79,16 @@ class TrainContact:
         self.r = 0.0  # the peak overlap
 
     def kinks(self) -> list[float]:
-        """Positions of the kinks ahead on the unloading branch; one at the face, to
-        :data:`KINK_MARGIN` of the peak, is the separation (a step landed on the face would
-        start the next on the separation's event, which is not taken at a step's start: on
-        Fig. 10's stop at rtol 1e-10 the separation came 5e-8 late)."""
+        """Positions of the kinks ahead on the unloading branch; one within
+        :data:`KINK_FACE` of the peak from the face is left to the separation (a step landed
+        on the face started the next on the separation's event, which is not taken at a
+        step's start: on Fig. 10's stop at rtol 1e-10 the separation came 5e-8 late; one
+        landed 2e-8 of the peak above it, at rtol 1e-13 on ``k_c0 = 1e6, beta = 1000,
+        D = 1e-3``, left the speed 2e-5 off). The force differs there by less than
+        ``k_c0 D`` times that from the curve it is clipped to."""
         if not self.regular or not self.breaks:
             return []
-        face = KINK_MARGIN * self.r
+        face = KINK_FACE * self.r
         return [self.sv.xb + d for d in self.breaks if d > face]
 
     def tight(self, reversals: int) -> bool:
