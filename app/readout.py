@@ -146,16 +146,19 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     return rows
 
 
-#: Contacts (and loops on the stop) past which the readout says that a deformable stop's
-#: errors add up: the preset's figure is measured on the paper's scenes (tens of contacts);
-#: over a long train each contact's small error in its timing adds to the next, and so does
-#: each loop's over hundreds of loops inside one contact (docs/contact-law.md).
+#: Contacts (and loops on the stop) past which the readout says what a deformable stop's
+#: error over them was measured to be: the preset's figure is per contact (the paper's
+#: scenes, tens of contacts); over a long train each contact's small error in its timing
+#: adds to the next, and so does each loop's over hundreds of loops inside one contact
+#: (docs/contact-law.md).
 MANY_CONTACTS = 50
-#: The largest error measured against a tight reference, over the scale, of the pressed
-#: contact trains of the grid in docs/contact-law.md at t_end = 100 and the standard preset
-#: (up to 1.1e-4, k_c0 = 100, beta = 10, D = 0.1: the phase of hundreds of contacts, each
-#: integrated at the preset; benchmarks/results/hysteretic_speed_2026-11-24.txt).
-MANY_CONTACTS_ERROR = 1.1e-4
+#: The largest error measured against a tight reference, over the scale, at t_end = 100 and
+#: the standard preset, where no reduced model took over (a model's own bound is stated
+#: beside it): 6.3e-9 on the 80 pressed stops of benchmarks/hysteretic_speed.py (k_c0 = 100,
+#: beta = 100, D = 1; benchmarks/results/hysteretic_speed_2026-11-27d.txt), 3.8e-9 on
+#: Fig. 10's train by t = 1000. It was 1.1e-4 (the phase of hundreds of contacts) before the
+#: contacts of a train were kept on their first integral (core/hysteretic_contact.py).
+MANY_CONTACTS_ERROR = 1e-8
 #: The horizon of that measurement (dimensionless time).
 MANY_CONTACTS_T_END = 100.0
 
@@ -223,10 +226,10 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
         what = (f"{contacts} contacts" if loops <= MANY_CONTACTS else
                 f"{contacts} contact{'s' if contacts != 1 else ''} and {loops} loops on the "
                 "stop")
-        text += (f" per contact; over {what} their timing errors add up (measured "
-                 f"up to {_num(MANY_CONTACTS_ERROR)} of the scale by t = "
-                 f"{_num(MANY_CONTACTS_T_END * scales.time, time_unit)} at standard, more "
-                 "over longer runs)")
+        text += (f" per contact; over {what} measured within "
+                 f"{_num(MANY_CONTACTS_ERROR)} of the scale by t = "
+                 f"{_num(MANY_CONTACTS_T_END * scales.time, time_unit)} at standard (their "
+                 "timing errors add up over longer runs)")
     reduced = [t.t for t in res.transitions if t.kind is TransitionKind.REDUCED]
     if reduced:
         # The core states the bound as a length: over its scale, as the preset's error is.

@@ -122,6 +122,7 @@ from core.hysteretic_base import (
     _poly,
     _State,
 )
+from core.hysteretic_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
 from core.hysteretic_map import map_train
 from core.hysteretic_reduced import (
     advance_train,
@@ -179,6 +180,7 @@ class _Solver:
     def __init__(self, osc, stop, t_end, rtol, atol, cap):
         self.osc, self.stop, self.t_end = osc, stop, t_end
         self.rtol, self.atol = rtol, atol
+        self.tight_rtol = min(rtol, max(TIGHT_RTOL * rtol, TIGHT_RTOL_MIN))
         self.a, self.b, self.vb = osc.a, osc.b, osc.v
         self.xb, self.d_lim = stop.clearance, stop.limit_overlap
         self.d_max = (1.0 - LIMIT_MARGIN) * stop.limit_overlap
@@ -299,6 +301,8 @@ class _Solver:
         d_branch0 = 0.0
         s = 1 if st.v < self.vb else -1
         reversal_x: list[tuple[float, float, int]] = []  # (t, x, transitions) of reversals
+        # a contact of a train is kept on its first integral (core/hysteretic_contact.py)
+        train = TrainContact(self, st.x, w_in, s, stick)
         while True:
             if stick:
                 outcome = self.stick_in_contact(st, branch)
@@ -310,6 +314,7 @@ class _Solver:
             if self.use_arcs and st.v == 0.0 and branch.delta_r == st.x - xb:
                 phi = arc(self, st, s, branch)
                 if phi is not None:
+                    train.regular = False  # a second reversal
                     branch, ended = self.reversal(st, branch, phi, reversal_x, s)
                     d_branch0 = st.x - xb
                     if ended:
@@ -317,25 +322,31 @@ class _Solver:
                     if self.status is not Status.SUCCESS:
                         return "failed"
                     continue
-            outcome, s_new = self.slip_in_contact(st, s, branch)
+            outcome, s_new = self.slip_in_contact(st, s, branch, train.kinks(),
+                                                  train.tight(len(reversal_x)))
             delta = st.x - xb
             if outcome == "separated":
+                st.v = train.separation(st.v, branch, len(reversal_x))
                 self.close_branch(branch, d_branch0, 0.0, st)
                 st.x = xb
                 self.restitution.append(-st.v / w_in if w_in > 0 else math.nan)
                 self.record(TransitionKind.SEPARATION, st, st.v)
                 return "separated"
             if outcome == "reversal":
+                st.x = xb + train.peak(delta, len(reversal_x))
+                delta = st.x - xb
                 phi, _ = force_and_slope(delta, branch, stop)
                 self.close_branch(branch, d_branch0, delta, st)
                 branch, ended = self.reversal(st, branch, phi, reversal_x, s)
                 d_branch0 = delta
+                train.unloading(branch)
                 if ended:
                     return ended
                 if self.status is not Status.SUCCESS:
                     return "failed"
                 continue
             if outcome == "friction":
+                train.regular = False
                 stick, s, branch, d_branch0 = self.belt_speed_reached(
                     st, s, s_new, branch, d_branch0)
                 continue
@@ -385,14 +396,19 @@ class _Solver:
             self.new_branch(branch, delta, st.work[2])
         return True, s, branch, d_branch0
 
-    def slip_in_contact(self, st: _State, s: int, branch: Branch) -> tuple[str, int]:
+    def slip_in_contact(self, st: _State, s: int, branch: Branch, kinks: list[float] = (),
+                        tight: bool = False) -> tuple[str, int]:
         """Dormand-Prince 5(4) steps until an event; ``st`` is left at the event.
+
+        A step that would cross one of ``kinks`` (positions, descending) moving out is redone
+        to end on it (:class:`core.hysteretic_contact.Kinks`); ``tight``: steps at
+        :data:`core.hysteretic_contact.TIGHT_RTOL` times ``rtol``.
 
         The step is the solve's inner loop (~200 steps a contact at the map's node
         tolerance): the rows are appended and the work advanced here, and the events are
         located (:meth:`step_events`) only when a step's end leaves the mode."""
         stop, xb, vb = self.stop, self.xb, self.vb
-        rtol, atol = self.rtol, self.atol
+        rtol, atol = self.tolerances(tight)
         t_end, d_lim, d_max = self.t_end, stop.limit_overlap, self.d_max
         loading = branch.loading
         strength_finite = math.isfinite(stop.strength)
@@ -412,6 +428,9 @@ class _Solver:
         h = FIRST_STEP_FRACTION * 2.0 * math.pi / omega
         h_min = MIN_STEP_FRACTION * 2.0 * math.pi / omega
         x_max = self.x_max
+        ahead = Kinks(kinks)
+        kink_x = ahead.x
+        landing = False  # the step is redone to end on the kink
         while True:
             left = t_end - t
             if left < h:
@@ -451,6 +470,11 @@ class _Solver:
                 sx = atol + rtol * (ax if ax >= ax1 else ax1)
                 su = atol + rtol * (au if au >= au1 else au1)
                 err = sqrt(0.5 * ((ex / sx) ** 2 + (eu / su) ** 2))
+            if x1 < kink_x and not landing:
+                h_cut = ahead.cut(x, u, a0, x1, u1, a1, h)
+                if h_cut > 0.0:
+                    h, landing = h_cut, True
+                    continue
             if err > 1.0:
                 self.rejected += 1
                 h *= max(MIN_FACTOR, SAFETY * err**-0.2) if isfinite(err) else MIN_FACTOR
@@ -493,6 +517,18 @@ class _Solver:
             if x > x_max:
                 x_max = x
             h *= min(MAX_FACTOR, SAFETY * err**-0.2) if err > 0.0 else MAX_FACTOR
+            if landing:
+                landing = False
+                ahead.landed(coeffs[0], x1)  # coeffs[0]: the step's start
+                kink_x = ahead.x
+
+    def tolerances(self, tight: bool) -> tuple[float, float]:
+        """``(rtol, atol)`` of the contact's steps: the solve's, or the tighter ones of a
+        contact's first branches that are not kept on their first integral
+        (:mod:`core.hysteretic_contact`)."""
+        if tight:
+            return self.tight_rtol, self.atol * self.tight_rtol / self.rtol
+        return self.rtol, self.atol
 
     def end_at_event(self, st: _State, t: float, coeffs, h: float, s: int, event) -> str:
         """Cut the step ``(t, coeffs, h)`` at ``event = (theta, name)``, store it, move ``st``
@@ -764,6 +800,10 @@ class _Solver:
             # fall at every contact (towards w_inf), never a fixed point
             return
         impact = [tr.v for tr in cycle if tr.kind is TransitionKind.CONTACT]
+        # Read from the contact that begins it (a train of contacts whose approach speeds
+        # repeat to rounding closes at a contact, one whose separations do at a separation).
+        first = next((k for k, tr in enumerate(cycle) if tr.kind is TransitionKind.CONTACT), 0)
+        cycle = cycle[first:] + cycle[:first]
         self.steady = Steady(
             SteadyKind.PERIODIC,
             period=period,
