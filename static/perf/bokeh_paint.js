@@ -44,6 +44,17 @@
  *      each set fires a recomputation of all six variants' visuals, inside the paint;
  *      the visuals are computed from all indices and the data, never from the mask, and
  *      a data update recomputes them itself.
+ *   8. a plot's paint does not schedule another paint of that plot by the ranges it fits
+ *      itself. A figure with data ranges (the phase portrait: `DataRange1d` with
+ *      `match_aspect`, fitted in the browser to the frame it lays out) updates them at
+ *      the start of its paint; each changed range asks its plot for a repaint, so every
+ *      release of a slider painted the phase portrait a second time, one animation frame
+ *      later, with nothing left to draw (the paint in progress already drew everything
+ *      with the new ranges and cleared the request). BokehJS pauses the plot around the
+ *      same update after a layout (`PlotView.after_layout`); the update inside the paint
+ *      is paused now too. Whatever a range change sets off elsewhere (another plot on
+ *      the same range, the placement of the theory point labels, the server's copy of
+ *      the range) is unchanged.
  *
  * The patches were written for BokehJS 3.9 (VERSIONS): with another version none is
  * applied and the console says so. Each is applied only if the internal it replaces
@@ -83,6 +94,12 @@
       marker = B.require("models/glyphs/marker");
     } catch (err) {
       // No marker module: patch 6 is skipped, the others apply.
+    }
+    let ranges = {};
+    try {
+      ranges = B.require("models/plots/range_manager");
+    } catch (err) {
+      // No range manager module: patch 8 is skipped, the others apply.
     }
     const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
     if (sheet && typeof sheet._update === "function") {
@@ -170,6 +187,24 @@
         });
       };
       applied.push("marker-mask");
+    }
+    const manager = ranges.RangeManager && ranges.RangeManager.prototype;
+    if (manager && typeof manager.update_dataranges === "function" && view &&
+        typeof view.pause === "function" && typeof view.unpause === "function") {
+      const update_dataranges = manager.update_dataranges;
+      manager.update_dataranges = function () {
+        const plot_view = this.parent;
+        if (!(plot_view instanceof plot.PlotView)) return update_dataranges.call(this);
+        // As PlotView.after_layout does: the caller paints (or is about to) with the
+        // ranges fitted here; unpause(true) requests no paint of its own.
+        plot_view.pause();
+        try {
+          return update_dataranges.call(this);
+        } finally {
+          plot_view.unpause(true);
+        }
+      };
+      applied.push("range-fit-paint");
     }
   }
 
