@@ -11,7 +11,7 @@
  * curve that crosses it, and less for being farther; the labels take the positions that
  * cost least together. The result is written into the label
  * source's `align`, `baseline`, `dx`, `dy` in place (the browser's own view of it: nothing is
- * sent to the server), and the labels are drawn again.
+ * sent to the server), and the label set is drawn again.
  */
 // A release changes the ranges and several sources at once, each a call: they are
 // coalesced into one placement, after the update's other changes and before its paint.
@@ -214,6 +214,9 @@ function place() {
     data.baseline = pick.map((c) => c.baseline);
     data.dx = pick.map((c) => c.dx);
     data.dy = pick.map((c) => c.dy);
-    src.change.emit();
+    // The label set reads its source again on its own change; the source's change would
+    // also make the theory points' marker renderer recompute its glyph data and paint the
+    // figure once more, for columns it does not draw.
+    labels.change.emit();
   }
 }
