@@ -4,8 +4,9 @@ On a shared machine the latency of ``browser_latency.py`` drifts by 20-30 ms bet
 more than most single changes are worth. This harness serves both versions at once (two
 ``panel serve`` processes), opens one page of each in the same Chromium, and alternates
 releases between them (A B, B A, ...), so that both see the same load. It prints the median
-and 95th percentile of each and the median of the paired differences. The probe and the drag
-are those of ``browser_latency.py``.
+and 95th percentile of each and the median of the paired differences, of the whole latency
+and of the browser's part (from the full solution's arrival to the picture shown). The probe
+and the drag are those of ``browser_latency.py``.
 
 Usage: ``.venv/bin/python benchmarks/browser_ab.py --ref HEAD~1 [--scenes 5b,7c] [--rounds 40]``
 (the revision is checked out into a temporary git worktree, removed afterwards), or
@@ -85,7 +86,7 @@ def main() -> None:
             a_is = args.base or "this checkout"
             print(f"A = {a_is}, B = {b_is}; {args.rounds} releases each, alternating")
             print(f"{'scene':>6} {'A median':>9} {'A p95':>7} {'B median':>9} {'B p95':>7} "
-                  f"{'median(A-B)':>12}")
+                  f"{'median(A-B)':>12} {'browser(A-B)':>13}")
             with sync_playwright() as pw:
                 browser = pw.chromium.launch(executable_path=bl.CHROMIUM,
                                              args=bl.CHROMIUM_ARGS)
@@ -94,10 +95,14 @@ def main() -> None:
                     # A page that missed a release has fewer: pair the rounds both have.
                     n = min(len(rec["A"]["painted"]), len(rec["B"]["painted"]))
                     a, b = rec["A"]["painted"][:n], rec["B"]["painted"][:n]
+                    # The browser's part: from the full solution's arrival to the picture
+                    # shown, without the server's time, which varies most on a busy host.
+                    pa = a - rec["A"]["arrived"][:n]
+                    pb = b - rec["B"]["arrived"][:n]
                     # A release that changed nothing is NaN (browser_latency.drag).
                     print(f"{scene:>6} {np.nanmedian(a):>9.1f} {np.nanpercentile(a, 95):>7.1f} "
                           f"{np.nanmedian(b):>9.1f} {np.nanpercentile(b, 95):>7.1f} "
-                          f"{np.nanmedian(a - b):>+12.1f}")
+                          f"{np.nanmedian(a - b):>+12.1f} {np.nanmedian(pa - pb):>+13.1f}")
                     for key in ("A", "B"):
                         print(f"{'':>6} {key}: {bl.stage_line(rec[key])}")
                     if args.raw:

@@ -4,7 +4,7 @@ Serves the explorer with ``panel serve`` on a free loopback port, opens a rigid-
 hysteretic-stop scene, drags a slider many times and measures, inside the page, the time
 from the ``pointerup`` that ends each drag until every figure has repainted with the full
 solution (until the screen shows the frame with the last figure repaint, once the full
-trajectory has arrived; a preview has fewer points, see ``app.solver``).
+solution has arrived, as the page itself marks it, see ``app.explorer``).
 Prints the median and 95th percentile per scene against the targets, how many
 figure repaints a release cost, and the share of CPU time the host took from this machine
 meanwhile (steal). A p95 rests on the few slowest releases: 100 moves (the default) put
@@ -44,7 +44,11 @@ TARGETS_MS = {"rigid": 100.0, "hysteretic": 250.0, "none": 100.0}
 #: and right).
 SLIDER = "clearance"
 DRAG_PX = 12
-#: A trajectory with more points than this is a full solve, not a preview.
+#: A trajectory with more points than this is a full solve, not a preview: the probe's
+#: last resort, for a page that marks a full solution neither with the model of class
+#: ``fie-solution-arrived`` (app.explorer) nor in the trajectory's ``tags`` (older pages).
+#: Previews are drawn from the exact motion per pixel column too, so on today's page a
+#: preview can have more points than this (scene 10: 857).
 FULL_MIN_POINTS = PREVIEW_SAMPLES + 50
 
 #: A release whose full solution has not repainted after this long [ms] counts as missed.
@@ -57,7 +61,7 @@ SETTLE_MS = 250
 POLL_MS = 100
 
 #: Installs the probe. It records the ``pointerup`` that ends a drag, notices when the full
-#: solution's trajectory arrives (a preview has fewer points), and then follows every figure
+#: solution arrives (the page's marker, not a preview), and then follows every figure
 #: repaint (BokehJS ``PlotView._actual_paint``) until none has happened for ``settle`` ms:
 #: the latency is from the ``pointerup`` until the screen shows the frame with the last
 #: of those paints: the start of the following frame (the next vsync), i.e. until every
@@ -117,8 +121,16 @@ JS_PROBE = """([minPoints, settle]) => {
     painted();
     return out;
   };
-  traj.properties.data.change.connect(() => {
-    if (lat.up === null || traj.data.t.length < minPoints) return;
+  // The full solution's arrival: the page's own signal (the text of the model of class
+  // fie-solution-arrived, set last in the full solution's message), else the trajectory's
+  // tags (older pages), else a trajectory with more points than a preview.
+  const marker = [...doc.all_models].find(
+    m => Array.isArray(m.css_classes) && m.css_classes.includes("fie-solution-arrived"));
+  const signal = marker != null ? marker.properties.text.change
+    : "tags" in traj.properties && traj.tags.length ? traj.properties.tags.change : null;
+  const full = () => signal !== null || traj.data.t.length >= minPoints;
+  (signal ?? traj.properties.data.change).connect(() => {
+    if (lat.up === null || !full()) return;
     lat.pending = lat.up;
     // Where the time went: the release's value sent, the last frame of the message that
     // brought the full solution received, and its data applied (all since the pointerup).

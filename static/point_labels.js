@@ -11,8 +11,16 @@
  * curve that crosses it, and less for being farther; the labels take the positions that
  * cost least together. The result is written into the label
  * source's `align`, `baseline`, `dx`, `dy` in place (the browser's own view of it: nothing is
- * sent to the server), and the labels are drawn again.
+ * sent to the server), and the label set is drawn again.
  */
+// Right after the figure fits its ranges in a paint (equal aspect), static/perf/
+// bokeh_paint.js (patch 9) calls this figure's placement itself, so that the paint draws
+// the labels where they go; the call for the same ranges that follows the paint then
+// finds them placed.
+fig._fie_place_labels = place;
+if ((cb_obj === fig.x_range || cb_obj === fig.y_range) && labels._fie_placed_for === frameKey()) {
+  return;
+}
 // A release changes the ranges and several sources at once, each a call: they are
 // coalesced into one placement, after the update's other changes and before its paint.
 if (labels._fie_place_queued) return;
@@ -21,6 +29,18 @@ queueMicrotask(() => {
   labels._fie_place_queued = false;
   place();
 });
+
+// The frame the labels are placed on: ranges and size.
+function frameKey() {
+  const [xr, yr] = [fig.x_range, fig.y_range];
+  let size = "";
+  try {
+    size = `${fig.inner_width} ${fig.inner_height}`;
+  } catch {
+    // not laid out yet
+  }
+  return `${xr.start} ${xr.end} ${yr.start} ${yr.end} ${size}`;
+}
 
 function place() {
   const src = labels.source;
@@ -33,6 +53,7 @@ function place() {
     return;  // the figure is not laid out yet: its frame size is unset (reading it throws)
   }
   const [xr, yr] = [fig.x_range, fig.y_range];
+  labels._fie_placed_for = frameKey();
   const spanx = xr.end - xr.start, spany = yr.end - yr.start;
   if (n === 0 || !(W > 0 && H > 0 && spanx !== 0 && spany !== 0 && isFinite(spanx + spany))) {
     return;
@@ -214,6 +235,9 @@ function place() {
     data.baseline = pick.map((c) => c.baseline);
     data.dx = pick.map((c) => c.dx);
     data.dy = pick.map((c) => c.dy);
-    src.change.emit();
+    // The label set reads its source again on its own change; the source's change would
+    // also make the theory points' marker renderer recompute its glyph data and paint the
+    // figure once more, for columns it does not draw.
+    labels.change.emit();
   }
 }

@@ -44,6 +44,25 @@
  *      each set fires a recomputation of all six variants' visuals, inside the paint;
  *      the visuals are computed from all indices and the data, never from the mask, and
  *      a data update recomputes them itself.
+ *   8. a plot's paint does not schedule another paint of that plot by the ranges it fits
+ *      itself. A figure with data ranges (the phase portrait: `DataRange1d` with
+ *      `match_aspect`, fitted in the browser to the frame it lays out) updates them at
+ *      the start of its paint; each changed range asks its plot for a repaint, so every
+ *      release of a slider painted the phase portrait a second time, one animation frame
+ *      later, with nothing left to draw (the paint in progress already drew everything
+ *      with the new ranges and cleared the request). BokehJS pauses the plot around the
+ *      same update after a layout (`PlotView.after_layout`); the update inside the paint
+ *      is paused now too. Whatever a range change sets off elsewhere (another plot on
+ *      the same range, the server's copy of the range) is unchanged;
+ *   9. the theory point labels (static/point_labels.js) are placed right after the fit,
+ *      inside the paint, when the fit moved the ranges. They are placed on the frame the
+ *      browser lays out, so moved ranges ask for a new placement; but a `CustomJS`
+ *      callback runs in a microtask, after the paint, and labels that moved were drawn
+ *      a frame later by a second paint of the phase portrait (and the frame before
+ *      showed them placed for the old ranges). A figure
+ *      whose model carries `_fie_place_labels` (set by point_labels.js) has it called
+ *      after a fit that changed its ranges, while the plot is paused: the paint in
+ *      progress draws the labels where they go.
  *
  * The patches were written for BokehJS 3.9 (VERSIONS): with another version none is
  * applied and the console says so. Each is applied only if the internal it replaces
@@ -83,6 +102,12 @@
       marker = B.require("models/glyphs/marker");
     } catch (err) {
       // No marker module: patch 6 is skipped, the others apply.
+    }
+    let ranges = {};
+    try {
+      ranges = B.require("models/plots/range_manager");
+    } catch (err) {
+      // No range manager module: patch 8 is skipped, the others apply.
     }
     const sheet = dom.InlineStyleSheet && dom.InlineStyleSheet.prototype;
     if (sheet && typeof sheet._update === "function") {
@@ -170,6 +195,33 @@
         });
       };
       applied.push("marker-mask");
+    }
+    const manager = ranges.RangeManager && ranges.RangeManager.prototype;
+    if (manager && typeof manager.update_dataranges === "function" && view &&
+        typeof view.pause === "function" && typeof view.unpause === "function") {
+      const update_dataranges = manager.update_dataranges;
+      const bounds = (frame) => [...frame.x_ranges.values(), ...frame.y_ranges.values()]
+        .map((r) => `${r.start} ${r.end}`).join(" ");
+      manager.update_dataranges = function () {
+        const plot_view = this.parent;
+        if (!(plot_view instanceof plot.PlotView)) return update_dataranges.call(this);
+        const before = bounds(plot_view.frame);
+        // As PlotView.after_layout does: the caller paints (or is about to) with the
+        // ranges fitted here; unpause(true) requests no paint of its own. The labels are
+        // placed while paused too: the paint to come draws them.
+        plot_view.pause();
+        try {
+          return update_dataranges.call(this);
+        } finally {
+          try {
+            const place = plot_view.model._fie_place_labels;
+            if (typeof place === "function" && bounds(plot_view.frame) !== before) place();
+          } finally {
+            plot_view.unpause(true);
+          }
+        }
+      };
+      applied.push("range-fit-paint");
     }
   }
 

@@ -88,7 +88,7 @@ def test_slider_drag_repaints(page, shots):
     # Every repaint shortcut found the BokehJS internal it replaces (static/perf/).
     assert page.page.evaluate("() => window.__fie_paint") == [
         "stylesheet", "css-variables", "font-size", "glyph-position", "one-data-update",
-        "mask-visuals", "marker-mask"]
+        "mask-visuals", "marker-mask", "range-fit-paint"]
     assert page.errors == []
 
 
