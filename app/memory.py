@@ -9,11 +9,16 @@ slider release. None of those objects needs scanning while its session lives:
 * once a page has loaded, everything alive is frozen (:func:`gc.freeze`);
 * when a session ends everything is unfrozen, so that the full collection Panel runs a few
   seconds later (``panel.io.document``, debounced by ``GC_DEBOUNCE``) frees that session's
-  reference cycles; shortly after it, what survived is frozen again.
+  reference cycles; shortly after it, what survived is frozen again. A page that loads in
+  between does not freeze: it would freeze the ended session's cycles before that
+  collection reached them, and while sessions keep ending and starting (a class arriving
+  as another leaves) they would never be freed (about 100 MiB kept per class of 30,
+  ``benchmarks/results/2026-11-27-memory.md``). The refreeze itself collects first unless a
+  full collection has run since the last session ended.
 
 Objects made after the last freeze (each release's arrays, the models' new data) are
 collected as usual. Garbage frozen by mistake (a cycle dropped between a freeze and the
-next session's end) lives only until that session's end.
+next session's end) lives only until the refreeze after that session's end.
 """
 
 from __future__ import annotations
@@ -29,6 +34,17 @@ import panel.io.document
 REFREEZE_DELAY_S = getattr(panel.io.document, "GC_DEBOUNCE", 5) + 2.0
 
 _refreeze: dict[str, Any] = {"handle": None}
+#: Whether a full collection has run since the last session ended (gc.callbacks).
+_collected: dict[str, bool] = {"since_unfreeze": True}
+
+
+def _note_full_collection(phase: str, info: dict[str, Any]) -> None:
+    if phase == "stop" and info.get("generation") == 2:
+        _collected["since_unfreeze"] = True
+
+
+if _note_full_collection not in gc.callbacks:
+    gc.callbacks.append(_note_full_collection)
 
 
 def keep_long_lived_out_of_collections() -> None:
@@ -39,14 +55,17 @@ def keep_long_lived_out_of_collections() -> None:
 
 
 def freeze_live_objects() -> None:
-    """Move every object the collector tracks to the permanent generation."""
-    gc.freeze()
+    """Move every object the collector tracks to the permanent generation, unless a
+    refreeze is pending (a session has ended and its cycles are not yet collected)."""
+    if _refreeze["handle"] is None:
+        gc.freeze()
 
 
 def unfreeze_objects(session_context: Any) -> None:
     """Return the frozen objects to the oldest generation (a session ended) and schedule
     the refreeze (one per burst of session ends)."""
     gc.unfreeze()
+    _collected["since_unfreeze"] = False
     try:
         loop = asyncio.get_running_loop()
     except RuntimeError:  # no event loop (a script): nothing to schedule
@@ -58,4 +77,6 @@ def unfreeze_objects(session_context: Any) -> None:
 
 def _refreeze_now() -> None:
     _refreeze["handle"] = None
-    freeze_live_objects()
+    if not _collected["since_unfreeze"]:
+        gc.collect()
+    gc.freeze()

@@ -610,7 +610,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
         live_after = await server.live_sessions()
     if live_after is None:  # no session info: just wait out the lifetime
         await asyncio.sleep(wait_limit)
-    await asyncio.sleep(2.0)
+    await asyncio.sleep(args.after_s)
     rss_after = server.rss()
 
     moves = [m for s in opened for m in s.result.moves]
@@ -745,6 +745,9 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     p.add_argument("--num-procs", type=int, default=1)
     p.add_argument("--session-lifetime-ms", type=int, default=3000)
     p.add_argument("--check-unused-ms", type=int, default=1000)
+    p.add_argument("--after-s", type=float, default=10.0,
+                   help="s from the sessions' discard to reading memory 'after' (default 10: "
+                        "the server collects their cycles ~7 s after the last one ends)")
     p.add_argument("--move-timeout", type=float, default=30.0, help="s per move before an error")
     p.add_argument("--quiet-ms", type=float, default=300.0,
                    help="a move has settled after this long without a patch")
