@@ -6,19 +6,20 @@ adds about 50,000, so a full collection stalled the server for 100-150 ms with o
 and 440 ms with fifteen (``benchmarks/gc_pause.py``), now and then in the middle of a
 slider release. None of those objects needs scanning while its session lives:
 
-* once a page has loaded, everything alive is frozen (:func:`gc.freeze`);
-* when a session ends everything is unfrozen, so that the full collection Panel runs a few
-  seconds later (``panel.io.document``, debounced by ``GC_DEBOUNCE``) frees that session's
-  reference cycles; shortly after it, what survived is frozen again. A page that loads in
-  between does not freeze: it would freeze the ended session's cycles before that
-  collection reached them, and while sessions keep ending and starting (a class arriving
-  as another leaves) they would never be freed (about 100 MiB kept per class of 30,
-  ``benchmarks/results/2026-11-27-memory.md``). The refreeze itself collects first unless a
-  full collection has run since the last session ended.
+* once a page has loaded, everything alive is frozen (:func:`gc.freeze`), and the
+  collections Python and Panel run by themselves scan only what was made since;
+* an ended session's reference cycles are frozen with the rest, so they are freed by an
+  explicit collection of everything (unfreeze, collect, freeze in one go, so that no page
+  load freezes them again half-way): a second after the last session of a process has
+  ended, or after :data:`COLLECT_AFTER_ENDS` sessions (or a quarter of those still open, if
+  more) have ended since the last one. That collection scans every live session's objects
+  (about 25 ms per session), so it is not run for every student who leaves; until it runs,
+  each ended session keeps about 3.4 MiB (``benchmarks/results/2026-11-27-memory.md``).
 
-Objects made after the last freeze (each release's arrays, the models' new data) are
-collected as usual. Garbage frozen by mistake (a cycle dropped between a freeze and the
-next session's end) lives only until the refreeze after that session's end.
+Before, every session's end unfroze everything until a refreeze after Panel's own
+collection; a page loading in that window froze the ended session's cycles before the
+collection reached them, and as sessions kept ending and starting they were never freed
+(about 100 MiB kept per class of 30).
 """
 
 from __future__ import annotations
@@ -28,55 +29,60 @@ import gc
 from typing import Any
 
 import panel as pn
-import panel.io.document
 
-#: Delay [s] from a session's end to the refreeze: after Panel's own collection.
-REFREEZE_DELAY_S = getattr(panel.io.document, "GC_DEBOUNCE", 5) + 2.0
+#: Sessions that may end, their cycles kept, before a collection frees them (at least:
+#: a quarter of the sessions still open if that is more).
+COLLECT_AFTER_ENDS = 8
+#: Delay [s] from a session's end to the collection: the rest of a burst of ends (a class
+#: leaving) is collected with it, and the session's own clean-up tasks have run.
+COLLECT_DELAY_S = 1.0
 
-_refreeze: dict[str, Any] = {"handle": None}
-#: Whether a full collection has run since the last session ended (gc.callbacks).
-_collected: dict[str, bool] = {"since_unfreeze": True}
-
-
-def _note_full_collection(phase: str, info: dict[str, Any]) -> None:
-    if phase == "stop" and info.get("generation") == 2:
-        _collected["since_unfreeze"] = True
-
-
-if _note_full_collection not in gc.callbacks:
-    gc.callbacks.append(_note_full_collection)
+_pending: dict[str, Any] = {"ended": 0, "handle": None}
 
 
 def keep_long_lived_out_of_collections() -> None:
-    """Freeze the live objects when this session's page has loaded; unfreeze them when the
-    session ends (call while the session's page is built)."""
+    """Freeze the live objects when this session's page has loaded; count its end towards
+    the next collection (call while the session's page is built)."""
     pn.state.onload(freeze_live_objects)
-    pn.state.on_session_destroyed(unfreeze_objects)
+    pn.state.on_session_destroyed(session_ended)
 
 
 def freeze_live_objects() -> None:
-    """Move every object the collector tracks to the permanent generation, unless a
-    refreeze is pending (a session has ended and its cycles are not yet collected)."""
-    if _refreeze["handle"] is None:
-        gc.freeze()
+    """Move every object the collector tracks to the permanent generation."""
+    gc.freeze()
 
 
-def unfreeze_objects(session_context: Any) -> None:
-    """Return the frozen objects to the oldest generation (a session ended) and schedule
-    the refreeze (one per burst of session ends)."""
-    gc.unfreeze()
-    _collected["since_unfreeze"] = False
+def session_ended(session_context: Any) -> None:
+    """Count an ended session; schedule the collection of the ended sessions once enough
+    have ended, or none is left (one per burst of ends)."""
+    _pending["ended"] += 1
+    live = _live_sessions(session_context)
+    if live and _pending["ended"] < max(COLLECT_AFTER_ENDS, live // 4):
+        return  # kept, frozen, until the next collection
     try:
         loop = asyncio.get_running_loop()
-    except RuntimeError:  # no event loop (a script): nothing to schedule
+    except RuntimeError:  # no event loop (a script): collect now
+        collect_ended_sessions()
         return
-    if _refreeze["handle"] is not None:
-        _refreeze["handle"].cancel()
-    _refreeze["handle"] = loop.call_later(REFREEZE_DELAY_S, _refreeze_now)
+    if _pending["handle"] is not None:
+        _pending["handle"].cancel()
+    _pending["handle"] = loop.call_later(COLLECT_DELAY_S, collect_ended_sessions)
 
 
-def _refreeze_now() -> None:
-    _refreeze["handle"] = None
-    if not _collected["since_unfreeze"]:
-        gc.collect()
+def collect_ended_sessions() -> None:
+    """Free the cycles of every ended session (a full collection of everything), then
+    freeze what is left."""
+    _pending["handle"] = None
+    _pending["ended"] = 0
+    gc.unfreeze()
+    gc.collect()
     gc.freeze()
+
+
+def _live_sessions(session_context: Any) -> int | None:
+    """Sessions still open in this process (Bokeh's ``ServerContext.sessions``; the ended
+    one is no longer listed), or None where unknown (a script, a test)."""
+    try:
+        return len(session_context.server_context.sessions)
+    except AttributeError:
+        return None

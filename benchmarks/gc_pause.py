@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 
 from bokeh.document import Document  # noqa: E402
 
-from app.memory import freeze_live_objects, unfreeze_objects  # noqa: E402
+from app.memory import freeze_live_objects  # noqa: E402
 
 #: Numbers of sessions whose pages are built.
 SESSIONS = (1, 5, 15)
@@ -62,7 +62,7 @@ def main() -> None:
             doc = Document()
             create_app().server_doc(doc)
             docs.append(doc)
-        unfreeze_objects(None)
+        gc.unfreeze()
         gc.collect()
         tracked = len(gc.get_objects())
         plain = full_collection_ms(args.repeat)
@@ -70,7 +70,7 @@ def main() -> None:
         frozen_tracked = len(gc.get_objects())
         frozen = full_collection_ms(args.repeat)
         print(f"{n:>8} {tracked:>16,} {plain:>11.1f} {frozen_tracked:>16,} {frozen:>11.2f}")
-    unfreeze_objects(None)
+    gc.unfreeze()
 
 
 if __name__ == "__main__":

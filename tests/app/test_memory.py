@@ -1,11 +1,12 @@
 """The server's garbage-collector policy (app.memory): frozen objects are skipped by full
-collections, and a session's end makes its reference cycles collectable again."""
+collections, and ended sessions' reference cycles are freed, in batches."""
 
 from __future__ import annotations
 
 import asyncio
 import gc
 import weakref
+from types import SimpleNamespace
 
 import pytest
 
@@ -19,19 +20,22 @@ class _Node:
         self.me = self
 
 
+def _context(live: int) -> SimpleNamespace:
+    """A session context as Bokeh passes it to a session-end hook: ``live`` sessions
+    still open in the process."""
+    return SimpleNamespace(server_context=SimpleNamespace(sessions=[object()] * live))
+
+
 @pytest.fixture(autouse=True)
 def _unfrozen():
-    memory.unfreeze_objects(None)
+    gc.unfreeze()
+    memory._pending["ended"] = 0
     yield
-    if memory._refreeze["handle"] is not None:  # a test's loop ended before its refreeze
-        memory._refreeze["handle"].cancel()
-        memory._refreeze["handle"] = None
-    memory.unfreeze_objects(None)
-
-
-def _cycle() -> weakref.ref:
-    node = _Node()
-    return weakref.ref(node)
+    if memory._pending["handle"] is not None:  # a test's loop ended before the collection
+        memory._pending["handle"].cancel()
+        memory._pending["handle"] = None
+    memory._pending["ended"] = 0
+    gc.unfreeze()
 
 
 def test_freeze_leaves_nothing_for_a_full_collection_to_scan():
@@ -40,89 +44,103 @@ def test_freeze_leaves_nothing_for_a_full_collection_to_scan():
     # A handful of objects made by the test itself may be tracked; the ~100,000 of the
     # imports are not.
     assert len(gc.get_objects()) < 1000
-    memory.unfreeze_objects(None)
-    assert gc.get_freeze_count() == 0
 
 
-def test_a_cycle_dropped_while_frozen_is_freed_after_the_unfreeze():
+def test_a_cycle_dropped_while_frozen_is_freed_by_the_collection_of_ended_sessions():
     node = _Node()
     ref = weakref.ref(node)
     memory.freeze_live_objects()
     del node
     gc.collect()
     assert ref() is not None  # frozen: the collector does not look at it
-    memory.unfreeze_objects(None)
-    gc.collect()
+    memory.collect_ended_sessions()
     assert ref() is None
+    assert gc.get_freeze_count() > 0  # and what lives is frozen again
 
 
 def test_a_cycle_made_after_the_freeze_is_collected_as_usual():
     memory.freeze_live_objects()
-    ref = _cycle()
+    node = _Node()
+    ref = weakref.ref(node)
+    del node
     gc.collect()
     assert ref() is None
 
 
-def test_a_burst_of_session_ends_schedules_one_refreeze(monkeypatch, run_async):
-    monkeypatch.setattr(memory, "REFREEZE_DELAY_S", 0.05)
-
-    async def run() -> tuple[int, int]:
-        for _ in range(3):
-            memory.unfreeze_objects(None)
-        pending = sum(h is not None for h in memory._refreeze.values())
-        await asyncio.sleep(0.2)
-        return pending, gc.get_freeze_count()
-
-    pending, frozen = run_async(run)
-    assert pending == 1
-    assert frozen > 0
-    assert memory._refreeze["handle"] is None
-
-
-def test_a_page_loading_before_an_ended_session_is_collected_does_not_keep_its_cycles(
+def test_a_page_loading_after_a_session_ended_does_not_keep_its_cycles(
         monkeypatch, run_async):
-    # A class arriving as another leaves: a page loads between a session's end and the
-    # collection that frees that session's cycles. Frozen then, they were never freed.
-    monkeypatch.setattr(memory, "REFREEZE_DELAY_S", 0.05)
+    # A class arriving as another leaves: the last session of a process ends and a page
+    # loads before the collection. Before, the page's freeze kept the ended session's
+    # cycles for good while sessions kept ending and starting.
+    monkeypatch.setattr(memory, "COLLECT_DELAY_S", 0.05)
 
-    async def run() -> tuple[bool, bool, int]:
+    async def run() -> tuple[bool, bool]:
         node = _Node()
         ref = weakref.ref(node)
         memory.freeze_live_objects()  # the session's page loaded
-        memory.unfreeze_objects(None)  # the session ended ...
-        del node  # ... and its objects were let go
+        del node  # the session ended and let its objects go
+        memory.session_ended(_context(live=0))
         memory.freeze_live_objects()  # another page loads
         kept_meanwhile = ref() is not None
-        await asyncio.sleep(0.2)  # the refreeze
-        return kept_meanwhile, ref() is None, gc.get_freeze_count()
+        await asyncio.sleep(0.3)
+        return kept_meanwhile, ref() is None
 
-    kept_meanwhile, freed, frozen = run_async(run)
-    assert kept_meanwhile  # nothing collected it yet: only the refreeze's collection may
+    kept_meanwhile, freed = run_async(run)
+    assert kept_meanwhile
     assert freed
-    assert frozen > 0  # and the live objects are frozen again
 
 
-def test_a_refreeze_after_a_full_collection_does_not_collect_again(monkeypatch, run_async):
-    monkeypatch.setattr(memory, "REFREEZE_DELAY_S", 0.05)
+def test_ended_sessions_are_collected_in_batches_while_others_stay(monkeypatch, run_async):
+    # Each collection scans every live session's objects: one per student who leaves
+    # would stall the whole class each time.
+    monkeypatch.setattr(memory, "COLLECT_DELAY_S", 0.05)
+    live = 4 * memory.COLLECT_AFTER_ENDS + 8  # a quarter of them is more than the minimum
+    batch = live // 4
+
+    async def run() -> list[bool]:
+        node = _Node()
+        ref = weakref.ref(node)
+        memory.freeze_live_objects()
+        del node
+        freed = []
+        for _ in range(batch):
+            await asyncio.sleep(0.1)
+            freed.append(ref() is None)
+            memory.session_ended(_context(live))  # others arrive as these leave
+        await asyncio.sleep(0.3)
+        freed.append(ref() is None)
+        return freed
+
+    freed = run_async(run)
+    assert not any(freed[:-1])  # kept through the first batch - 1 ends
+    assert freed[-1]  # freed after the batch's last
+
+
+def test_a_burst_of_session_ends_schedules_one_collection(monkeypatch, run_async):
+    monkeypatch.setattr(memory, "COLLECT_DELAY_S", 0.05)
     full = []
 
     def count(phase, info):
         if phase == "stop" and info["generation"] == 2:
             full.append(1)
 
-    async def run() -> int:
-        memory.unfreeze_objects(None)
-        gc.collect()  # Panel's own collection after the session's end
+    async def run() -> tuple[bool, int]:
+        for live in (2, 1, 0):  # a class leaving
+            memory.session_ended(_context(live))
+        pending = memory._pending["handle"] is not None
         n = len(full)
-        await asyncio.sleep(0.2)
-        return len(full) - n
+        await asyncio.sleep(0.3)
+        return pending, len(full) - n
 
     gc.callbacks.append(count)
     try:
-        extra = run_async(run)
+        pending, collections = run_async(run)
     finally:
         gc.callbacks.remove(count)
-    assert extra == 0
+    assert pending
+    assert collections == 1
+    assert memory._pending["handle"] is None
+    assert memory._pending["ended"] == 0
     assert gc.get_freeze_count() > 0
 
 
@@ -130,4 +148,12 @@ def test_bokeh_accepts_the_session_end_callback():
     # Bokeh checks the exact signature, func(session_context), when the page registers it.
     from bokeh.document import Document
 
-    Document().on_session_destroyed(memory.unfreeze_objects)
+    Document().on_session_destroyed(memory.session_ended)
+
+
+def test_the_live_sessions_come_from_bokeh_s_server_context():
+    from bokeh.server.contexts import BokehServerContext
+
+    assert isinstance(BokehServerContext.sessions, property)
+    assert memory._live_sessions(_context(3)) == 3
+    assert memory._live_sessions(None) is None
