@@ -17,6 +17,7 @@ Usage: ``.venv/bin/python benchmarks/browser_latency.py [--moves N] [--scenes 5b
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import shutil
@@ -294,7 +295,9 @@ def main() -> None:
     parser.add_argument("--port", type=int, default=0, help="server port (default: free)")
     parser.add_argument("--slider", default=SLIDER,
                         help="state parameter whose slider is dragged (default: clearance)")
+    parser.add_argument("--json", help="also write every release's records to this file")
     args = parser.parse_args()
+    records = {}
     from playwright.sync_api import sync_playwright
 
     proc, url = serve_explorer(patches=args.patches == "on", port=args.port)
@@ -319,7 +322,11 @@ def main() -> None:
                       f"{target:>7.0f}  {ok}  {np.median(paints):>6.0f}  {steal:>7}"
                       + (f"  ({missed} releases missed)" if missed else ""))
                 print(f"{'':>6} median: {stage_line(rec)}")
+                records[scene] = {key: [None if math.isnan(x) else float(x) for x in val]
+                                  for key, val in rec.items()}
             browser.close()
+        if args.json:
+            Path(args.json).write_text(json.dumps(records))
     finally:
         proc.terminate()
         proc.wait(timeout=10)
