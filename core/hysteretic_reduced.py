@@ -85,9 +85,10 @@ END_AMPLITUDE_MARGIN = 1.0 + 2.0 * DECAY_SPREAD
 MAX_CREEP_POWER = 0.5
 #: Most reversals a solve follows, rather than hand the loops to a model whose time of rest
 #: (the phase of hundreds of cycles) or end state (loops creeping on at rest) it cannot
-#: state within the preset's error: ~0.04 ms each on the 2-core machine, so ~80 ms at
-#: most. Followed, the rule for rest on the preset's loops was within 2.2e-6 in time of
-#: the same rule on a solve at rtol 1e-11 (the model: 0.017 to 0.026).
+#: state within the preset's error: ~31 us each on the 2-core machine (k_c0 = 100,
+#: beta = 1000, D = 0.01), so ~60 ms at most. Followed, the rule for rest on the preset's
+#: loops was within 2.2e-6 in time of the same rule on a solve at rtol 1e-11 (the model:
+#: 0.017 to 0.026).
 FOLLOW_REVERSALS = 2000
 
 

@@ -458,7 +458,7 @@ def test_rest_among_many_creeping_loops_states_the_creep_left():
 def test_rest_comes_when_the_rule_says_so_on_a_tight_solve(k_c0, beta, d):
     """Loops that die like 1/k rest when the rule (four reversals within the rest amplitude)
     says so. The time is the rule's on a solve at rtol 1e-11 with the preset's rest
-    amplitude, within 1e-5 (measured 2e-8, 2.2e-6 and 8e-10: the followed loops' phase
+    amplitude, within 1e-5 (measured 8.7e-10, 2.2e-6 and 1.7e-10: the followed loops' phase
     at rtol 1e-8 after ~800 cycles). A reduced oscillation from t ~ 9 rested about a loop
     early (0.017 to 0.026): its cycle, the window's mean, was 1e-3 long as the loops shrank,
     and it rested at the first reversal with its amplitude below half the rest amplitude,
