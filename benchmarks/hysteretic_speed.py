@@ -28,10 +28,17 @@ closes.
 
     PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
         [--repeat-long N] [--no-reference] [--cells k_c0,beta,D ...] [--law paper|passive]
+        [--reference-long [--long-events N]]
 
 ``--quick`` runs 8 cells (the corners and the worst cells of the old solver); ``--law``
 picks the contact law's reading (docs/contact-law.md; the paper's by default);
 ``--repeat-long`` the runs at ``t_end = 1e4`` (a third of ``--repeat`` by default).
+``--reference-long`` adds the same error columns at ``t_end = 1e4`` (and the switch time
+and stated bound there), against a reference to 1e4: every loop and contact followed at
+rtol 1e-11, from seconds (loops on the stop: ~36 us a reversal) to many minutes (trains of
+contacts: 99 s to t = 1e3 on k_c0 1e6, beta 1000, D 1e-3); a reference past
+``--long-events`` transitions stops and its columns read ``cap``. Use it on a subset
+(``--cells``) unless there is the time.
 """
 
 from __future__ import annotations
@@ -50,8 +57,13 @@ import scipy
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from core import HystereticStop, Oscillator, TransitionKind, simulate  # noqa: E402
-from core.hysteretic import simulate_hysteretic  # noqa: E402
+from core import HystereticStop, Oscillator, Status, TransitionKind, simulate  # noqa: E402
+from core.hysteretic import (  # noqa: E402
+    MAX_EVENTS,
+    REST_AMPLITUDE_PER_RTOL,
+    simulate_hysteretic,
+)
+from core.hysteretic_reduced import PAGE_RESOLUTION, REDUCE_PER_RTOL, rest_rule  # noqa: E402
 
 OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 CLEARANCE = 0.42
@@ -85,14 +97,17 @@ def rest_time(res) -> float:
     return math.nan
 
 
-def reference_rest_time(ref, amplitude: float) -> float:
-    """The candidate's rule for rest (``core.hysteretic._Solver.settled``) applied to the
-    reference's reversals: the first reversal whose last four (itself included, all in one
-    contact) lie within ``amplitude``, the candidate's rest amplitude. The loops die like
-    ``1/k`` and never stop: a time of rest is the time a rule says so, and the reference's
-    own rest is declared at its own, far smaller amplitude. (Before, the first of those four
-    reversals was taken: 1.5 cycles before the candidate's rule can say rest, 9e-3 to 0.12
-    of time.)"""
+def reference_rest_time(ref, amplitude: float, tolerance: float, t_end: float) -> float:
+    """The candidate's rule for rest (:func:`core.hysteretic_reduced.rest_rule`, as
+    ``core.hysteretic._Solver.settled`` applies it) on the reference's reversals: the first
+    reversal whose last four (itself included, all in one contact) lie within ``amplitude``,
+    the candidate's rest amplitude, unless the centre's creep left by ``t_end`` is above
+    it, the candidate's rest would then state more than ``tolerance``, and the loops left
+    are few enough that the candidate follows them. The loops die like ``1/k`` and never
+    stop: a time of rest is the time a rule says so, and the reference's own rest is
+    declared at its own, far smaller amplitude. (Before, the first of those four reversals
+    was taken: 1.5 cycles before the candidate's rule can say rest, 9e-3 to 0.12 of
+    time.)"""
     rev, contact, n = [], [], 0  # reversals and the contact each is in
     for tr in ref.transitions:
         n += tr.kind is TransitionKind.CONTACT
@@ -101,12 +116,49 @@ def reference_rest_time(ref, amplitude: float) -> float:
             contact.append(n)
     if len(rev) < 4:
         return rest_time(ref)
+    ts = np.array([tr.t for tr in rev])
     xs = np.array([tr.x for tr in rev])
     windows = np.lib.stride_tricks.sliding_window_view(xs, 4)
     same = np.lib.stride_tricks.sliding_window_view(np.array(contact), 4)
-    within = np.nonzero((np.ptp(windows, axis=1) <= amplitude)
-                        & (same[:, 0] == same[:, 3]))[0]
-    return rev[within[0] + 3].t if len(within) else rest_time(ref)
+    for j in np.nonzero((np.ptp(windows, axis=1) <= amplitude)
+                        & (same[:, 0] == same[:, 3]))[0] + 3:
+        first = j - 4 if j >= 4 and contact[j - 4] == contact[j] else j - 3
+        rule, _ = rest_rule(ts[first:j + 1].tolist(), xs[first:j + 1].tolist(), t_end,
+                            amplitude, tolerance)
+        if rule in ("rest", "model"):
+            return float(ts[j])
+    return rest_time(ref)
+
+
+def errors(res, ref, d: float, t_end: float) -> list[str]:
+    """The error columns of ``res`` against the reference ``ref`` at ``t_end``: state,
+    x_max and time of rest (module docstring), and the reference's label."""
+    scale = max(OSC.a, OSC.b, OSC.v)
+    state = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
+    xmax = abs(res.x_max - ref.x_max) / scale
+    t_rest = rest_time(res)
+    # the candidate's rest amplitude and tolerance (core.hysteretic, _Solver.rest_amplitude
+    # and core.hysteretic_reduced.reduce_extent), on its own length scale (_Solver.scale)
+    length = max(OSC.a, OSC.b, OSC.v, CLEARANCE, d)
+    amplitude = REST_AMPLITUDE_PER_RTOL * max(PRESET["rtol"] * length, PRESET["atol"])
+    tolerance = max(REDUCE_PER_RTOL * PRESET["rtol"], PAGE_RESOLUTION) * length
+    t_ref = reference_rest_time(ref, amplitude, tolerance, t_end)
+    if math.isnan(t_rest) and math.isnan(t_ref):
+        rest = "-"
+    elif math.isnan(t_rest) or math.isnan(t_ref):
+        rest = "n/a"
+    else:
+        rest = f"{abs(t_rest - t_ref):.1e}"
+    return [f"{state:>8.1e}", f"{xmax:>8.1e}", f"{rest:>8}", f"{ref.steady.kind.value:>13}"]
+
+
+def reference(stop, t_end: float, max_events: int):
+    """The reference solve (every loop and contact followed) and its CPU time in s."""
+    t0 = time.process_time()
+    ref = simulate_hysteretic(OSC, stop, t_end, 0.0, 0.0, reduce=False,
+                              n_samples=PRESET["n_samples"], transition_cap=2_000_000,
+                              max_events=max_events, **REFERENCE)
+    return ref, time.process_time() - t0
 
 
 def timed(stop, t_end: float, repeat: int):
@@ -124,7 +176,7 @@ def row(cell, args) -> str:
     scale = max(OSC.a, OSC.b, OSC.v)
     t100, res = timed(stop, HORIZONS[0], args.repeat)
     long_runs = args.repeat_long if args.repeat_long else max(1, args.repeat // 3)
-    t1e4, _ = timed(stop, HORIZONS[1], long_runs)
+    t1e4, res_long = timed(stop, HORIZONS[1], long_runs)
     red = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
     err_bound = res.info.get("reduced_error", 0.0) / scale
     band = res.info.get("reduced_band", 0.0) / scale
@@ -133,22 +185,18 @@ def row(cell, args) -> str:
             f"{err_bound:>8.1e}", f"{band:>8.1e}", f"{balance(res):>8.1e}"]
     if args.no_reference:
         return " ".join(cols)
-    ref = simulate_hysteretic(OSC, stop, HORIZONS[0], 0.0, 0.0, reduce=False,
-                              n_samples=PRESET["n_samples"], transition_cap=2_000_000,
-                              **REFERENCE)
-    state = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
-    xmax = abs(res.x_max - ref.x_max) / scale
-    t_rest = rest_time(res)
-    amplitude = 10.0 * PRESET["rtol"] * scale
-    t_ref = reference_rest_time(ref, amplitude)
-    if math.isnan(t_rest) and math.isnan(t_ref):
-        rest = "-"
-    elif math.isnan(t_rest) or math.isnan(t_ref):
-        rest = "n/a"
-    else:
-        rest = f"{abs(t_rest - t_ref):.1e}"
-    cols += [f"{state:>8.1e}", f"{xmax:>8.1e}", f"{rest:>8}",
-             f"{ref.steady.kind.value:>13}"]
+    ref, _ = reference(stop, HORIZONS[0], MAX_EVENTS)
+    cols += errors(res, ref, d, HORIZONS[0])
+    if args.reference_long:
+        red = [tr.t for tr in res_long.transitions if tr.kind is TransitionKind.REDUCED]
+        cols += [f"{red[0] if red else math.nan:>8.3g}",
+                 f"{res_long.info.get('reduced_error', 0.0) / scale:>8.1e}"]
+        ref, cpu = reference(stop, HORIZONS[1], args.long_events)
+        if ref.status is Status.EVENT_LIMIT:
+            cols += [f"{'cap':>8}"] * 3 + [f"{ref.steady.kind.value:>13}"]
+        else:
+            cols += errors(res_long, ref, d, HORIZONS[1])
+        cols.append(f"{cpu:>8.1f}")
     return " ".join(cols)
 
 
@@ -162,6 +210,11 @@ def main() -> None:
     parser.add_argument("--law", choices=("paper", "passive"), default="paper",
                         help="the contact law's reading")
     parser.add_argument("--cells", nargs="*", default=None, help="k_c0,beta,D triples")
+    parser.add_argument("--reference-long", action="store_true",
+                        help="the error columns at t_end = 1e4 too (slow: every loop and "
+                             "contact to 1e4 at rtol 1e-11)")
+    parser.add_argument("--long-events", type=int, default=2_000_000,
+                        help="most transitions of a reference at t_end = 1e4 ('cap' past it)")
     args = parser.parse_args()
     if args.cells:
         cells = [tuple(float(v) for v in c.split(",")) for c in args.cells]
@@ -179,6 +232,12 @@ def main() -> None:
             f"{'reduced':>8} {'bound':>8} {'band':>8} {'balance':>8}")
     if not args.no_reference:
         head += f" {'state':>8} {'x_max':>8} {'rest':>8} {'ref steady':>13}"
+        if args.reference_long:
+            print(f"# errors at t_end 1e4 too, on {len(cells)} of the grid's 80 cells; a "
+                  f"reference past {args.long_events} transitions is not finished ('cap'); "
+                  f"last column: the reference's CPU s at 1e4")
+            head += (f" {'red 1e4':>8} {'bnd 1e4':>8} {'st 1e4':>8} {'xm 1e4':>8} "
+                     f"{'rest 1e4':>8} {'ref st 1e4':>13} {'ref s':>8}")
     print(head)
     for cell in cells:
         print(row(cell, args), flush=True)

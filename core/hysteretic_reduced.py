@@ -42,8 +42,9 @@ velocity's ``2 pi / T`` times the oscillating part; at rest the rest amplitude p
 creep's error.
 The solver reports both (``reduced_band``, ``reduced_error``); the model takes over once the
 latter is within the tolerance, or the band is (the position then within it throughout, the
-velocity up to ``2 pi / T`` times it). The time of rest is when ``A`` falls below the rest
-amplitude.
+velocity up to ``2 pi / T`` times it). The time of rest is the reversal where the rule for
+rest (:func:`rest_rule`) holds on the model's reversals; its phase is the model's weak
+point, so loops whose rest is near (:data:`FOLLOW_REVERSALS`) are followed to it instead.
 """
 
 from __future__ import annotations
@@ -82,6 +83,13 @@ END_AMPLITUDE_MARGIN = 1.0 + 2.0 * DECAY_SPREAD
 #: accepts: the creep left, ``~ A^(1-p) / (1 - p)``, is then at most twice what the
 #: measured rate gives over the amplitude left.
 MAX_CREEP_POWER = 0.5
+#: Most reversals a solve follows, rather than hand the loops to a model whose time of rest
+#: (the phase of hundreds of cycles) or end state (loops creeping on at rest) it cannot
+#: state within the preset's error: ~31 us each on the 2-core machine (k_c0 = 100,
+#: beta = 1000, D = 0.01), so ~60 ms at most. Followed, the rule for rest on the preset's
+#: loops was within 2.2e-6 in time of the same rule on a solve at rtol 1e-11 (the model:
+#: 0.017 to 0.026).
+FOLLOW_REVERSALS = 2000
 
 
 #: Reversals of a window of :data:`DECAY_FIT` cycles, and of the last two windows (which
@@ -334,6 +342,12 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     # Without its creep first (cheap): most reversals end here while the loops are large.
     plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay)
     tau_end, rests = oscillation_end(sv, st, plain)
+    if rests and tau_end <= 0.5 * period * FOLLOW_REVERSALS:
+        # Rest is near: the loops are followed to it, the rule's time then the integration's
+        # (the model's cycle, the window's mean, shortens by ~1e-3 as the loops shrink: its
+        # reversals drift by up to 0.03 by rest). Until well past it, no more tries.
+        sv.reduce_after = st.t + 2.0 * tau_end
+        return None
     # The cycle's error counts only where the model ends moving (at the horizon).
     cycle_error = math.inf if rests else period_error(reversal_x)
     plain = plain._replace(period_error=cycle_error)
@@ -516,13 +530,68 @@ def retrace_error(sv: _Solver, st: _State, ts, xs, periodic: bool = False) -> fl
 
 
 def oscillation_end(sv: _Solver, st: _State, model: Oscillation) -> tuple[float, bool]:
-    """How long the reduced oscillation runs from ``st`` (to a reversal once its amplitude
-    is below half the rest amplitude, or to the horizon), and whether it ends at rest."""
-    cycles = model.decay.cycles_to(model.amp0, 0.5 * sv.rest_amplitude())
-    tau_rest = math.ceil(2.0 * max(cycles, 0.5)) * 0.5 * model.period  # at a reversal
+    """How long the reduced oscillation runs from ``st`` (to the reversal where the rule for
+    rest, :func:`rest_rule`, holds on the model's reversals, or to the horizon), and
+    whether it ends at rest.
+
+    The rule reads the last four reversals: their range is the first of their three
+    swings, so it holds two to three reversals after the amplitude falls below half the
+    rest amplitude. (The model rested at that first reversal: two reversals before the
+    rule on every loop followed, 0.017 to 0.026 in time on three cells of
+    benchmarks/hysteretic_speed.py.)"""
+    rest = sv.rest_amplitude()
+    cycles = model.decay.cycles_to(model.amp0, 0.5 * rest)
+    if not st.t + cycles * model.period < sv.t_end:
+        return sv.t_end - st.t, False
+    first = math.ceil(2.0 * max(cycles, 0.5))  # the first reversal with A below rest / 2
+    ks = np.arange(max(first - 6, 0), first + 8)
+    xs = model.state(0.5 * model.period * ks)[0]
+    spans = np.ptp(np.lib.stride_tricks.sliding_window_view(xs, 4), axis=1)
+    held = np.nonzero(spans <= rest)[0]
+    k = int(ks[held[0] + 3]) if len(held) else first + 2
+    tau_rest = 0.5 * model.period * k  # at a reversal
     if st.t + tau_rest < sv.t_end:
         return tau_rest, True
     return sv.t_end - st.t, False
+
+
+def creep_left(ts, xs, t_end: float) -> float:
+    """How far the centre of the last loops (reversal times ``ts``, positions ``xs``) would
+    creep by ``t_end`` at its present rate per cycle. The paper's loops creep: on a soft
+    stop (k_c0 = 100, beta = 1000, D = 0.01) loops of 3e-8 moved their centre by 7e-8 per
+    cycle, 2.2e-5 in all after the swings had died out, and the rest declared there was off
+    by 1.7e-5."""
+    if len(xs) < 5:
+        return 0.0
+    ts, xs = ts[-5:], xs[-5:]
+    # The midpoints of the first and last swings are three half cycles apart.
+    creep = abs(xs[4] + xs[3] - xs[1] - xs[0]) / 3.0  # the centre's move in one cycle
+    cycle = ts[4] - ts[2]
+    return creep * max(t_end - ts[4], 0.0) / cycle if cycle > 0.0 else 0.0
+
+
+def rest_rule(ts, xs, t_end: float, rest_amplitude: float,
+              tolerance: float) -> tuple[str | None, float]:
+    """What the reversals of one contact (times ``ts``, positions ``xs``, the last one just
+    reached) say of rest: ``(None, 0)`` while the last four span more than
+    ``rest_amplitude``; then ``("rest", 0)`` if the centre's creep left by ``t_end``
+    (:func:`creep_left`) is within ``rest_amplitude`` too, else rest is a model of loops
+    still creeping, with the stated error ``e``, the creep left plus the loops' velocity
+    (``omega`` times the rest amplitude): ``("model", e)``, or ``("follow", e)`` where ``e``
+    is above ``tolerance`` and the loops left to ``t_end`` are few enough to follow
+    (:data:`FOLLOW_REVERSALS`): they are, and the state there is the integration's."""
+    if len(xs) < 4 or max(xs[-4:]) - min(xs[-4:]) > rest_amplitude:
+        return None, 0.0
+    creep = creep_left(ts, xs, t_end)
+    if creep <= rest_amplitude:
+        return "rest", 0.0
+    cycle = ts[-1] - ts[-3]
+    omega = 2.0 * math.pi / cycle if cycle > 0.0 else 1.0
+    error = creep + rest_amplitude * max(1.0, omega)
+    left = 2.0 * (t_end - ts[-1]) / cycle if cycle > 0.0 else math.inf
+    if error > tolerance and left <= FOLLOW_REVERSALS:
+        return "follow", error
+    return "model", error
 
 
 def _window_creep(xs) -> tuple[float, float]:
@@ -573,7 +642,14 @@ def creep_end(sv: _Solver, reversal_x, s: int) -> float | None:
     if not np.all(np.diff(amps) < 0.0):
         return None
     kappa, _ = _window_creep(xa)
-    return 0.5 * (xa[-1] + xa[-2]) + kappa * 0.5 * abs(float(xa[-1] - xa[-2]))
+    shift = kappa * 0.5 * abs(float(xa[-1] - xa[-2]))
+    # No farther than the creep's present rate takes the centre by the horizon: loops that
+    # barely shrink while their centre creeps give a kappa of thousands (k_c0 = 100,
+    # beta = 1000, D = 0.01 at t = 99.5: -2171, a rest 7.5e-6 off where the creep left
+    # was 8.6e-8).
+    tail = reversal_x[-5:]
+    most = creep_left([t for t, _, _ in tail], [x for _, x, _ in tail], sv.t_end)
+    return 0.5 * (xa[-1] + xa[-2]) + math.copysign(min(abs(shift), most), shift)
 
 
 def oscillate(sv: _Solver, st: _State, branch: Branch, s: int, model: Oscillation) -> str:
