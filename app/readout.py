@@ -237,6 +237,12 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
         text += (f"; from t = {_num(reduced[0] * scales.time, time_unit)} a reduced model, "
                  "its stated error "
                  f"<= {_num(bound)} of the scale")
+        rest_error = res.info.get("rest_time_error")
+        if rest_error is not None:
+            rests = [t.t for t in res.transitions if t.kind is TransitionKind.REST]
+            if rests:
+                text += (f"; its rest at t = {_num(rests[-1] * scales.time, time_unit)} "
+                         f"within ±{_num(rest_error * scales.time, time_unit)}")
     return text
 
 

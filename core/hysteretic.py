@@ -212,6 +212,7 @@ class _Solver:
         self._limit: ElasticLimit | None = None
         self.reduced_error = 0.0  # bound of the reduced models' error in the end state
         self.reduced_band = 0.0  # bound of their error in the position while they run
+        self.rest_time_error = 0.0  # bound of a reduced oscillation's error in its rest time
         self.train: list[tuple[float, float, float, int]] = []  # contacts: t, w, peak, n
         self.map_tried = False  # the contact-to-contact map is tried once per solve
         self.reduce_after = -math.inf  # no reduced oscillation is tried before this time
@@ -885,7 +886,9 @@ def solve_hysteretic(
         train fitted to a loss law that runs to the horizon, twice its approach speed at
         least, the velocity's bound) and ``reduced_band`` (bound of the
         position's error while the model runs), both absolute, with ``length_scale``
-        (``max(a, b, v, |x_bar|, D)``, the scale the tolerances are relative to).
+        (``max(a, b, v, |x_bar|, D)``, the scale the tolerances are relative to), and
+        ``rest_time_error`` (bound of the error of a rest time a reduced oscillation
+        gives).
 
     Examples
     --------

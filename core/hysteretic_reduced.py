@@ -45,6 +45,8 @@ latter is within the tolerance, or the band is (the position then within it thro
 velocity up to ``2 pi / T`` times it). The time of rest is the reversal where the rule for
 rest (:func:`rest_rule`) holds on the model's reversals; its phase is the model's weak
 point, so loops whose rest is near (:data:`FOLLOW_REVERSALS`) are followed to it instead.
+A rest farther away is modelled, and the solver states a bound of its time's error
+(``rest_time_error``, :func:`rest_time_error`).
 """
 
 from __future__ import annotations
@@ -374,7 +376,29 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
     if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
         return None
+    if rests:
+        sv.rest_time_error = max(sv.rest_time_error, rest_time_error(
+            model, tau_end, period_error(reversal_x)))
     return oscillate(sv, st, branch, s, model)
+
+
+def rest_time_error(model: Oscillation, tau_rest: float, cycle_error: float) -> float:
+    """Bound of the error of a reduced oscillation's time of rest, ``tau_rest`` after its
+    start.
+
+    The model keeps its cycle ``T``, off by at most ``cycle_error`` (:func:`period_error`)
+    over the ``n = tau_rest / T`` cycles left: its reversals drift by ``n cycle_error``. The
+    true amplitude where the model's falls to the rest rule's is within
+    :data:`END_AMPLITUDE_MARGIN` ``M`` of it, so the true loops reach it within
+    ``(M - 1) A / |dA/dn|`` cycles of the model's (the decay's slope there); and the rule
+    holds at a reversal, half a cycle apart. (Loops followed to rest need none of this:
+    within :data:`FOLLOW_REVERSALS` they are not modelled.)"""
+    period = model.period
+    n = tau_rest / period
+    amp = float(model.decay.amplitude(model.amp0, n))
+    slope = abs(float(model.decay.slope(model.amp0, n)))
+    count = (END_AMPLITUDE_MARGIN - 1.0) * amp / slope if slope > 0.0 else math.inf
+    return n * cycle_error + (count + 0.5) * period
 
 
 def retraces_one_curve(sv: _Solver, ns) -> bool:

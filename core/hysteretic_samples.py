@@ -139,6 +139,8 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
         # The band where a model states one (a fitted train's error also holds the
         # velocity, up to twice its approach speed); else its error bounds the position too.
         info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
+    if sv.rest_time_error > 0.0:
+        info["rest_time_error"] = sv.rest_time_error
     x_max = sv.x_max
     if sv.table.t0:
         x_max = max(x_max, sv.table.x_max)

@@ -264,3 +264,21 @@ def test_a_switch_solve_on_a_deformable_stop_quotes_an_error_that_grows_with_its
     measured = {r.accuracy: r.error for r in measure(values, methods=("switch",))}
     assert not sol.error_measured
     assert sol.error_estimate >= measured["standard"]
+
+
+def test_a_modelled_rest_says_how_well_its_time_is_known():
+    """A reduced oscillation resting ~4,000 cycles after it took over: the readout gives
+    the time of rest with the bound the core states for it."""
+    values = {**scene_values("11"), "belt_speed": 0.25, "mu_s": 0.45, "mu_k": 0.30,
+              "u_s": 2.0, "clearance": 0.42, "k_c0": 1e3, "k_e0": 500.0,
+              "limit_overlap": 1e-2, "beta_c": 100.0, "beta_e": 100.0, "t_end": 1000.0}
+    from app.readout import _num
+    from core import TransitionKind
+
+    sol = solve(values, budget=120.0)
+    res = sol.result
+    t_rest = next(t.t for t in res.transitions if t.kind is TransitionKind.REST)
+    assert t_rest > 500.0  # modelled, far from the switch
+    text = dict(readout_rows(sol))["Solve"]
+    assert (f"its rest at t = {_num(t_rest)} within ±{_num(res.info['rest_time_error'])}"
+            in text), text
