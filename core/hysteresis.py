@@ -237,6 +237,46 @@ def passive_force_and_slope(
     return _passive_curve(delta, anchor[0], anchor[1], stop)
 
 
+def passive_branch_force(branch: Branch, stop: HystereticStop):
+    """``phi(delta)`` of the passive law on one ``branch``, for ``0 < delta < D``, as a fast
+    closure: the same operations as :func:`passive_force_and_slope` in the same order (so
+    the same bits) with the branch's anchor and constants bound once, not found again at
+    every stage of every step (about a third of the time per call)."""
+    d_lim, k_c0, k_e0 = stop.limit_overlap, stop.k_c0, stop.k_e0
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None:
+        def on_compression(delta: float) -> float:
+            gap = d_lim - delta
+            return k_c0 * d_lim * delta / gap if gap > 0.0 else math.inf
+
+        return on_compression
+    d_a, p_a = anchor
+    s_plus = leaving_overlap(stop)
+    rate = stop.beta_e / d_lim
+    c = p_a - k_e0 * d_lim * d_a / (d_lim - d_a)
+    capped = False  # the curve keeps to phi_C from s+ up (_passive_curve)
+    if s_plus < d_lim:
+        raw_sp = k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
+            min(rate * (s_plus - d_a), EXP_CAP))
+        capped = raw_sp >= k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL)
+    exp = math.exp
+
+    def on_curve(delta: float) -> float:
+        if delta >= d_lim:
+            return math.inf
+        hyper = d_lim * delta / (d_lim - delta)
+        upper = k_c0 * hyper
+        if capped and delta >= s_plus:
+            return upper
+        lower = k_e0 * hyper
+        raw = lower + c * exp(min(rate * (delta - d_a), EXP_CAP))
+        if raw > upper:
+            return upper
+        return lower if raw < lower else raw
+
+    return on_curve
+
+
 def _on_compression(d_r: float, p_r: float, stop: HystereticStop) -> bool:
     d_lim = stop.limit_overlap
     return d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (1.0 - ON_ENVELOPE_RTOL)
@@ -672,6 +712,7 @@ class BranchPrimitive:
         lo, hi = max(lo, 0.0), max(hi, 0.0)
         self.lo = lo
         if stop.law == "passive":
+            self._passive(lo, hi)
             return
         points = [lo, *(_clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
         self.points = points
@@ -688,10 +729,38 @@ class BranchPrimitive:
         if not self.which:
             self.which, self.offsets = ["C"], [0.0]
 
+    def _passive(self, lo: float, hi: float) -> None:
+        """The passive law's branch as :func:`_passive_work` splits it: ``phi_C``, or the
+        paper's curve through the anchor (its own primitive, ``inner``) up to ``s+`` and
+        ``phi_C`` above where the curve is on ``phi_C`` there (``cap``: ``s+``, else
+        ``inf``). Before, every evaluation searched the clip points again."""
+        stop = self.stop
+        anchor = _passive_anchor(self.branch, stop)
+        self.inner, self.cap = None, math.inf
+        if anchor is None:
+            self.cap = lo
+            return
+        d_lim, s_plus = stop.limit_overlap, leaving_overlap(stop)
+        curve = Branch(False, *anchor)
+        if s_plus < d_lim and passive_force_and_slope(s_plus * (1.0 + 1e-12), curve, stop)[
+                0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus):
+            self.cap = s_plus
+        if lo < self.cap:
+            self.inner = BranchPrimitive(curve, _paper_reading(stop), lo, min(hi, self.cap))
+
+    def _passive_at(self, delta: float) -> float:
+        cap = self.cap
+        below = self.inner(min(delta, cap)) if self.inner is not None else 0.0
+        if delta <= cap:
+            return below
+        k_c0, d_lim = self.stop.k_c0, self.stop.limit_overlap
+        return below + (_envelope_energy(delta, k_c0, d_lim)
+                        - _envelope_energy(max(self.lo, cap), k_c0, d_lim))
+
     def __call__(self, delta: float) -> float:
         delta = max(delta, 0.0)
         if self.stop.law == "passive":
-            return branch_work(self.lo, delta, self.branch, self.stop)
+            return self._passive_at(delta)
         k = 0
         while k + 1 < len(self.which) and delta > self.points[k + 1]:
             k += 1

@@ -74,6 +74,7 @@ from core.hysteresis import (
     branch_work,
     elastic_limit,
     force_and_slope,
+    passive_branch_force,
     phi_compression,
     phi_expansion,
     reverse,
@@ -235,10 +236,14 @@ class _Solver:
         law of :func:`core.hysteresis.force_and_slope` with the branch constants bound)."""
         stop = self.stop
         if stop.law == "passive":
-            xb_, sa_ = self.xb, s * self.a
+            xb_, sa_, d_lim_, kc_ = self.xb, s * self.a, self.d_lim, stop.k_c0 * self.d_lim
+            force = passive_branch_force(branch, stop)
 
             def acc_passive(x: float) -> float:
-                return sa_ - x - force_and_slope(x - xb_, branch, stop)[0]
+                d = x - xb_
+                if d <= 0.0:  # phi_C continued past the face, as in acc below
+                    return sa_ - x - kc_ * d / (d_lim_ - d)
+                return sa_ - x - force(d)
 
             return acc_passive
         xb, d_lim, sa = self.xb, self.d_lim, s * self.a

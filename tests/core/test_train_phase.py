@@ -80,13 +80,16 @@ class TrainReference:
             def above(d, r=r, raw=raw):
                 return raw(d) - phi_c(d)
 
-            hi = r * (1.0 - 1e-9)
+            hi, lo = r * (1.0 - 1e-9), 1e-12 * d_lim
+            # unloading leaves phi_C (else: elastic, on phi_C all the way); it meets it
+            # again at d_c, or (a sharp stop: exp(-beta r / D) below 1e-30) only at the face
+            unloads = above(hi) < 0.0
             d_c = 0.0
-            if above(hi) < 0.0 and above(1e-12 * d_lim) > 0.0:
-                d_c = brentq(above, 1e-12 * d_lim, hi, xtol=1e-15 * d_lim, rtol=1e-15)
+            if unloads and above(lo) > 0.0:
+                d_c = brentq(above, lo, hi, xtol=1e-15 * d_lim, rtol=1e-15)
             pieces = [(t, t1, f1)]
             y, tt = y1, t1
-            if d_c > 0.0:
+            if unloads:
                 def unload(_t, y, raw=raw):
                     return [y[1], self.a - y[0] - raw(y[0] - self.xb)]
 
@@ -102,8 +105,10 @@ class TrainReference:
                 return y[0] - self.xb
 
             out.direction = -1
-            t3, y, f3 = run(load, y, tt, out)
-            pieces.append((tt, t3, f3))
+            t3 = tt
+            if not (unloads and d_c == 0.0):  # else separated at the unloading's end
+                t3, y, f3 = run(load, y, tt, out)
+                pieces.append((tt, t3, f3))
             self.pieces.append(pieces)
             w = -y[1]
             t = t3 + 2.0 * math.atan(w / gap)
@@ -135,7 +140,8 @@ def _contacts(res):
     # a sharp one, 96 contacts (off by 6.4e-5 on the grid)
     (1e4, 100.0, 0.1, 0.1),
 ])
-def test_a_long_train_keeps_its_phase_within_the_preset_s_error(k_c0, beta, d_lim, w0):
+@pytest.mark.parametrize("law", ["paper", "passive"])
+def test_a_long_train_keeps_its_phase_within_the_preset_s_error(k_c0, beta, d_lim, w0, law):
     """Each contact integrated at rtol 1e-8 left its separation speed off by up to 2e-7
     relative (the step across the kink where the unloading curve is clipped back onto
     phi_C lost the pair's order) and the train's phase added those up: after 64 to 181
@@ -144,9 +150,12 @@ def test_a_long_train_keeps_its_phase_within_the_preset_s_error(k_c0, beta, d_li
     separation speed projected onto the contact's first integral, what is left is each
     contact's duration (~1e-10), which adds up linearly: ~1e-8 here. The bound is the
     preset's stated error; the reference's own error is ~1e-8 at most (its contact times
-    move by 5e-8 between rtol 1e-11 and 1e-12 on the sharp stop, 3e-9 on the others)."""
+    move by 5e-8 between rtol 1e-11 and 1e-12 on the sharp stop, 3e-9 on the others).
+    These contacts stay below s+, where both readings of the law are the same contact
+    (docs/contact-law.md): the passive one's are kept on the same first integral (before,
+    each was stepped at 1e-3 of rtol: four times the evaluations)."""
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d_lim, beta_c=beta,
-                          beta_e=beta)
+                          beta_e=beta, law=law)
     t_end = 100.0
     ref = TrainReference(PRESSING, stop, w0, t_end)
     res = simulate(PRESSING, stop, t_end, FACE, w0, transition_cap=100_000, **STANDARD)
@@ -174,3 +183,26 @@ def test_a_train_handed_to_its_map_starts_it_from_the_right_speed():
     assert any(tr.kind is TransitionKind.REDUCED for tr in res.transitions)
     x, v = ref.state(t_end)
     assert max(abs(res.x[-1] - x), abs(res.v[-1] - v)) / SCALE < STATED_ERROR
+
+
+@pytest.mark.parametrize("law", ["paper", "passive"])
+def test_a_sharp_stop_s_contacts_are_projected_whatever_their_integration_error(law):
+    """On k_c0 = 1e4, beta = 1000, D = 0.01 the unloading curve falls from phi_C to phi_E
+    within ~D / beta of the peak. Integrated at rtol 1e-8, one contact of this train left
+    its separation speed off by 1.5e-6 of it: above the projection's fixed limit (1e-6),
+    so the projection was refused and the error stayed. The contacts after it started
+    2e-6 late, and a pressed mass from rest that reaches this train was 5e-6 of the scale
+    off at t = 100 (the passive law's cell of benchmarks/hysteretic_speed.py). The limit
+    now grows with rtol (core.hysteretic_contact.PROJECTION_PER_RTOL)."""
+    stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=1000.0, beta_e=1000.0,
+                          law=law)
+    w0, t_end = 0.0613790410594, 1.6  # then the mass stays on the stop
+    ref = TrainReference(PRESSING, stop, w0, t_end)
+    res = simulate(PRESSING, stop, t_end, FACE, w0, **STANDARD)
+    got = _contacts(res)
+    assert len(got) == len(ref.starts) == 7
+    # Projected speeds are the closed form's to rounding (3e-14 of the scale seen; the
+    # refused projection left 7e-8); the starts carry each contact's integrated duration
+    # (8e-10 seen, against 2e-6 before).
+    assert np.abs(got[:, 1] - ref.speeds).max() / SCALE < 1e-10
+    assert np.abs(got[:, 0] - ref.starts).max() < 1e-8
