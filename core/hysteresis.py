@@ -277,6 +277,28 @@ def passive_branch_force(branch: Branch, stop: HystereticStop):
     return on_curve
 
 
+def passive_as_paper(branch: Branch, stop: HystereticStop) -> Branch | None:
+    """The branch of the paper's reading whose curve the passive law's ``branch`` is where
+    the overlap goes on it, or ``None``: ``phi_C`` (a loading from a point of it) is the
+    paper's first loading; an unloading from at most its anchor, below ``s+``, follows the
+    exponential through the anchor clipped to ``phi_C``, the paper's unloading from the
+    anchor where that lies above ``phi_E`` (the clip to ``phi_E`` never acts; the passive
+    law's hold on ``phi_C`` from ``s+`` up is above the anchor, out of reach). The contact
+    solver then evaluates it with the paper's closure (the same force to rounding; every
+    contact of a train is of this kind)."""
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None:
+        return FIRST_LOADING
+    if branch.loading:
+        return None  # retracing up the curve: it may pass s+
+    d_a, p_a = anchor
+    d_lim = stop.limit_overlap
+    if not (branch.delta_r <= d_a < leaving_overlap(stop)
+            and p_a - stop.k_e0 * d_lim * d_a / (d_lim - d_a) > 0.0):
+        return None
+    return Branch(False, d_a, p_a)
+
+
 def _on_compression(d_r: float, p_r: float, stop: HystereticStop) -> bool:
     d_lim = stop.limit_overlap
     return d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (1.0 - ON_ENVELOPE_RTOL)
@@ -810,9 +832,14 @@ def stored_energy_many(delta, phi, stop: HystereticStop, delta_r=None,
             # its branches keep an anchor that a reversal point alone does not give
             raise ValueError("delta_r and phi_r apply to the paper's reading only; got "
                              f"law={stop.law!r}")
-        return np.array([stored_energy(float(d), float(p), stop)
-                         for d, p in zip(delta.ravel(), phi.ravel(), strict=True)]
-                        ).reshape(delta.shape)
+        # Up to s+ a fresh unloading of the passive law is the paper's, through (delta, phi)
+        # (_passive_work): those states in the paper's vectorised pass, the others one by one.
+        paper = delta <= leaving_overlap(stop)
+        out = np.empty(delta.shape)
+        out[paper] = stored_energy_many(delta[paper], phi[paper], _paper_reading(stop))
+        out[~paper] = [stored_energy(float(d), float(p), stop)
+                       for d, p in zip(delta[~paper], phi[~paper], strict=True)]
+        return out
     out = np.zeros(delta.shape)
     d_lim = stop.limit_overlap
     inside = (delta > 0.0) & (delta < d_lim)

@@ -74,6 +74,7 @@ from core.hysteresis import (
     branch_work,
     elastic_limit,
     force_and_slope,
+    passive_as_paper,
     passive_branch_force,
     phi_compression,
     phi_expansion,
@@ -236,16 +237,10 @@ class _Solver:
         law of :func:`core.hysteresis.force_and_slope` with the branch constants bound)."""
         stop = self.stop
         if stop.law == "passive":
-            xb_, sa_, d_lim_, kc_ = self.xb, s * self.a, self.d_lim, stop.k_c0 * self.d_lim
-            force = passive_branch_force(branch, stop)
-
-            def acc_passive(x: float) -> float:
-                d = x - xb_
-                if d <= 0.0:  # phi_C continued past the face, as in acc below
-                    return sa_ - x - kc_ * d / (d_lim_ - d)
-                return sa_ - x - force(d)
-
-            return acc_passive
+            as_paper = passive_as_paper(branch, stop)
+            if as_paper is None:
+                return self.accel_passive(s, branch)
+            branch = as_paper  # the same curve: the paper's closure below is faster
         xb, d_lim, sa = self.xb, self.d_lim, s * self.a
         kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
         r = branch.delta_r
@@ -287,6 +282,19 @@ class _Solver:
             return sa - x - (phi if side * (phi - envelope) < 0.0 else envelope)
 
         return acc
+
+    def accel_passive(self, s: int, branch: Branch):
+        """:meth:`accel` on a branch of the passive law that is none of the paper's."""
+        xb, sa, d_lim, kc = self.xb, s * self.a, self.d_lim, self.stop.k_c0 * self.d_lim
+        force = passive_branch_force(branch, self.stop)
+
+        def acc_passive(x: float) -> float:
+            d = x - xb
+            if d <= 0.0:  # phi_C continued past the face, as in accel's closures
+                return sa - x - kc * d / (d_lim - d)
+            return sa - x - force(d)
+
+        return acc_passive
 
     def new_branch(self, branch: Branch, delta: float, w_stop: float) -> None:
         self.contact.branches.append(branch)

@@ -422,7 +422,9 @@ def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np
         return stored_energy_many(delta, phi, stop, np.where(on_branch, d_r, delta),
                                   np.where(on_branch, p_r, phi))
     # the passive law's branches keep an anchor: integrated one branch at a time
-    stored = stored_energy_many(delta, phi, stop)
+    stored = np.empty(np.shape(delta))
+    fresh = ~on_branch
+    stored[fresh] = stored_energy_many(delta[fresh], phi[fresh], stop)
     for k in np.nonzero(on_branch)[0]:
         prim = primitive(branch_rows[k])
         stored[k] = prim(delta[k]) - prim(0.0)

@@ -21,12 +21,14 @@ from core.hysteresis import (
     force_and_slope,
     force_on_branches,
     leaving_overlap,
+    passive_as_paper,
     passive_branch_force,
     passive_force_and_slope,
     phi_compression,
     phi_expansion,
     reverse,
     stored_energy,
+    stored_energy_many,
 )
 from core.hysteretic import simulate_hysteretic
 
@@ -115,7 +117,9 @@ def test_the_solver_s_passive_force_and_work_are_the_law_s(turns, log_beta_c, be
     (core.hysteresis.passive_branch_force) and its work through a primitive with the clip
     points found once (BranchPrimitive): on the branch reached by a random program they
     give the law's force to the bit and its work to rounding (the primitive sums the same
-    closed forms in another order: 9e-16 of the scale seen over 3,000 random branches)."""
+    closed forms in another order: 9e-16 of the scale seen over 3,000 random branches);
+    where a branch is one of the paper's reading, the solver evaluates the paper's closure
+    and the states' stored energy in the paper's vectorised pass."""
     beta_c = 10.0**log_beta_c
     stop = _stop("passive", beta_c, beta_c * beta_factor, 10.0**log_ratio)
     delta, branch = 0.0, FIRST_LOADING
@@ -133,6 +137,20 @@ def test_the_solver_s_passive_force_and_work_are_the_law_s(turns, log_beta_c, be
     for d in (lo, hi, lo + ends[2] * (hi - lo)):
         assert primitive(d) == pytest.approx(branch_work(lo, d, branch, stop),
                                              abs=1e-13 * scale)
+    # Where the branch is one of the paper's reading (passive_as_paper), the solver takes
+    # the paper's closure: the same force, to rounding, wherever the overlap goes on it.
+    as_paper = passive_as_paper(branch, stop)
+    if as_paper is not None:
+        paper = _stop("paper", beta_c, beta_c * beta_factor, 10.0**log_ratio)
+        reach = overlaps if branch.loading else overlaps[overlaps <= branch.delta_r]
+        for d in reach:
+            assert force_and_slope(d, as_paper, paper)[0] == pytest.approx(
+                force(d), rel=1e-13)
+    # The stored energy of states on the curve, in one pass as for a response's samples.
+    phis = [force(d) for d in overlaps]
+    assert stored_energy_many(overlaps, np.array(phis), stop) == pytest.approx(
+        [stored_energy(d, p, stop) for d, p in zip(overlaps, phis, strict=True)],
+        abs=1e-13 * scale)
 
 
 @pytest.mark.parametrize(
