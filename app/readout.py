@@ -160,12 +160,12 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
 MANY_CONTACTS = 50
 #: The largest error measured against a tight reference, over the scale, at t_end = 100 and
 #: the standard preset, where no reduced model took over (a model's own bound is stated
-#: beside it), on the 80 pressed stops of benchmarks/hysteretic_speed.py: 6.3e-9 with the
-#: paper's law (k_c0 = 100, beta = 100, D = 1; benchmarks/results/hysteretic_speed_2026-11-27d.txt),
-#: 6.6e-9 with the passive one (k_c0 = 1e4, beta = 1, D = 1e-3; -27g); 3.8e-9 on Fig. 10's
-#: train by t = 1000. It was 1.1e-4 (the phase of hundreds of contacts) before the contacts
-#: of a train were kept on their first integral (core/hysteretic_contact.py), and 3.5e-6
-#: with the passive law until its contacts were kept there too.
+#: beside it) and the mass does not rest, on the 80 pressed stops of
+#: benchmarks/hysteretic_speed.py: 6.3e-9 under either law (k_c0 = 100, beta = 100, D = 1;
+#: benchmarks/results/hysteretic_speed_2026-11-27g.txt), 3.8e-9 on Fig. 10's train by
+#: t = 1000. It was 1.1e-4 (the phase of hundreds of contacts) before the contacts of a
+#: train were kept on their first integral (core/hysteretic_contact.py), and 3.5e-6 under
+#: the passive law until its contacts were kept there too.
 MANY_CONTACTS_ERROR = 1e-8
 #: The same over the grid's runs that end at rest on the stop with no reduced model: 3.4e-7
 #: (paper's law, k_c0 = 1e4, beta = 1000, D = 0.01; 3.1e-7 on two other cells; -27g). Rest
