@@ -753,31 +753,38 @@ class BranchPrimitive:
 
     def _passive(self, lo: float, hi: float) -> None:
         """The passive law's branch as :func:`_passive_work` splits it: ``phi_C``, or the
-        paper's curve through the anchor (its own primitive, ``inner``) up to ``s+`` and
-        ``phi_C`` above where the curve is on ``phi_C`` there (``cap``: ``s+``, else
-        ``inf``). Before, every evaluation searched the clip points again."""
+        paper's curve through the anchor (its own primitive from the face, ``inner``) up to
+        ``s+`` and ``phi_C`` above where the curve is on ``phi_C`` there (``cap``: ``s+``,
+        else ``inf``); any overlap down to the face is then in range (a stored energy
+        needs ``F(0)``). Before, every evaluation searched the clip points again."""
         stop = self.stop
         anchor = _passive_anchor(self.branch, stop)
         self.inner, self.cap = None, math.inf
         if anchor is None:
-            self.cap = lo
-            return
-        d_lim, s_plus = stop.limit_overlap, leaving_overlap(stop)
-        curve = Branch(False, *anchor)
-        if s_plus < d_lim and passive_force_and_slope(s_plus * (1.0 + 1e-12), curve, stop)[
-                0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus):
-            self.cap = s_plus
-        if lo < self.cap:
-            self.inner = BranchPrimitive(curve, _paper_reading(stop), lo, min(hi, self.cap))
+            self.cap = 0.0
+        else:
+            d_lim, s_plus = stop.limit_overlap, leaving_overlap(stop)
+            curve = Branch(False, *anchor)
+            if s_plus < d_lim and passive_force_and_slope(s_plus * (1.0 + 1e-12), curve, stop)[
+                    0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus):
+                self.cap = s_plus
+            if self.cap > 0.0:
+                self.inner = BranchPrimitive(curve, _paper_reading(stop), 0.0,
+                                             min(max(hi, lo), self.cap))
+        self.at_lo = self._from_face(lo)
 
-    def _passive_at(self, delta: float) -> float:
+    def _from_face(self, delta: float) -> float:
+        """``int_0^delta phi`` along the passive branch (see :meth:`_passive`)."""
         cap = self.cap
         below = self.inner(min(delta, cap)) if self.inner is not None else 0.0
         if delta <= cap:
             return below
         k_c0, d_lim = self.stop.k_c0, self.stop.limit_overlap
         return below + (_envelope_energy(delta, k_c0, d_lim)
-                        - _envelope_energy(max(self.lo, cap), k_c0, d_lim))
+                        - _envelope_energy(cap, k_c0, d_lim))
+
+    def _passive_at(self, delta: float) -> float:
+        return self._from_face(delta) - self.at_lo
 
     def __call__(self, delta: float) -> float:
         delta = max(delta, 0.0)
