@@ -99,14 +99,13 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
                                f"r = {_ratio(th.restitution)})"))
     if res is not None:
         rows.append(("x_max simulated", _num(res.x_max, len_unit)))
-        steady = res.steady.describe(scales.time, " s" if scales.si else "",
-                                     scales.velocity, vel_unit)
+        time_unit = " s" if scales.si else ""
+        steady = res.steady.describe(scales.time, time_unit, scales.velocity, vel_unit)
         rest_error = res.info.get("rest_time_error")
         if res.steady.kind is SteadyKind.REST and rest_error is not None:
             # A modelled rest's time is known to its stated bound, not to six digits.
-            unit = " s" if scales.si else ""
             steady = (f"rest at the stop (from t = {_num(res.steady.t_reached * scales.time)}"
-                      f" ± {_num(rest_error * scales.time, unit)}, by a reduced model)")
+                      f" ± {_num(rest_error * scales.time, time_unit)}, by a reduced model)")
         rows.append(("Steady state found", steady))
         pressed = np.asarray(res.mode) == int(Mode.CONTACT)
         if sol.values["stop_type"] == "rigid" and pressed.any():

@@ -182,6 +182,17 @@ def leaving_overlap(stop: HystereticStop) -> float:
     return 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
 
 
+def _held_from_s_plus(d_a: float, c: float, s_plus: float, stop: HystereticStop) -> bool:
+    """Whether the passive curve through the anchor at ``d_a`` (exponential's constant
+    ``c``) reaches ``phi_C`` at ``s+`` and so keeps to it above (:func:`_passive_curve`)."""
+    d_lim, rate = stop.limit_overlap, stop.beta_e / stop.limit_overlap
+    if not s_plus < d_lim:
+        return False
+    raw_sp = stop.k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
+        min(rate * (s_plus - d_a), EXP_CAP))
+    return raw_sp >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL)
+
+
 def _passive_curve(delta: float, d_a: float, p_a: float, stop: HystereticStop):
     """The passive law's curve through ``(d_a, p_a)``: the unloading exponential of Eq. 13
     through that point, clipped to the envelopes, and on ``phi_C`` above ``s+`` if it
@@ -194,11 +205,8 @@ def _passive_curve(delta: float, d_a: float, p_a: float, stop: HystereticStop):
     s_plus = leaving_overlap(stop)
     rate = stop.beta_e / d_lim
     c = p_a - stop.k_e0 * d_lim * d_a / (d_lim - d_a)
-    if delta >= s_plus and s_plus < d_lim:
-        raw_sp = stop.k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
-            min(rate * (s_plus - d_a), EXP_CAP))
-        if raw_sp >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL):
-            return upper, stop.k_c0 * hyper_slope
+    if delta >= s_plus and _held_from_s_plus(d_a, c, s_plus, stop):
+        return upper, stop.k_c0 * hyper_slope
     decay = c * math.exp(min(rate * (delta - d_a), EXP_CAP))
     raw = lower + decay
     if raw > upper:
@@ -254,11 +262,7 @@ def passive_branch_force(branch: Branch, stop: HystereticStop):
     s_plus = leaving_overlap(stop)
     rate = stop.beta_e / d_lim
     c = p_a - k_e0 * d_lim * d_a / (d_lim - d_a)
-    capped = False  # the curve keeps to phi_C from s+ up (_passive_curve)
-    if s_plus < d_lim:
-        raw_sp = k_e0 * d_lim * s_plus / (d_lim - s_plus) + c * math.exp(
-            min(rate * (s_plus - d_a), EXP_CAP))
-        capped = raw_sp >= k_c0 * d_lim * s_plus / (d_lim - s_plus) * (1.0 - ON_ENVELOPE_RTOL)
+    capped = _held_from_s_plus(d_a, c, s_plus, stop)  # on phi_C from s+ up
     exp = math.exp
 
     def on_curve(delta: float) -> float:
@@ -657,16 +661,22 @@ def _passive_work(lo: float, hi: float, branch: Branch, stop: HystereticStop) ->
     if anchor is None:
         return _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(lo, stop.k_c0, d_lim)
     s_plus = leaving_overlap(stop)
-    d_r, p_r = anchor
-    curve, paper = Branch(False, d_r, p_r), _paper_reading(stop)
-    capped = s_plus < d_lim and hi > s_plus and passive_force_and_slope(
-        s_plus * (1.0 + 1e-12), Branch(False, d_r, p_r), stop
-    )[0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
+    curve, paper = Branch(False, *anchor), _paper_reading(stop)
+    capped = hi > s_plus and _work_capped(curve, s_plus, stop)
     if not capped:
         return branch_work(lo, hi, curve, paper)
     below = branch_work(lo, min(hi, s_plus), curve, paper) if lo < s_plus else 0.0
     top = max(lo, s_plus)
     return below + _envelope_energy(hi, stop.k_c0, d_lim) - _envelope_energy(top, stop.k_c0, d_lim)
+
+
+def _work_capped(curve: Branch, s_plus: float, stop: HystereticStop) -> bool:
+    """Whether the work along the passive ``curve`` (the paper's unloading curve through
+    its anchor) is taken on ``phi_C`` from ``s+`` up: the law's force just above ``s+`` is
+    ``phi_C``'s (:func:`_passive_work`, :class:`BranchPrimitive`)."""
+    d_lim = stop.limit_overlap
+    return s_plus < d_lim and passive_force_and_slope(
+        s_plus * (1.0 + 1e-12), curve, stop)[0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
 
 
 @functools.lru_cache(maxsize=64)
@@ -763,10 +773,9 @@ class BranchPrimitive:
         if anchor is None:
             self.cap = 0.0
         else:
-            d_lim, s_plus = stop.limit_overlap, leaving_overlap(stop)
+            s_plus = leaving_overlap(stop)
             curve = Branch(False, *anchor)
-            if s_plus < d_lim and passive_force_and_slope(s_plus * (1.0 + 1e-12), curve, stop)[
-                    0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus):
+            if _work_capped(curve, s_plus, stop):
                 self.cap = s_plus
             if self.cap > 0.0:
                 self.inner = BranchPrimitive(curve, _paper_reading(stop), 0.0,
