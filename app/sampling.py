@@ -74,6 +74,12 @@ MODE_AFTER: dict[str, int] = {
 Evaluate = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 
+def _cat(*parts) -> np.ndarray:
+    """``np.r_[parts]`` for 1-d arrays and scalars, without its index-trick parsing (a
+    tenth of the time; called some fifty times per drawn solution)."""
+    return np.concatenate([np.atleast_1d(p) for p in parts])
+
+
 def evaluator(result: Result, osc, stop, t_end: float, x0: float, v0: float,
               method: str) -> tuple[Evaluate, bool]:
     """``f(t) -> (x, v)`` on the solution, and whether it is the exact closed form.
@@ -204,7 +210,7 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
     are evaluated: where evaluating is costly (a deformable stop's contacts) the path
     costs a fraction of the evaluations."""
     bt, bx, bv_in, bv_out, bmode = _pieces(result, t_hi)
-    ends = np.r_[bt[1:], t_hi]
+    ends = _cat(bt[1:], t_hi)
     length = np.maximum(ends - bt, 0.0)
     # First pass: PATH_DT at most, within the point budget.
     dt = max(PATH_DT, float(length.sum()) / MAX_PATH_POINTS)
@@ -214,7 +220,7 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
     else:
         n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
         times, piece = _interior(bt, length, n)
-        x, v = evaluate(np.r_[times, t_hi])
+        x, v = evaluate(_cat(times, t_hi))
         x, v, last = x[:-1], v[:-1], (x[-1:], v[-1:])
     # Then subdivide each interval whose chord is longer than a step, again where a chord
     # still is (the speed along the curve changes within an interval: in a contact one
@@ -237,9 +243,9 @@ def phase_path(result: Result, evaluate: Evaluate, t_hi: float,
         frac = (_ranks(extra) + 1.0) / (extra[k] + 1.0)
         new_t = full_t[k] + frac * (full_t[k + 1] - full_t[k])
         nx, nv = evaluate(new_t)
-        times = np.r_[times, new_t]
-        x, v = np.r_[x, nx], np.r_[v, nv]
-        piece = np.r_[piece, full_p[k]]
+        times = _cat(times, new_t)
+        x, v = _cat(x, nx), _cat(v, nv)
+        piece = _cat(piece, full_p[k])
     t_all, x_all, v_all, p_all = _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends,
                                             last)
     return Path(t=t_all, x=x_all, v=v_all, mode=bmode[p_all])
@@ -264,25 +270,25 @@ def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
     if len(st) > 1:
         # No more of them than the picture needs: one per step of arc length (the
         # solver's samples are denser than that on most of the path) or per ``dt`` of time.
-        arc = np.r_[0.0, np.cumsum(np.hypot(np.diff(sx) / step[0], np.diff(sv) / step[1]))]
-        new = np.r_[True, (np.diff(p) != 0) | (np.diff(np.floor(arc)) != 0)
-                    | (np.diff(np.floor((st - bt[p]) / coarse)) != 0)]
+        arc = _cat(0.0, np.cumsum(np.hypot(np.diff(sx) / step[0], np.diff(sv) / step[1])))
+        new = _cat(True, (np.diff(p) != 0) | (np.diff(np.floor(arc)) != 0)
+                    | (np.diff(np.floor((st - bt[p]) / coarse)) != 0))
         st, sx, sv, p = st[new], sx[new], sv[new], p[new]
     if len(st) > MAX_PATH_POINTS:  # within the budget: every k-th
         every = math.ceil(len(st) / MAX_PATH_POINTS)
         st, sx, sv, p = st[::every], sx[::every], sv[::every], p[::every]
     m = len(bt)
     # Known times of each piece in order (its ends, its samples); the gaps between them.
-    kt, kp = np.r_[bt, st, ends], np.r_[np.arange(m), p, np.arange(m)]
-    order = np.lexsort((kt, np.r_[np.zeros(m), np.ones(len(st)), np.full(m, 2.0)], kp))
+    kt, kp = _cat(bt, st, ends), _cat(np.arange(m), p, np.arange(m))
+    order = np.lexsort((kt, _cat(np.zeros(m), np.ones(len(st)), np.full(m, 2.0)), kp))
     kt, kp = kt[order], kp[order]
     gap = np.diff(kt)
     fill = np.where(np.diff(kp) == 0, np.maximum(np.ceil(gap / coarse) - 1, 0), 0
                     ).astype(np.int64)
     k = np.repeat(np.arange(len(fill)), fill)
     new_t = kt[k] + (_ranks(fill) + 1.0) / (fill[k] + 1.0) * gap[k]
-    nx, nv = evaluate(np.r_[new_t, t_hi])
-    return (np.r_[st, new_t], np.r_[sx, nx[:-1]], np.r_[sv, nv[:-1]], np.r_[p, kp[k]],
+    nx, nv = evaluate(_cat(new_t, t_hi))
+    return (_cat(st, new_t), _cat(sx, nx[:-1]), _cat(sv, nv[:-1]), _cat(p, kp[k]),
             (nx[-1:], nv[-1:]))
 
 
@@ -310,14 +316,14 @@ def _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends, last):
     xe, ve = last
     if ends[-1] == bt[-1]:  # a transition at the end: the last piece is its state after
         xe, ve = bx[-1:], bv_out[-1:]
-    end_x = np.r_[bx[1:], xe]
-    end_v = np.r_[bv_in[1:], ve]
-    t = np.r_[bt, times, ends]
-    xx = np.r_[bx, x, end_x]
-    vv = np.r_[bv_out, v, end_v]
-    pp = np.r_[np.arange(m), piece, np.arange(m)]
+    end_x = _cat(bx[1:], xe)
+    end_v = _cat(bv_in[1:], ve)
+    t = _cat(bt, times, ends)
+    xx = _cat(bx, x, end_x)
+    vv = _cat(bv_out, v, end_v)
+    pp = _cat(np.arange(m), piece, np.arange(m))
     # Order: by piece, then start, interior by time, end.
-    rank = np.r_[np.zeros(m), np.ones(len(times)), np.full(m, 2.0)]
+    rank = _cat(np.zeros(m), np.ones(len(times)), np.full(m, 2.0))
     order = np.lexsort((t, rank, pp))
     t, xx, vv, pp = t[order], xx[order], vv[order], pp[order]
     return t, xx, vv, pp
@@ -388,18 +394,18 @@ def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
         t_hi = steady.t_reached if still else t_end
         dt = max(HISTORY_DT, t_hi / MAX_HISTORY_SAMPLES)
     bt, bx, bv_in, bv_out, bmode = _pieces(result, t_hi)
-    ends = np.r_[bt[1:], t_hi]
+    ends = _cat(bt[1:], t_hi)
     length = np.maximum(ends - bt, 0.0)
     n = np.maximum(1, np.ceil(length / dt).astype(np.int64))
     times, piece = _interior(bt, length, n)
-    x, v = evaluate(np.r_[times, t_hi, t_end])
+    x, v = evaluate(_cat(times, t_hi, t_end))
     tail_x, tail_v = x[-1:], v[-1:]
     x, v, last = x[:-2], v[:-2], (x[-2:-1], v[-2:-1])
     t, x, v, p = _with_ends(times, x, v, piece, bt, bx, bv_in, bv_out, ends, last)
     mode = bmode[p]
     if still:  # the state at t_reached holds to the horizon
-        return (np.r_[t, t_end], np.r_[x, tail_x], np.r_[v, tail_v],
-                np.r_[mode, mode[-1:]])
+        return (_cat(t, t_end), _cat(x, tail_x), _cat(v, tail_v),
+                _cat(mode, mode[-1:]))
     if not periodic:
         return t, x, v, mode
     t0, period = cycle
@@ -414,12 +420,12 @@ def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
     closing = (ct[-1:] - t0, cx[-1:], cv[-1:], cm[-1:])
     ct, cx, cv, cm = ct[keep] - t0, cx[keep], cv[keep], cm[keep]
     if (~cyc & (t == t0)).any():
-        ct, cx, cv, cm = (np.r_[0.0, ct], np.r_[closing[1], cx], np.r_[closing[2], cv],
-                          np.r_[closing[3], cm])
+        ct, cx, cv, cm = (_cat(0.0, ct), _cat(closing[1], cx), _cat(closing[2], cv),
+                          _cat(closing[3], cm))
     if column_width >= period and len(ct) > 2:
         run = np.flatnonzero(cm[1:] != cm[:-1])
-        key = np.unique(np.r_[0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),
-                              np.argmin(cv), np.argmax(cv)])
+        key = np.unique(_cat(0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),
+                              np.argmin(cv), np.argmax(cv)))
         ct, cx, cv, cm = ct[key], cx[key], cv[key], cm[key]
     copies = int(math.ceil((t_end - t0) / period))
     tt = (ct[None, :] + (t0 + period * np.arange(copies))[:, None]).ravel()
@@ -448,8 +454,8 @@ def m4(t: np.ndarray, series: tuple[np.ndarray, ...], t_lo: float, t_hi: float,
         return np.arange(n)
     width = (t_hi - t_lo) / columns if t_hi > t_lo else 1.0
     col = np.clip(((t - t_lo) / width).astype(np.int64), 0, columns - 1)
-    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
-    ends = np.r_[starts[1:], n] - 1
+    starts = np.flatnonzero(_cat(True, col[1:] != col[:-1]))
+    ends = _cat(starts[1:], n) - 1
     keep = np.zeros(n, dtype=bool)
     keep[starts] = keep[ends] = True
     group = np.repeat(np.arange(len(starts)), np.diff(np.append(starts, n)))
@@ -471,8 +477,8 @@ def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, column
     if len(t) == 0:
         return np.zeros(0), np.zeros(0), np.zeros(0, np.int8)
     change = np.flatnonzero(np.diff(mode) != 0) + 1
-    starts = np.r_[0, change]
-    stops = np.r_[change, len(t) - 1]
+    starts = _cat(0, change)
+    stops = _cat(change, len(t) - 1)
     left, right, m = t[starts].astype(float), t[stops].astype(float), mode[starts]
     width = (t_hi - t_lo) / columns
     other = m != int(Mode.SLIP)
@@ -490,7 +496,7 @@ def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, column
         ll, rr = left[sel], right[sel]
         o = np.argsort(ll, kind="stable")
         ll, rr = ll[o], np.maximum.accumulate(rr[o])
-        new = np.r_[True, ll[1:] > rr[:-1] + 1e-9 * width]
+        new = _cat(True, ll[1:] > rr[:-1] + 1e-9 * width)
         grp = np.cumsum(new) - 1
         out_l.append(ll[new])
         out_r.append(np.maximum.reduceat(rr, np.flatnonzero(new)))

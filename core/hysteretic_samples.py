@@ -48,9 +48,11 @@ CONTACT_SAMPLES = 16
 CONTACT_SAMPLED_BRANCHES = 16
 
 
-def _continued(sv: _Solver, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _continued(sv: _Solver, times: np.ndarray, with_work: bool = True
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Times mapped into the detected cycle (periodic continuation) and the work the
-    repeated cycles add; the identity and zeros without a cycle."""
+    repeated cycles add (zeros without ``with_work``); the identity and zeros without a
+    cycle."""
     shift_work = np.zeros((len(times), 3))
     t_eval = np.array(times, dtype=float)
     if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
@@ -59,6 +61,8 @@ def _continued(sv: _Solver, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         late = t_eval > t_now
         k = np.floor((t_eval[late] - t_then) / period)
         t_eval[late] = t_eval[late] - k * period
+        if not with_work:
+            return t_eval, shift_work
         per = _work_at(sv, np.array([t_now, t_then]))
         shift_work[late] = k[:, None] * (per[0] - per[1])[None, :]
         # Each repeated cycle returns to the same state, so the stop takes exactly the
@@ -81,8 +85,8 @@ class HystereticDense:
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if np.any(t < 0.0) or np.any(t > self._t_stop):
             raise ValueError(f"t must lie in [0, {self._t_stop:g}] (the computed motion)")
-        t_eval, _ = _continued(self._sv, t)
-        x, xd, *_ = _evaluate(self._sv, t_eval, self._sv.stop)
+        t_eval, _ = _continued(self._sv, t, with_work=False)
+        x, xd, *_ = _evaluate(self._sv, t_eval, self._sv.stop, state_only=True)
         return x, xd
 
 
@@ -289,8 +293,12 @@ def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, n
     return a_d, a_p
 
 
-def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
-    """State, mode, force, overlap, cumulative work and stored energy at times ``t``."""
+def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
+    """State, mode, force, overlap, cumulative work and stored energy at times ``t``.
+
+    With ``state_only`` only the state ``x, xd`` is computed (the other arrays are
+    returned unfilled): what a picture of the motion needs, without the law's force and
+    stored energy at every contact sample, which cost most of an evaluation."""
     n = len(t)
     x = np.zeros(n)
     xd = np.zeros(n)
@@ -363,6 +371,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop):
                 wb += c.friction[r] * sv.vb * tau
             x[j], xd[j] = xj, uj
             work[j, 0], work[j, 1] = wf, wb
+        if state_only:
+            return x, xd, mode, phi, x - stop.clearance, work, stored
         mode[idx] = Mode.CONTACT
         # A reduced train's flights are slip towards the stop.
         mode[idx[(kinds == _TRAIN) & (x[idx] < xb)]] = Mode.SLIP

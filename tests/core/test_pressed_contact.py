@@ -166,6 +166,26 @@ def test_too_many_events_is_an_event_limit():
     assert np.all(np.isfinite(res.x))
 
 
+@pytest.mark.parametrize(("osc", "stop"), [
+    # Fig. 10: Hermite contact rows, arcs, and the periodic continuation past the tail.
+    (Oscillator(0.3, 0.2, 0.07),
+     HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)),
+    # a pressed mass: a reduced train of contacts from t ~ 10
+    (PRESSING, HystereticStop(FACE, 1e5, 5e4, limit_overlap=1e-3, beta_c=1000.0,
+                              beta_e=1000.0)),
+    # the passive law's pressed cell: loops that retrace (a reduced oscillation)
+    (PRESSING, HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=1000.0,
+                              beta_e=1000.0, law="passive")),
+], ids=["fig10", "train", "passive-loops"])
+def test_the_dense_solution_is_the_samples_state_at_their_times(osc, stop):
+    """The dense evaluation (which skips the law's force and stored energy) gives, at the
+    samples' own times, exactly their state: the same rows, the same arithmetic."""
+    res = simulate(osc, stop, 100.0, **STANDARD)
+    x, v = res.evaluate(res.t, -1)
+    np.testing.assert_array_equal(x, res.x)
+    np.testing.assert_array_equal(v, res.v)
+
+
 def test_t_eval_and_dense_evaluation():
     """Samples at the given times equal the dense solution there and the default samples
     where those fall (the same interpolants)."""
