@@ -296,9 +296,10 @@ def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, n
 def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
     """State, mode, force, overlap, cumulative work and stored energy at times ``t``.
 
-    With ``state_only`` only the state ``x, xd`` is computed (the other arrays are
-    returned unfilled): what a picture of the motion needs, without the law's force and
-    stored energy at every contact sample, which cost most of an evaluation."""
+    With ``state_only`` only the state ``x, xd`` is complete (the other arrays are left
+    partly filled and are not to be read): what a picture of the motion needs, without
+    the law's force and stored energy at every contact sample, which cost most of an
+    evaluation."""
     n = len(t)
     x = np.zeros(n)
     xd = np.zeros(n)
