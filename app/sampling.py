@@ -272,7 +272,7 @@ def _first_pass_from_samples(result: Result, evaluate: Evaluate, bt: np.ndarray,
         # solver's samples are denser than that on most of the path) or per ``dt`` of time.
         arc = _cat(0.0, np.cumsum(np.hypot(np.diff(sx) / step[0], np.diff(sv) / step[1])))
         new = _cat(True, (np.diff(p) != 0) | (np.diff(np.floor(arc)) != 0)
-                    | (np.diff(np.floor((st - bt[p]) / coarse)) != 0))
+                   | (np.diff(np.floor((st - bt[p]) / coarse)) != 0))
         st, sx, sv, p = st[new], sx[new], sv[new], p[new]
     if len(st) > MAX_PATH_POINTS:  # within the budget: every k-th
         every = math.ceil(len(st) / MAX_PATH_POINTS)
@@ -425,7 +425,7 @@ def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
     if column_width >= period and len(ct) > 2:
         run = np.flatnonzero(cm[1:] != cm[:-1])
         key = np.unique(_cat(0, len(ct) - 1, run, run + 1, np.argmin(cx), np.argmax(cx),
-                              np.argmin(cv), np.argmax(cv)))
+                             np.argmin(cv), np.argmax(cv)))
         ct, cx, cv, cm = ct[key], cx[key], cv[key], cm[key]
     copies = int(math.ceil((t_end - t0) / period))
     tt = (ct[None, :] + (t0 + period * np.arange(copies))[:, None]).ravel()
