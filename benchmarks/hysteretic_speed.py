@@ -101,13 +101,15 @@ def reference_rest_time(ref, amplitude: float, tolerance: float, t_end: float) -
     """The candidate's rule for rest (:func:`core.hysteretic_reduced.rest_rule`, as
     ``core.hysteretic._Solver.settled`` applies it) on the reference's reversals: the first
     reversal whose last four (itself included, all in one contact) lie within ``amplitude``,
-    the candidate's rest amplitude, unless the centre's creep left by ``t_end`` is above
-    it, the candidate's rest would then state more than ``tolerance``, and the loops left
-    are few enough that the candidate follows them. The loops die like ``1/k`` and never
-    stop: a time of rest is the time a rule says so, and the reference's own rest is
-    declared at its own, far smaller amplitude. (Before, the first of those four reversals
-    was taken: 1.5 cycles before the candidate's rule can say rest, 9e-3 to 0.12 of
-    time.)"""
+    the candidate's rest amplitude, in the position and within ten times it in the
+    velocity (the position's swing times ``2 pi / T``,
+    :func:`~core.hysteretic_reduced.rest_swing_factor`), unless the centre's creep left by
+    ``t_end`` is above it, the candidate's rest would then state more than ``tolerance``,
+    and the loops left are few enough that the candidate follows them. The loops die like
+    ``1/k`` and never stop: a time of rest is the time a rule says so, and the reference's
+    own rest is declared at its own, far smaller amplitude. (Before, the first of those
+    four reversals was taken: 1.5 cycles before the candidate's rule can say rest, 9e-3 to
+    0.12 of time.)"""
     rev, contact, n = [], [], 0  # reversals and the contact each is in
     for tr in ref.transitions:
         n += tr.kind is TransitionKind.CONTACT
@@ -120,6 +122,7 @@ def reference_rest_time(ref, amplitude: float, tolerance: float, t_end: float) -
     xs = np.array([tr.x for tr in rev])
     windows = np.lib.stride_tricks.sliding_window_view(xs, 4)
     same = np.lib.stride_tricks.sliding_window_view(np.array(contact), 4)
+    # (the position's test first, cheap: rest_rule applies the velocity's too)
     for j in np.nonzero((np.ptp(windows, axis=1) <= amplitude)
                         & (same[:, 0] == same[:, 3]))[0] + 3:
         first = j - 4 if j >= 4 and contact[j - 4] == contact[j] else j - 3

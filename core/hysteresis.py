@@ -458,7 +458,11 @@ def reverse(delta: float, phi: float, branch: Branch,
     the state is on, not one recomputed from the rounded reversal point.
     """
     new = Branch(not branch.loading, float(delta), float(phi))
-    if stop is None or stop.law != "passive" or _on_compression(new.delta_r, new.phi_r, stop):
+    if stop is None or stop.law != "passive":
+        return new
+    if branch.anchor is not None and (new.delta_r, new.phi_r) == branch.anchor:
+        return Branch(new.loading, new.delta_r, new.phi_r, branch.anchor)  # the same curve
+    if _on_compression(new.delta_r, new.phi_r, stop):
         return new
     anchor = _passive_anchor(branch, stop)
     if anchor is None or not _keeps_curve(new.delta_r, new.phi_r, anchor, stop):

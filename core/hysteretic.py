@@ -71,6 +71,7 @@ from core.hysteresis import (
     FIRST_LOADING,
     Branch,
     ElasticLimit,
+    _on_compression,
     branch_work,
     elastic_limit,
     force_and_slope,
@@ -135,6 +136,7 @@ from core.hysteretic_reduced import (
     reduce_extent,
     reduce_oscillation,
     rest_rule,
+    rest_swing_factor,
 )
 from core.hysteretic_samples import _assemble
 from core.params import HystereticStop
@@ -164,13 +166,13 @@ EQUILIBRIUM_XTOL = 1e-16
 ROOT_RTOL = 4.0 * np.finfo(float).eps
 
 
-#: Overlap reversals of a sustained contact whose amplitude falls below this multiple of
-#: ``rtol`` (times the length scale; ``atol`` at least) are the limit of rest at the stop:
-#: the mass is pressed on the stop, and rest is declared at the equilibrium. The rest state
-#: then differs from the motion by less than ``10 rtol`` in the position, inside the error
-#: the app states for each accuracy preset (``~100 rtol``, app/solver.py), and in the
-#: velocity by up to ``omega`` times that, ``omega`` the loops' angular frequency (a
-#: reduced model's stated error at rest includes it).
+#: Overlap reversals of a sustained contact whose swing falls below this multiple of
+#: ``rtol`` (times the length scale; ``atol`` at least) in the position, and below ten
+#: times that in the velocity (:data:`~core.hysteretic_reduced.REST_SPEED_PER_AMPLITUDE`),
+#: are the limit of rest at the stop: the mass is pressed on the stop, and rest is
+#: declared at the equilibrium. The rest state then differs from the motion by less than
+#: ``10 rtol`` in the position and ``100 rtol`` in the velocity, within the error the app
+#: states for each accuracy preset (``~100 rtol``, app/solver.py).
 REST_AMPLITUDE_PER_RTOL = 10.0
 
 
@@ -353,7 +355,7 @@ class _Solver:
                 self.record(TransitionKind.SEPARATION, st, st.v)
                 return "separated"
             if outcome == "reversal":
-                st.x = xb + train.peak(delta, len(reversal_x))
+                st.x = xb + self.retraced_top(train.peak(delta, len(reversal_x)), branch)
                 delta = st.x - xb
                 phi, _ = force_and_slope(delta, branch, stop)
                 self.close_branch(branch, d_branch0, delta, st)
@@ -697,11 +699,31 @@ class _Solver:
         # the rule's first test without building lists (loops followed on the stop: a tenth
         # of their time went here)
         x0, x1, x2, x3 = reversal_x[-1][1], reversal_x[-2][1], reversal_x[-3][1], reversal_x[-4][1]
-        if max(x0, x1, x2, x3) - min(x0, x1, x2, x3) > rest:
+        factor = rest_swing_factor(reversal_x[-1][0] - reversal_x[-3][0])
+        if (max(x0, x1, x2, x3) - min(x0, x1, x2, x3)) * factor > rest:
             return None, 0.0
         tail = reversal_x[-5:]
         return rest_rule([t for t, _, _ in tail], [x for _, x, _ in tail], self.t_end, rest,
                          tol)
+
+    def retraced_top(self, delta: float, branch: Branch) -> float:
+        """The overlap of a reversal ending a loading of the passive law along the curve
+        through its anchor: the anchor itself when the integration overshot it onto
+        ``phi_C`` by less than its tolerance.
+
+        Such a loading is the exactly conservative motion back up the curve the mass came
+        down from the anchor, so its reversal is the anchor. An overshoot reverses from a
+        new point of ``phi_C``, a new curve a little higher at every loop: at rtol 1e-5
+        (k_c0 = 1e4, beta = 1000, D = 0.01) the loops then never retraced one curve and
+        were followed one by one to the horizon (3,000 reversals, 0.6 s)."""
+        anchor = branch.anchor
+        if self.stop.law != "passive" or not branch.loading or anchor is None:
+            return delta
+        d_a, p_a = anchor
+        if (_on_compression(d_a, p_a, self.stop)
+                and 0.0 < delta - d_a <= max(self.rtol * self.scale(), self.atol)):
+            return d_a
+        return delta
 
     def rest_amplitude(self) -> float:
         """Amplitude of the overlap oscillation below which the mass rests on the stop."""
