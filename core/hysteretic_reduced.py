@@ -548,7 +548,10 @@ def retrace_error(sv: _Solver, st: _State, ts, xs, periodic: bool = False) -> fl
     cycles = (sv.t_end - st.t) / period
     drift = max(abs(xs[k] - xs[k - 2]) for k in range(2, len(xs)))
     periods = np.subtract(ts[2:], ts[:-2])
-    spread = float(periods.max() - periods.min())
+    # At least the integration's own error of a cycle's duration: loops of the passive law
+    # that retrace exactly (their tops on the anchor, _Solver.retraced_top) repeat their
+    # cycle to the bit, and a spread of zero stated no error at all (draft, k_c0 = 1e4).
+    spread = max(float(periods.max() - periods.min()), sv.rtol * period)
     trend = 0.0 if periodic else abs(float(periods[-1] - periods[0])) / max(len(periods) - 1, 1)
     omega = 2.0 * math.pi / period
     rate = omega * max(1.0, omega) * 0.5 * abs(xs[-1] - xs[-2])
