@@ -141,7 +141,7 @@ def test_reduced_oscillation_against_the_full_model(monkeypatch):
     fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, **STANDARD)
     full = _every_loop(PRESSING, stop, t_end, rtol=1e-10, atol=1e-13)
     switch = [tr for tr in fast.transitions if tr.kind is TransitionKind.REDUCED]
-    # (measured 54.4: the first try whose bound at rest 370 time units on is within it)
+    # (measured 54.9: the first try whose bound at rest 370 time units on is within it)
     assert len(switch) == 1 and switch[0].t < 60.0
     assert [tr.kind for tr in fast.transitions][-1] is TransitionKind.REST
     bound = fast.info["reduced_error"]
