@@ -354,8 +354,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     cycle_error = math.inf if rests else period_error(reversal_x)
     plain = plain._replace(period_error=cycle_error)
     rest_amp = sv.rest_amplitude() if rests else None
-    # At rest the velocity of the loops left (omega times the rest amplitude at most) is the
-    # solver's rest, as when the loops are followed to it; it is stated, not a reason to wait.
+    # At rest the velocity of the loops left (within ten times the rest amplitude, by the
+    # rule) is the solver's rest, as when the loops are followed to it; it is stated, not a
+    # reason to wait.
     if plain.end_error(tau_end, rest_amp, velocity=not rests) > tol and plain.error_bound > tol:
         return None
     # The checks below are pure: the cheaper and more often failing ones first (loops
