@@ -28,14 +28,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from core import HystereticStop, Oscillator, TransitionKind, simulate  # noqa: E402
+from hysteretic_speed import CLEARANCE, OSC, PRESET, STATED_ERROR, stop_of  # noqa: E402
+
+from core import TransitionKind, simulate  # noqa: E402
 from core.hysteretic import simulate_hysteretic  # noqa: E402
 
-OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
-FACE = 0.42
-STANDARD = {"rtol": 1e-8, "atol": 1e-11}
-#: The preset's stated error, relative to the length scale.
-STATED = 1e-6
 CELLS = ("1e4,1000,1e-2", "1e4,100,1e-3", "1e5,1000,1e-3", "1e4,1000,1e-3", "1e3,1000,0.1")
 HORIZONS = (40.0, 60.0, 100.0)
 
@@ -46,19 +43,19 @@ def first(res, kind: TransitionKind) -> float:
 
 def row(cell: str) -> str:
     k_c0, beta, d = (float(v) for v in cell.split(","))
-    stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
-    scale = max(OSC.a, OSC.b, OSC.v, FACE, d)
-    res = simulate(OSC, stop, 100.0, **STANDARD)
+    stop = stop_of(k_c0, beta, d)
+    scale = max(OSC.a, OSC.b, OSC.v, CLEARANCE, d)
+    res = simulate(OSC, stop, 100.0, **PRESET)
     rest, switch = first(res, TransitionKind.REST), first(res, TransitionKind.REDUCED)
     ref = simulate_hysteretic(OSC, stop, 100.0, 0.0, 0.0, reduce=False, rtol=1e-10,
                               atol=1e-13, transition_cap=10, n_samples=10)
     horizons = sorted({*HORIZONS, *([min(rest + 1.0, 100.0)] if rest == rest else [])})
     cols = []
     for t_end in horizons:
-        run = simulate(OSC, stop, t_end, **STANDARD)
+        run = simulate(OSC, stop, t_end, **PRESET)
         x, v = ref.evaluate(np.array([t_end]))
         error = max(abs(run.x[-1] - x[0]), abs(run.v[-1] - v[0])) / scale
-        stated = max(STATED, run.info.get("reduced_error", 0.0) / scale)
+        stated = max(STATED_ERROR, run.info.get("reduced_error", 0.0) / scale)
         cols.append(f"{t_end:7.2f}: {error:.1e} ({stated:.1e}){'!' if error > stated else ' '}")
     return f"{cell:>16} {rest:7.2f} {switch:7.2f}  " + "  ".join(cols)
 

@@ -32,13 +32,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from core import HystereticStop, Oscillator, TransitionKind, simulate  # noqa: E402
+from hysteretic_speed import CLEARANCE, OSC, PRESET, REFERENCE, stop_of  # noqa: E402
+
+from core import TransitionKind, simulate  # noqa: E402
 from core.hysteretic import simulate_hysteretic  # noqa: E402
 
-OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
-FACE = 0.42
-STANDARD = {"rtol": 1e-8, "atol": 1e-11}
-REFERENCE = {"rtol": 1e-11, "atol": 1e-14}
 T_END = 1e4
 #: The grid's trains whose one-piece references did not finish (hysteretic_speed.py),
 #: after one whose reference did.
@@ -79,10 +77,10 @@ def reference_end(stop, pieces: int) -> tuple[float, float, int, float]:
 
 def row(cell: str, pieces: int) -> str:
     k_c0, beta, d = (float(s) for s in cell.split(","))
-    stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
-    scale = max(OSC.a, OSC.b, OSC.v, FACE, d)
+    stop = stop_of(k_c0, beta, d)
+    scale = max(OSC.a, OSC.b, OSC.v, CLEARANCE, d)
     t0 = time.perf_counter()
-    cand = simulate(OSC, stop, T_END, **STANDARD)
+    cand = simulate(OSC, stop, T_END, **PRESET)
     ms = 1e3 * (time.perf_counter() - t0)
     bound = cand.info.get("reduced_error", 0.0) / scale
     x, v, n, cpu = reference_end(stop, pieces)

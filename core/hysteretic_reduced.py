@@ -363,11 +363,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     # whose creep grows too fast fail creep_law at every try on soft stops).
     creep = creep_law(reversal_x)
     if creep is None:
-        # Its growth changes over many cycles: the next try once the window has renewed
-        # (every fourth reversal, the tries took 40 % of loops followed to the horizon on
-        # a soft stop, k_c0 = 100, beta = 1000, D = 0.01).
-        sv.reduce_after = st.t + WINDOW * period
-        return None
+        # Its growth changes over many cycles (these tries were 40 % of loops followed to
+        # the horizon on a soft stop, k_c0 = 100, beta = 1000, D = 0.01).
+        return _try_again_later(sv, st, period)
     offset = x_c - 0.25 * (xs[-3] + 2.0 * xs[-2] + xs[-1])
     model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
                         decay, *creep, offset, period_error=cycle_error)
@@ -377,11 +375,9 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     if (model.error_bound > train_band(sv)
             or model.end_error(tau_end, rest_amp, velocity=not rests) > tol
             and model.error_bound > tol):
-        # The full model's bounds shrink with the loops: they are tried again a window on
-        # (at every fourth reversal these tries were 45 % of Fig. 11's solve to t_end =
-        # 1000, 2,900 of them failing here).
-        sv.reduce_after = st.t + WINDOW * period
-        return None
+        # The full model's bounds shrink with the loops (these tries were 45 % of Fig. 11's
+        # solve to t_end = 1000, 2,900 of them failing here).
+        return _try_again_later(sv, st, period)
     amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
     if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
         return None
@@ -389,6 +385,13 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
         sv.rest_time_error = max(sv.rest_time_error, rest_time_error(
             model, tau_end, period_error(reversal_x)))
     return oscillate(sv, st, branch, s, model)
+
+
+def _try_again_later(sv: _Solver, st: _State, period: float) -> None:
+    """No reduced oscillation now; the next try once the window of cycles it reads has
+    renewed (``WINDOW`` cycles), not at the next fourth reversal: what failed (the creep's
+    fit, the model's bounds) changes only as the loops shrink."""
+    sv.reduce_after = st.t + WINDOW * period
 
 
 def rest_time_error(model: Oscillation, tau_rest: float, cycle_error: float) -> float:
