@@ -75,7 +75,7 @@ find_mirror() {
               if (hit && uri != "") { print uri; exit } }' "$f"
     done
 }
-MIRROR=${MIRROR:-$(find_mirror | head -n 1)}
+MIRROR=${MIRROR:-$(find_mirror | sed -n 1p)}  # sed reads to the end: no SIGPIPE under pipefail
 [ -n "$MIRROR" ] || die "no $SUITE entry in /etc/apt/sources.list*: set MIRROR to a Debian mirror"
 
 WORKDIR=${WORKDIR:-$(mktemp -d /var/tmp/friction-image-test.XXXXXX)}
@@ -232,11 +232,15 @@ say "/liveness answers"
 curl -fsS --max-time 60 "$BASE/liveness?endpoint=/main" >/dev/null ||
     { cat "$WORKDIR/serve.log" >&2; die "/liveness?endpoint=/main failed (the app does not build)"; }
 PAGE=$(curl -fsS --max-time 60 "$BASE/main") || { cat "$WORKDIR/serve.log" >&2; die "GET /main failed"; }
+# Here-strings, not `echo | grep -q`: under pipefail a grep that quits at its first match
+# makes echo die of SIGPIPE on a page larger than the pipe's buffer, and the check fails
+# on a page that passes it. The same holds for `head`, so sed keeps reading to the end.
 for needle in data-root-id bokeh; do
-    echo "$PAGE" | grep -q "$needle" || die "/main has no '$needle'"
+    grep -q "$needle" <<<"$PAGE" ||
+        { sed -n 1,40p <<<"$PAGE" >&2; die "/main (${#PAGE} bytes, first lines above) has no '$needle'"; }
 done
 # BokehJS comes from the image too: the page's first script answers.
-SCRIPT=$(echo "$PAGE" | grep -o 'src="[^"]*\.js[^"]*"' | head -n 1 | sed 's/^src="//; s/"$//')
+SCRIPT=$(grep -o 'src="[^"]*\.js[^"]*"' <<<"$PAGE" | sed -n '1{s/^src="//; s/"$//; p;}')
 [ -n "$SCRIPT" ] || die "/main names no script"
 case "$SCRIPT" in
     "$BASE"/*) ;;
