@@ -56,7 +56,7 @@ from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
 from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
+from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, start_branch
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
@@ -132,6 +132,9 @@ class EventSolver:
         self.contact = self.soft and x0 > self.c
         self.branch: Branch = FIRST_LOADING
         self.fr = 0
+        if self.contact:  # a start inside the stop: its branch there (start_branch)
+            pull = self.start_mode(x0, v0) * a - x0
+            self.branch = start_branch(x0 - self.c, v0, pull, stop)
         self.at_rest = False
         self.status = Status.SUCCESS
         self.n_seg = self.n_steps = self.n_eval = 0

@@ -470,6 +470,25 @@ def reverse(delta: float, phi: float, branch: Branch,
     return Branch(new.loading, new.delta_r, new.phi_r, anchor)
 
 
+
+def start_branch(delta: float, v0: float, pull: float, stop: HystereticStop) -> Branch:
+    """The branch of a motion that starts inside the stop, at overlap ``delta > 0`` with
+    speed ``v0`` and net force ``pull`` on the mass besides the stop's (spring and
+    friction, ``s a - x``).
+
+    The stop's history before the start is not known: it is taken as fresh and loaded from
+    its face along ``phi_C`` to ``delta`` (the first loading of paper §2.4). Moving in, or at
+    rest and pushed in harder than ``phi_C(delta)``, the loading goes on; otherwise the
+    overlap rate reverses at the start, and the motion unloads from ``(delta, phi_C)``
+    (docs/contact-law.md, "A start inside the stop"). Every method starts from this branch.
+    """
+    if delta <= 0.0:
+        return FIRST_LOADING
+    phi = force_and_slope(delta, FIRST_LOADING, stop)[0]
+    if v0 > 0.0 or (v0 == 0.0 and pull >= phi):
+        return FIRST_LOADING
+    return reverse(delta, phi, FIRST_LOADING, stop)
+
 # --- work done on the stop -----------------------------------------------------------------
 
 

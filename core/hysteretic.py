@@ -80,6 +80,7 @@ from core.hysteresis import (
     phi_compression,
     phi_expansion,
     reverse,
+    start_branch,
 )
 from core.hysteretic_arcs import arc
 from core.hysteretic_base import (
@@ -306,22 +307,31 @@ class _Solver:
         wf, wb, ws = st.work
         st.work = (wf, wb, ws + branch_work(d0, d1, branch, self.stop))
 
-    def run_contact(self, st: _State, stick: bool) -> str:
-        """Integrate one contact from ``st`` (at the face, moving in) until it ends.
+    def run_contact(self, st: _State, stick: bool, inside: Branch | None = None) -> str:
+        """Integrate one contact from ``st`` (at the face, moving in) until it ends; with
+        ``inside``, from a start inside the stop on that branch
+        (:func:`~core.hysteresis.start_branch`).
 
         Returns ``"separated"``, ``"rest"``, ``"failed"``, ``"limit"``, ``"periodic"`` or
         ``"horizon"``.
         """
         stop, xb = self.stop, self.xb
-        started = self.start_contact(st)
-        if started:
-            return started
+        if inside is None:
+            started = self.start_contact(st)
+            if started:
+                return started
+            branch, d_branch0 = FIRST_LOADING, 0.0
+        else:  # not a contact of a train: no entry speed, and the stop already loaded
+            self.n_contacts += 1
+            self.record(TransitionKind.CONTACT, st, st.v)
+            branch, d_branch0 = inside, st.x - xb
         # after start_contact: a train's map moves st to the start of a later contact
-        w_in = st.v
-        branch = FIRST_LOADING
-        self.new_branch(branch, 0.0, st.work[2])
-        d_branch0 = 0.0
-        s = 1 if st.v < self.vb else -1
+        w_in = st.v if inside is None else math.nan
+        self.new_branch(branch, d_branch0, st.work[2])
+        if st.v != self.vb:
+            s = 1 if st.v < self.vb else -1
+        else:  # at the belt's speed and not held: friction gives way to the net force
+            s = 1 if st.x + force_and_slope(d_branch0, branch, stop)[0] > 0.0 else -1
         reversal_x: list[tuple[float, float, int]] = []  # (t, x, transitions) of reversals
         # a contact of a train is kept on its first integral (core/hysteretic_contact.py)
         train = TrainContact(self, st.x, w_in, s, stick)
@@ -801,6 +811,21 @@ class _Solver:
         st.t = self.t_end
         return "rest"
 
+    def rest_in_place(self, st: _State, branch: Branch) -> None:
+        """A start inside the stop that static friction holds on a still belt
+        (``|x + phi| <= b``, ``v = 0``): the mass never moves, the stop holds ``phi``."""
+        self.n_contacts += 1
+        self.record(TransitionKind.CONTACT, st, 0.0)
+        self.new_branch(branch, st.x - self.xb, st.work[2])
+        self.record(TransitionKind.REST, st, 0.0)
+        self.timeline.append((st.t, 1, len(self.contact.kind)))
+        self.contact.add(_REST, st.t, self.t_end, (st.x,), 0.0, st.work)
+        self.rest_force = force_and_slope(st.x - self.xb, branch, self.stop)[0]
+        self.steady = Steady(
+            SteadyKind.REST, x_max=st.x, impact_speed=0.0, t_reached=st.t, period=math.nan
+        )
+        st.t = self.t_end
+
     def pressed(self) -> bool:
         """The belt presses the mass on the stop (the one rule of
         :func:`core.steady.pressed_on_stop`, ``x_bar <= a``, with the belt moving towards
@@ -949,6 +974,18 @@ def solve_hysteretic(
     for _ in range(max_events):
         if st.t >= t_end or sv.steady is not None or sv.status is not Status.SUCCESS:
             break
+        if st.t == 0.0 and x0 > xb:  # a start inside the stop
+            inside = start_branch(x0 - xb, v0, motion.s * osc.a - x0, stop)
+            phi0 = force_and_slope(x0 - xb, inside, stop)[0]
+            held = v0 == osc.v and abs(x0 + phi0) <= osc.b
+            if held and osc.v == 0.0:  # held for ever where it starts
+                sv.rest_in_place(st, inside)
+                break
+            outcome = sv.run_contact(st, stick=held, inside=inside)
+            if outcome != "separated":
+                break
+            motion = start_motion(osc, st.x, st.v)
+            continue
         into_stop = st.x >= xb and (
             st.v > 0.0 or (st.v == 0.0 and motion.mode is Mode.SLIP and motion.s * osc.a > xb)
         )

@@ -65,7 +65,7 @@ from dataclasses import dataclass
 from functools import partial
 
 from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse
+from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, start_branch
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import MAX_STEPS, WorkLimit
@@ -217,6 +217,9 @@ class SwitchSolver:
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
         self.branch: Branch = FIRST_LOADING
+        if self.contact:  # a start inside the stop: its branch there (start_branch)
+            s = 1 if v0 < osc.v else -1 if v0 > osc.v else (1 if x0 > 0.0 else -1)
+            self.branch = start_branch(x0 - self.c, v0, s * osc.a - x0, stop)
         self.rhs = switch_rhs(osc, opts.eta, stop if self.soft else None, self.branch)
         self.acc = self.rhs(x0, v0)
         self.fr = self.friction_state(x0, v0)
