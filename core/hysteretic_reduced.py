@@ -296,6 +296,14 @@ class Oscillation(NamedTuple):
                 - self.offset * self._dlag(amp))
         return (self.centre(amp) + amp * c, damp * (c - rate) - amp * w * s, amp)
 
+    def acceleration(self, tau):
+        """``x''`` ``tau`` after the start: the linear restoring force of the model's cycle
+        about its centre, ``-omega^2 (x - x_c(A))`` (the decay's and the creep's rates are
+        of the order of the amplitude's change per cycle, not counted)."""
+        x, _, amp = self.state(tau)
+        w = 2.0 * math.pi / self.period
+        return -w * w * (x - self.centre(amp))
+
     def energy(self, amp) -> float:
         """Energy of the oscillation at amplitude ``amp``: the linear oscillator's of this
         cycle, or :attr:`dissipation` times ``(amp / A_0)^2`` when that is known."""

@@ -859,3 +859,28 @@ def test_a_modelled_rest_far_away_states_the_error_of_its_time(k_c0, beta, d):
     # A bound that says something: the module's margins (END_AMPLITUDE_MARGIN) make it
     # ~10 % of the time modelled, against 0.02 % measured.
     assert bound < 0.15 * (t_rest - reduced)
+
+
+@pytest.mark.parametrize(
+    "osc,stop,t_end",
+    [(Oscillator(0.3, 0.2, 1.0),
+      HystereticStop(0.010916567899070723, k_c0=1000.0, k_e0=500.0, limit_overlap=0.001,
+                     beta_c=100.0, beta_e=100.0), 100.0),
+     (Oscillator(0.3, 0.2, 0.1),
+      HystereticStop(0.1, k_c0=1000.0, k_e0=90.0, limit_overlap=0.01, beta_c=300.0,
+                     beta_e=300.0), 2000.0)],
+    ids=["stiff", "soft-long"],
+)
+def test_a_reduced_oscillation_reports_the_force_its_motion_needs(osc, stop, t_end):
+    # Newton's law in slip on the stop, x'' = a - x - phi, at the samples.
+    res = simulate(osc, stop, t_end, n_samples=20001)
+    reduced = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
+    assert reduced and reduced[0] < t_end - 10.0
+    late = res.t > t_end - 10.0
+    # In slip on the stop x'' = a - x - phi; the mass barely moves (its loops are below
+    # 1e-7), so the mean of x'' over many cycles is ~0: measured 4.9e-8 and 1e-8. The
+    # force of the branch the model started on gave 4.3e-3 and 4.6e-4 (2 % of the force).
+    acc = osc.a - res.x[late] - res.contact_force[late]
+    assert abs(float(np.mean(acc))) < 1e-6
+    # and the force is a - x to the loops' omega^2 A (measured 2.9e-4, 5.2e-5)
+    np.testing.assert_allclose(res.contact_force[late], osc.a - res.x[late], rtol=1e-3)
