@@ -36,7 +36,6 @@ from app.sampling import samples_for
 from app.state import SOLVE_PARAMS, core_inputs
 from core import (
     DEFAULT_MAX_STEPS,
-    ETA_MAX_REL,
     FIRST_LOADING,
     HystereticStop,
     Mode,
@@ -45,6 +44,7 @@ from core import (
     Status,
     contact_force,
     effective_restitutions,
+    eta_bounds,
     method_options,
     reverse,
     simulate,
@@ -615,11 +615,12 @@ def _solve_cached(key: tuple, preview: bool, budget: float | None = None) -> Sol
 def preset_options(accuracy: Mapping[str, Any], used: tuple[str, ...], osc: Any
                    ) -> dict[str, Any]:
     """A preset's values (:data:`ACCURACY`) of the options a method ``used``; the switch
-    model's band at most the widest the core takes on this belt (``ETA_MAX_REL * v``: a
-    slow belt gets a narrower band than the preset's)."""
+    model's band within those the core takes on this belt (:func:`core.eta_bounds`: a slow
+    belt gets a narrower band than the preset's, a fast one a wider)."""
     options = {k: accuracy[k] for k in used if k in accuracy}
-    if "eta" in options and osc.v > 0.0:
-        options["eta"] = min(options["eta"], ETA_MAX_REL * osc.v)
+    if "eta" in options:
+        low, high = eta_bounds(osc, accuracy["rtol"])
+        options["eta"] = min(max(options["eta"], low), high)
     return options
 
 

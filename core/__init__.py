@@ -39,6 +39,7 @@ from core.simulate import simulate as simulate
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
 from core.switch import ETA_MAX_REL as ETA_MAX_REL
+from core.switch import eta_bounds as eta_bounds
 from core.validation import check_range as check_range
 from core.validation import check_start as check_start
 
@@ -64,6 +65,7 @@ __all__ = [
     "check_start",
     "contact_force",
     "effective_restitutions",
+    "eta_bounds",
     "method_options",
     "phi_compression",
     "phi_expansion",

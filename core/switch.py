@@ -83,6 +83,12 @@ FIRST_STEP = 1e-3
 ETA_REL = 1e-4
 #: Widest stick band, relative to the belt speed (:func:`check_eta`).
 ETA_MAX_REL = 0.1
+#: Narrowest stick band, relative to the speed the steps resolve (``rtol v``, on a still
+#: belt ``rtol max(a, b, u_s)``): a narrower band is missed by the located steps. At
+#: rtol 1e-6, atol 1e-9, ``v = 0.1``, a band of 1e-10 (1e-3 of that speed) let the mass slip
+#: through it, and the model reported pure slip for a stick-slip cycle (0.24 off in x); at
+#: 1e-2 of it and above the model followed the exact motion (tests/core/test_exact.py).
+ETA_MIN_PER_TOL = 1e-2
 #: Newton corrections of a located event with the recomputed Runge-Kutta step.
 EVENT_NEWTON = 2
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it.
@@ -551,24 +557,37 @@ def _friction_transition(run: SwitchSolver, fr: int, fr_new: int, step: tuple) -
     run.log.add(kind, t0 + s * h, xs, vs)
 
 
-def check_eta(eta: float, osc: Oscillator) -> float:
-    """The stick band's half-width ``eta``, in ``(0, ETA_MAX_REL * v]`` on a moving belt (the
-    model needs ``eta << v``, SPEC §5: a band that reaches ``x' = 0`` holds a mass at rest
-    in "stick"; ``eta = v`` gave ``x_max = 0`` where the exact motion grazes the stop), in
-    ``(0, 1]`` on a still one.
+def eta_bounds(osc: Oscillator, rtol: float = 1e-6) -> tuple[float, float]:
+    """The stick band's half-widths the switch model takes at the tolerance ``rtol``: at
+    most :data:`ETA_MAX_REL` times the belt speed (the model needs ``eta << v``, SPEC §5: a
+    band that reaches ``x' = 0`` holds a mass at rest in "stick"; ``eta = v`` gave
+    ``x_max = 0`` where the exact motion grazes the stop), at most 1 on a still belt; at
+    least :data:`ETA_MIN_PER_TOL` times the speed the steps resolve.
 
-    >>> from core import Oscillator
+    >>> [f"{e:.3g}" for e in eta_bounds(Oscillator(0.3, 0.2, 0.1))]
+    ['1e-09', '0.01']
+    """
+    scale = osc.v if osc.v > 0.0 else max(osc.a, osc.b, osc.u_s)
+    return ETA_MIN_PER_TOL * rtol * scale, ETA_MAX_REL * osc.v if osc.v > 0.0 else 1.0
+
+
+def check_eta(eta: float, osc: Oscillator, rtol: float = 1e-6) -> float:
+    """The stick band's half-width ``eta``, within :func:`eta_bounds`.
+
     >>> check_eta(0.1, Oscillator(0.3, 0.2, 0.1))  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: eta must lie in (0, 0.01] (a tenth of the belt speed v = 0.1: ...); got 0.1
+    ValueError: eta must lie in [1e-09, 0.01] (at most a tenth of the belt speed ...); got 0.1
     """
     eta = check_range("eta", eta, 0.0, low_open=True)
-    high = ETA_MAX_REL * osc.v if osc.v > 0.0 else 1.0
-    if eta > high:
-        why = (f" (a tenth of the belt speed v = {osc.v:g}: the stick band |v - x'| <= eta "
-               "must stay clear of x' = 0)" if osc.v > 0.0 else "")
-        raise ValueError(f"eta must lie in (0, {high:g}]{why}; got {eta:g}")
+    low, high = eta_bounds(osc, rtol)
+    if not low <= eta <= high:
+        limit = (f"at most a tenth of the belt speed v = {osc.v:g}: the stick band "
+                 "|v - x'| <= eta must stay clear of x' = 0; " if osc.v > 0.0 else "")
+        why = (f" ({limit}at least {ETA_MIN_PER_TOL:g} rtol "
+               f"{'v' if osc.v > 0.0 else 'max(a, b, u_s)'} at rtol = {rtol:g}: a narrower "
+               "band is missed by the located steps)")
+        raise ValueError(f"eta must lie in [{low:.3g}, {high:.3g}]{why}; got {eta:g}")
     return eta
 
 
@@ -630,7 +649,13 @@ def solve_switch(
     0.4
     """
     osc = inputs.osc
-    eta = _default_eta(osc) if eta is None else check_eta(eta, osc)
+    rtol = check_range("rtol", rtol, 0.0, low_open=True)
+    atol = check_range("atol", atol, 0.0, low_open=True)
+    if eta is None:  # the default, within what these tolerances resolve
+        low, high = eta_bounds(osc, rtol)
+        eta = min(max(_default_eta(osc), low), high)
+    else:
+        eta = check_eta(eta, osc, rtol)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
     run = SwitchSolver(inputs, opts, WorkLimit(max_steps, time_budget))
