@@ -97,6 +97,9 @@ class Oscillator:
         normal_force = check_range("normal_force", normal_force, 0.0, low_open=True)
         belt_speed = check_range("belt_speed", belt_speed, 0.0)
         omega = math.sqrt(k / m)
+        if not 0.0 < omega < math.inf:
+            raise ValueError("k / m must give a finite, nonzero natural frequency "
+                             f"sqrt(k / m); got k = {k:g} N/m, m = {m:g} kg")
         return cls(mu_s=mu_s, mu_k=mu_k, belt_speed=belt_speed / omega, u_s=normal_force / k)
 
     def to_physical(self, *, m: float, k: float) -> dict[str, float]:
@@ -219,6 +222,7 @@ class HystereticStop:
         """Build from SI values: spring ``k`` [N/m], stiffnesses ``k_c0, k_e0`` [N/m],
         lengths [m], ``strength`` [N]."""
         k = check_range("k", k, 0.0, low_open=True)
+        strength = check_range("strength", strength, 0.0, low_open=True, allow_inf=True)
         return cls(
             clearance=clearance,
             k_c0=check_range("k_c0", k_c0, 0.0, low_open=True) / k,

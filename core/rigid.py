@@ -315,6 +315,8 @@ def _assemble(run: _Run, t_end: float, n_samples: int, t_eval: np.ndarray | None
         x_max = max(x_max, seq.clearance)
         info["impacts_evaluated"] = len(seq.t_impacts)
         info["last_impact_speed"] = float(seq.speeds[-1])
+    if stop is not None:  # an arc's top at the stop, rounded past it: the stop holds x there
+        x_max = min(x_max, stop.clearance)
     x, xd = out["x"], out["v"]
     mechanical = 0.5 * (x * x + xd * xd)
     pressing = rest_force(osc, stop.clearance) if stop is not None else 0.0

@@ -429,7 +429,23 @@ def test_grazing_long_horizon_counts_every_impact():
         (lambda: Oscillator(0.3, 0.2, belt_speed=1e200), r"belt_speed must lie in"),
         (lambda: Oscillator(1e60, 0.2, 0.1, u_s=1e60), r"mu_s \* u_s"),
         (lambda: simulate(SLOW, RigidStop(0.25, 0.7), method="switch", eta=SLOW.v),
-         r"eta must lie in \(0, 0.01\] \(a tenth of the belt speed"),
+         r"eta must lie in \[1e-09, 0.01\] \(at most a tenth of the belt speed"),
+        # Taken before: a band below what the steps resolve let the mass slip through it,
+        # and the switch model said pure slip for a stick-slip cycle (0.24 off in x).
+        (lambda: simulate(SLOW, None, method="switch", eta=1e-12),
+         r"eta must lie in \[1e-09, .*a narrower band is missed"),
+        # Taken before: NaN and -inf strengths became "no strength"; k / m = 1e-600
+        # divided by zero (ZeroDivisionError), 1e600 turned the belt still.
+        (lambda: HystereticStop.from_physical(k=1.0, clearance=0.3, k_c0=10.0, k_e0=5.0,
+                                              limit_overlap=0.1, strength=math.nan),
+         r"strength must be"),
+        (lambda: HystereticStop.from_physical(k=1.0, clearance=0.3, k_c0=10.0, k_e0=5.0,
+                                              limit_overlap=0.1, strength=-math.inf),
+         r"strength must be"),
+        (lambda: Oscillator.from_physical(m=1e300, k=1e-300, normal_force=1.0, mu_s=0.3,
+                                          mu_k=0.2, belt_speed=1e200), r"sqrt\(k / m\)"),
+        (lambda: Oscillator.from_physical(m=1e-300, k=1e300, normal_force=1.0, mu_s=0.3,
+                                          mu_k=0.2, belt_speed=0.1), r"sqrt\(k / m\)"),
         (lambda: simulate(SLOW, RigidStop(0.25, 0.7), method="event", rtol=0.5),
          r"rtol must lie in \(0, 0.01\]"),
         # Taken before: k_c0 = 1e300 overflowed in the switch model (OverflowError);
@@ -516,3 +532,11 @@ def test_every_impact_is_sampled_on_both_sides(osc, stop):
         v_before, v_after = pairs[tr.t]
         assert v_before == pytest.approx(tr.v, rel=1e-9)
         assert v_after == pytest.approx(tr.v_after, rel=1e-9, abs=1e-15)
+
+
+@pytest.mark.parametrize("clearance", [0.3, 0.2])
+def test_x_max_never_passes_a_rigid_stop(clearance):
+    # An arc's top at the stop, computed as centre + radius, came out 5.6e-17 past it.
+    res = simulate(SLOW, RigidStop(clearance, 0.5), t_end=100.0)
+    assert res.x_max <= clearance
+    assert res.x_max == pytest.approx(clearance, abs=1e-12)
