@@ -316,22 +316,12 @@ class _Solver:
         ``"horizon"``.
         """
         stop, xb = self.stop, self.xb
-        if inside is None:
-            started = self.start_contact(st)
-            if started:
-                return started
-            branch, d_branch0 = FIRST_LOADING, 0.0
-        else:  # not a contact of a train: no entry speed, and the stop already loaded
-            self.n_contacts += 1
-            self.record(TransitionKind.CONTACT, st, st.v)
-            branch, d_branch0 = inside, st.x - xb
-        # after start_contact: a train's map moves st to the start of a later contact
+        opened = self.open_contact(st, inside)
+        if isinstance(opened, str):
+            return opened
+        branch, s = opened
+        d_branch0 = st.x - xb
         w_in = st.v if inside is None else math.nan
-        self.new_branch(branch, d_branch0, st.work[2])
-        if st.v != self.vb:
-            s = 1 if st.v < self.vb else -1
-        else:  # at the belt's speed and not held: friction gives way to the net force
-            s = 1 if st.x + force_and_slope(d_branch0, branch, stop)[0] > 0.0 else -1
         reversal_x: list[tuple[float, float, int]] = []  # (t, x, transitions) of reversals
         # a contact of a train is kept on its first integral (core/hysteretic_contact.py)
         train = TrainContact(self, st.x, w_in, s, stick)
@@ -385,6 +375,27 @@ class _Solver:
             if outcome in ("failed", "limit", "horizon"):
                 self.close_branch(branch, d_branch0, delta, st)
                 return outcome
+
+    def open_contact(self, st: _State, inside: Branch | None) -> str | tuple[Branch, int]:
+        """The branch and friction sign a contact starts with, or how it ended at once (see
+        :meth:`start_contact`). From the face (``inside`` None) on the first loading; from
+        a start inside the stop on ``inside``: not a contact of a train (no entry speed)."""
+        if inside is None:
+            started = self.start_contact(st)
+            if started:
+                return started
+            # a train's map may have moved st to the start of a later contact
+            branch = FIRST_LOADING
+        else:
+            self.n_contacts += 1
+            self.record(TransitionKind.CONTACT, st, st.v)
+            branch = inside
+        delta = st.x - self.xb
+        self.new_branch(branch, delta, st.work[2])
+        if st.v != self.vb:
+            return branch, 1 if st.v < self.vb else -1
+        # at the belt's speed and not held: friction gives way to the net force
+        return branch, 1 if st.x + force_and_slope(delta, branch, self.stop)[0] > 0.0 else -1
 
     def start_contact(self, st: _State) -> str | None:
         """Record a contact's start; ``"periodic"`` if the motion is periodic from here (a

@@ -395,13 +395,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
             p_r[sel] = np.where(unloading, phi_compression(peak, stop), p_r[sel])
             a_d[sel] = np.where(unloading, math.nan, a_d[sel])
         phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop, a_d, a_p)
-        # A reduced oscillation's force is the one its motion implies, x'' = s a - x - phi
-        # (paper Eq. 3 in contact): the law on the branch it started on drifts off it as the
-        # centre creeps (by 2 % of the force over tens of time units on a stiff stop).
-        for r in np.unique(rows[kinds == _OSC]):
-            js = idx[(kinds == _OSC) & (rows == r)]
-            model = c.data[r][0]
-            phi[js] = c.friction[r] - x[js] - model.acceleration(t[js] - c.t0[r])
+        _reduced_oscillation_forces(c, idx[kinds == _OSC], rows[kinds == _OSC], t, x, phi)
         primitives: dict[int, BranchPrimitive] = {}
 
         def primitive(bi: int) -> BranchPrimitive:
@@ -429,6 +423,17 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
                                    d_r[own], p_r[own], branch_rows[own], primitive, stop)
     return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _reduced_oscillation_forces(c, idx, rows, t, x, phi) -> None:
+    """The force at the samples ``idx`` (in the contact rows ``rows``) of a reduced
+    oscillation: the one its motion implies, ``x'' = s a - x - phi`` (paper Eq. 3 in
+    contact). The law on the branch it started on drifts off it as the centre creeps (by
+    2 % of the force over tens of time units on a stiff stop)."""
+    for r in np.unique(rows):
+        js = idx[rows == r]
+        model = c.data[r][0]
+        phi[js] = c.friction[r] - x[js] - model.acceleration(t[js] - c.t0[r])
 
 
 def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np.ndarray:
