@@ -274,6 +274,35 @@ def _quiet_steady(
     return None
 
 
+#: A period ``d`` that divides the ``j`` found is the period when its states repeat within
+#: this factor of how well those ``j`` apart do (or of the tolerance).
+SUB_PERIOD_FACTOR = 10.0
+
+
+def _fundamental(tail: list[Transition], j: int, tol: float) -> int:
+    """The shortest period ``d`` dividing ``j`` (transitions) whose states repeat about as
+    well as those ``j`` apart over the last :data:`STEADY_PERIODS` periods.
+
+    The states of a numerical method repeat to its accuracy only: a cycle whose states
+    scatter about the tolerance can pass the repeat test ``3 j`` transitions apart and not
+    ``j`` apart (the switch model at its default band: a stick-slip cycle reported with
+    three times its period). A true period-3 orbit's states one cycle apart differ by the
+    orbit's geometry, far more than this factor."""
+    span = STEADY_PERIODS * j
+
+    def worst(d: int) -> float:
+        if any(tail[-1 - i].kind is not tail[-1 - i - d].kind for i in range(span)):
+            return math.inf
+        return max(max(abs(tail[-1 - i].x - tail[-1 - i - d].x),
+                       abs(tail[-1 - i].v - tail[-1 - i - d].v)) for i in range(span))
+
+    bound = SUB_PERIOD_FACTOR * max(worst(j), tol)
+    for d in range(1, j):
+        if j % d == 0 and worst(d) <= bound:
+            return d
+    return j
+
+
 def _periodic_tail(
     tail: list[Transition], scale: float, rtol: float, xmax, pressed: bool,
     limit: ElasticLimit | None = None,
@@ -301,14 +330,16 @@ def _periodic_tail(
             break
     else:
         return None
+    k = n - 1 - STEADY_PERIODS * j
+    while k - j >= 0 and j in det.repeats[k]:
+        k -= 1
+    j = _fundamental(tail, j, det.tol)
+    period = tail[-1].t - tail[-1 - j].t
     last = tail[-j:]
     if all(tr.kind is TransitionKind.REVERSAL for tr in last):
         return None
     if limit is not None and train_loses(last, limit):
         return None
-    k = n - 1 - STEADY_PERIODS * j
-    while k - j >= 0 and j in det.repeats[k]:
-        k -= 1
     speeds = [tr.v for tr in last if tr.kind in IMPACT_KINDS]
     if speeds and max(speeds) <= det.tol:
         # impacts of vanishing speed: the grazing limit, reached to the tolerance, or, on a
