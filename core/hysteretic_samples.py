@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING
 
@@ -27,6 +28,7 @@ from core.hysteretic_base import (
     _dpoly,
     _poly,
 )
+from core.numerics.hermite import hermite_max
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.steady import pressed_steady, train_steady
@@ -90,6 +92,20 @@ class HystereticDense:
         return x, xd
 
 
+#: Points per cycle on which a periodic motion's largest displacement is looked for (the
+#: cubic Hermite interpolant of the exact states between them: ~h^4, below rounding).
+CYCLE_MAX_POINTS = 2000
+
+
+def _cycle_x_max(sv: _Solver, stop: HystereticStop, t_then: float, t_now: float) -> float:
+    """Largest ``x`` of the periodic cycle ``[t_then, t_now]``: the Hermite interpolant of
+    the solution's states on :data:`CYCLE_MAX_POINTS` points and its transitions."""
+    marks = [tr.t for tr in sv.log.recent if t_then <= tr.t <= t_now]
+    tt = np.unique(np.concatenate((np.linspace(t_then, t_now, CYCLE_MAX_POINTS), marks)))
+    x, xd = _evaluate(sv, tt, stop, state_only=True)[:2]
+    return float(hermite_max(tt, x, xd))
+
+
 def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
     """Samples on the free segments and the contact rows, energy terms, steady state."""
     t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
@@ -118,6 +134,8 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     steady = sv.steady
     if steady is None:
         steady = _asymptotic(sv, t_end, mode, xd)
+    elif steady.kind is SteadyKind.PERIODIC and math.isnan(steady.x_max):
+        steady = dataclasses.replace(steady, x_max=_cycle_x_max(sv, stop, *sv.tail_start))
     restitution = sv.restitution
     stats = make_stats(
         segments=len(sv.table) + len(sv.contact.kind),
@@ -241,7 +259,17 @@ def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
 
 
 def _replicate(sv: _Solver, t_then: float, t_now: float, period: float, t_end: float) -> None:
-    """Transitions after the detected cycle: shifted copies, stored up to the cap."""
+    """Transitions after the detected cycle: shifted copies, stored up to the cap.
+
+    Those the solve recorded after the cycle closed (the contact in progress went on to
+    its end) give way to the copies, as the samples there do (:func:`_continued`): kept,
+    each was recorded twice."""
+    late = [tr for tr in sv.log.stored if tr.t > t_now]
+    if late:
+        sv.log.stored = [tr for tr in sv.log.stored if tr.t <= t_now]
+        for tr in late:
+            sv.log.total -= 1
+            sv.log.counts[tr.kind.value] -= 1
     cycle = [tr for tr in sv.log.stored
              if t_then < tr.t <= t_now and tr.kind is not TransitionKind.REDUCED]
     if not cycle:
