@@ -56,7 +56,14 @@ from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
 from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, start_branch
+from core.hysteresis import (
+    FIRST_LOADING,
+    LIMIT_MARGIN,
+    Branch,
+    force_and_slope,
+    reverse,
+    start_branch,
+)
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, MAX_STEPS, WorkLimit
@@ -73,8 +80,9 @@ _SOLVER_CLASSES = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "LSODA": LSOD
 #: Points that describe a stick segment inside a deformable contact (the force is a
 #: nonlinear function of the overlap there; on free stick two points are exact).
 STICK_CONTACT_POINTS = 16
-#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it.
-LIMIT_OVERLAP_FRACTION = 1.0 - 1e-9
+#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
+#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
+LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 #: Relative tolerance of roots (event times, the stick-in-contact end point).
 ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Largest step of a rebound arc from a rigid stop, as a fraction of its estimated duration

@@ -97,6 +97,13 @@ class Branch:
     anchor: tuple[float, float] | None = None
 
 
+#: The overlap counts as reaching the limit overlap ``D`` at ``(1 - LIMIT_MARGIN) D``, in
+#: every method: the envelopes' asymptote is never crossed (the force there is
+#: ``k_c0 D / LIMIT_MARGIN``, the tangent stiffness ``k_c0 / LIMIT_MARGIN^2``, far beyond
+#: any physical stop). With 1e-6 here and 1e-9 in the event and switch methods, a contact
+#: peaking at ``1 - 2.3e-7`` of ``D`` ended one solve at the limit and not the others.
+LIMIT_MARGIN = 1e-6
+
 #: The branch of every new contact: the compression envelope from the origin (paper §2.4).
 FIRST_LOADING = Branch(True, 0.0, 0.0)
 

@@ -69,6 +69,7 @@ from core.flight import Segment, after_event, free_flight, start_motion
 from core.hysteresis import (
     EXP_CAP,
     FIRST_LOADING,
+    LIMIT_MARGIN,
     Branch,
     ElasticLimit,
     _on_compression,
@@ -146,12 +147,6 @@ from core.solve_inputs import SolveInputs, solve_entry
 from core.steady import FixedPointDetector, pressed_on_stop, train_loses
 from core.trajectory import SegmentTable
 from core.transitions import TransitionLog
-
-#: The overlap is not allowed beyond ``(1 - LIMIT_MARGIN) D``: the envelopes' asymptote is
-#: never crossed (the force there is ``k_c0 D / LIMIT_MARGIN``, the tangent stiffness
-#: ``k_c0 / LIMIT_MARGIN^2``, far beyond any physical stop).
-LIMIT_MARGIN = 1e-6
-
 
 #: Default limit on the number of transitions (a guard against an endless event loop);
 #: past it the result ends there with ``Status.EVENT_LIMIT``.

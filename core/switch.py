@@ -65,7 +65,14 @@ from dataclasses import dataclass
 from functools import partial
 
 from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import FIRST_LOADING, Branch, force_and_slope, reverse, start_branch
+from core.hysteresis import (
+    FIRST_LOADING,
+    LIMIT_MARGIN,
+    Branch,
+    force_and_slope,
+    reverse,
+    start_branch,
+)
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import MAX_STEPS, WorkLimit
@@ -91,8 +98,9 @@ ETA_MAX_REL = 0.1
 ETA_MIN_PER_TOL = 1e-2
 #: Newton corrections of a located event with the recomputed Runge-Kutta step.
 EVENT_NEWTON = 2
-#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it.
-LIMIT_OVERLAP_FRACTION = 1.0 - 1e-9
+#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
+#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
+LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 
 
 def switch_rhs(osc: Oscillator, eta: float, stop: HystereticStop | None, branch: Branch | None):
