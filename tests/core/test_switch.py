@@ -411,3 +411,17 @@ def test_a_stick_slip_cycle_is_reported_with_its_own_period():
     assert res.steady.transitions_per_period == exact.steady.transitions_per_period == 2
     # the model's own error at eta = 1e-4 v: measured 1.1e-3 of the period
     assert res.steady.period == pytest.approx(exact.steady.period, rel=2e-3)
+
+
+def test_a_narrow_band_still_finds_the_stick_slip_cycle():
+    """Defect: at the app's precise band (eta = 1e-5 v, rtol 1e-10) the cycle's transition
+    states scatter by up to 20 eta, above the repeat tolerance eta / v set: 'no steady
+    state found within the horizon' for Fig. 5a's cycle."""
+    from core import simulate
+
+    exact = simulate(SLOW, None, t_end=100.0)
+    res = simulate_switch(SLOW, t_end=100.0, rtol=1e-10, atol=1e-13, eta=1e-6)
+    assert res.steady.kind is exact.steady.kind
+    assert res.steady.transitions_per_period == 2
+    # measured 1.2e-5 of the period
+    assert res.steady.period == pytest.approx(exact.steady.period, rel=1e-4)
