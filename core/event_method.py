@@ -335,7 +335,8 @@ class EventSolver:
             self.point(t, x, v, self.slip_acc(x, s), s)
 
         segment = SegmentIntegrator(
-            solver, events, self.limit, point, level=self.c if watch else None
+            solver, events, self.limit, point, level=self.c if watch else None,
+            speed=(self.osc.v, float(s)),
         )
         end = segment.integrate(self.n_steps)
         self.n_steps += end.steps
@@ -425,6 +426,10 @@ def _slip_events(s: int, owner: EventSolver) -> list[Event]:
     events = [
         Event("top", lambda _t, y: y[1], -1.0, terminal=False),
         Event("ur", lambda _t, y: y[1] - vb, 1.0 if s > 0 else -1.0),
+        # where x' turns back from the belt's speed (SegmentIntegrator's speed watch: a step
+        # whose speed passed it and came back, as on entering a contact just below it)
+        Event("turn", lambda _t, y: owner.slip_acc(float(y[0]), s), -1.0 if s > 0 else 1.0,
+              terminal=False),
     ]
     if owner.rigid or (owner.soft and not owner.contact):
         events.append(Event("stop", lambda _t, y: y[0] - c, 1.0))

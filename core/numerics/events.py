@@ -12,7 +12,9 @@ Non-terminal events (maxima of ``x``) and the step ends are handed to a callback
 
 Optionally a ``level`` of ``x`` is watched for a crossing that rises above it and falls back
 inside one step (no sign change at the step ends): a maximum of ``x`` beyond the level
-betrays it, and it is located between the step start and that maximum.
+betrays it, and it is located between the step start and that maximum. A ``speed`` of
+``x'`` is watched the same way, betrayed by the turn of ``x'`` (:data:`TURN_EVENT`, a
+non-terminal event the caller adds: ``x'' = 0``) beyond it.
 """
 
 from __future__ import annotations
@@ -33,10 +35,27 @@ EVENT_XTOL = 4.0 * np.finfo(float).eps
 EVENT_RTOL = 4.0 * np.finfo(float).eps
 #: Absolute time tolerance of a crossing the event functions missed.
 MISSED_XTOL = 1e-15
-#: Name of the event that a missed crossing of the watched level is reported as.
+#: Names of the events that a missed crossing of the watched level of ``x`` (the stop)
+#: and speed (the belt's) are reported as.
 LEVEL_EVENT = "stop"
+SPEED_EVENT = "ur"
 #: Name of the non-terminal event at a maximum of ``x`` (``x' = 0`` falling).
 TOP_EVENT = "top"
+#: Name of the non-terminal event where ``x'`` turns (``x'' = 0``).
+TURN_EVENT = "turn"
+
+
+@dataclass(frozen=True)
+class Watch:
+    """A level of component ``index`` of the state (0: ``x``, 1: ``x'``) that a step may
+    cross and cross back, ``sign`` the side it is crossed to; the extremum event ``turn``
+    betrays it, and the crossing is reported as the event ``name``."""
+
+    index: int
+    level: float
+    sign: float
+    turn: str
+    name: str
 
 
 @dataclass(frozen=True)
@@ -90,6 +109,9 @@ class SegmentIntegrator:
         ``on_point(t, y)`` for every step end and maximum before the segment's end.
     level : float, optional
         Level of ``x`` to watch for a crossing missed inside one step.
+    speed : (float, float), optional
+        ``(v, sign)``: a speed of ``x'`` to watch the same way, crossed upwards for
+        ``sign = 1``; reported as the event ``"ur"`` (the belt's speed reached).
     """
 
     def __init__(
@@ -99,9 +121,15 @@ class SegmentIntegrator:
         limit: WorkLimit,
         on_point: Callable[[float, np.ndarray], None],
         level: float | None = None,
+        speed: tuple[float, float] | None = None,
     ) -> None:
         self.solver, self.events, self.limit = solver, events, limit
-        self.on_point, self.level = on_point, level
+        self.on_point = on_point
+        self.watches = []
+        if level is not None:
+            self.watches.append(Watch(0, level, 1.0, TOP_EVENT, LEVEL_EVENT))
+        if speed is not None:
+            self.watches.append(Watch(1, speed[0], speed[1], TURN_EVENT, SPEED_EVENT))
         self.t0 = float(solver.t)
         self.ts = [self.t0]
         self.interps: list = []
@@ -155,28 +183,29 @@ class SegmentIntegrator:
                     )
                 hits.append((t_root, ev))
         hits.sort(key=lambda p: p[0])
-        if self.level is not None:
-            missed = self.missed_crossing(sol, t_old, hits)
-            if missed is not None:
-                hits = [h for h in hits if h[0] < missed[0]] + [missed]
+        missed = [m for w in self.watches if (m := self.missed_crossing(sol, t_old, hits, w))]
+        if missed:
+            first = min(missed, key=lambda p: p[0])
+            hits = [h for h in hits if h[0] < first[0]] + [first]
         return hits
 
-    def missed_crossing(self, sol, t_old: float, hits) -> tuple[float, Event] | None:
-        """A crossing of ``x = level`` that rose above it and fell back inside the step:
-        betrayed by a maximum of ``x`` beyond the level (``x' = 0`` is an event)."""
-        level = self.level
-        if any(ev.name == LEVEL_EVENT for _, ev in hits):
+    @staticmethod
+    def missed_crossing(sol, t_old: float, hits, w: Watch) -> tuple[float, Event] | None:
+        """A crossing of the watched level that went past it and came back inside the
+        step: betrayed by an extremum beyond the level (the event ``w.turn``)."""
+        if any(ev.name == w.name for _, ev in hits):
             return None
         for t_top, ev in hits:
-            if ev.name == TOP_EVENT and sol(t_top)[0] > level and sol(t_old)[0] <= level:
+            if (ev.name == w.turn and w.sign * (sol(t_top)[w.index] - w.level) > 0.0
+                    and w.sign * (sol(t_old)[w.index] - w.level) <= 0.0):
                 t_c = brentq(
-                    lambda tt: sol(tt)[0] - level,
+                    lambda tt: sol(tt)[w.index] - w.level,
                     t_old,
                     t_top,
                     xtol=MISSED_XTOL,
                     rtol=EVENT_RTOL,
                 )
-                return t_c, Event(LEVEL_EVENT, None, 1.0)
+                return t_c, Event(w.name, None, w.sign)
         return None
 
     def end(self, t: float, y, event: str | None, status: Status | None) -> SegmentEnd:

@@ -289,3 +289,17 @@ def test_error_is_proportional_to_rtol(solver):
     # measured 0.94 (RK45) and 0.96 (DOP853): SciPy's controllers keep the global error
     # proportional to rtol; a lost event or a wrong restart would break the line
     assert 0.8 < slope < 1.15, (slope, errs)
+
+
+def test_a_speed_that_passes_the_belt_s_and_comes_back_in_one_step_is_found():
+    """Defect: entering each contact at 0.9999974 v, the mass reaches the belt's speed within
+    2.6e-6 and sticks for 2 ms; the step's speed passed v and came back inside it, so the
+    event method slipped on with friction the wrong way (1 stick of 60 at rtol 1e-10)."""
+    osc, stop = Oscillator(0.3, 0.2, 0.1), HystereticStop(0.1)
+    res = simulate(osc, stop, 100.0, method="event", rtol=1e-10, atol=1e-13)
+    exact = simulate(osc, stop, 100.0, rtol=1e-12, atol=1e-15)
+    counts = res.transition_counts
+    assert counts[TransitionKind.SLIP_STICK.value] == counts[TransitionKind.CONTACT.value]
+    assert counts == exact.transition_counts
+    # measured 4.7e-10 (the event method's own error at rtol 1e-10)
+    assert res.steady.period == pytest.approx(exact.steady.period, abs=1e-8)
