@@ -556,10 +556,11 @@ class _Solver:
                     return "failed", s
                 continue
             coeffs = _hermite_coeffs(x, u, a0, x1, u1, a1, h)
+            turn = _may_pass_belt(u, u1, a0, a1, h, s, vb)
             if (x1 < xb or (u1 < 0.0 if loading else u1 > 0.0)
                     or (u1 > vb if s > 0 else u1 < vb) or x1 - xb > d_max or strength_finite
-                    or _may_pass_belt(u, u1, a0, a1, h, s, vb)):
-                found = self.step_events(coeffs, h, x1, u1, s, branch)
+                    or turn):
+                found = self.step_events(coeffs, h, x1, u1, s, branch, turn)
             else:
                 found = None
             if found:
@@ -625,10 +626,12 @@ class _Solver:
             self.status = Status.LIMIT_OVERLAP
         return name
 
-    def step_events(self, coeffs, h: float, x1: float, u1: float, s: int, branch: Branch):
+    def step_events(self, coeffs, h: float, x1: float, u1: float, s: int, branch: Branch,
+                    turn: bool = False):
         """Events of one step: which condition is violated at the step's end, then its
         first root on the step's interpolant, as ``(theta, name)``. Each ``g`` is positive
-        inside the current mode."""
+        inside the current mode. ``turn``: the velocity turns inside the step and may pass
+        the belt's speed there (:func:`_may_pass_belt`)."""
         stop, xb, vb, strength = self.stop, self.xb, self.vb, self.stop.strength
         found: list[tuple[float, str]] = []
         if x1 < xb:
@@ -638,7 +641,7 @@ class _Solver:
             found.append((_first_exit(lambda th: sign * _dpoly(coeffs, th)), "reversal"))
         if (u1 > vb) if s > 0 else (u1 < vb):
             found.append((_first_exit(lambda th: s * (vb - _dpoly(coeffs, th) / h)), "friction"))
-        else:
+        elif turn:
             # The velocity may pass the belt's speed inside the step and come back (it
             # turns there): a contact entered just below the belt's speed reaches it within
             # microseconds and sticks for milliseconds. Missed, that stick was lost: the
