@@ -709,6 +709,28 @@ def _work_capped(curve: Branch, s_plus: float, stop: HystereticStop) -> bool:
         s_plus * (1.0 + 1e-12), curve, stop)[0] >= stop.k_c0 * d_lim * s_plus / (d_lim - s_plus)
 
 
+def branch_kinks(branch: Branch, stop: HystereticStop, lo: float, hi: float) -> list[float]:
+    """Overlaps in ``(lo, hi)`` where the force along ``branch`` has a kink, ascending: where
+    its curve meets the envelope it is clipped to (Eq. 11), and under the passive law ``s+``
+    where its curve joins ``phi_C`` (:func:`passive_force_and_slope`). An integrator that
+    steps across one does not see it in its error estimate, so it must end a step there."""
+    if not hi > lo:
+        return []
+    if stop.law != "passive":
+        return _clip_breaks(lo, hi, branch, stop)
+    anchor = _passive_anchor(branch, stop)
+    if anchor is None:
+        return []  # phi_C: smooth
+    s_plus = leaving_overlap(stop)
+    curve = Branch(False, *anchor)
+    capped = _work_capped(curve, s_plus, stop)
+    top = min(hi, s_plus) if capped else hi
+    kinks = _clip_breaks(lo, top, curve, _paper_reading(stop)) if top > lo else []
+    if capped and lo < s_plus < hi:
+        kinks.append(s_plus)
+    return sorted(kinks)
+
+
 @functools.lru_cache(maxsize=64)
 def _paper_reading(stop: HystereticStop) -> HystereticStop:
     """The same stop with the paper's reading (the passive law's curves below ``s+`` are

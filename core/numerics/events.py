@@ -10,6 +10,11 @@ interpolant does not reproduce the step's start to the last bit: LSODA in a defo
 contact, after a reversal sets ``x' = 0``).
 Non-terminal events (maxima of ``x``) and the step ends are handed to a callback as points.
 
+An event may mark a kink of the right-hand side (``kink``): a step that crosses one is not
+kept (its error estimate does not see the kink) and the segment ends at the step's start,
+with the kink's time located on that step's interpolant as the ``target`` the caller
+integrates to in a segment of its own, so that no step straddles the kink.
+
 Optionally a ``level`` of ``x`` is watched for a crossing that rises above it and falls back
 inside one step (no sign change at the step ends): a maximum of ``x`` beyond the level
 betrays it, and it is located between the step start and that maximum. A ``speed`` of
@@ -19,6 +24,7 @@ non-terminal event the caller adds: ``x'' = 0``) beyond it.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -71,6 +77,7 @@ class Event:
     g: Callable[[float, np.ndarray], float] | None
     direction: float
     terminal: bool = True
+    kink: bool = False
 
     def fires(self, g_old: float, g_new: float) -> bool:
         """Whether the event fires between two step ends (the rule of ``solve_ivp``)."""
@@ -84,7 +91,8 @@ class SegmentEnd:
     """How a segment ended: at time ``t`` in state ``y``, by ``event`` (its name, or
     ``None`` at the end of the span or a stop), with ``status`` set when the solve must stop
     (a work limit or a failed step); ``steps`` taken; ``piece`` the dense solution on
-    ``[t0, t]`` (``None`` if no step was taken)."""
+    ``[t0, t]`` (``None`` if no step was taken); ``target`` the time of a kink ahead (an
+    event with ``kink`` set, located on the step that crossed it and was not kept)."""
 
     t0: float
     t: float
@@ -93,6 +101,7 @@ class SegmentEnd:
     status: Status | None
     steps: int
     piece: Piece | None
+    target: float | None = None
 
 
 class SegmentIntegrator:
@@ -143,6 +152,7 @@ class SegmentIntegrator:
             stopped = self.limit.reached(steps_before + self.steps)
             if stopped is not None:
                 return self.end(float(solver.t), solver.y, None, stopped)
+            y_old = np.array(solver.y, dtype=float)
             solver.step()
             if solver.status == "failed":
                 return self.end(float(solver.t), solver.y, None, Status.INTEGRATION_FAILED)
@@ -156,6 +166,11 @@ class SegmentIntegrator:
                 # the interpolant of an implicit method (LSODA) did not reproduce the sign
                 # change its step end points showed
                 return self.end(t_old, sol(t_old), None, Status.INTEGRATION_FAILED)
+            first = next(((t_hit, ev) for t_hit, ev in hits if ev.terminal), None)
+            if first is not None and first[1].kink and first[0] > t_old:
+                # the step crossed a kink: not kept; the caller steps to it afresh
+                end = self.end(t_old, y_old, first[1].name, None)
+                return dataclasses.replace(end, target=first[0])
             self.ts.append(t_new)
             self.interps.append(sol)
             for t_hit, ev in hits:
