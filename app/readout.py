@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from app.solver import Solution
+from app.solver import Solution, reference_name
 from app.state import DIMENSIONLESS, Scales
 from core import HystereticStop, Mode, Status, SteadyKind, TransitionKind
 
@@ -228,8 +228,8 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     if sol.method == "exact" and (sol.stop is None or sol.values["stop_type"] == "rigid"):
         return "closed form, rounding only"
     if sol.error_measured:
-        return (f"{_num(sol.error_estimate)} relative, measured against the closed form "
-                f"({sol.values['accuracy']})")
+        return (f"{_num(sol.error_estimate)} relative, measured against "
+                f"{reference_name(sol.stop)} ({sol.values['accuracy']})")
     text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):

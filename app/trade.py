@@ -31,7 +31,13 @@ from typing import Any
 
 import numpy as np
 
-from app.solver import ACCURACY, position_error, preset_options
+from app.solver import (
+    ACCURACY,
+    REFERENCE_ATOL,
+    REFERENCE_RTOL,
+    position_error,
+    preset_options,
+)
 from app.state import ACCURACIES, core_inputs
 from core import method_options, simulate
 
@@ -42,8 +48,6 @@ COMPARE_POINTS = 1000
 #: Wall-time budget [s] of one measured solve; a method past it is not tried at the
 #: finer presets (a numerical method on a Zeno scene can take minutes).
 SOLVE_BUDGET_S = 3.0
-#: Reference tolerances for a deformable stop's integrated contact.
-REFERENCE_RTOL, REFERENCE_ATOL = 1e-12, 1e-14
 #: What each method models, in one sentence.
 SENTENCES: Mapping[str, str] = {
     "exact": "Slip arcs and stick segments in closed form and Newton's impact law; with a "
