@@ -54,6 +54,7 @@ from core.result import (
 )
 from core.solve_inputs import SolveInputs, StopFacts
 from core.steady import (
+    FIXED_POINT_RTOL,
     FixedPointDetector,
     impacts_lose,
     pressed_steady,
@@ -279,16 +280,17 @@ def _quiet_steady(
 SUB_PERIOD_FACTOR = 10.0
 
 
-def _fundamental(tail: list[Transition], j: int, tol: float) -> int:
+def _fundamental(tail: list[Transition], j: int, tol: float,
+                 periods: int = STEADY_PERIODS) -> int:
     """The shortest period ``d`` dividing ``j`` (transitions) whose states repeat about as
-    well as those ``j`` apart over the last :data:`STEADY_PERIODS` periods.
+    well as those ``j`` apart over the last ``periods`` periods.
 
     The states of a numerical method repeat to its accuracy only: a cycle whose states
     scatter about the tolerance can pass the repeat test ``3 j`` transitions apart and not
     ``j`` apart (the switch model at its default band: a stick-slip cycle reported with
     three times its period). A true period-3 orbit's states one cycle apart differ by the
     orbit's geometry, far more than this factor."""
-    span = STEADY_PERIODS * j
+    span = periods * j
 
     def worst(d: int) -> float:
         if any(tail[-1 - i].kind is not tail[-1 - i - d].kind for i in range(span)):
@@ -318,22 +320,27 @@ def _periodic_tail(
     makes lose energy (:func:`core.steady.train_loses`), nor inelastic rigid impacts with
     nothing but slip on one circle between them (:func:`core.steady.impacts_lose`).
     """
-    det = FixedPointDetector(scale, rtol=rtol, min_cycle_size=scale)
-    for i, tr in enumerate(tail):
-        det.add(tr.kind, tr.t, tr.x, tr.v, i)
     n = len(tail)
-    for j in range(1, min(STEADY_MAX_J, n // (STEADY_PERIODS + 1)) + 1):
-        if not all(j in det.repeats[n - 1 - i] for i in range(STEADY_PERIODS * j)):
-            continue
-        period = tail[-1].t - tail[-1 - j].t
-        if period > 0.0:
+    found = None
+    # Repeats to the tolerance over STEADY_PERIODS periods, or to rounding over one: a
+    # cycle through a state the motion is reset to (a stick that carries the mass onto the
+    # stop at the belt's speed) repeats it to the bit, as the exact method's detector sees
+    # after one period (a 41-time-unit cycle twice in t_end = 100: "periodic" by exact,
+    # "none" by event).
+    for tol, periods in ((rtol, STEADY_PERIODS), (FIXED_POINT_RTOL, 1)):
+        det = FixedPointDetector(scale, rtol=tol, min_cycle_size=scale)
+        for i, tr in enumerate(tail):
+            det.add(tr.kind, tr.t, tr.x, tr.v, i)
+        found = _repeat_period(tail, det, periods)
+        if found is not None:
             break
-    else:
+    if found is None:
         return None
-    k = n - 1 - STEADY_PERIODS * j
+    j = found
+    k = n - 1 - periods * j
     while k - j >= 0 and j in det.repeats[k]:
         k -= 1
-    j = _fundamental(tail, j, det.tol)
+    j = _fundamental(tail, j, det.tol, periods)
     period = tail[-1].t - tail[-1 - j].t
     last = tail[-j:]
     if all(tr.kind is TransitionKind.REVERSAL for tr in last):
@@ -358,6 +365,17 @@ def _periodic_tail(
         impact_speed=max(speeds) if speeds else math.nan,
         t_reached=tail[k].t,
     )
+
+
+def _repeat_period(tail: list[Transition], det: FixedPointDetector, periods: int) -> int | None:
+    """The fewest transitions ``j`` per period such that each transition of the last
+    ``periods`` periods repeats (``det``) the state ``j`` earlier, or ``None``."""
+    n = len(tail)
+    for j in range(1, min(STEADY_MAX_J, n // (periods + 1)) + 1):
+        if all(j in det.repeats[n - 1 - i] for i in range(periods * j)) and (
+                tail[-1].t - tail[-1 - j].t > 0.0):
+            return j
+    return None
 
 
 def _falling_contacts(tail: list[Transition]) -> str | None:
