@@ -732,11 +732,12 @@ def reference_error(result: Result, osc: Any, stop: Any, x0: float, v0: float) -
     return error
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=2)
 def _reference(osc: Any, stop: Any, t_end: float, x0: float, v0: float) -> Result:
     """The exact method's solve that :func:`reference_error` measures against, kept for the
     other methods and presets of the same scene (45 ms on scene 10's stop, as long as a
-    switch solve at standard)."""
+    switch solve at standard); two, so that a class's sessions on other scenes do not
+    hold more."""
     tight = {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
              if k in method_options("exact", stop)}
     return _simulate(osc, stop, t_end, x0, v0, n_samples=2, method="exact", **tight)
