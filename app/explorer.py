@@ -891,7 +891,7 @@ class Explorer(pn.viewable.Viewer):
         st = self.state
         bounded = {low: getattr(st, high) for low, high in CONSTRAINTS}
         for name, w in self.sliders.items():
-            if name in SI_SLIDERS:
+            if name in SI_SLIDERS or w.moved_on_from(getattr(st, name)):
                 continue
             if name in bounded:  # the lower slider of a constraint ends at the higher value
                 top = bounded[name]

@@ -144,6 +144,8 @@ class TypedSlider:
         self._validate = validate
         self._tooltip = tooltip
         self._quiet = False
+        #: The released value being committed, while it is (None otherwise).
+        self._releasing: float | None = None
         #: True while the box shows a refused entry.
         self.invalid = False
         start, end = min(soft[0], value), max(soft[1], value)
@@ -364,7 +366,20 @@ class TypedSlider:
                     set_changed(self.input, value=format_number(value))
             finally:
                 self._quiet = False
-            self._on_commit(value)
+            self._releasing = value
+            try:
+                self._on_commit(value)
+            finally:
+                self._releasing = None
+
+    def moved_on_from(self, value: float) -> bool:
+        """Whether ``value`` is this slider's own release being committed while the slider
+        has already moved on (a key pressed again, or a drag begun, before the server
+        handled the release: Panel may hand it the newer position with the older release).
+        Set back there, the handle jumped to the older value under the user's hand; the
+        newer position's own release follows."""
+        return (self._releasing is not None and value == self._releasing
+                and self.built and self._slider.value != value)
 
     def _typed(self, event) -> None:
         if self._quiet or event.new is None:

@@ -722,3 +722,22 @@ def test_each_full_solution_is_signalled_by_its_own_model(ex):
     assert "fie-solution-arrived" in ex.arrived.css_classes
     assert not any(src.tags for src in ex.plots.sources.values())
     assert "t_raw" not in ex.plots.sources["traj"].data  # one time column, in shown units
+
+
+def test_a_release_handled_after_the_slider_moved_on_does_not_pull_it_back(ex):
+    """Two key presses on a slider in quick succession (mu_s 0.3 -> 0.295 -> 0.27): when
+    the server is slow to take the first release, Panel may hand it the second position
+    with the first release in one batch. Committing 0.295, the page set the slider back to
+    0.295 under the user's hand (a handle that jumps back, a box that disagrees with it in
+    one CI run). The slider keeps its newer position; that position's release follows and
+    is committed."""
+    slider = ex.sliders["mu_s"].slider
+    start = ex.state.mu_s
+    first, second = start - 0.005, start - 0.03
+    with param.edit_constant(slider):
+        slider.param.update(value=second, value_throttled=first)
+    assert ex.state.mu_s == first  # the release that was handled
+    assert slider.value == second  # not pulled back
+    _release(ex, "mu_s", second)
+    assert ex.state.mu_s == second and ex.solution.values["mu_s"] == second
+    assert slider.value == second and ex.sliders["mu_s"].input.value == f"{second:g}"
