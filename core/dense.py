@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -110,6 +111,16 @@ def log_rest_at_stop(
     return t_rest
 
 
+class StopWorkSamples(NamedTuple):
+    """A deformable stop's work in closed form (:class:`core.event_method.StopWork`): at the
+    points, at the samples, and where the mass sticks in contact (mode ``CONTACT``, where
+    the friction force is ``x + phi`` as on free stick)."""
+
+    points: np.ndarray
+    samples: np.ndarray
+    stuck: np.ndarray
+
+
 def _energy_at_samples(
     t: np.ndarray,
     x: np.ndarray,
@@ -122,6 +133,7 @@ def _energy_at_samples(
     ts: np.ndarray,
     xs: np.ndarray,
     phis: np.ndarray,
+    stop_work: StopWorkSamples | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Friction work, belt work and work done on the stop at the samples (per unit ``k``).
 
@@ -130,7 +142,9 @@ def _energy_at_samples(
     (``+-b`` in the switch model's transition band), so its work ``f * dx`` is exact; on
     stick it is the spring-plus-contact force, summed by the trapezoid rule in ``x`` (exact
     off the stop, where it is linear in ``x``). A jump (rigid impact) hands its loss of
-    kinetic energy to the stop; the deformable stop's work is the trapezoid rule in ``x``.
+    kinetic energy to the stop; the deformable stop's work is the trapezoid rule in ``x``,
+    or ``stop_work``, its values at the points and at the samples in closed form along the
+    law's branches (then the contact force's work on stick is exact too).
     Inside an interval the same rules run from its start point to the sample, so the sums
     at the samples are as accurate as at the points.
     """
@@ -142,22 +156,38 @@ def _energy_at_samples(
     dx, dt = np.diff(x), np.diff(t)
     jump = dt == 0.0
     stick = mode[:-1] == Mode.STICK
-    phi_mid = 0.5 * (phi[:-1] + phi[1:])
-    stop_work = np.where(jump, -np.diff(mech), phi_mid * dx)
-    cum_stop = np.concatenate([[0.0], np.cumsum(stop_work)])
+    if stop_work is not None:
+        stick = stick | stop_work.stuck[:-1]
     k = np.clip(idx, 0, n - 2)
     d_x = xs - x[k]
-    stop_s = cum_stop[k] + np.where(jump[k], 0.0, 0.5 * (phi[k] + phis) * d_x)
+    phi_mid = 0.5 * (phi[:-1] + phi[1:])
+    if stop_work is None:
+        cum_stop = np.concatenate([[0.0], np.cumsum(np.where(jump, -np.diff(mech),
+                                                             phi_mid * dx))])
+        stop_s = cum_stop[k] + np.where(jump[k], 0.0, 0.5 * (phi[k] + phis) * d_x)
+    else:
+        w_points, stop_s = stop_work.points, stop_work.samples
     if acc is None:
         # no acceleration given: the caller closes the balance with the friction work
         return np.full(len(ts), math.nan), np.full(len(ts), math.nan), stop_s
     f_left = acc[:-1] + x[:-1] + phi[:-1]
-    f_int = np.where(stick, 0.5 * (x[:-1] + x[1:]) + phi_mid, f_left)
+    # On stick the friction force is the spring's and the stop's, x + phi: its mean over
+    # an interval by the trapezoid rule, or from the stop's work in closed form.
+    if stop_work is None:
+        f_stick = 0.5 * (x[:-1] + x[1:]) + phi_mid
+        f_stick_s = 0.5 * (x[k] + phi[k] + xs + phis)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            f_stick = np.where(dx != 0.0, 0.5 * (x[:-1] + x[1:]) + np.diff(w_points) / dx,
+                               f_left)
+            f_stick_s = np.where(d_x != 0.0, 0.5 * (x[k] + xs) + (stop_s - w_points[k]) / d_x,
+                                 f_left[k])
+    f_int = np.where(stick, f_stick, f_left)
     fric = np.where(jump, 0.0, f_int * dx)
     belt = np.where(jump, 0.0, f_int * belt_speed * dt)
     cum_f = np.concatenate([[0.0], np.cumsum(fric)])
     cum_b = np.concatenate([[0.0], np.cumsum(belt)])
-    f_s = np.where(stick[k], 0.5 * (x[k] + phi[k] + xs + phis), f_left[k])
+    f_s = np.where(stick[k], f_stick_s, f_left[k])
     f_s = np.where(jump[k], 0.0, f_s)
     fric_s = cum_f[k] + f_s * d_x
     belt_s = cum_b[k] + f_s * belt_speed * (ts - t[k])
@@ -431,6 +461,7 @@ def result_from_dense(
     contact_force=None,
     overlap=None,
     stop_stored=None,
+    stop_law=None,
     impulses=None,
     energy: Energy | None = None,
     steady: Steady | None = None,
@@ -480,6 +511,13 @@ def result_from_dense(
         ``f(overlap, force)`` evaluated at the samples in contact only (cheaper: the stored
         energy needs a closed-form integral per call). ``stop_loss`` is the work done on the
         stop less this.
+    stop_law : optional
+        The deformable stop's law along the solution's branches (as
+        :class:`core.event_method.StopWork`): ``points``, the work done on the stop at the
+        points, and ``at(idx, xs)``, the contact force, overlap, work and stored energy at
+        samples ``xs`` in the intervals ``idx``, in closed form. Replaces
+        ``contact_force``, ``overlap`` and ``stop_stored`` at the samples (no interpolation
+        between the points) and the trapezoid rule of the stop's work.
     impulses : array_like, shape (n, 2), optional
         Impact times and impulses; by default from the stored impacts (``v - v_after``).
     energy : Energy, optional
@@ -574,21 +612,23 @@ def result_from_dense(
         np.clip(np.searchsorted(t, ts, side="right") - 1, 0, max(n - 1, 0)),
     )
     modes = mode[idx].astype(np.int8)
-    phis = sample(phi, None)
-    ovls = sample(ovl, None)
+    if stop_law is not None:
+        phis, ovls, work_s, stored_s = stop_law.at(idx, xs)
+        exact_work = StopWorkSamples(np.asarray(stop_law.points, dtype=float), work_s,
+                                     np.asarray(stop_law.stuck, dtype=bool))
+    else:
+        phis, ovls, exact_work = sample(phi, None), sample(ovl, None), None
+        stored_s = (np.array([stored_fn(d, p) if d > 0.0 else 0.0
+                              for d, p in zip(ovls, phis, strict=True)])
+                    if stored_fn is not None else sample(stored, None))
 
     if energy is None:
         fric_s, belt_s, stop_s = _energy_at_samples(
-            t, x, v, mode, acc_arr, phi, belt_speed, idx, ts, xs, phis
+            t, x, v, mode, acc_arr, phi, belt_speed, idx, ts, xs, phis, exact_work
         )
         mech_s = 0.5 * (xs * xs + vs * vs)
         if acc_arr is None:
             fric_s = mech_s - mech_s[0] + stop_s
-        stored_s = (
-            np.array([stored_fn(d, p) if d > 0.0 else 0.0 for d, p in zip(ovls, phis, strict=True)])
-            if stored_fn is not None
-            else sample(stored, None)
-        )
         energy = Energy(
             mechanical=mech_s,
             friction_work=fric_s,
@@ -607,10 +647,8 @@ def result_from_dense(
 
     if steady is None:
         scale = _state_scale(x, v, belt_speed)
-        if steady_tol is None:
-            steady_rtol = max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
-        else:
-            steady_rtol = steady_tol / scale
+        steady_rtol = (max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
+                       if steady_tol is None else steady_tol / scale)
         steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed, limit,
                             lossless)
 

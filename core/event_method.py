@@ -70,10 +70,13 @@ from core.hysteresis import (
     FIRST_LOADING,
     LIMIT_MARGIN,
     Branch,
+    BranchPrimitive,
     branch_kinks,
+    contact_force,
     force_and_slope,
     reverse,
     start_branch,
+    stored_energy,
 )
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
@@ -128,6 +131,74 @@ class EventOptions:
         check_integer("max_events", self.max_events, 1, COUNT_MAX)
 
 
+class StopWork:
+    """The work done on a deformable stop along the solution, in closed form: on each
+    branch of the law the force is a function of the overlap, so the work from the
+    branch's start is its primitive (:class:`core.hysteresis.BranchPrimitive`). Kept at
+    every point of the track (:meth:`add_point`) and evaluated at any sample (:meth:`at`,
+    for :func:`core.dense.result_from_dense`): with the trapezoid rule over the solver's
+    steps the energy balance of scenes 10 and 11 closed to 2e-6 to 5e-6 of the belt's
+    input, and the passive law's loss dipped by up to 4.8e-7."""
+
+    def __init__(self, stop: HystereticStop, clearance: float) -> None:
+        self.stop, self.c = stop, clearance
+        #: The branches followed: (branch, its primitive, overlap and work at its start).
+        self.entries: list[tuple[Branch, BranchPrimitive, float, float]] = []
+        self.current = -1  # the entry followed now; -1 out of contact
+        self.work_out = 0.0  # the work done so far, while out of contact
+        self.point_entry: list[int] = []
+        self.points: list[float] = []
+        self.stuck: list[bool] = []  # stick in contact on the interval after each point
+
+    def work_at(self, x: float) -> float:
+        """The work done on the stop up to position ``x`` on the current branch."""
+        if self.current < 0:
+            return self.work_out
+        _, primitive, d0, w0 = self.entries[self.current]
+        return w0 + primitive(max(x - self.c, 0.0)) - primitive(d0)
+
+    def follow(self, branch: Branch | None, x: float) -> None:
+        """From ``x`` on, follow ``branch`` (``None``: out of contact)."""
+        work = self.work_at(x)
+        if branch is None:
+            self.current, self.work_out = -1, work
+            return
+        d, d_lim = max(x - self.c, 0.0), self.stop.limit_overlap
+        lo, hi = (d, d_lim * LIMIT_OVERLAP_FRACTION) if branch.loading else (0.0, d)
+        self.entries.append((branch, BranchPrimitive(branch, self.stop, lo, hi), d, work))
+        self.current = len(self.entries) - 1
+
+    def add_point(self, x: float, stuck: bool) -> None:
+        self.point_entry.append(self.current)
+        self.points.append(self.work_at(x))
+        self.stuck.append(stuck and self.current >= 0)
+
+    def at(self, idx: np.ndarray, xs: np.ndarray):
+        """Contact force, overlap, work done and energy stored at samples ``xs`` taken in
+        the intervals that start at the points ``idx``."""
+        entry = np.asarray(self.point_entry)[idx]
+        overlap = xs - self.c
+        force = np.zeros(len(xs))
+        work = np.asarray(self.points)[idx]  # out of contact: the work done so far
+        stored = np.zeros(len(xs))
+        for e in np.unique(entry[entry >= 0]):
+            sel = np.flatnonzero((entry == e) & (overlap > 0.0))
+            if not len(sel):
+                continue
+            branch, primitive, d0, w0 = self.entries[e]
+            d = overlap[sel]
+            force[sel] = contact_force(d, branch, self.stop)
+            base = w0 - primitive(d0)
+            work[sel] = [base + primitive(dd) for dd in d]
+            stored[sel] = [stored_energy(dd, p, self.stop) for dd, p in zip(d, force[sel],
+                                                                           strict=True)]
+        inside = (entry >= 0) & (overlap <= 0.0)  # at the face, in contact: from d = 0
+        for i in np.flatnonzero(inside):
+            _, primitive, d0, w0 = self.entries[entry[i]]
+            work[i] = w0 + primitive(0.0) - primitive(d0)
+        return force, overlap, work, stored
+
+
 class EventSolver:
     """One solve of the non-smooth model by event location: the state of the motion (time,
     position, velocity, friction state, contact and branch of the contact law), the dense
@@ -157,6 +228,7 @@ class EventSolver:
         # the next one once a step has crossed it (stepped to in a segment of its own).
         self.kinks: list[float] = []
         self.land_at: float | None = None
+        self.work = StopWork(stop, self.c) if self.soft else None
         self.fr = 0
         if self.contact:  # a start inside the stop: its branch there (start_branch)
             pull = self.start_mode(x0, v0) * a - x0
@@ -178,6 +250,8 @@ class EventSolver:
         """Follow ``branch`` of the law from here, with the kinks of its force ahead (where
         its curve is clipped to an envelope: :func:`core.hysteresis.branch_kinks`)."""
         self.branch, self.land_at, self.kinks = branch, None, []
+        if self.work is not None:
+            self.work.follow(branch if self.contact else None, self.x)
         if not (self.soft and self.contact):
             return
         d, d_lim = self.x - self.c, self.stop.limit_overlap
@@ -212,6 +286,8 @@ class EventSolver:
     def point(self, t: float, x: float, v: float, acc: float, fr: int) -> None:
         mode = Mode.CONTACT if self.contact else (Mode.STICK if fr == 0 else Mode.SLIP)
         self.track.add(t, x, v, acc, mode, self.phi(x) if self.soft else 0.0)
+        if self.work is not None:
+            self.work.add_point(x, fr == 0)
 
     # --- the loop --------------------------------------------------------------------------
     def run(self) -> None:
@@ -470,6 +546,7 @@ class EventSolver:
             stats=stats,
             info={"solver": self.opts.solver},
             dense=self.dense if self.dense.pieces else None,
+            stop_law=self.work,
         )
 
 
