@@ -703,6 +703,13 @@ def position_error(x: np.ndarray, x_ref: np.ndarray) -> float:
 REFERENCE_RTOL, REFERENCE_ATOL = 1e-12, 1e-14
 
 
+def reference_options(stop: Any) -> dict[str, float]:
+    """The exact method's options as a reference: the tight tolerances where it takes
+    them (a deformable stop's contact), none for a closed form."""
+    return {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
+            if k in method_options("exact", stop)}
+
+
 def reference_name(stop: Any) -> str:
     """What :func:`reference_error` measures against, in words."""
     if isinstance(stop, HystereticStop):
@@ -738,9 +745,8 @@ def _reference(osc: Any, stop: Any, t_end: float, x0: float, v0: float) -> Resul
     other methods and presets of the same scene (45 ms on scene 10's stop, as long as a
     switch solve at standard); two, so that a class's sessions on other scenes do not
     hold more."""
-    tight = {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
-             if k in method_options("exact", stop)}
-    return _simulate(osc, stop, t_end, x0, v0, n_samples=2, method="exact", **tight)
+    return _simulate(osc, stop, t_end, x0, v0, n_samples=2, method="exact",
+                     **reference_options(stop))
 
 
 def _simulate(*args: Any, **kwargs: Any) -> Result:

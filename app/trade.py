@@ -31,13 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from app.solver import (
-    ACCURACY,
-    REFERENCE_ATOL,
-    REFERENCE_RTOL,
-    position_error,
-    preset_options,
-)
+from app.solver import ACCURACY, position_error, preset_options, reference_options
 from app.state import ACCURACIES, core_inputs
 from core import method_options, simulate
 
@@ -83,9 +77,8 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
     """
     osc, stop, x0, v0, t_end = core_inputs(values)
     t_eval = np.linspace(0.0, t_end, COMPARE_POINTS)
-    tight = {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
-             if k in method_options("exact", stop)}
-    ref = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method="exact", **tight)
+    ref = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method="exact",
+                   **reference_options(stop))
     x_ref = _at(ref, t_eval)
     rows: list[TradeRow] = []
     for method in methods:
