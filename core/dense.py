@@ -112,7 +112,7 @@ def log_rest_at_stop(
 
 
 class StopWorkSamples(NamedTuple):
-    """A deformable stop's work in closed form (:class:`core.event_method.StopWork`): at the
+    """A deformable stop's work in closed form (:class:`core.stop_work.StopWork`): at the
     points, at the samples, and where the mass sticks in contact (mode ``CONTACT``, where
     the friction force is ``x + phi`` as on free stick)."""
 
@@ -513,7 +513,7 @@ def result_from_dense(
         stop less this.
     stop_law : optional
         The deformable stop's law along the solution's branches (as
-        :class:`core.event_method.StopWork`): ``points``, the work done on the stop at the
+        :class:`core.stop_work.StopWork`): ``points``, the work done on the stop at the
         points, and ``at(idx, xs)``, the contact force, overlap, work and stored energy at
         samples ``xs`` in the intervals ``idx``, in closed form. Replaces
         ``contact_force``, ``overlap`` and ``stop_stored`` at the samples (no interpolation

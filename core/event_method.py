@@ -70,13 +70,10 @@ from core.hysteresis import (
     FIRST_LOADING,
     LIMIT_MARGIN,
     Branch,
-    BranchPrimitive,
     branch_kinks,
-    contact_force,
     force_and_slope,
     reverse,
     start_branch,
-    stored_energy,
 )
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
@@ -85,6 +82,7 @@ from core.params import HystereticStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
+from core.stop_work import StopWork
 from core.validation import check_integer, check_range
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
@@ -129,95 +127,6 @@ class EventOptions:
         if self.rest_speed is not None:
             check_range("rest_speed", self.rest_speed, 0.0)
         check_integer("max_events", self.max_events, 1, COUNT_MAX)
-
-
-class StopWork:
-    """The work done on a deformable stop along the solution, in closed form: on each
-    branch of the law the force is a function of the overlap, so the work from the
-    branch's start is its primitive (:class:`core.hysteresis.BranchPrimitive`). Each
-    point of the track records its branch (:meth:`add_point`); the work is evaluated at
-    the points that need it (:attr:`points`) and at any sample (:meth:`at`), for
-    :func:`core.dense.result_from_dense`. With the trapezoid rule over the solver's
-    steps the energy balance of scenes 10 and 11 closed to 2e-6 to 5e-6 of the belt's
-    input, and the passive law's loss dipped by up to 4.8e-7."""
-
-    def __init__(self, stop: HystereticStop, clearance: float) -> None:
-        self.stop, self.c = stop, clearance
-        #: The branches followed: (branch, its primitive, overlap and work at its start).
-        self.entries: list[tuple[Branch, BranchPrimitive, float, float]] = []
-        self.current = -1  # the entry followed now; -1 out of contact
-        self.work_out = 0.0  # the work done so far, while out of contact
-        self.point_entry: list[int] = []
-        self.point_x: list[float] = []
-        self.point_work: list[float] = []  # out of contact: the work done so far
-        self.stuck: list[bool] = []  # stick in contact on the interval after each point
-
-    def work_at(self, x: float) -> float:
-        """The work done on the stop up to position ``x`` on the current branch."""
-        if self.current < 0:
-            return self.work_out
-        _, primitive, d0, w0 = self.entries[self.current]
-        return w0 + primitive(max(x - self.c, 0.0)) - primitive(d0)
-
-    def follow(self, branch: Branch | None, x: float) -> None:
-        """From ``x`` on, follow ``branch`` (``None``: out of contact)."""
-        work = self.work_at(x)
-        if branch is None:
-            self.current, self.work_out = -1, work
-            return
-        d, d_lim = max(x - self.c, 0.0), self.stop.limit_overlap
-        lo, hi = (d, d_lim * LIMIT_OVERLAP_FRACTION) if branch.loading else (0.0, d)
-        self.entries.append((branch, BranchPrimitive(branch, self.stop, lo, hi), d, work))
-        self.current = len(self.entries) - 1
-
-    def add_point(self, x: float, stuck: bool) -> None:
-        self.point_entry.append(self.current)
-        self.point_x.append(x)
-        self.point_work.append(self.work_out)
-        self.stuck.append(stuck and self.current >= 0)
-
-    @property
-    def points(self) -> np.ndarray:
-        """The work done at the points where it is needed: out of contact, and at the ends
-        of the intervals of stick in contact (the friction's work there is ``x + phi``'s);
-        ``nan`` elsewhere (a slip interval's friction is ``s a``, and the samples have
-        their own work).
-        Evaluated at every point it cost a tenth of scene 11's solve."""
-        stuck = np.asarray(self.stuck, dtype=bool)
-        entry = np.asarray(self.point_entry, dtype=int)
-        ends = stuck.copy()
-        ends[1:] |= stuck[:-1]
-        # out of contact (free stick too): the work done so far
-        out = np.where(entry < 0, np.asarray(self.point_work, dtype=float), np.nan)
-        for i in np.flatnonzero(ends & (entry >= 0)):
-            _, primitive, d0, w0 = self.entries[entry[i]]
-            out[i] = w0 + primitive(max(self.point_x[i] - self.c, 0.0)) - primitive(d0)
-        return out
-
-    def at(self, idx: np.ndarray, xs: np.ndarray):
-        """Contact force, overlap, work done and energy stored at samples ``xs`` taken in
-        the intervals that start at the points ``idx``."""
-        entry = np.asarray(self.point_entry)[idx]
-        overlap = xs - self.c
-        force = np.zeros(len(xs))
-        work = np.asarray(self.point_work)[idx]  # out of contact: the work done so far
-        stored = np.zeros(len(xs))
-        for e in np.unique(entry[entry >= 0]):
-            sel = np.flatnonzero((entry == e) & (overlap > 0.0))
-            if not len(sel):
-                continue
-            branch, primitive, d0, w0 = self.entries[e]
-            d = overlap[sel]
-            force[sel] = contact_force(d, branch, self.stop)
-            base = w0 - primitive(d0)
-            work[sel] = [base + primitive(dd) for dd in d]
-            stored[sel] = [stored_energy(dd, p, self.stop) for dd, p in zip(d, force[sel],
-                                                                           strict=True)]
-        inside = (entry >= 0) & (overlap <= 0.0)  # at the face, in contact: from d = 0
-        for i in np.flatnonzero(inside):
-            _, primitive, d0, w0 = self.entries[entry[i]]
-            work[i] = w0 + primitive(0.0) - primitive(d0)
-        return force, overlap, work, stored
 
 
 class EventSolver:

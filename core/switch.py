@@ -81,6 +81,7 @@ from core.params import HystereticStop, Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
+from core.stop_work import StopWork
 from core.validation import check_range
 
 #: First trial step (dimensionless time); the controller grows it within a few steps.
@@ -220,7 +221,7 @@ class SwitchSolver:
     __slots__ = (
         "inputs", "osc", "stop", "t_end", "opts", "limit", "control", "rigid", "soft", "c", "r",
         "pressed", "log", "track", "t", "x", "v", "contact", "branch", "rhs", "acc", "fr", "h",
-        "at_rest", "status", "steps", "rejected", "n_eval",
+        "at_rest", "status", "steps", "rejected", "n_eval", "work",
     )  # fmt: skip
 
     def __init__(self, inputs: SolveInputs, opts: SwitchOptions, limit: WorkLimit) -> None:
@@ -236,9 +237,12 @@ class SwitchSolver:
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
         self.branch: Branch = FIRST_LOADING
+        # the stop's work along the law's branches (core/stop_work.py)
+        self.work = StopWork(stop, self.c) if self.soft else None
         if self.contact:  # a start inside the stop: its branch there (start_branch)
             s = 1 if v0 < osc.v else -1 if v0 > osc.v else (1 if x0 > 0.0 else -1)
             self.branch = start_branch(x0 - self.c, v0, s * osc.a - x0, stop)
+            self.work.follow(self.branch, x0)
         self.rhs = switch_rhs(osc, opts.eta, stop if self.soft else None, self.branch)
         self.acc = self.rhs(x0, v0)
         self.fr = self.friction_state(x0, v0)
@@ -269,9 +273,14 @@ class SwitchSolver:
         return 1 if force < 0.0 else -1
 
     def set_branch(self, branch: Branch) -> None:
-        """Follow ``branch`` of the contact law from here on."""
+        """Follow ``branch`` of the contact law from here on (out of contact: the first
+        loading of the next contact). The step's end point is stored before the contact
+        starts, reverses or ends there, so the interval after it is retagged."""
         self.branch = branch
         self.rhs = switch_rhs(self.osc, self.opts.eta, self.stop, branch)
+        if self.work is not None:
+            self.work.follow(branch if self.contact else None, self.x)
+            self.work.retag_last(self.fr == 0)
 
     def eval_rhs(self, x: float, v: float) -> float:
         self.n_eval += 1
@@ -294,6 +303,8 @@ class SwitchSolver:
         tr.acc.append(self.acc)
         tr.mode.append(mode)
         tr.phi.append(phi)
+        if self.work is not None:
+            self.work.add_point(self.x, self.fr == 0)
 
     def step_to(self, hh: float) -> tuple[float, float]:
         """The RKF solution a step of ``hh`` from the current state."""
@@ -528,6 +539,7 @@ class SwitchSolver:
             stats=stats,
             info={"eta": eta},
             dense=HermiteDense(tr.t, tr.x, tr.v, tr.acc, self.c if self.rigid else None),
+            stop_law=self.work,
         )
 
 

@@ -425,3 +425,30 @@ def test_a_narrow_band_still_finds_the_stick_slip_cycle():
     assert res.steady.transitions_per_period == 2
     # measured 1.2e-5 of the period
     assert res.steady.period == pytest.approx(exact.steady.period, rel=1e-4)
+
+
+@pytest.mark.parametrize("law", ["paper", "passive"])
+@pytest.mark.parametrize("clearance", [0.24, 0.15])  # Fig. 10 (a train), Fig. 11 (pressed)
+def test_the_energy_split_on_a_deformable_stop_is_the_law_s(law, clearance):
+    """Defect: the work done on the stop was the trapezoid rule over the model's steps:
+    the balance closed to only 3.4e-6 to 2e-5 of the belt's input on Figs. 10 and 11, and
+    the passive law's loss fell by up to 1.4e-7 (no closed program of that law returns
+    energy). The work is now the law's primitive along each branch (core/stop_work.py)."""
+    from core import simulate
+
+    osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)
+    stop = HystereticStop(clearance=clearance, k_c0=400.0, k_e0=36.0, limit_overlap=0.01,
+                          beta_c=300.0, beta_e=300.0, law=law)
+    res = simulate_switch(osc, stop, 60.0, rtol=1e-8, atol=1e-11, n_samples=3000)
+    exact = simulate(osc, stop, 60.0, rtol=1e-10, atol=1e-13, n_samples=3000)
+    e = res.energy
+    budget = e.mechanical - e.mechanical[0] - (e.friction_work - e.stop_loss - e.stop_stored)
+    scale = np.max(np.abs(e.belt_input))
+    # measured 6.7e-9 and 8.6e-9: the friction's work on steps where the model's friction
+    # state changes inside the step (rectangle rule there), at the states' own error
+    assert np.max(np.abs(budget)) < 5e-8 * scale
+    if law == "passive":
+        assert np.all(np.diff(np.asarray(e.stop_loss)) >= -1e-15 * scale)
+    # the model's own error (the stick band, eta = 1e-4 v) leaves 9e-5 of the loss (it
+    # was 4e-4 to 1.2e-3 with the trapezoid rule)
+    assert e.stop_loss[-1] == pytest.approx(exact.energy.stop_loss[-1], rel=3e-4)
