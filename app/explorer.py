@@ -56,6 +56,7 @@ from app.state import (
     METHODS,
     SI_NAMES,
     SOLVE_PARAMS,
+    SOLVER_CHOICES,
     STOP_TYPES,
     UNITS,
     URL_KEYS,
@@ -682,8 +683,9 @@ class Explorer(pn.viewable.Viewer):
     def _commit(self, changes: Mapping[str, Any]) -> None:
         """A user's final value(s): into the state in one batch (one solve).
 
-        Solve parameters go through the constraints; a real change of one makes the scene
-        'custom'. Releasing a slider where the drag started redraws the last full solution
+        Solve parameters go through the constraints; a real change of one (other than the
+        method or accuracy, :data:`~app.state.SOLVER_CHOICES`) makes the scene 'custom'.
+        Releasing a slider where the drag started redraws the last full solution
         over the previews.
         """
         if self._syncing:
@@ -701,7 +703,7 @@ class Explorer(pn.viewable.Viewer):
                      if merged[low] != wanted[low]]
             diff = {k: v for k, v in merged.items() if v != getattr(self.state, k)}
             new.update(diff)
-            if diff and "scene" not in changes:
+            if "scene" not in changes and any(k not in SOLVER_CHOICES for k in diff):
                 new["scene"] = CUSTOM
         changed = {k: v for k, v in new.items() if getattr(self.state, k) != v}
         for slider in self.sliders.values():  # a note is about the last change only
@@ -1297,7 +1299,8 @@ SHOWN_CHARS = 60
 
 def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     """Whether solve values differ from a scene's: numbers beyond 1e-11 relative (an SI
-    address holds 12 digits), anything else at all.
+    address holds 12 digits), anything else at all; the method and accuracy are not the
+    scene's (:data:`~app.state.SOLVER_CHOICES`).
 
     >>> from app.state import scene_values
     >>> v = scene_values("7c")
@@ -1307,6 +1310,8 @@ def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     (True, True)
     """
     for name in SOLVE_PARAMS:
+        if name in SOLVER_CHOICES:
+            continue
         a, b = values[name], scene[name]
         if isinstance(a, float) and isinstance(b, float | int) and not isinstance(b, bool):
             if not math.isclose(a, b, rel_tol=1e-11):

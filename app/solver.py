@@ -43,6 +43,7 @@ from core import (
     Result,
     RigidStop,
     Status,
+    Steady,
     contact_force,
     effective_restitutions,
     eta_bounds,
@@ -210,6 +211,9 @@ class Solution:
         (:data:`ACCURACY`, and for the switch model :func:`switch_error`).
     error_measured : bool
         Whether ``error_estimate`` was measured for this run.
+    reference_steady : Steady or None
+        The steady state the exact method finds for the same run (the solve the error was
+        measured against, :func:`reference_steady`); ``None`` where none was measured.
     restitution_measured : ndarray
         Rebound / approach speed of each deformable contact (empty otherwise).
     preview : bool
@@ -231,6 +235,7 @@ class Solution:
     error_estimate: float
     restitution_measured: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error_measured: bool = False
+    reference_steady: Steady | None = None
     preview: bool = False
     budget: float = math.nan
 
@@ -654,6 +659,7 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
                            **options)
     solve_time = time.perf_counter() - start
+    verdict = None
     error, measured = accuracy["error"].get(
         "contact" if method == "exact" and isinstance(stop, HystereticStop) else method,
         math.nan), False
@@ -667,12 +673,13 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         found = reference_error(result, osc, stop, x0, v0)
         if math.isfinite(found):
             error, measured = found, True
+            verdict = reference_steady(result, osc, stop, x0, v0)
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
         result=result, program=program,
         theory=None if preview else theory_for(osc, stop, x0, v0),
         method=method, solve_time=solve_time,
-        error_estimate=error, error_measured=measured,
+        error_estimate=error, error_measured=measured, reference_steady=verdict,
         restitution_measured=measured_restitution(result),
         preview=preview, budget=_budget(preview, budget),
     )
@@ -737,6 +744,15 @@ def reference_error(result: Result, osc: Any, stop: Any, x0: float, v0: float) -
     if bound > 0.0:
         error += bound / max(float(np.max(np.abs(x_ref - x_ref.mean()))), 1e-300)
     return error
+
+
+def reference_steady(result: Result, osc: Any, stop: Any, x0: float, v0: float) -> Steady:
+    """The steady state the exact method finds over the span of a numerical ``result``
+    (the solve :func:`reference_error` measured it against, from the cache): a method
+    can change the verdict (a mass resting on the stop's face at ``x_bar = a``, where the
+    exact solution's rebounds die out over ever equal arcs: grazing)."""
+    t = np.asarray(result.t, float)
+    return _reference(osc, stop, float(t[-1]), x0, v0).steady
 
 
 @functools.lru_cache(maxsize=2)

@@ -45,6 +45,9 @@ SOLVE_PARAMS = (
     "k_c0", "k_e0", "limit_overlap", "beta_c", "beta_e", "contact_law", "x0", "v0", "t_end",
     "accuracy", "method", "program",
 )
+#: Of those, how the motion is solved, not which motion: a scene keeps its name (title,
+#: caption) under any of them, as loading a scene keeps the ones chosen.
+SOLVER_CHOICES = ("accuracy", "method")
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
 #: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
 #: the deformable stop's initial compression and expansion stiffnesses [N/m].

@@ -516,6 +516,35 @@ def test_a_link_that_changes_a_scene_s_values_opens_custom_values(monkeypatch, u
     assert not again.alert.visible
 
 
+def test_the_method_and_accuracy_keep_the_scene(monkeypatch):
+    """Choosing the method or the accuracy made the page 'custom' (title and caption gone),
+    while loading a scene keeps the ones chosen: the same state was 'Fig. 10' or
+    'custom' by the order of the clicks, and the link ``?scene=10&method=event`` opened
+    'custom'. How a motion is solved is not which motion: the scene stays, by widget and
+    by link; a physical value still makes it custom."""
+    from panel.io.location import Location
+
+    ex = Explorer()
+    ex.scene_select.value = "10"
+    ex.method.value = "switch"
+    ex.accuracy.value = "draft"
+    assert ex.state.scene == "10"
+    first = Explorer()  # the other order
+    first.method.value = "switch"
+    first.accuracy.value = "draft"
+    first.scene_select.value = "10"
+    assert first.state.scene == "10" and first.state.values() == ex.state.values()
+    ex._commit({"belt_speed": ex.state.belt_speed * 1.1})
+    assert ex.state.scene == CUSTOM
+    monkeypatch.setattr(pn.state, "_location",
+                        Location(search="?scene=10&method=event&acc=draft"))
+    linked = Explorer()
+    linked.sync_url()
+    assert (linked.state.scene, linked.state.method, linked.state.accuracy) == (
+        "10", "event", "draft")
+    assert not linked.alert.visible
+
+
 def test_an_si_permalink_out_of_range_is_refused_in_si(monkeypatch):
     """A horizon beyond the slider's in an SI link is told in seconds, with m and k."""
     from panel.io.location import Location

@@ -294,6 +294,26 @@ def test_a_numerical_method_s_error_is_measured_for_the_run(key, extra, referenc
     assert f"measured against {reference}" in text
 
 
+def test_a_numerical_method_s_other_verdict_is_said_beside_the_exact_one():
+    """A rigid stop at x_bar = a with r = 0.5: the rebounds die out over arcs of equal
+    length, and the exact solution grazes the stop; the event method calls the same motion
+    rest. The readout gave the event method's verdict alone; it now gives the exact
+    method's beside it (from the solve the run's error is measured against). Where the
+    verdicts agree, no such row."""
+    values = {**scene_values("5b"), "mu_s": 0.3, "mu_k": 0.2, "belt_speed": 0.1,
+              "u_s": 1.0, "restitution": 0.5, "clearance": 0.2}  # a = mu_k u_s = 0.2
+    exact, event = solve(values), solve({**values, "method": "event"})
+    assert exact.result.steady.kind.value == "grazing"
+    assert event.result.steady.kind.value == "rest"
+    rows = dict(readout_rows(event))
+    assert rows["The exact method finds"].startswith("grazing")
+    assert "the event method finds the steady state above" in rows["The exact method finds"]
+    assert "The exact method finds" not in dict(readout_rows(exact))
+    agree = solve({**scene_values("5b"), "method": "event"})
+    assert agree.result.steady.kind is agree.reference_steady.kind
+    assert "The exact method finds" not in dict(readout_rows(agree))
+
+
 def test_a_modelled_rest_says_how_well_its_time_is_known():
     """A reduced oscillation resting ~15,000 cycles after it took over: the readout gives
     the time of rest with the bound the core states for it."""
