@@ -214,6 +214,9 @@ class Solution:
     reference_steady : Steady or None
         The steady state the exact method finds for the same run (the solve the error was
         measured against, :func:`reference_steady`); ``None`` where none was measured.
+    measure_skipped : bool
+        A numerical method's full run whose error was not measured: the exact solve it is
+        measured against did not fit in the rest of the run's budget (:func:`measure_run`).
     restitution_measured : ndarray
         Rebound / approach speed of each deformable contact (empty otherwise).
     preview : bool
@@ -236,6 +239,7 @@ class Solution:
     restitution_measured: np.ndarray = field(default_factory=lambda: np.zeros(0))
     error_measured: bool = False
     reference_steady: Steady | None = None
+    measure_skipped: bool = False
     preview: bool = False
     budget: float = math.nan
 
@@ -428,7 +432,7 @@ class _Lane:
 
 #: The worker thread's solve: whether it runs in a child process, and what stops it.
 _WORKER = threading.local()
-_WORKER.isolated, _WORKER.stop = False, None
+_WORKER.isolated, _WORKER.stop, _WORKER.deadline = False, None, None
 
 
 _closed_form = _Lane("closed-form", CLOSED_FORM_WORKERS, None)
@@ -659,7 +663,7 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
                            **options)
     solve_time = time.perf_counter() - start
-    verdict = None
+    verdict, skipped = None, False
     error, measured = accuracy["error"].get(
         "contact" if method == "exact" and isinstance(stop, HystereticStop) else method,
         math.nan), False
@@ -670,16 +674,19 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         # model's ranges over two decades between scenes at one eta / v (0.001 to 150 times
         # it), and the event method's grows with the contacts of a train (beyond 1e-6 at
         # standard on 14 of 120 random deformable stops, up to 7e-5).
-        found = reference_error(result, osc, stop, x0, v0)
-        if math.isfinite(found):
-            error, measured = found, True
-            verdict = reference_steady(result, osc, stop, x0, v0)
+        run = measure_run(result, osc, stop, x0, v0,
+                          _budget(preview, budget) - solve_time - MEASURE_MARGIN_S)
+        if run is None:
+            skipped = True
+        elif math.isfinite(run[0]):
+            (error, verdict), measured = run, True
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
         result=result, program=program,
         theory=None if preview else theory_for(osc, stop, x0, v0),
         method=method, solve_time=solve_time,
         error_estimate=error, error_measured=measured, reference_steady=verdict,
+        measure_skipped=skipped,
         restitution_measured=measured_restitution(result),
         preview=preview, budget=_budget(preview, budget),
     )
@@ -746,6 +753,46 @@ def reference_error(result: Result, osc: Any, stop: Any, x0: float, v0: float) -
     return error
 
 
+#: Time [s] a run's measurement leaves of its budget: the stopped child's exit and the
+#: theory's closed forms after it.
+MEASURE_MARGIN_S = 0.1
+
+
+class _Deadline:
+    """Stops a solve in a child process (:func:`app.solve_process.call`'s ``cancelled``)
+    ``seconds`` from now, or when ``also`` (the run's own stop) is set."""
+
+    def __init__(self, seconds: float, also: threading.Event | None = None) -> None:
+        self.at, self.also = time.monotonic() + seconds, also
+
+    def is_set(self) -> bool:
+        return time.monotonic() >= self.at or (self.also is not None and self.also.is_set())
+
+
+def measure_run(result: Result, osc: Any, stop: Any, x0: float, v0: float,
+                within: float) -> tuple[float, Steady | None] | None:
+    """A numerical run's error (:func:`reference_error`, ``nan`` where the reference does
+    not cover the run) and the exact method's steady state over its span
+    (:func:`reference_steady`), or ``None`` if the exact solve does not finish ``within``
+    seconds (the rest of the run's budget).
+
+    The exact solve is not budgeted by the core; measured after the run without a deadline
+    it made the answer late (0.6 s for scene 10's stop to t_end = 5000), and the page called
+    a run that had finished within its budget "too slow". In a child process
+    (:mod:`app.solve_process`) it is stopped at the deadline; in the calling thread (the
+    child processes turned off) it cannot be, and runs to its end."""
+    _WORKER.deadline = _Deadline(within, getattr(_WORKER, "stop", None))
+    try:
+        error = reference_error(result, osc, stop, x0, v0)
+        if not math.isfinite(error):
+            return error, None
+        return error, reference_steady(result, osc, stop, x0, v0)
+    except solve_process.Abandoned:
+        return None
+    finally:
+        _WORKER.deadline = None
+
+
 def reference_steady(result: Result, osc: Any, stop: Any, x0: float, v0: float) -> Steady:
     """The steady state the exact method finds over the span of a numerical ``result``
     (the solve :func:`reference_error` measured it against, from the cache): a method
@@ -770,7 +817,9 @@ def _simulate(*args: Any, **kwargs: Any) -> Result:
     isolated (:mod:`app.solve_process`)."""
     if getattr(_WORKER, "isolated", False):
         # ``simulate`` looked up at each call: the isolation test replaces it.
-        return solve_process.call(simulate, *args, cancelled=_WORKER.stop, **kwargs)
+        # a measurement's deadline (measure_run), else the run's own stop
+        cancelled = getattr(_WORKER, "deadline", None) or _WORKER.stop
+        return solve_process.call(simulate, *args, cancelled=cancelled, **kwargs)
     return simulate(*args, **kwargs)
 
 

@@ -14,8 +14,10 @@ import pytest
 
 import app.solver as solver_module
 from app import solve_process
+from app.readout import readout_rows
 from app.solver import SolveRunner, SolveTooSlow, solve
 from app.state import scene_values
+from core import simulate as core_simulate
 
 
 def _unique(values: dict, **changes) -> dict:
@@ -212,6 +214,34 @@ def _spin_forever(osc, stop, t_end, *args, **kwargs):
         f.write(str(os.getpid()))
     while True:
         pass
+
+
+def _slow_reference(*args, **kwargs):
+    """Stands in for ``core.simulate`` (pickled by reference): the exact solve a numerical
+    run's error is measured against takes 30 s, the run itself is the core's."""
+    if kwargs.get("method") == "exact":
+        time.sleep(30.0)
+    return core_simulate(*args, **kwargs)
+
+
+def test_a_run_s_measurement_keeps_to_the_run_s_budget(monkeypatch):
+    """Defect: a numerical run's error was measured after it by an exact solve the core
+    does not budget (0.6 s for scene 10's stop to t_end = 5000), so a run that finished
+    within its budget answered late and the page called it too slow (a retry then got
+    the cached answer at once). The measurement is now stopped at the run's deadline, and
+    the readout says it was not made."""
+    solve_process.warm_up(wait=True)
+    monkeypatch.setattr(solver_module, "simulate", _slow_reference)
+    monkeypatch.setattr(solver_module._WORKER, "isolated", True)  # as in the worker pool
+    values = _unique(dict(scene_values("10")), method="switch")
+    budget = 1.0
+    start = time.perf_counter()
+    sol = solver_module._solve(solver_module._key(values), False, budget)
+    took = time.perf_counter() - start
+    # the page calls a run too slow at its budget plus BUDGET_GRACE_S
+    assert took < budget + solver_module.BUDGET_GRACE_S, took
+    assert sol.measure_skipped and not sol.error_measured and sol.reference_steady is None
+    assert "not measured for this run" in dict(readout_rows(sol))["Solve"]
 
 
 _HORIZONS = itertools.count()
