@@ -37,7 +37,9 @@ The stop
 * Deformable (paper Eqs. 9-15): the contact force of :mod:`core.hysteresis` enters ``F``;
   its branch (the memory of the law) is held fixed over a step, and the step is cut where
   the overlap rate changes sign so that :func:`core.hysteresis.reverse` stores the reversal
-  point; contact start is cut too (a new contact starts on the first-loading branch).
+  point; contact start is cut too (a new contact starts on the first-loading branch). The
+  work done on the stop, and the energy it stores, are the law's along the branch each
+  step follows (:mod:`core.stop_work`), not a quadrature over the steps.
 
 Impact accumulation (Zeno)
 --------------------------
