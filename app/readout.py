@@ -251,7 +251,7 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
     if sol.measure_skipped:
         return (f"{text}, the preset's expected error: not measured for this run (the exact "
-                "solve it is measured against did not fit in the time budget; 'Measure the "
+                "solve it is measured against would have made the answer late; 'Measure the "
                 "trade' measures it)")
     res = sol.result
     if res is None or not isinstance(sol.stop, HystereticStop):
