@@ -213,7 +213,7 @@ class Solution:
         Whether ``error_estimate`` was measured for this run.
     reference_steady : Steady or None
         The steady state the exact method finds for the same run (the solve the error was
-        measured against, :func:`reference_steady`); ``None`` where none was measured.
+        measured against, :func:`measure_run`); ``None`` where none was measured.
     measure_skipped : bool
         A numerical method's full run whose error was not measured: the exact solve it is
         measured against did not fit in the rest of the run's budget (:func:`measure_run`).
@@ -731,16 +731,14 @@ def reference_name(stop: Any) -> str:
     return "the closed form"
 
 
-def reference_error(result: Result, osc: Any, stop: Any, x0: float, v0: float) -> float:
+def reference_error(result: Result, ref: Result) -> float:
     """:func:`position_error` of a numerical ``result`` at its own sample times against
-    the exact method over the same span: the closed form (no stop or a rigid stop), or the
-    exact flight with the contact integrated at :data:`REFERENCE_RTOL` (a deformable stop;
-    a reduced model's stated bound there is added). ``nan`` where the reference does not
-    cover the samples (it stopped earlier: the limit overlap reached at another time)."""
+    ``ref``, the exact method over the same span (:func:`_reference`: the closed form for
+    no stop or a rigid stop, or the exact flight with the contact integrated at
+    :data:`REFERENCE_RTOL` for a deformable stop; a reduced model's stated bound there is
+    added). ``nan`` where the reference does not cover the samples (it stopped earlier: the
+    limit overlap reached at another time)."""
     t = np.asarray(result.t, float)
-    if not len(t) or not t[-1] > 0.0:
-        return math.nan
-    ref = _reference(osc, stop, float(t[-1]), x0, v0)
     try:
         x_ref, _ = ref.evaluate(t)
     except ValueError:
@@ -772,34 +770,29 @@ class _Deadline:
 def measure_run(result: Result, osc: Any, stop: Any, x0: float, v0: float,
                 within: float) -> tuple[float, Steady | None] | None:
     """A numerical run's error (:func:`reference_error`, ``nan`` where the reference does
-    not cover the run) and the exact method's steady state over its span
-    (:func:`reference_steady`), or ``None`` if the exact solve does not finish ``within``
-    seconds (the rest of the run's budget).
+    not cover the run) and the steady state the exact method finds over its span (``None``
+    with no error: a method can change the verdict, e.g. a mass resting on the stop's face
+    at ``x_bar = a``, where the exact solution's rebounds die out over ever equal arcs:
+    grazing), or ``None`` if the exact solve does not finish ``within`` seconds (the rest of
+    the run's budget).
 
     The exact solve is not budgeted by the core; measured after the run without a deadline
     it made the answer late (0.6 s for scene 10's stop to t_end = 5000), and the page called
     a run that had finished within its budget "too slow". In a child process
     (:mod:`app.solve_process`) it is stopped at the deadline; in the calling thread (the
     child processes turned off) it cannot be, and runs to its end."""
+    t = np.asarray(result.t, float)
+    if not len(t) or not t[-1] > 0.0:
+        return math.nan, None
     _WORKER.deadline = _Deadline(within, getattr(_WORKER, "stop", None))
     try:
-        error = reference_error(result, osc, stop, x0, v0)
-        if not math.isfinite(error):
-            return error, None
-        return error, reference_steady(result, osc, stop, x0, v0)
+        ref = _reference(osc, stop, float(t[-1]), x0, v0)
+        error = reference_error(result, ref)
+        return error, ref.steady if math.isfinite(error) else None
     except solve_process.Abandoned:
         return None
     finally:
         _WORKER.deadline = None
-
-
-def reference_steady(result: Result, osc: Any, stop: Any, x0: float, v0: float) -> Steady:
-    """The steady state the exact method finds over the span of a numerical ``result``
-    (the solve :func:`reference_error` measured it against, from the cache): a method
-    can change the verdict (a mass resting on the stop's face at ``x_bar = a``, where the
-    exact solution's rebounds die out over ever equal arcs: grazing)."""
-    t = np.asarray(result.t, float)
-    return _reference(osc, stop, float(t[-1]), x0, v0).steady
 
 
 @functools.lru_cache(maxsize=2)
