@@ -863,11 +863,16 @@ def _envelope_energy_many(delta: np.ndarray, stiffness: float, d_lim: float) -> 
     x = np.clip(delta / d_lim, 0.0, None)
     small = x < SERIES_CUTOFF
     out = np.empty_like(x)
-    # Each form only where it is used: the series' 24 terms are most of the cost.
+    # Each form only where it is used: the series' terms are most of the cost, and only
+    # as many as the largest x needs (its relative tail past x^n / n is below x^(n-2)).
     xs = x[small]
     series = np.zeros_like(xs)
     term = xs.copy()
-    for n in range(2, SERIES_TERMS + 2):
+    x_top = float(xs.max()) if len(xs) else 0.0
+    terms = SERIES_TERMS
+    if 0.0 < x_top < SERIES_CUTOFF:
+        terms = min(terms, 3 + math.ceil(math.log(np.finfo(float).eps / 8) / math.log(x_top)))
+    for n in range(2, terms + 2):
         term = term * xs
         series += term / n
     out[small] = series

@@ -224,29 +224,38 @@ def _mean_force_root(q, net_force, bracket, guess):
     ``None`` if it does not converge, or if ``Q`` keeps its sign to the bracket's far end
     (the separation going down, the limit overlap going up: there is no root, and Newton's
     steps, all beyond that end, left ~30 bisections to find so on ~370 arcs of a soft
-    stop's loops, k_c0 = 100, beta = 1000, D = 0.01)."""
+    stop's loops, k_c0 = 100, beta = 1000, D = 0.01). That end is looked at only once a
+    step leaves the bracket: a step inside it that converges is the root (an increasing
+    ``Q`` has no other), and most arcs' Newton never leaves it (one ``Q`` of the four an
+    arc cost)."""
     neg, pos = bracket
     far = neg if neg != 0.0 else pos
-    if (q(far) < 0.0) == (far > 0.0):
-        return None
-    d = guess if min(neg, pos) < guess < max(neg, pos) else 0.5 * (neg + pos)
-    for k in range(ARC_NEWTON_MAX):
+    evals = 0
+    d = guess
+    for _ in range(ARC_NEWTON_MAX):
+        if not min(neg, pos) < d < max(neg, pos):
+            if far is not None:
+                evals += 1
+                if (q(far) < 0.0) == (far > 0.0):
+                    return None
+                far = None  # the far end has the root's sign: no need to look again
+            d = 0.5 * (neg + pos)
         qd = q(d)
+        evals += 2
         if qd == 0.0:
             # The root to rounding. (It was taken as a bracket end: Newton's step of zero
             # then lay on the bracket's edge and fell back to bisection from the far end,
             # ~35 more iterations on ~370 arcs of a soft stop's loops.)
-            return d, 2 * (k + 1)
+            return d, evals
         if qd < 0.0:
             neg = d
         else:
             pos = d
         dq = (net_force(d) - qd) / d
         d_new = d - qd / dq if dq > 0.0 else 0.5 * (neg + pos)
-        if not min(neg, pos) < d_new < max(neg, pos):
-            d_new = 0.5 * (neg + pos)
         if abs(d_new - d) <= 1e-9 * abs(d):  # quadratic convergence: d_new to ~1e-18
-            return d_new, 2 * (k + 1)
+            if min(neg, pos) < d_new < max(neg, pos):
+                return d_new, evals
         d = d_new
     return None
 
@@ -259,13 +268,14 @@ def _clipped(stop, d_n: float, dr: float, cc: float, lam: float) -> bool:
         return False
     d_lim = stop.limit_overlap
     kr = (stop.k_c0 - stop.k_e0) * d_lim
-    checks = [d_n]
+    if kr * d_n / (d_lim - d_n) < cc * math.exp(lam * (d_n - dr)):
+        return True
     beta = stop.beta_e
-    if beta > 4.0:
-        d_plus = 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
-        if d_n < d_plus < dr:
-            checks.append(d_plus)
-    return any(kr * p / (d_lim - p) < cc * math.exp(lam * (p - dr)) for p in checks)
+    if beta <= 4.0:
+        return False
+    d_plus = 0.5 * d_lim * (1.0 + math.sqrt(1.0 - 4.0 / beta))
+    return d_n < d_plus < dr and kr * d_plus / (d_lim - d_plus) < cc * math.exp(
+        lam * (d_plus - dr))
 
 
 def _below_belt_speed(up: bool, s: int, vb: float, u2_max: float) -> bool:
@@ -276,9 +286,10 @@ def _below_belt_speed(up: bool, s: int, vb: float, u2_max: float) -> bool:
     return (s > 0 and vb >= 0.0) or (s < 0 and vb < 0.0 and vb * vb > u2_max)
 
 
-#: The K15 nodes of :func:`_duration`: ``cos(theta/2)``, ``sin(theta/2)^2`` and the K15
-#: and G7 weights.
-_ARC_NODES = tuple(zip(_ARC_COS, _ARC_SIN2, _GK_WK, _GK_WG, strict=True))
+#: The K15 nodes of :func:`_duration`: ``sin(theta/2)^2``, and the K15 and G7 weights times
+#: ``cos(theta/2)``.
+_ARC_NODES = tuple((s2, wk * c2, wg * c2)
+                   for c2, s2, wk, wg in zip(_ARC_COS, _ARC_SIN2, _GK_WK, _GK_WG, strict=True))
 
 
 def _duration(d: float, q0: float, kg: float, gap: float, cc: float,
@@ -287,29 +298,30 @@ def _duration(d: float, q0: float, kg: float, gap: float, cc: float,
     by more than :data:`ARC_QUAD_RTOL` (or the integrand is not real).
 
     The mean net force ``Q(e) = q0 + e/2 + kg (L(e/gap) - 1) + cc (exp(lam e) - 1)/(lam e)``
-    of :func:`arc` is written out here, as :func:`_log_mean_m1` and :func:`_exp_mean` do:
-    this loop runs at every reversal of loops followed on the stop, and the calls were half
-    its time."""
+    of :func:`arc` is written out here, as :func:`_log_mean_m1` and :func:`_exp_mean` do,
+    and what does not change from node to node is taken out of the loop: it runs at every
+    reversal of loops followed on the stop, and the calls were half its time."""
     t_k = t_g = 0.0
-    ad = abs(d)
+    w_end, z_end, m2d, half = d / gap, lam * d, -2.0 * d, 0.5 * d
+    series = abs(w_end) < 1e-3  # then at every node: |w| <= |w_end|
     log1p, expm1, sqrt = math.log1p, math.expm1, math.sqrt
-    for c2, s2, wk, wg in _ARC_NODES:
-        e = d * s2
-        w = e / gap
-        if abs(w) < 1e-3:
+    for s2, wkc, wgc in _ARC_NODES:
+        w = w_end * s2
+        if series or abs(w) < 1e-3:
             lm = w * (0.5 + w * (1.0 / 3.0 + w * (0.25 + w * (0.2 + w / 6.0))))
         else:
             lm = -log1p(-w) / w - 1.0
-        z = lam * e
+        z = z_end * s2
         em = expm1(z) / z if z != 0.0 else 1.0
-        den = -2.0 * d * (q0 + 0.5 * e + kg * lm + cc * em)
+        den = m2d * (q0 + half * s2 + kg * lm + cc * em)
         if not den > 0.0:
             return None
-        g = ad * c2 / sqrt(den)
-        t_k += wk * g
-        t_g += wg * g
-    t_k *= 0.5 * math.pi
-    t_g *= 0.5 * math.pi
+        g = 1.0 / sqrt(den)
+        t_k += wkc * g
+        t_g += wgc * g
+    scale = 0.5 * math.pi * abs(d)
+    t_k *= scale
+    t_g *= scale
     if not abs(t_k - t_g) <= ARC_QUAD_RTOL * t_k:
         return None
     return t_k
@@ -348,8 +360,10 @@ def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
     wk = np.array(_GK_WK)
     th = np.clip(math.pi * tau / period, 0.0, math.pi)
     # Newton on the samples not yet converged only (most converge in a few iterations; a
-    # sample's angle then no longer depends on which others are evaluated with it).
-    act = np.arange(len(th))
+    # sample's angle then no longer depends on which others are evaluated with it). A
+    # sample at an arc's start (a reversal: every one is among a result's points) is its
+    # angle 0 already.
+    act = np.nonzero(tau != 0.0)[0]
     for _ in range(ARC_SAMPLE_NEWTON):
         if not len(act):
             break
