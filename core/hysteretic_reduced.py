@@ -87,8 +87,8 @@ END_AMPLITUDE_MARGIN = 1.0 + 2.0 * DECAY_SPREAD
 MAX_CREEP_POWER = 0.5
 #: Most reversals a solve follows, rather than hand the loops to a model whose time of rest
 #: (the phase of hundreds of cycles) or end state (loops creeping on at rest) it cannot
-#: state within the preset's error: ~31 us each on the 2-core machine (k_c0 = 100,
-#: beta = 1000, D = 0.01), so ~60 ms at most. Followed, the rule for rest on the preset's
+#: state within the preset's error: ~20 us each on the 2-core machine (k_c0 = 100,
+#: beta = 1000, D = 0.1), so ~40 ms at most. Followed, the rule for rest on the preset's
 #: loops was within 2.2e-6 in time of the same rule on a solve at rtol 1e-11 (the model:
 #: 0.017 to 0.026).
 FOLLOW_REVERSALS = 2000
@@ -98,6 +98,12 @@ FOLLOW_REVERSALS = 2000
 #: share a reversal): what the decay, its check, the creep and the cycle's error read.
 WINDOW = 2 * DECAY_FIT + 1
 TWO_WINDOWS = 2 * WINDOW - 1
+#: A failed reduced oscillation is tried again after this fraction of the cycles its
+#: contact has had (:func:`_try_again_later`): loops that die like ``1/k`` are then ~11 %
+#: smaller, and a model that could take over is late by at most that many cycles. (After
+#: every window instead, a soft stop's loops, k_c0 = 100, beta = 1000, D = 0.1, tried 279
+#: times to t_end = 1e4, an eighth of the solve.)
+RETRY_FRACTION = 0.125
 
 
 def cycle_amplitudes(xs) -> np.ndarray:
@@ -373,7 +379,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     if creep is None:
         # Its growth changes over many cycles (these tries were 40 % of loops followed to
         # the horizon on a soft stop, k_c0 = 100, beta = 1000, D = 0.01).
-        return _try_again_later(sv, st, period)
+        return _try_again_later(sv, st, period, len(reversal_x))
     offset = x_c - 0.25 * (xs[-3] + 2.0 * xs[-2] + xs[-1])
     model = Oscillation(x_c, 0.5 * swings[-1], period, 0.0 if st.x >= x_c else math.pi,
                         decay, *creep, offset, period_error=cycle_error)
@@ -385,7 +391,7 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
             and model.error_bound > tol):
         # The full model's bounds shrink with the loops (these tries were 45 % of Fig. 11's
         # solve to t_end = 1000, 2,900 of them failing here).
-        return _try_again_later(sv, st, period)
+        return _try_again_later(sv, st, period, len(reversal_x))
     amp_end = float(decay.amplitude(plain.amp0, tau_end / period))
     if not decay_holds(reversal_x, decay, plain.amp0, amp_end):
         return None
@@ -395,11 +401,13 @@ def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: i
     return oscillate(sv, st, branch, s, model)
 
 
-def _try_again_later(sv: _Solver, st: _State, period: float) -> None:
+def _try_again_later(sv: _Solver, st: _State, period: float, reversals: int) -> None:
     """No reduced oscillation now; the next try once the window of cycles it reads has
-    renewed (``WINDOW`` cycles), not at the next fourth reversal: what failed (the creep's
-    fit, the model's bounds) changes only as the loops shrink."""
-    sv.reduce_after = st.t + WINDOW * period
+    renewed (``WINDOW`` cycles), not at the next fourth reversal, and once the loops have
+    run on by :data:`RETRY_FRACTION` of the contact's cycles: what failed (the creep's fit,
+    the model's bounds) changes only as the loops shrink, and after ``k`` cycles they
+    shrink like ``1/k``."""
+    sv.reduce_after = st.t + max(WINDOW, RETRY_FRACTION * 0.5 * reversals) * period
 
 
 def rest_time_error(model: Oscillation, tau_rest: float, cycle_error: float) -> float:

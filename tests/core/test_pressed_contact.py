@@ -480,6 +480,30 @@ def test_rest_among_many_creeping_loops_states_the_creep_left():
     assert abs(res.v[-1] - ref.v[-1]) <= bound
 
 
+def test_a_model_that_keeps_failing_is_tried_less_and_less(monkeypatch):
+    """k_c0 = 100, beta = 1000, D = 0.1 to t_end = 1e4: ~4,900 cycles of loops on the
+    stop whose creep grows too fast for any reduced oscillation, so every try fails. They
+    were tried again every window (13 cycles): 279 tries, an eighth of the solve. A try
+    now waits an eighth of the cycles the contact has had (what failed changes as the
+    loops shrink, like ``1/k``): a window apart up to ~104 cycles (8 tries), then 12.5 %
+    further each (~33 more to 4,900 cycles), 41 in all. The bound leaves room for a few
+    windows more before the spacing grows; the old rule's 279 is far beyond it."""
+    tries = []
+    original = hysteretic.reduce_oscillation
+
+    def counted(*args):
+        tries.append(args[1].t)
+        return original(*args)
+
+    monkeypatch.setattr(hysteretic, "reduce_oscillation", counted)
+    stop = HystereticStop(FACE, 100.0, 50.0, limit_overlap=0.1, beta_c=1000.0, beta_e=1000.0)
+    res = simulate(PRESSING, stop, 1e4, **STANDARD)
+    assert res.steady.kind is SteadyKind.REST
+    reversals = res.transition_counts.get("reversal", 0)
+    assert reversals > 9_000  # the loops were followed: every try failed
+    assert 0 < len(tries) <= 60
+
+
 @pytest.mark.parametrize(("k_c0", "beta", "d", "t_end"),
                          [(1e4, 100.0, 1e-3, 300.0), (1e4, 1000.0, 1e-2, 300.0),
                           (1e5, 1000.0, 1e-3, 100.0)])
