@@ -229,17 +229,15 @@ def _mean_force_root(q, net_force, bracket, guess):
     ``Q`` has no other), and most arcs' Newton never leaves it (one ``Q`` of the four an
     arc cost)."""
     neg, pos = bracket
-    far = neg if neg != 0.0 else pos
+    far = neg if neg != 0.0 else pos  # None once looked at
     evals = 0
     d = guess
+    if not min(neg, pos) < d < max(neg, pos):
+        evals += 1
+        if (q(far) < 0.0) == (far > 0.0):
+            return None
+        far, d = None, 0.5 * (neg + pos)
     for _ in range(ARC_NEWTON_MAX):
-        if not min(neg, pos) < d < max(neg, pos):
-            if far is not None:
-                evals += 1
-                if (q(far) < 0.0) == (far > 0.0):
-                    return None
-                far = None  # the far end has the root's sign: no need to look again
-            d = 0.5 * (neg + pos)
         qd = q(d)
         evals += 2
         if qd == 0.0:
@@ -253,9 +251,15 @@ def _mean_force_root(q, net_force, bracket, guess):
             pos = d
         dq = (net_force(d) - qd) / d
         d_new = d - qd / dq if dq > 0.0 else 0.5 * (neg + pos)
+        if not min(neg, pos) < d_new < max(neg, pos):
+            if far is not None:
+                evals += 1
+                if (q(far) < 0.0) == (far > 0.0):
+                    return None
+                far = None
+            d_new = 0.5 * (neg + pos)
         if abs(d_new - d) <= 1e-9 * abs(d):  # quadratic convergence: d_new to ~1e-18
-            if min(neg, pos) < d_new < max(neg, pos):
-                return d_new, evals
+            return d_new, evals
         d = d_new
     return None
 
