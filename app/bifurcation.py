@@ -45,6 +45,7 @@ from bokeh.plotting import figure
 from panel.io.state import set_curdoc
 
 from app import solve_process
+from app.session_loop import from_any_thread
 from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
 from app.state import DIMENSIONLESS, Scales, core_inputs
 from core import HystereticStop, RigidStop, theory
@@ -505,9 +506,9 @@ class ChunkedSweep:
     """One session's sweep, computed chunk by chunk in the worker pool.
 
     :meth:`start` cancels the running sweep and submits the first chunk; each chunk's
-    answer comes back on the session's event loop (``Document.add_next_tick_callback``)
-    and goes to ``on_chunk(done, total, part)``; the next chunk is submitted then, sized
-    to take about ``target_s`` (:data:`CHUNK_SECONDS`). :meth:`cancel` (or a new
+    answer comes back on the session's event loop (:func:`app.session_loop.from_any_thread`)
+    and goes to ``on_chunk(done, total, part)``; the next chunk is submitted then, sized to
+    take about ``target_s`` (:data:`CHUNK_SECONDS`). :meth:`cancel` (or a new
     :meth:`start`) drops the answer of the chunk that runs and submits no other. Without a
     server session (scripts, tests) the chunks run one after the other before
     :meth:`start` returns.
@@ -590,7 +591,8 @@ class ChunkedSweep:
             with set_curdoc(doc):
                 answered()
 
-        future.add_done_callback(lambda _: doc.add_next_tick_callback(on_loop))
+        answer = from_any_thread(doc, on_loop)
+        future.add_done_callback(lambda _: answer())
 
     def _fail(self, token: int, exc: Exception) -> None:
         if token == self._token:

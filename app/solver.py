@@ -34,6 +34,7 @@ from panel.io.state import set_curdoc
 
 from app import solve_process
 from app.sampling import samples_for
+from app.session_loop import from_any_thread
 from app.state import SOLVE_PARAMS, core_inputs
 from core import (
     DEFAULT_MAX_STEPS,
@@ -495,13 +496,13 @@ class SolveRunner:
     """One session's solves: the latest request wins, the event loop never waits.
 
     :meth:`request` hands the solve to the worker pool and returns. The answer comes back
-    on the session's event loop (``Document.add_next_tick_callback``, Bokeh's thread-safe
-    door into a session) and goes to ``on_solved`` unless a newer request has been made
-    since (a stale answer is dropped; a stale solve that has not started is cancelled). A
-    solve still running after :data:`BUSY_DELAY_S` calls ``on_busy(True)`` (and
-    ``on_busy(False)`` when it ends or is replaced); one still running at its budget calls
-    ``on_failed`` with :class:`SolveTooSlow`. Without a server session (scripts, tests) a
-    request is answered before it returns.
+    on the session's event loop (:func:`app.session_loop.from_any_thread`) and goes to
+    ``on_solved`` unless a newer request has been made since (a stale answer is dropped; a
+    stale solve that has not started is cancelled). A solve still running after
+    :data:`BUSY_DELAY_S` calls ``on_busy(True)`` (and ``on_busy(False)`` when it ends or is
+    replaced); one still running at its budget calls ``on_failed`` with
+    :class:`SolveTooSlow`. Without a server session (scripts, tests) a request is answered
+    before it returns.
 
     Parameters
     ----------
@@ -565,8 +566,8 @@ class SolveRunner:
             if not future.done():
                 self._set_busy(True)
 
-        future.add_done_callback(
-            lambda _: doc.add_next_tick_callback(back_on_the_loop(finished)))
+        answer = from_any_thread(doc, back_on_the_loop(finished))
+        future.add_done_callback(lambda _: answer())
         if self.on_busy is not None:
             doc.add_timeout_callback(back_on_the_loop(busy), BUSY_DELAY_S * 1000)
         doc.add_timeout_callback(back_on_the_loop(overdue),

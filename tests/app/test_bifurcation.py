@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import math
+import threading
 from types import SimpleNamespace
 
 import numpy as np
+import panel as pn
 import pytest
 
 from app.bifurcation import (
@@ -85,6 +89,38 @@ def test_a_new_sweep_drops_the_old_one_s_answers():
     job._token = 5  # an older sweep's chunk carries an older token: its answer is dropped
     job.start("new", np.arange(4.0), 4, scene_values("5a"))
     assert got == ["new"]
+
+
+def test_a_sweep_s_chunks_reach_the_session_on_its_event_loop(monkeypatch):
+    """Regression: the worker thread added each chunk's callback to the document itself,
+    which Bokeh can lose (app/session_loop.py): the sweep then stalled."""
+    added, seen = [], []
+
+    class Doc:
+        session_context = SimpleNamespace(destroyed=False)
+
+        def add_next_tick_callback(self, fn):
+            added.append(threading.current_thread().name)
+            asyncio.get_running_loop().call_soon(fn)  # as the session would, on the loop
+
+    doc = Doc()
+    monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: doc))
+    # (Panel's set_curdoc would set the property replaced here.)
+    monkeypatch.setattr("app.bifurcation.set_curdoc", lambda d: contextlib.nullcontext())
+    job = ChunkedSweep(lambda task, chunk, cancelled: chunk, lambda d, t, part: seen.append(part),
+                       lambda exc: pytest.fail(str(exc)))
+
+    async def page() -> str:
+        job.start(None, np.arange(12.0), 4, scene_values("5a"))
+        for _ in range(500):
+            if not job.running:
+                break
+            await asyncio.sleep(0.01)
+        return threading.current_thread().name
+
+    loop_thread = asyncio.run(page())
+    np.testing.assert_array_equal(np.concatenate(seen), np.arange(12.0))
+    assert added and set(added) == {loop_thread}
 
 
 def _opened(scene: str = "5a") -> Explorer:

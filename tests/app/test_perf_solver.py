@@ -3,11 +3,13 @@ a session's newer request replaces its older one."""
 
 from __future__ import annotations
 
+import asyncio
 import itertools
 import os
 import pathlib
 import threading
 import time
+from types import SimpleNamespace
 
 import panel as pn
 import pytest
@@ -71,13 +73,16 @@ class _Session:
     kept here and run by the test, in the order the event loop would run them."""
 
     def __init__(self) -> None:
-        self.session_context = object()
+        self.session_context = SimpleNamespace(destroyed=False)
         self.next_tick: list = []
+        #: The threads that added the next-tick callbacks.
+        self.added_from: list[str] = []
         self.timeouts: list[tuple[float, object]] = []
         self.lock = threading.Lock()
 
-    def add_next_tick_callback(self, fn) -> None:  # called from the worker thread
+    def add_next_tick_callback(self, fn) -> None:
         with self.lock:
+            self.added_from.append(threading.current_thread().name)
             self.next_tick.append(fn)
 
     def add_timeout_callback(self, fn, ms: float) -> None:
@@ -155,6 +160,29 @@ def test_a_solve_past_its_budget_says_so_and_its_late_answer_is_dropped(monkeypa
         threading.Event().wait(0.01)
     session.run_next_ticks()
     assert solved == []
+
+
+def test_the_answer_is_handed_to_the_session_on_its_event_loop(monkeypatch, session):
+    """Regression: the worker thread added the answer's callback to the document itself.
+    Bokeh can lose a callback added so while the loop releases a hold of the document
+    (``benchmarks/next_tick_race.py``): a permalink's pinned run then never appeared."""
+    gates = _gated(monkeypatch)
+    solved, failed = [], []
+    values = _unique(dict(scene_values("10")), t_end=64.444)
+
+    async def page() -> str:
+        SolveRunner(failed.append).request(values, solved.append)
+        gates.setdefault(64.444, threading.Event()).set()
+        for _ in range(500):
+            if session.next_tick:
+                break
+            await asyncio.sleep(0.01)
+        session.run_next_ticks()
+        return threading.current_thread().name
+
+    loop_thread = asyncio.run(page())
+    assert session.added_from == [loop_thread]
+    assert [s.values["t_end"] for s in solved] == [64.444] and failed == []
 
 
 def test_without_a_session_a_request_is_answered_before_it_returns():

@@ -44,7 +44,9 @@ def _wait_readout(p: Page, words: str, present: bool = True) -> str:
             p.settle()
             return text
         p.page.wait_for_timeout(100)
-    raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}")
+    alert = p.text(".fie-alert") if p.page.locator(".fie-alert").count() else ""
+    raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}"
+                         f"\nalert: {alert or '(none)'}")
 
 
 #: The comparison table's restitution row (a cell may hold "first / last").
