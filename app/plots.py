@@ -569,9 +569,8 @@ def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, di
             f = np.where(pressed[idx], np.asarray(res.contact_force)[idx], np.nan)
             rest = {"t": _f32(res.t[idx] * scales.time), "f": _f32(f * scales.force)}
     elif res is not None and sol.values["stop_type"] == "hysteretic":
-        idx = _columns(res, (np.asarray(res.contact_force),))
-        line = {"t": _f32(res.t[idx] * scales.time),
-                "phi": _f32(np.asarray(res.contact_force)[idx] * scales.force)}
+        t, phi = _thinned(res, (np.asarray(res.contact_force),))
+        line = {"t": _f32(t * scales.time), "phi": _f32(phi * scales.force)}
     return {"stems": stems, "line": line, "rest": rest}
 
 
@@ -582,6 +581,18 @@ def _columns(res, series: tuple[np.ndarray, ...]) -> np.ndarray:
     if len(t) == 0:
         return np.zeros(0, np.int64)
     return sampling.m4(t, series, float(t[0]), float(t[-1]), HISTORY_COLUMNS)
+
+
+def _thinned(res, series: tuple[np.ndarray, ...]) -> tuple[np.ndarray, ...]:
+    """``t`` and ``series`` at the samples that draw them, on one axis, as every sample
+    would: reduced per pixel column (:func:`_columns`), then thinned
+    (:func:`app.sampling.thin`)."""
+    idx = _columns(res, series)
+    t = np.asarray(res.t, float)[idx]
+    ys = tuple(np.asarray(y, float)[idx] for y in series)
+    tol = sampling.thin_tolerance(*ys)
+    keep = sampling.thin(t, ys, (tol,) * len(ys))
+    return (t[keep], *(y[keep] for y in ys))
 
 
 def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
@@ -646,13 +657,13 @@ def energy_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
     if res is None:
         return {"t": _f32([]), **{n: _f32([]) for n in names}}
     e = res.energy
-    idx = _columns(res, (np.asarray(e.mechanical),))
     terms = {"mechanical": e.mechanical, "belt_input": e.belt_input,
              "friction_heat": np.asarray(e.belt_input) - np.asarray(e.friction_work),
              "stop_loss": e.stop_loss, "stop_stored": e.stop_stored}
-    cols = {"t": _f32(res.t[idx] * scales.time)}
-    for n in names:
-        cols[n] = _f32(np.asarray(terms[n])[idx] * scales.energy)
+    t, *ys = _thinned(res, tuple(np.asarray(terms[n], float) for n in names))
+    cols = {"t": _f32(t * scales.time)}
+    for n, y in zip(names, ys, strict=True):
+        cols[n] = _f32(y * scales.energy)
     return cols
 
 

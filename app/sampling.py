@@ -16,7 +16,13 @@ solution as a function of time (:func:`evaluator`), sampled for the screen:
   covers exactly what a line through every sample would cover, whatever the horizon; the
   periodic part of a steady state is evaluated for one cycle and tiled;
 * the mode bands (:func:`history` too) keep every stick or contact interval: one narrower
-  than a pixel column is widened to the column, so it stays visible as a stated aggregate.
+  than a pixel column is widened to the column, so it stays visible as a stated aggregate;
+* the contact force and the energies over time are then thinned (:func:`thin`): a
+  sample goes where the line without it stays within :data:`THIN_PX` of a pixel of the
+  line through every sample, on the tallest frame a plot gets. A browser paints every
+  point of a line, and a flat or slowly bending stretch needs few (a contact force that
+  is zero between contacts, the cumulative energies); x(t) and x'(t), made of slip arcs,
+  would keep most of theirs, so they are not (benchmarks/results/2026-11-28-thinning.md).
 
 The functions are pure (arrays in, arrays out) and tested without a browser
 (tests/app/test_sampling.py).
@@ -53,6 +59,13 @@ MAX_PATH_POINTS = 60_000
 HISTORY_DT = 0.1
 #: Fine samples of the time histories at most; past it the step grows with the horizon.
 MAX_HISTORY_SAMPLES = 60_000
+#: Largest distance [px] between a thinned line and the line through all its samples
+#: (:func:`thin`): below what anti-aliasing shows.
+THIN_PX = 0.25
+#: Tallest frame [px] a plot over time gets (the presentation mode's single row on a
+#: 1440-line screen): the thinning's pixel is a pixel of this frame, a smaller one of any
+#: other.
+THIN_FRAME_PX = 1400
 #: Duration of one turn of a slip circle (dimensionless time): what is drawn after the last
 #: transition of a motion that settles on a circle.
 TURN = 2.0 * math.pi
@@ -468,6 +481,85 @@ def m4(t: np.ndarray, series: tuple[np.ndarray, ...], t_lo: float, t_hi: float,
             first[1:] = group[hit][1:] != group[hit][:-1]
             keep[hit[first]] = True
     return np.flatnonzero(keep)
+
+
+def thin(t: np.ndarray, series: tuple[np.ndarray, ...], tolerances: tuple[float, ...]
+         ) -> np.ndarray:
+    """Indices of the samples to keep so that, for each series, the line through the kept
+    samples is within its tolerance of the line through all of them at every ``t``; the
+    ends, each series' largest and smallest value, samples that share a time
+    (a jump) and the neighbours of non-finite values (breaks) always stay.
+
+    Bottom up, in passes over the kept samples (each pass costs their number): every
+    other one goes at once where the chord over its two neighbours passes within
+    tolerance of every sample it spans, as bounded by its own distance to that chord plus
+    what the spans dropped before (a bound, not a check of each sample); then the other
+    parity; until neither drops any.
+
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> idx = thin(t, (2.0 * t,), (1e-9,))
+    >>> idx.tolist()
+    [0, 100]
+    """
+    t = np.asarray(t, dtype=float)
+    n = len(t)
+    if n <= 2:
+        return np.arange(n)
+    ys = [np.asarray(y, dtype=float) for y in series]
+    must = np.zeros(n, dtype=bool)
+    must[[0, -1]] = True
+    jump = np.diff(t) <= 0.0
+    must[1:] |= jump
+    must[:-1] |= jump
+    for y in ys:
+        bad = ~np.isfinite(y)
+        must |= bad
+        must[1:] |= bad[:-1]
+        must[:-1] |= bad[1:]
+        if not bad.all():
+            must[[np.nanargmax(y), np.nanargmin(y)]] = True
+    # Deviations in units of each series' tolerance (a series of no span has none).
+    scale = np.array([1.0 / tol if tol > 0.0 else 0.0 for tol in tolerances])
+    z = np.vstack(ys) * scale[:, None]
+    kept = np.arange(n)
+    # Per interval between two kept samples, a bound on how far the samples dropped inside
+    # it lie from its chord, in tolerances: a sample's distance to a new chord is at most
+    # its distance to the old one plus the dropped vertex's (the two chords are linear
+    # between the same ends).
+    inherited = np.zeros(n - 1)
+    idle, parity = 0, 1
+    while idle < 2 and len(kept) > 2:
+        m = len(kept)
+        pos = np.arange(max(parity, 2 - parity), m - 1, 2)
+        parity = 1 - parity
+        c, lo, hi = kept[pos], kept[pos - 1], kept[pos + 1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            w = (t[c] - t[lo]) / (t[hi] - t[lo])
+            z_lo = z[:, lo]
+            dev = np.abs(z[:, c] - z_lo - (z[:, hi] - z_lo) * w).max(axis=0)
+            bound = np.maximum(inherited[pos - 1], inherited[pos]) + dev
+            # (a span of no time or with a break gives nan: its vertex stays)
+            fits = (bound <= 1.0) & ~must[c]
+        if not fits.any():
+            idle += 1
+            continue
+        idle = 0
+        inherited[pos[fits] - 1] = bound[fits]
+        stays = np.ones(m, dtype=bool)
+        stays[pos[fits]] = False
+        kept, inherited = kept[stays], inherited[stays[:-1]]
+    return kept
+
+
+def thin_tolerance(*series: np.ndarray) -> float:
+    """The thinning tolerance (data units) of lines drawn on one axis: :data:`THIN_PX` of
+    a :data:`THIN_FRAME_PX` frame that spans them (the axis spans at least that)."""
+    finite = [y[np.isfinite(y)] for y in (np.asarray(s, dtype=float) for s in series)]
+    finite = [y for y in finite if len(y)]
+    if not finite:
+        return 0.0
+    span = max(float(y.max()) for y in finite) - min(float(y.min()) for y in finite)
+    return THIN_PX * span / THIN_FRAME_PX
 
 
 def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, columns: int):

@@ -231,6 +231,78 @@ def test_m4_keeps_each_columns_extremes_in_time_order():
         assert y[kept].max() == y[sel].max() and y[kept].min() == y[sel].min()
 
 
+def _chord_error(t, y, kept):
+    """Per sample, how far the line through ``kept`` passes from it (at its time; a
+    sample at a kept one's time is that one)."""
+    r = np.clip(np.searchsorted(kept, np.arange(len(t)), "right") - 1, 0, len(kept) - 2)
+    lo, hi = kept[r], kept[r + 1]
+    on = np.isin(np.arange(len(t)), kept)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        chord = y[lo] + (y[hi] - y[lo]) * (t - t[lo]) / (t[hi] - t[lo])
+    return np.where(on, 0.0, np.abs(y - chord))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_a_thinned_line_stays_within_its_tolerance_of_every_sample(seed):
+    """Random smooth, flat and noisy series with jumps (two samples at one time) and
+    breaks (nan): every dropped sample lies within tolerance of the kept line; ends,
+    extremes, jumps and breaks stay."""
+    rng = np.random.default_rng(seed)
+    n = 3000
+    t = np.sort(rng.uniform(0.0, 60.0, n))
+    t[rng.choice(n - 1, 20, replace=False)] = t[rng.choice(n - 1, 20, replace=False)]
+    t = np.sort(t)
+    flat = np.where(np.sin(t) > 0.3, np.sin(3 * t), 0.0)
+    smooth = np.cumsum(rng.uniform(0, 1, n)) + np.sin(t)
+    noisy = rng.normal(size=n).cumsum()
+    noisy[rng.choice(n, 5, replace=False)] = np.nan
+    series = (flat, smooth, noisy)
+    tols = tuple(sampling.thin_tolerance(y) for y in series)
+    kept = sampling.thin(t, series, tols)
+    assert np.all(np.diff(kept) > 0) and kept[0] == 0 and kept[-1] == n - 1
+    for y, tol in zip(series, tols, strict=True):
+        # rounding of the chord's arithmetic only
+        assert np.nanmax(_chord_error(t, y, kept)) <= tol * (1 + 1e-9)
+        assert np.nanargmax(y) in kept and np.nanargmin(y) in kept
+        bad = np.flatnonzero(~np.isfinite(y))
+        assert np.isin(bad, kept).all()
+    jumps = np.flatnonzero(np.diff(t) == 0)
+    assert np.isin(jumps, kept).all() and np.isin(jumps + 1, kept).all()
+    assert len(kept) < n  # the flat and smooth stretches lose samples
+
+
+def test_the_contact_force_and_energies_of_scene_10_are_drawn_with_few_points():
+    """Scene 10's contact force is zero between contacts and its energies are cumulative:
+    they were drawn with every one of the solve's 2057 samples (a browser paints each,
+    ~1 us). Now a fraction of them, each line within a quarter pixel of a 1400 px frame of
+    the line through every sample."""
+    from app.plots import ENERGY_COLORS, energy_columns
+
+    sol = solve(scene_values("10"))
+    res = sol.result
+    t = np.asarray(res.t, float)
+    force = force_columns(sol)["line"]
+    energy = energy_columns(sol)
+    e = res.energy
+    full = {"mechanical": e.mechanical, "belt_input": e.belt_input,
+            "friction_heat": np.asarray(e.belt_input) - np.asarray(e.friction_work),
+            "stop_loss": e.stop_loss, "stop_stored": e.stop_stored}
+    assert len(force["t"]) < len(t) / 4 and len(energy["t"]) < len(t) / 4
+    for cols, names, shared in ((force, {"phi": res.contact_force}, False),
+                                (energy, {n: full[n] for n in ENERGY_COLORS}, True)):
+        drawn_t = np.asarray(cols["t"], float)
+        # The drawn times are float32 copies of samples: each is the nearest one.
+        right = np.clip(np.searchsorted(t, drawn_t), 1, len(t) - 1)
+        kept = np.where(drawn_t - t[right - 1] < t[right] - drawn_t, right - 1, right)
+        np.testing.assert_allclose(t[kept], drawn_t, rtol=1e-6)
+        tol = sampling.thin_tolerance(*(np.asarray(y, float) for y in names.values()))
+        for name, y in names.items():
+            y = np.asarray(y, float)
+            own = tol if shared else sampling.thin_tolerance(y)
+            # float32 columns: the values' own rounding (6e-8 of the span) on top
+            assert _chord_error(t, y, kept).max() <= own * (1 + 1e-3), name
+
+
 def test_a_long_run_of_a_deformable_stop_gets_samples_for_its_horizon():
     """A method that only samples returns enough samples to draw a slip arc within a
     pixel at any horizon (scene 10 at t_end = 5000 had 4510 samples: 0.9 per radian)."""
