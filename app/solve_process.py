@@ -1,13 +1,17 @@
-"""A solve in a child process of its own: it holds neither the server's interpreter lock nor
-any session's event loop, and a solve nobody waits for any more is stopped.
+"""A solve in a child process: it holds neither the server's interpreter lock nor any
+session's event loop, and a solve nobody waits for any more is stopped.
 
 A deformable stop's integrated contact, ``event`` and ``switch`` hold the interpreter's lock
 for as long as they integrate (seconds for a stiff, sharp stop at "precise"); run in a
-thread of the server, they slow every other session's replies. Here each such solve gets a
-process started by the standard library's *forkserver* (:mod:`multiprocessing`, public
-API only): the fork server imports :mod:`core` and what the server's main script imports
-once, so a child starts in milliseconds with everything loaded, and ending it
-(``terminate``) is how a solve is cancelled. Children are daemons: they end with the server.
+thread of the server, they slow every other session's replies. Here such solves run in
+worker processes started by the standard library's *forkserver* (:mod:`multiprocessing`,
+public API only): the fork server imports :mod:`core` and what the server's main script
+imports once, so a worker starts in milliseconds with everything loaded. A worker takes
+one call after another and waits, idle, between them: a process per solve cost each
+release ~17 ms (starting, ending, and a solve in a fresh process runs slower until the
+pages it touches are its own; benchmarks/results/2026-11-28-solve-workers.md). Ending a
+worker (``terminate``) is how a solve is cancelled; another takes its place. Workers are
+daemons: they end with the server.
 
 ``FIE_SOLVE_PROCESSES=off`` in the environment solves in the calling thread instead (for a
 platform without ``fork``, or to compare).
@@ -96,18 +100,89 @@ def _context():
         return _CONTEXT
 
 
-def _child(send, fn: Callable[..., Any], args: tuple, kwargs: dict) -> None:
-    """The child's work: call ``fn`` and send back ``(True, value)`` or ``(False, error)``."""
-    try:
-        answer = (True, fn(*args, **kwargs))
-    except Exception as exc:  # noqa: BLE001 - the parent raises it again
-        answer = (False, exc)
-    send.send(answer)
-    send.close()
+#: Idle workers kept at most (the integrating lane's threads call one each at a time).
+IDLE_WORKERS = 2
+#: Calls a worker takes before it is replaced: what a solve leaves allocated stays bounded.
+CALLS_PER_WORKER = 100
 
 
-def _nothing() -> None:
-    """A child that does nothing (starts the fork server)."""
+def _serve(tasks, answers) -> None:
+    """A worker's loop: receive ``(fn, args, kwargs)``, send back ``(True, value)`` or
+    ``(False, error)``; end when the server closes its end of ``tasks``."""
+    while True:
+        try:
+            fn, args, kwargs = tasks.recv()
+        except (EOFError, OSError):
+            return
+        try:
+            answer = (True, fn(*args, **kwargs))
+        except Exception as exc:  # noqa: BLE001 - the server raises it again
+            answer = (False, exc)
+        answers.send(answer)
+
+
+class _Worker:
+    """One worker process and the two pipes to it."""
+
+    def __init__(self) -> None:
+        context = _context()
+        tasks_r, self.tasks = context.Pipe(duplex=False)
+        self.answers, answers_w = context.Pipe(duplex=False)
+        self.process = context.Process(target=_serve, args=(tasks_r, answers_w),
+                                       daemon=True, name="fie-solve")
+        self.process.start()
+        # The worker holds the only other ends: its exit ends the pipes.
+        tasks_r.close()
+        answers_w.close()
+        self.calls = 0
+
+    def retire(self, stop: bool = False) -> None:
+        """End the worker (at once with ``stop``), off the caller's path."""
+        def end() -> None:
+            for conn in (self.tasks, self.answers):
+                conn.close()
+            if stop:
+                self.process.terminate()
+            self.process.join(JOIN_S)
+            if self.process.is_alive():
+                self.process.kill()
+                self.process.join(JOIN_S)
+
+        threading.Thread(target=end, name="fie-solve-end", daemon=True).start()
+
+
+_idle: list[_Worker] = []
+_idle_lock = threading.Lock()
+
+
+def _take() -> _Worker:
+    with _idle_lock:
+        while _idle:
+            worker = _idle.pop()
+            if worker.process.is_alive():
+                return worker
+            worker.retire()
+    return _Worker()
+
+
+def _give_back(worker: _Worker) -> None:
+    """Keep ``worker`` for the next call, unless enough wait or it has taken its share."""
+    with _idle_lock:
+        if worker.calls < CALLS_PER_WORKER and len(_idle) < IDLE_WORKERS:
+            _idle.append(worker)
+            return
+    worker.retire()
+
+
+def _start_spare() -> None:
+    """Start a worker in the background and keep it idle for the next call."""
+    def start() -> None:
+        try:
+            _give_back(_Worker())
+        except (OSError, RuntimeError) as exc:  # the next call starts one, or says why
+            log.warning("no spare solver process: %s", exc)
+
+    threading.Thread(target=start, name="fie-solve-spare", daemon=True).start()
 
 
 _warmed = threading.Event()
@@ -130,12 +205,11 @@ def warm_up(wait: bool = False) -> None:
     def start() -> None:
         _project_on_path()
         try:
-            process = _context().Process(target=_nothing, daemon=True, name="fie-warm-up")
-            process.start()
-            process.join(JOIN_S * 10)
+            worker = _Worker()  # starts the fork server, then waits for the first solve
         except (OSError, RuntimeError) as exc:  # no fork server here: threads it is
             log.warning("solves run in the server's threads: no child process (%s)", exc)
             return
+        _give_back(worker)
         _ready.set()
 
     if wait:
@@ -168,29 +242,32 @@ def call(fn: Callable[..., Any], *args: Any, cancelled: threading.Event | None =
         warm_up()
         return fn(*args, **kwargs)
     _project_on_path()
-    context = _context()
-    receive, send = context.Pipe(duplex=False)
-    process = context.Process(target=_child, args=(send, fn, args, kwargs), daemon=True,
-                              name="fie-solve")
-    process.start()
-    send.close()  # the child holds the only writing end: its exit ends the pipe
+    worker = _take()
     try:
-        while not receive.poll(POLL_S):
+        worker.tasks.send((fn, args, kwargs))
+    except OSError:  # it had ended while idle: a new one
+        worker.retire()
+        worker = _Worker()
+        worker.tasks.send((fn, args, kwargs))
+    answered = False
+    try:
+        while not worker.answers.poll(POLL_S):
             if cancelled is not None and cancelled.is_set():
                 raise Abandoned("the solve was abandoned")
         try:
-            ok, value = receive.recv()
+            ok, value = worker.answers.recv()
         except EOFError:
-            process.join(JOIN_S)
+            worker.process.join(JOIN_S)
             raise RuntimeError(f"the solver process ended without an answer (exit code "
-                               f"{process.exitcode})") from None
+                               f"{worker.process.exitcode})") from None
+        answered = True
     finally:
-        receive.close()
-        if cancelled is not None and cancelled.is_set():
-            process.terminate()
-        process.join(JOIN_S)
-        if process.is_alive():
-            process.kill()
+        if answered:
+            worker.calls += 1
+            _give_back(worker)
+        else:  # abandoned, or it died: it goes, another takes its place
+            worker.retire(stop=True)
+            _start_spare()
     if ok:
         return value
     raise value
