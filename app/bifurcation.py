@@ -110,7 +110,7 @@ DENSITY_BINS = (450, 200)
 CLOSED_FORM_T_END = 200.0
 #: Wall time [s] a chunk aims at: short enough for a prompt cancel and a live progress
 #: bar, long enough that a chunk's round trip costs little: through the event loop for the
-#: closed form, plus a child process of its own where it integrates (measured ~1 s each
+#: closed form, plus a worker process where it integrates (measured ~1 s each
 #: in the served page at load 8, so such chunks are longer).
 CHUNK_SECONDS = {"closed": 0.25, "integrated": 2.0}
 #: Points of a sweep's first chunk, closed form and integrated (a deformable stop or a

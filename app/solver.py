@@ -134,7 +134,7 @@ SOLVE_BUDGET_S = _budget_from_environment(SOLVE_BUDGET_S)
 #: Budget [s] of a preview solve (a late preview is just skipped).
 PREVIEW_BUDGET_S = 0.25
 #: Solves that integrate (a deformable stop's contact, ``event``, ``switch``) and may run at
-#: once, per server process, each in a child process of its own (:mod:`app.solve_process`):
+#: once, per server process, each in a worker process (:mod:`app.solve_process`):
 #: they stop themselves at their budget (the core's ``time_budget``), and a solve every
 #: requester has given up (a newer slider move) is stopped at once.
 SOLVE_WORKERS = 2
@@ -355,7 +355,7 @@ class _Lane:
     """A pool of worker threads for one kind of solve; one future per distinct solve,
     shared by every session that asks for it while it runs.
 
-    With ``isolated``, each solve runs in a child process of its own
+    With ``isolated``, each solve runs in a worker process
     (:mod:`app.solve_process`; the worker thread only waits), and a running solve that
     every session asking for it has given up is stopped.
     """
@@ -807,7 +807,7 @@ def _reference(osc: Any, stop: Any, t_end: float, x0: float, v0: float) -> Resul
 
 
 def _simulate(*args: Any, **kwargs: Any) -> Result:
-    """:func:`core.simulate`, in a child process of its own when the worker's lane is
+    """:func:`core.simulate`, in a worker process when the worker thread's lane is
     isolated (:mod:`app.solve_process`)."""
     if getattr(_WORKER, "isolated", False):
         # ``simulate`` looked up at each call: the isolation test replaces it.
