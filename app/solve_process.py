@@ -8,7 +8,7 @@ worker processes started by the standard library's *forkserver* (:mod:`multiproc
 public API only): the fork server imports :mod:`core` and what the server's main script
 imports once, so a worker starts in milliseconds with everything loaded. A worker takes
 one call after another and waits, idle, between them: a process per solve cost each
-release ~17 ms (starting, ending, and a solve in a fresh process runs slower until the
+release ~20 ms (starting, ending, and a solve in a fresh process runs slower until the
 pages it touches are its own; benchmarks/results/2026-11-28-solve-workers.md). Ending a
 worker (``terminate``) is how a solve is cancelled; another takes its place. Workers are
 daemons: they end with the server.
@@ -249,6 +249,9 @@ def call(fn: Callable[..., Any], *args: Any, cancelled: threading.Event | None =
         worker.retire()
         worker = _Worker()
         worker.tasks.send((fn, args, kwargs))
+    except BaseException:  # the call did not pickle: nothing was sent, the worker waits
+        _give_back(worker)
+        raise
     answered = False
     try:
         while not worker.answers.poll(POLL_S):

@@ -372,3 +372,11 @@ def test_an_abandoned_solve_s_worker_is_replaced_and_the_next_solve_answers(monk
     """The worker of an abandoned solve is stopped; the next solve gets another."""
     _abandon_a_spinning_solve(monkeypatch, session)
     assert solve_process.call(_pid) != os.getpid()
+
+
+def test_a_call_that_does_not_pickle_is_refused_and_its_worker_kept():
+    solve_process.warm_up(wait=True)
+    first = solve_process.call(_pid)
+    with pytest.raises(Exception, match="pickle"):
+        solve_process.call(_pid, lambda: None)  # a lambda does not pickle
+    assert solve_process.call(_pid) == first
