@@ -11,7 +11,9 @@ and the drag are those of ``browser_latency.py``.
 Usage: ``.venv/bin/python benchmarks/browser_ab.py --ref HEAD~1 [--scenes 5b,7c] [--rounds 40]``
 (the revision is checked out into a temporary git worktree, removed afterwards), or
 ``--patches``: this checkout with its perf patches (``app/perf``, ``static/perf``) on (A)
-and off (B).
+and off (B). The releases alternate between two values, so from the third on the answer is
+cached and the drawing is measured; with ``--fresh`` every release lands on a new value and
+its solve is measured too.
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import browser_latency as bl  # noqa: E402
 ROOT = bl.ROOT
 
 
-def compare(browser, urls: dict[str, str], scene: str, rounds: int
+def compare(browser, urls: dict[str, str], scene: str, rounds: int, fresh: bool = False
             ) -> dict[str, dict[str, np.ndarray]]:
     """The probe's records (``browser_latency.results``: latencies [ms] in ``painted``) of
     ``rounds`` releases per version, alternating between them."""
@@ -43,7 +45,7 @@ def compare(browser, urls: dict[str, str], scene: str, rounds: int
     for r in range(rounds):
         for key in (order if r % 2 == 0 else order[::-1]):
             pages[key].bring_to_front()
-            bl.drag(pages[key], r)
+            bl.drag(pages[key], r, fresh=fresh)
     lat = {key: bl.results(page) for key, page in pages.items()}
     for page in pages.values():
         page.close()
@@ -61,6 +63,8 @@ def main() -> None:
     parser.add_argument("--scenes", default="5b,7c")
     parser.add_argument("--rounds", type=int, default=40)
     parser.add_argument("--raw", action="store_true", help="print every latency")
+    parser.add_argument("--fresh", action="store_true",
+                        help="every release a new value (its solve measured too)")
     parser.add_argument("--ports", default="0,0",
                         help="server ports of A and B (default: free ones)")
     args = parser.parse_args()
@@ -91,7 +95,8 @@ def main() -> None:
                 browser = pw.chromium.launch(executable_path=bl.CHROMIUM,
                                              args=bl.CHROMIUM_ARGS)
                 for scene in args.scenes.split(","):
-                    rec = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds)
+                    rec = compare(browser, {"A": url_a, "B": url_b}, scene, args.rounds,
+                                  args.fresh)
                     # A page that missed a release has fewer: pair the rounds both have.
                     n = min(len(rec["A"]["painted"]), len(rec["B"]["painted"]))
                     a, b = rec["A"]["painted"][:n], rec["B"]["painted"][:n]

@@ -230,14 +230,18 @@ def open_scene(page, url: str, scene: str) -> None:
     page.evaluate(JS_PROBE, [FULL_MIN_POINTS, SETTLE_MS])
 
 
-def drag(page, i: int, slider: str = SLIDER) -> None:
+def drag(page, i: int, slider: str = SLIDER, fresh: bool = False) -> None:
     """The ``i``-th drag and release of the slider (alternately right and left), then wait
-    for the probe's measurement of it (NaN if the release changed nothing)."""
+    for the probe's measurement of it (NaN if the release changed nothing). With ``fresh``
+    each drag is a pixel longer than the last, so that every release lands on a value not
+    solved before (else the releases alternate between two values, cached from the third
+    on: the drawing is measured, not the solve)."""
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
     box = page.locator(f".fie-w-{slider} .noUi-handle").first.bounding_box()
     x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
-    dx = DRAG_PX if i % 2 == 0 else -DRAG_PX
+    length = DRAG_PX + (i if fresh else 0)
+    dx = length if i % 2 == 0 else -length
     page.mouse.move(x, y)
     page.mouse.down()
     page.mouse.move(x + dx, y, steps=4)
