@@ -3,8 +3,11 @@
 
 Slip with ``s = sign(v - x')`` obeys ``x'' + x = s*a`` (paper Eq. 3 with Eq. 4): a clockwise
 circle in the phase plane about ``(s*a, 0)``. Stick obeys ``x' = v`` while ``|x| <= b``
-(Eqs. 5-6). Every event time below comes from ``asin``/``acos``/``atan2`` of the circle or
-from the straight stick line; nothing is found by a numerical root search.
+(Eqs. 5-6). Every event time below comes from an ``atan2`` on the circle or from the
+straight stick line; nothing is found by a numerical root search. The arguments of each
+``atan2`` are formed without cancellation (products instead of differences of nearly equal
+squares), so an event just ahead of the start, or at a tangency, is placed to rounding and
+never mistaken for one a whole turn away.
 
 The functions are scalar and use :mod:`math` on purpose: one call costs a few microseconds,
 which keeps a whole slider update's solve far below a millisecond.
@@ -19,11 +22,6 @@ from core.params import Oscillator
 from core.result import Mode, TransitionKind
 
 TWO_PI = 2.0 * math.pi
-
-#: An event this close (in phase angle) to the start of a slip arc is the state the arc
-#: starts from, not a new event; the arc then runs a full turn. Chosen a few hundred ulps
-#: of 2*pi so that rounding of the start state never produces a zero-length arc.
-ANGLE_EPS = 1e-12
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,12 +113,64 @@ def after_event(osc: Oscillator, event: FreeEvent, motion: Motion) -> Motion:
     raise ValueError(f"no friction motion follows a {event.kind.value} event")
 
 
-def _angle_ahead(target: float, theta0: float) -> float:
-    """Phase travelled from ``theta0`` to ``target`` (mod 2 pi), in ``(0, 2 pi]``."""
-    d = (target - theta0) % TWO_PI
-    if d < ANGLE_EPS or TWO_PI - d < ANGLE_EPS:
-        return TWO_PI
-    return d
+def _phase(cross: float, dot: float) -> float:
+    """Phase travelled clockwise from a start to a point of its circle, in ``[0, 2 pi)``,
+    from ``cross = V0 X1 - X0 V1`` and ``dot = X0 X1 + V0 V1`` (``R^2 sin`` and ``R^2 cos``
+    of the phase; ``X = x - c``, ``V = x'``). Accurate to rounding of the phase whenever
+    ``cross`` is formed without cancellation near zero, which is what decides whether an
+    event lies just ahead or a whole turn away."""
+    return math.atan2(cross, dot) % TWO_PI
+
+
+def stick_line_event(s: int, dx: float, v0: float, v: float) -> tuple[float, float] | None:
+    """Phase to the next ``x' = v`` on the slip circle about ``(s a, 0)`` from
+    ``(x0, x') = (c + dx, v0)``, and ``x - c`` there; ``None`` if the circle misses it.
+
+    ``x' = v`` is reached rising (``s = +1``) at ``X1 = -h``, falling (``s = -1``) at
+    ``X1 = +h``, with ``h^2 = R^2 - v^2 = dx^2 + (v0 - v)(v0 + v)`` (a product, not a
+    difference of nearly equal squares). Which side of the stick line the arc starts on
+    is settled by geometry, not by a tolerance on the phase: when the acceleration drives
+    the relative velocity towards zero (``s dx < 0``) the event lies less than half a turn
+    ahead and ``cross`` is written as ``|u_r|`` times positive terms, so a start within
+    rounding of the belt speed sticks at once; otherwise a start on the line (after
+    stick->slip, or a sign change) is the crossing the arc leaves from, a turn away when
+    the circle only touches the line.
+    """
+    h2 = dx * dx + (v0 - v) * (v0 + v)
+    if h2 < 0.0 or (dx == 0.0 and v0 == 0.0):
+        return None
+    h = math.sqrt(h2)
+    approaching = s * dx < 0.0
+    if approaching and v + v0 > 0.0:
+        # V0 X1 - X0 V1 with X0^2 - h^2 = s (v - v0)(v + v0): every term positive.
+        cross = s * (v - v0) * (v * (v + v0) / (h + abs(dx)) + h)
+    else:
+        cross = -s * v0 * h - dx * v
+    dtheta = _phase(cross, -s * dx * h + v0 * v)
+    if dtheta == 0.0 and not approaching:
+        dtheta = TWO_PI  # the circle leaves the line here and comes back after a turn
+    return dtheta, -s * h
+
+
+def stop_event(dx: float, v0: float, gap: float, x1: float) -> tuple[float, float] | None:
+    """Phase to the stop and the approach speed, from ``(x - c, x') = (dx, v0)``, the stop
+    ``gap = x_bar - x0 >= 0`` ahead and at ``x1 = x_bar - c``; ``None`` if the circle never
+    reaches it moving forward.
+
+    The squared speed ``R^2 - x1^2 = v0^2 - gap (dx + x1)`` is formed without cancellation,
+    so a start a few ulps from the stop still finds its (tiny) arc. Moving forward
+    (``v0 > 0``) the stop is less than half a turn ahead, and ``cross`` is ``gap`` times
+    positive terms (``v0 - speed = gap (dx + x1) / (v0 + speed)``).
+    """
+    speed2 = v0 * v0 - gap * (dx + x1)
+    if not speed2 > 0.0:
+        return None
+    speed = math.sqrt(speed2)
+    if v0 > 0.0:
+        cross = gap * (x1 * (dx + x1) / (v0 + speed) + speed)
+    else:
+        cross = v0 * x1 - dx * speed
+    return _phase(cross, dx * x1 + v0 * speed), speed
 
 
 def free_flight(
@@ -164,36 +214,24 @@ def free_flight(
     s = motion.s
     c = s * osc.a
     dx = x0 - c
-    radius = math.hypot(dx, v0)
-    theta0 = math.atan2(-v0, dx)
     best: tuple[float, TransitionKind, float, float] | None = None
 
-    # Relative velocity vanishes, x' = v: -R sin(theta) = v.
-    if radius > 0.0 and (s < 0 or radius >= v):
-        ratio = min(v / radius, 1.0)
-        half_chord = math.sqrt(max(radius * radius - v * v, 0.0))
-        if s > 0:  # x' rises to v: cos(theta) < 0
-            target, x_ev = math.pi + math.asin(ratio), c - half_chord
-        else:  # x' falls to v: cos(theta) > 0
-            target, x_ev = -math.asin(ratio), c + half_chord
-        dtheta = _angle_ahead(target, theta0)
+    # Relative velocity vanishes, x' = v.
+    line = stick_line_event(s, dx, v0, v)
+    if line is not None:
+        dtheta, x_ev = line[0], c + line[1]
         kind = (
             TransitionKind.SLIP_STICK if abs(x_ev) <= osc.b else TransitionKind.SIGN_CHANGE
         )
         best = (dtheta, kind, x_ev, v)
 
-    # The stop, x = barrier, reached with x' > 0: R cos(theta) = barrier - c, sin(theta) < 0.
-    # The squared impact speed R^2 - (barrier - c)^2 is formed without cancellation, so a
-    # start a few ulps from the stop still finds its (tiny) arc.
+    # The stop, x = barrier, reached with x' > 0.
     if math.isfinite(barrier):
-        speed2 = (x0 - barrier) * (x0 + barrier - 2.0 * c) + v0 * v0
-        if speed2 > 0.0:
-            speed = math.sqrt(speed2)
-            # Zero only for a start within rounding of the stop: the impact is then now.
-            dtheta = (math.atan2(-speed, barrier - c) - theta0) % TWO_PI
+        hit = stop_event(dx, v0, barrier - x0, barrier - c)
+        if hit is not None:
             # On a tie the impact wins: the stop is reached with x' = v.
-            if best is None or dtheta <= best[0]:
-                best = (dtheta, TransitionKind.IMPACT, barrier, speed)
+            if best is None or hit[0] <= best[0]:
+                best = (hit[0], TransitionKind.IMPACT, barrier, hit[1])
         elif x0 >= barrier and c > barrier:
             # At the stop with x' = 0 and the force pushing into it: pressed now (speed 0).
             best = (0.0, TransitionKind.IMPACT, barrier, 0.0)

@@ -16,8 +16,7 @@ same rules as :func:`core.rigid.simulate_rigid` and :mod:`core.steady`:
 
 An event decided within rounding of a threshold (:data:`TIE`) is taken by the scalar
 :func:`core.flight.free_flight` for that lane. A lane whose transient outgrows the history
-kept per lane (:data:`HISTORY`), or whose near-tie comes from a state that numpy's
-rounding may have moved, is flagged and left to :func:`core.simulate` by the caller.
+kept per lane (:data:`HISTORY`) is flagged and left to :func:`core.simulate` by the caller.
 """
 
 from __future__ import annotations
@@ -28,7 +27,7 @@ import math
 import numpy as np
 
 from core import flight
-from core.flight import ANGLE_EPS, TWO_PI, Motion, Segment
+from core.flight import TWO_PI, Motion, Segment
 from core.params import Oscillator
 from core.result import Mode, SteadyKind, TransitionKind
 from core.steady import FIXED_POINT_LOOKBACK, FIXED_POINT_RTOL, PERIOD_ULPS, REST_SPEED
@@ -36,14 +35,14 @@ from core.sweep.lanes import Lanes
 from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
 
 #: Decisions closer than this to their threshold (radians for event angles, relative to the
-#: lane's length scale for lengths) are near-ties. numpy's ``atan2``, ``asin`` and ``hypot``
-#: round differently from :mod:`math`'s in the last bit or two, so at an exact tie (the
-#: elastic case c, where the rebound returns to the stop exactly on the stick line and a
-#: zero-length stick may or may not be seen; a slip circle tangent to the stop or to the
-#: stick line) the two could take different branches. A near-tie event is therefore taken
-#: by the scalar :func:`core.flight.free_flight` itself when the lane's state is the one
-#: ``simulate`` has bit for bit (see ``_Block.clean``); otherwise the lane is left to
-#: ``simulate``. Rounding differences are ~1e-16; 1e-12 keeps a wide margin.
+#: lane's length scale for lengths) are near-ties. numpy's ``atan2`` and ``hypot`` round
+#: differently from :mod:`math`'s in the last bit or two, so at a near-tie (two events at
+#: nearly the same phase; a slip circle tangent to the stop or to the stick line) the two
+#: could take different branches. A near-tie event is therefore taken
+#: by the scalar :func:`core.flight.free_flight` itself, from the lane's state, which is
+#: the one ``simulate`` has bit for bit: every state is formed as :mod:`core.flight` forms
+#: it, from sums, products and square roots (only the times pass through ``atan2``).
+#: Rounding differences are ~1e-16; 1e-12 keeps a wide margin.
 TIE = 1e-12
 
 #: Ended lanes stay in the arrays (masked) until the live ones are at most this fraction.
@@ -90,25 +89,35 @@ def free_flight(t0, x0, v0, mode, s, a, b, v, barrier, scale=None):
         theta0 = np.arctan2(-v0, dx)
         slip = mode == SLIP
 
-        # Relative velocity vanishes, x' = v: -R sin(theta) = v.
-        cross = slip & (radius > 0.0) & ((s < 0) | (radius >= v))
-        ratio = np.minimum(v / radius, 1.0)
-        half_chord = np.sqrt(np.maximum(radius * radius - v * v, 0.0))
-        asin = np.arcsin(ratio)
-        target = np.where(s > 0, math.pi + asin, -asin)
-        x_cross = np.where(s > 0, c - half_chord, c + half_chord)
-        d = np.remainder(target - theta0, TWO_PI)
-        d = np.where((d < ANGLE_EPS) | (TWO_PI - d < ANGLE_EPS), TWO_PI, d)
+        # Relative velocity vanishes, x' = v (core.flight.stick_line_event).
+        h2 = dx * dx + (v0 - v) * (v0 + v)
+        cross = slip & (h2 >= 0.0) & ((dx != 0.0) | (v0 != 0.0))
+        h = np.sqrt(np.maximum(h2, 0.0))
+        approaching = s * dx < 0.0
+        sine = np.where(
+            approaching & (v + v0 > 0.0),
+            s * (v - v0) * (v * (v + v0) / (h + np.abs(dx)) + h),
+            -s * v0 * h - dx * v,
+        )
+        d = np.remainder(np.arctan2(sine, -s * dx * h + v0 * v), TWO_PI)
+        d = np.where((d == 0.0) & ~approaching, TWO_PI, d)
+        x_cross = c - s * h
         kind = np.where(cross, np.where(np.abs(x_cross) <= b, SLIP_STICK, SIGN_CHANGE), ENDLESS)
         dtheta = np.where(cross, d, np.inf)
         x1 = x_cross
         v1 = np.broadcast_to(v, x0.shape).astype(float)
 
-        # The stop, reached with x' > 0 (same cancellation-free speed as the scalar form).
+        # The stop, reached with x' > 0 (core.flight.stop_event).
         finite = np.isfinite(barrier)
-        speed2 = (x0 - barrier) * (x0 + barrier - 2.0 * c) + v0 * v0
+        gap, x_hit = barrier - x0, barrier - c
+        speed2 = v0 * v0 - gap * (dx + x_hit)
         speed = np.sqrt(np.maximum(speed2, 0.0))
-        d_hit = np.remainder(np.arctan2(-speed, barrier - c) - theta0, TWO_PI)
+        sine_hit = np.where(
+            v0 > 0.0,
+            gap * (x_hit * (dx + x_hit) / (v0 + speed) + speed),
+            v0 * x_hit - dx * speed,
+        )
+        d_hit = np.remainder(np.arctan2(sine_hit, dx * x_hit + v0 * speed), TWO_PI)
         hit = slip & finite & (speed2 > 0.0) & ((kind == ENDLESS) | (d_hit <= dtheta))
         pressed = slip & finite & ~(speed2 > 0.0) & (x0 >= barrier) & (c > barrier)
         dtheta = np.where(hit, d_hit, np.where(pressed, 0.0, dtheta))
@@ -182,11 +191,6 @@ class _Block:
         self.h_v = np.zeros((n, HISTORY))
         self.h_xmax = np.zeros((n, HISTORY))
         self.count = np.zeros(n, np.int64)
-        # True while the state was reached by operations that round as core.flight's do
-        # (sums, products, square roots; not numpy's atan2/asin/hypot): the start, the end
-        # of a stick, an impact or rebound from a clean state, an event taken by the
-        # scalar free_flight from a clean state.
-        self.clean = np.ones(n, bool)
         self.alive = np.ones(n, bool)  # False once a lane has ended (until compaction)
         self.oscillators: dict[int, Oscillator] = {}  # by lane id, for near-tie events
 
@@ -216,8 +220,7 @@ def solve_lanes(lanes: Lanes, t_end: float, x0: float, v0: float) -> LaneRecords
     """Steady state of every lane (no stop or a rigid stop) by the vectorised closed form.
 
     Lanes flagged ``fallback`` in the result were not resolved here (their history
-    outgrew :data:`HISTORY`, or a near-tie, :data:`TIE`, met a state numpy may have
-    rounded differently) and hold nothing else; the caller solves them one by one.
+    outgrew :data:`HISTORY`) and hold nothing else; the caller solves them one by one.
     """
     n = len(lanes)
     out = _Out(n)
@@ -275,21 +278,9 @@ def _step(blk: _Block, out: _Out, t_end: float) -> None:
     t1, kind, x1, v1, seg_xmax, tie = free_flight(
         blk.t, blk.x, blk.xd, blk.mode, blk.s, blk.a, blk.b, blk.v, blk.xb, blk.scale
     )
-    tie &= live
-    if np.any(tie):
-        dirty = tie & ~blk.clean
-        out.rec.fallback[blk.id[dirty]] = True
-        ended |= dirty
-        live &= ~dirty
-        redo = np.flatnonzero(tie & blk.clean)
-        if len(redo):
-            t1[redo], kind[redo], x1[redo], v1[redo], seg_xmax[redo] = _scalar_flights(
-                blk, redo
-            )
-    # A slip event's position comes from numpy's hypot; the scalar one's does not.
-    from_slip = (blk.mode == SLIP) & ((kind == SLIP_STICK) | (kind == SIGN_CHANGE))
-    blk.clean &= ~(from_slip & ~tie)
-    blk.clean |= blk.mode == STICK
+    redo = np.flatnonzero(tie & live)
+    if len(redo):
+        t1[redo], kind[redo], x1[redo], v1[redo], seg_xmax[redo] = _scalar_flights(blk, redo)
 
     # 2. A rebound whose arc returns to the stop: the endless impact sequence.
     seq = live & blk.check_sequence & (kind == IMPACT) & (t1 < t_end)

@@ -276,3 +276,116 @@ def test_a_range_in_an_error_holds_only_values_that_are_taken():
     assert check_range("strength", math.inf, 0.0, allow_inf=True) == math.inf
     with pytest.raises(ValueError, match=r"x must lie in \(-inf, 0\]; got 1"):
         check_range("x", 1.0, high=0.0)
+
+
+# ------------------------- an arc that starts on or next to the stick line: an immediate stick
+
+
+def energy_residual(res) -> float:
+    e = res.energy
+    return float(np.max(np.abs(e.mechanical - e.mechanical[0] - (e.friction_work - e.stop_loss))))
+
+
+@pytest.mark.parametrize("x0", [0.0, 0.1, -0.1])
+@pytest.mark.parametrize("rel", [1e-13, -1e-13, 1e-15, -1e-15, 2.0**-52])
+def test_a_start_next_to_the_belt_speed_sticks_at_once(x0, rel):
+    """x' = v (1 - rel): slip whose acceleration drives the relative velocity to zero
+    (x'' = s a - x0, here towards v from either side), so it sticks after
+    ~|u_r| / |x''| <= 1e-13. The phase to the stick line, formed as a difference of two
+    atan2 and cut by a tolerance of 1e-12, came out a whole turn: the mass slipped round a
+    circle first, and x_max was 0.4236 instead of the limit cycle's 0.3414.
+    Reference: the stick time |u_r| / |x''| to first order, the limit cycle's closed form
+    x_max = a + sqrt((b - a)^2 + v^2) (docs/physics.md, "Closed-form results")."""
+    v0 = SLOW.v * (1.0 - rel)
+    s = 1.0 if v0 < SLOW.v else -1.0
+    accel = abs(s * SLOW.a - x0)
+    res = simulate(SLOW, None, t_end=20.0, x0=x0, v0=v0)
+    first = res.transitions[0]
+    assert first.kind.value == "slip->stick"
+    # |u_r| / |x''| to first order; rounding of the start (an ulp of v) adds ~1e-16 / |x''|.
+    assert first.t == pytest.approx(abs(SLOW.v - v0) / accel, rel=1e-3, abs=2e-15)
+    limit_top = SLOW.a + math.hypot(SLOW.b - SLOW.a, SLOW.v)
+    assert res.x_max == pytest.approx(limit_top, rel=1e-12)
+
+
+@pytest.mark.parametrize("v", [2e-14, 1e-16, 5e-13 * 0.2])
+def test_a_very_slow_belt_sticks_at_once_from_rest(v):
+    """From rest on a belt slower than ~5e-13 a the slip->stick comes after asin(v/a) ~ v/a
+    (Eq. 30); the solver ran a whole slip circle instead, and with a stop at 0.25 it
+    reported an impact at 0.25 while the mass sticks next to 0 and is carried at speed v.
+    Reference: Eq. (30), and the stick line x = v t after it."""
+    osc = Oscillator(0.3, 0.2, v)
+    for stop in (None, RigidStop(0.25, 0.5)):
+        res = simulate(osc, stop, t_end=20.0)
+        kinds = [tr.kind.value for tr in res.transitions]
+        assert kinds == ["slip->stick"]
+        assert res.transitions[0].t == pytest.approx(math.asin(v / osc.a), rel=1e-12)
+        # Stuck from t ~ v/a on, x <= v t_end; the slip before moves it by ~v^2/a.
+        assert res.x_max <= v * 20.0 * (1.0 + 1e-12)
+
+
+def test_a_start_a_rounding_step_below_the_stop_impacts_at_once():
+    """The stop an ulp ahead with x' > 0: the impact is now, not a turn later (the phase to
+    the stop is formed as gap times positive terms)."""
+    xb = 0.25
+    for v0 in (0.05, 1e-3):
+        res = simulate(SLOW, RigidStop(xb, 0.7), t_end=10.0, x0=math.nextafter(xb, 0.0), v0=v0)
+        first = res.transitions[0]
+        assert first.kind.value == "impact"
+        assert first.t <= 2.0 * math.ulp(xb) / v0  # the gap over the speed, to rounding
+
+
+# --------------------------- precision near tangencies: the closed form to rounding, not sqrt(eps)
+
+
+def _elastic_case_c_state(osc, xb, t):
+    """Independent closed form of the elastic case c (docs/physics.md, "Closed-form results")
+    at 40 digits: from rest the first slip->stick at Eq. (30), stick to the stop, then the
+    rebound arc about (a, 0) through (x_bar, -v) repeated with period 2 atan2(v, a - x_bar)."""
+    import mpmath as mp
+
+    with mp.workdps(40):
+        a, v, xb = mp.mpf(osc.a), mp.mpf(osc.v), mp.mpf(xb)
+        t_hit = mp.asin(v / a) + (xb - (a - mp.sqrt(a * a - v * v))) / v
+        period = 2 * mp.atan2(v, a - xb)
+        tau = mp.fmod(mp.mpf(t) - t_hit, period)
+        d = xb - a
+        return float(a + d * mp.cos(tau) - v * mp.sin(tau)), float(period)
+
+
+@pytest.mark.parametrize(
+    ("v", "gap"), [(0.15, 5.6e-9), (0.1, 3.2e-9), (0.19, 5.6e-9), (0.05, 1.8e-9), (0.1, 1e-6)]
+)
+def test_elastic_cycle_next_to_the_slip_centre_is_exact(v, gap):
+    """Elastic stop at x_bar = a - gap (case c): the rebound comes back to the stop exactly
+    on the stick line. The crossing of the stick line was an asin of a number within
+    ~gap^2/v^2 of 1, off by sqrt(eps): periods up to 6e-10 (relative) off
+    2 atan2(v, a - x_bar), a state 2e-7 off at t = 1e4 and an energy balance off by 2e-7.
+    Both events now come from the same products and are exactly tied (the impact wins).
+    Tolerances: the period is a difference of two event times below ~10, rounded to
+    ~1e-15; over t = 1e4 (~3200 periods) the phase then drifts by < 1e-11."""
+    osc = Oscillator(0.3, 0.2, v)
+    xb = osc.a - gap
+    t_end = 1e4
+    res = simulate(osc, RigidStop(xb, 1.0), t_end=t_end, t_eval=np.linspace(0.0, t_end, 2001))
+    x_ref, period = _elastic_case_c_state(osc, xb, t_end)
+    assert res.steady.sequence == ("impact",)
+    assert res.steady.period == pytest.approx(period, rel=1e-12)
+    assert abs(res.x[-1] - x_ref) < 1e-11
+    assert energy_residual(res) < 1e-10
+
+
+@pytest.mark.parametrize("eps", [1e-7, 1e-9, 1e-5])
+def test_stick_slip_cycle_with_mu_s_barely_above_mu_k_is_exact(eps):
+    """mu_s = mu_k (1 + eps): the slip arc after stick->slip at (b, v) returns to the stick
+    line a hair before (2a - b, v), after pi + 2 atan2(v, b - a). The crossing was an asin
+    near 1: period 2.8e-11 off (relative), energy balance off by 5.5e-9 at t = 1e4.
+    Reference: the limit cycle's closed form (docs/physics.md, "Closed-form results")."""
+    osc = Oscillator(0.2 * (1.0 + eps), 0.2, 0.1)
+    a, b, v = osc.a, osc.b, osc.v
+    period = 2.0 * (b - a) / v + math.pi + 2.0 * math.atan2(v, b - a)
+    res = simulate(osc, None, t_end=1e4)
+    assert res.steady.kind is SteadyKind.PERIODIC
+    assert res.steady.period == pytest.approx(period, rel=1e-12)
+    assert res.steady.x_max == pytest.approx(a + math.hypot(b - a, v), rel=1e-12)
+    assert energy_residual(res) < 1e-10
