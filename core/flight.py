@@ -6,8 +6,9 @@ circle in the phase plane about ``(s*a, 0)``. Stick obeys ``x' = v`` while ``|x|
 (Eqs. 5-6). Every event time below comes from an ``atan2`` on the circle or from the
 straight stick line; nothing is found by a numerical root search. The arguments of each
 ``atan2`` are formed without cancellation (products instead of differences of nearly equal
-squares), so an event just ahead of the start, or at a tangency, is placed to rounding and
-never mistaken for one a whole turn away.
+squares): an event just ahead of the start is never mistaken for one a whole turn away, and
+an event near a tangency keeps the accuracy its geometry allows instead of the square root
+of the rounding that an ``asin`` of a number next to 1 would leave.
 
 The functions are scalar and use :mod:`math` on purpose: one call costs a few microseconds,
 which keeps a whole slider update's solve far below a millisecond.
