@@ -129,7 +129,7 @@ class _Run:
             if ev is None:
                 self.steady = _endless(seg, self.t, self.xb, rebound=self.t == self.t_rebound)
             return True
-        self.table.add(seg, ev.t, self.osc.v)
+        self.table.add(seg, ev.t, self.osc.v, ev.x)
         self.t, self.x, self.xd = ev.t, ev.x, ev.v
         if ev.kind is TransitionKind.IMPACT:
             self.pending_impact = True

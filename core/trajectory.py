@@ -51,8 +51,16 @@ class SegmentTable:
     def __len__(self) -> int:
         return len(self.t0)
 
-    def add(self, seg: Segment, t1: float, belt_speed: float) -> None:
-        """Append ``seg`` cut at ``t1`` and accumulate its work terms (paper Eqs. 3-6)."""
+    def add(
+        self, seg: Segment, t1: float, belt_speed: float, x1: float | None = None
+    ) -> None:
+        """Append ``seg`` cut at ``t1`` and accumulate its work terms (paper Eqs. 3-6).
+
+        ``x1``: the position at ``t1`` when an event fixes it exactly (the stop, ``b``, the
+        stick line's crossing); the work is then formed from it rather than from the
+        rounded ``cos``/``sin`` of ``t1 - t0``. A cycle's work per period, repeated over
+        every period tiled, then carries no rounding of the arc's end (an elastic impact
+        cycle does no friction work at all)."""
         self.t0.append(seg.t0)
         self.t1.append(t1)
         if seg.mode is Mode.SLIP:
@@ -69,7 +77,8 @@ class SegmentTable:
         self.work0.append(self.work)
         cut = Segment(seg.mode, seg.t0, t1, seg.x0, seg.v0, seg.centre)
         self.x_max = max(self.x_max, cut.x_max())
-        x1, _ = cut.state_at(t1)
+        if x1 is None:
+            x1, _ = cut.state_at(t1)
         self.work = _add(self.work, _segment_work(cut, x1, belt_speed))
 
     def add_loss(self, loss: float) -> None:
