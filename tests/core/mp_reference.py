@@ -91,7 +91,7 @@ class MpSolution:
     """The reference over ``[0, t_end]`` (or up to ``t_stop`` when the event cap ends it)."""
 
     transitions: list[tuple[str, mp.mpf, mp.mpf, mp.mpf]] = field(default_factory=list)
-    #: For each transition, how far rounding may have moved its time (stick ends).
+    #: For each transition, how far rounding may have moved its time (sticks, tangencies).
     slack: list[mp.mpf] = field(default_factory=list)
     pieces: list[Piece] = field(default_factory=list)
     conditioned_until: float = float("inf")
