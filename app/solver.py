@@ -62,15 +62,15 @@ CUT_SHORT = (Status.TIME_BUDGET, Status.STEP_LIMIT)
 #: Accuracy presets -> method settings. ``n_samples`` is the display resolution of the full
 #: solve.
 #:
-#: No preset has an error figure the page quotes for a run it has not measured: none found
-#: holds on random scenes (benchmarks/accuracy_claims.py, on 1,000 and more random scenes
-#: per preset and family at t = 100; benchmarks/results/accuracy_claims.md). The figures
-#: once quoted here were exceeded by ``event`` (1e-6 at standard: up to 5e-4 near grazing),
-#: by ``switch`` (3e-3 at standard: up to 0.4) and by the exact method's integrated contact
-#: on a deformable stop (1e-6 at standard: up to 2e-3 where a contact's end moves the
-#: transitions that follow). A full solve that integrates (``event``, ``switch``, or
-#: ``exact`` on a deformable stop) has its error measured instead (:func:`measure_run`);
-#: a preview, or a run whose measurement did not fit in its budget, says "not measured".
+#: No preset has an error figure the page quotes for a run it has not measured: none of
+#: those it quoted holds on random scenes (benchmarks/accuracy_claims.py, 1,200 random
+#: scenes per family at t = 100; benchmarks/results/accuracy_claims.md). At standard,
+#: ``event`` exceeded its 1e-6 on 130 of 1,200 rigid stops (up to 1.2e-3), ``switch`` its
+#: 3e-3 on 654 (up to 1.9; 259 beyond the rule max(3e-3, 20 eta/v)), and the exact
+#: method's integrated contact on a deformable stop its 1e-6 on 35 (up to 2.4e-2, where a
+#: contact's end moves the transitions after it). A full solve that integrates
+#: (:func:`integrates`) has its error measured instead (:func:`measure_run`); a preview,
+#: or a run whose measurement did not fit in its budget, says "not measured".
 #:
 #: ``error`` holds the figures validated by that benchmark (0 failures on >= 1,000 random
 #: scenes), by method (``contact`` for the exact method's integrated contact); none now.

@@ -251,6 +251,12 @@ FORMER = {
 #: The switch model's former rule: at least 20 eta / v.
 SWITCH_PER_BAND = 20.0
 MANY_CONTACTS, MANY_CONTACTS_ERROR, REST_ERROR = 50, 1e-8, 1e-6
+#: The runs behind benchmarks/results/accuracy_claims.md (two processes for ``none``).
+RUN_COMMANDS = "\n".join(
+    f"    nice -n 10 env PYTHONPATH=. .venv/bin/python benchmarks/accuracy_claims.py run "
+    f"--family {family} --seeds {seeds} --t-end 100 {extra}".rstrip()
+    for family, seeds, extra in (("rigid", "0:1200", ""), ("contact", "0:1200", ""),
+                                 ("none", "0:600", ""), ("none", "600:1200", "--part b")))
 #: Scenes a figure needs, with no failure, to be quoted.
 MIN_SCENES = 1000
 
@@ -392,13 +398,15 @@ def main() -> None:
             "figures": rows}, indent=1) + "\n")
         SUMMARY.with_suffix(".md").write_text(
             f"# Accuracy figures on random scenes ({time.strftime('%Y-%m-%d', time.gmtime())})"
-            f"\n\n`{' '.join(sys.argv)}` after the `run` commands of the docstring; Python "
+            f"\n\n{RUN_COMMANDS}\n\nthen `{' '.join(sys.argv)}`; Python "
             f"{platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}, "
             f"{platform.machine()}, {os.cpu_count()} cpus shared. Error: the page's "
             "(app.solver.reference_error). A failure: a scene beyond the figure (plus a "
             "reduced model's stated bound where one took over).\n\n"
             f"{table(rows)}\n\nValidated (0 failures on >= {MIN_SCENES} scenes): "
-            f"{validated(rows)}\n")
+            f"{validated(rows)}. 'former': a figure the page quoted before; the page now "
+            "quotes none of them: it measures a run that integrates, or says it did not."
+            "\n")
 
 
 if __name__ == "__main__":
