@@ -1281,7 +1281,8 @@ def _accuracy_tip() -> str:
              f"{ACCURACY[name]['eta']:g}, {ACCURACY[name]['n_samples']} samples"
              for name in ACCURACIES]
     return ("; ".join(parts) + ". The exact method on no stop or a rigid stop is closed form "
-            "at every preset: only the smoothness of the curves changes.")
+            "at every preset: only the smoothness of the curves changes. No preset promises "
+            "an error: a full run that integrates has its error measured (the Solve row).")
 
 
 def _core_reason(values: Mapping[str, Any]) -> str | None:

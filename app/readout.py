@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from app.solver import Solution, reference_name
+from app.solver import Solution, integrates, reference_name
 from app.state import DIMENSIONLESS, Scales
 from core import HystereticStop, Mode, Status, SteadyKind, TransitionKind
 
@@ -169,34 +169,6 @@ def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     return rows
 
 
-#: Contacts (and loops on the stop) past which the readout says what a deformable stop's
-#: error over them was measured to be: the preset's figure is per contact (the paper's
-#: scenes, tens of contacts); over a long train each contact's small error in its timing
-#: adds to the next, and so does each loop's over hundreds of loops inside one contact
-#: (docs/contact-law.md).
-MANY_CONTACTS = 50
-#: The largest error measured against a tight reference, over the scale, at t_end = 100 and
-#: the standard preset, where no reduced model took over (a model's own bound is stated
-#: beside it) and the mass does not rest, on the 80 pressed stops of
-#: benchmarks/hysteretic_speed.py: 6.3e-9 under either law (k_c0 = 100, beta = 100, D = 1;
-#: benchmarks/results/hysteretic_speed_2026-11-27g.txt), 3.8e-9 on Fig. 10's train by
-#: t = 1000. It was 1.1e-4 (the phase of hundreds of contacts) before the contacts of a
-#: train were kept on their first integral (core/hysteretic_contact.py), and 3.5e-6 under
-#: the passive law until its contacts were kept there too.
-MANY_CONTACTS_ERROR = 1e-8
-#: The same for runs that end at rest on the stop with no reduced model: the rule for rest
-#: (core.hysteretic.REST_AMPLITUDE_PER_RTOL) declares it once the loops left swing within
-#: 10 rtol of the scale in the position and 100 rtol in the velocity, and they die out
-#: from there: 1e-6 at standard. Measured 2.2e-8 to 1.9e-7 at horizons 0.05 to 3 past the
-#: rest of k_c0 = 100, beta = 1000, D = 0.01 (t ~ 199). (When rest was read on the
-#: position alone, loops on stiff stops were left swinging at omega times 10 rtol in the
-#: velocity: 4.6e-6 of the scale one time unit past a rest at k_c0 = 1e4, where 4e-7, the
-#: figure measured at t = 100 only, was quoted.)
-MANY_CONTACTS_REST_ERROR = 1e-6
-#: The horizon of that measurement (dimensionless time).
-MANY_CONTACTS_T_END = 100.0
-
-
 #: Transitions at which a rigid stop gives the mass an impulse (Newton's law).
 RIGID_IMPACTS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
 
@@ -238,53 +210,39 @@ def _logged(res, kind: TransitionKind) -> int:
 
 
 def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
-    """What the run's accuracy is, as far as it is known: rounding for a closed form; for a
-    numerical method the preset's measured error, and for a deformable stop how it grows
-    with the contacts and what a reduced model's stated bound is (times in the page's
-    units)."""
-    time_unit = " s" if scales.si else ""
-    if sol.method == "exact" and (sol.stop is None or sol.values["stop_type"] == "rigid"):
+    """What the run's accuracy is, as far as it is known: rounding for a closed form, else
+    the error measured for this run against the exact solution, or that it was not
+    measured and why. No preset's figure is quoted in its place: none holds on random
+    scenes (:data:`app.solver.ACCURACY`). Where a reduced model took over, when (in the
+    page's units): its error is in the measured one."""
+    if not integrates(sol.method, sol.stop):
         return "closed form, rounding only"
     if sol.error_measured:
-        return (f"{_num(sol.error_estimate)} relative, measured against "
+        text = (f"{_num(sol.error_estimate)} relative, measured against "
                 f"{reference_name(sol.stop)} ({sol.values['accuracy']})")
-    text = f"~{_num(sol.error_estimate)} relative ({sol.values['accuracy']})"
-    if sol.measure_skipped:
-        return (f"{text}, the preset's expected error: not measured for this run (the exact "
-                "solve it is measured against would have made the answer late; 'Measure the "
-                "trade' measures it)")
+    elif sol.preview:
+        text = "preview, not measured"
+    elif sol.measure_skipped:
+        text = ("not measured for this run (the exact solve it is measured against would "
+                "have made the answer late; 'Measure the trade' measures it)")
+    else:  # a run with no motion to compare (it stopped at its start)
+        text = "not measured for this run"
+    return text + _reduced_text(sol, scales)
+
+
+def _reduced_text(sol: Solution, scales: Scales) -> str:
+    """Where a reduced model took over a deformable stop's run, and its time of rest."""
     res = sol.result
-    if res is None or not isinstance(sol.stop, HystereticStop):
-        return text
-    contacts = contact_count(res, len(sol.restitution_measured))
-    # Loops on the stop: the reversals beyond each contact's one, two per loop.
-    loops = max(_logged(res, TransitionKind.REVERSAL) - _logged(res, TransitionKind.CONTACT),
-                0) // 2
-    if contacts + loops > MANY_CONTACTS:
-        what = (f"{contacts} contacts" if loops <= MANY_CONTACTS else
-                f"{contacts} contact{'s' if contacts != 1 else ''} and {loops} loops on the "
-                "stop")
-        # A rest the rule declared (a REST transition), not loops still dying at the horizon.
-        at_rest = any(t.kind is TransitionKind.REST for t in res.transitions[-2:])
-        if at_rest:
-            text += (f" per contact; over {what} within {_num(MANY_CONTACTS_REST_ERROR)} of "
-                     "the scale at standard (at rest: the rule for rest leaves loops within "
-                     "it)")
-        else:
-            text += (f" per contact; over {what} measured within "
-                     f"{_num(MANY_CONTACTS_ERROR)} of the scale by t = "
-                     f"{_num(MANY_CONTACTS_T_END * scales.time, time_unit)} at standard "
-                     "(their timing errors add up over longer runs)")
+    if res is None:
+        return ""
     reduced = [t.t for t in res.transitions if t.kind is TransitionKind.REDUCED]
-    if reduced:
-        # The core states the bound as a length: over its scale, as the preset's error is.
-        bound = res.info.get("reduced_error", math.nan) / res.info.get("length_scale", math.nan)
-        text += (f"; from t = {_num(reduced[0] * scales.time, time_unit)} a reduced model, "
-                 "its stated error "
-                 f"<= {_num(bound)} of the scale")
-        rest_error = res.info.get("rest_time_error")
-        if rest_error is not None:
-            text += f"; its time of rest within ±{_num(rest_error * scales.time, time_unit)}"
+    if not reduced:
+        return ""
+    time_unit = " s" if scales.si else ""
+    text = f"; from t = {_num(reduced[0] * scales.time, time_unit)} a reduced model"
+    rest_error = res.info.get("rest_time_error")
+    if rest_error is not None:
+        text += f"; its time of rest within ±{_num(rest_error * scales.time, time_unit)}"
     return text
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from app.readout import readout_rows
-from app.solver import ACCURACY, solve
+from app.solver import solve
 from app.state import DIMENSIONLESS, ExplorerState, scene_values
 
 
@@ -71,15 +71,14 @@ def test_the_restitution_of_deformable_contacts_is_shown_first_to_last():
 
 def test_the_last_restitution_is_the_run_s_last_contact_when_few_are_stored():
     """A stiffer stop of scene 11: a train of 477 contacts, most laid out by its map and only
-    the first 39 stored. The readout said '0.9999 at the last of 39' beside 'over 477
-    contacts' in the same readout: the last is the run's last contact, counted in the run."""
+    the first 39 stored. The readout said '0.9999 at the last of 39' where the run had 477
+    contacts: the last is the run's last contact, counted in the run."""
     sol = solve({**scene_values("11"), "k_c0": 1e4, "k_e0": 900.0}, budget=120.0)
     info, measured = sol.result.info, sol.restitution_measured
     assert info["n_contacts"] > len(measured) > 1
     row = dict(readout_rows(sol))["Restitution"]
     assert (f"{info['effective_restitution']:.4g} at the last of {info['n_contacts']};"
             in row)
-    assert f"over {info['n_contacts']} contacts" in dict(readout_rows(sol))["Solve"]
 
 
 def test_the_readout_names_the_contact_law_of_a_deformable_stop():
@@ -97,25 +96,106 @@ def test_the_readout_names_the_contact_law_of_a_deformable_stop():
     assert "Contact law" not in dict(readout_rows(solve(scene_values("5a"))))
 
 
-def test_a_deformable_stop_s_accuracy_says_how_it_grows_and_where_a_model_took_over():
-    """The preset's error is per contact: over a long train the readout says what was
-    measured over many contacts and that their timing errors add up over longer runs (it
-    said "measured up to 1.1e-4" while a train's contacts were not kept on their first
-    integral); a run that a reduced model finished states that model's bound and where it
-    began."""
-    from app.readout import MANY_CONTACTS, MANY_CONTACTS_ERROR
+#: Random deformable stops of benchmarks/accuracy_claims.py (family contact, t_end = 100,
+#: seeds 26 and 35), solved by the exact method at the standard preset.
+LIMIT_OVERLAP_STOP = {
+    "mu_s": 0.5805536306519423, "mu_k": 0.018489474194868922, "u_s": 2.319396128973925,
+    "belt_speed": 0.0010095521436613963, "x0": 1.420133391253855, "v0": 0.8917749757598559,
+    "restitution": 0.8853634797211117, "clearance": 1.4608960347554005,
+    "k_c0": 20.259167234623348, "k_e0": 15.00283594042335,
+    "limit_overlap": 0.010831924376439261, "beta_c": 137.90059042090738,
+    "beta_e": 319.16249429910573}
+SENSITIVE_STOP = {
+    "mu_s": 0.8109951840245467, "mu_k": 0.4568925782296258, "u_s": 0.4801923168388428,
+    "belt_speed": 0.23926521895448094, "x0": -0.5741605721456656, "v0": -1.0726151081200772,
+    "restitution": 0.3053945023631198, "clearance": -0.33865220679309493,
+    "k_c0": 17.59381808655023, "k_e0": 15.406345444663064,
+    "limit_overlap": 0.1219000376534174, "beta_c": 17.498198981927032,
+    "beta_e": 18.894749138582092}
+
+
+def _deformable(stop: dict, **extra) -> dict:
+    return {**scene_values("10"), **stop, "t_end": 100.0, "accuracy": "standard", **extra}
+
+
+def _independent_error(sol) -> float:
+    """The run's largest distance from the exact method at rtol 1e-12 at its samples, over
+    the reference's amplitude, computed here (app.solver's measure, not called)."""
+    from core import simulate
+
+    res = sol.result
+    ref = simulate(sol.osc, sol.stop, float(res.t[-1]), sol.x0, sol.v0, method="exact",
+                   n_samples=2, rtol=1e-12, atol=1e-14)
+    assert "reduced_error" not in ref.info  # no model's bound to add
+    t = np.minimum(np.asarray(res.t, float), float(ref.t[-1]))
+    x_ref, _ = ref.evaluate(t)
+    return float(np.max(np.abs(np.asarray(res.x) - x_ref)) / np.max(np.abs(x_ref - x_ref.mean())))
+
+
+@pytest.mark.parametrize("stop", [None, SENSITIVE_STOP], ids=["scene-10", "random-35"])
+def test_a_deformable_stop_s_exact_run_has_its_error_measured(stop):
+    """The readout quoted the preset's figure for the exact method's integrated contact
+    ("~1e-06 relative (standard)", and "per contact; over N contacts measured within 1e-08
+    of the scale" on long trains): on random stops it was exceeded up to 2.4e-2 at standard
+    (benchmarks/results/accuracy_claims.md). The run's error is now measured, as a
+    numerical method's is, and the readout states that number."""
+    values = _deformable(stop) if stop else {**scene_values("10"), "t_end": 300.0}
+    sol = solve(values, budget=120.0)
+    assert sol.method == "exact" and sol.error_measured
+    # Both are the same maximum over the same samples: equal to rounding.
+    assert sol.error_estimate == pytest.approx(_independent_error(sol), rel=1e-6)
+    text = dict(readout_rows(sol))["Solve"]
+    assert (f"accuracy {sol.error_estimate:.4g} relative, measured against the exact method "
+            "at rtol 1e-12 (standard)") in text
+    assert "~" not in text and "per contact" not in text
+
+
+def test_a_run_that_ends_at_the_limit_overlap_is_measured():
+    """The stop's limit overlap is reached after one contact, by the run and by the exact
+    reference, which ends there 1e-15 earlier: the run's last sample lay outside it, its
+    error was "nan" (the page then quoted the preset's figure for a numerical method). The
+    samples past the reference's end are compared with its last position."""
+    from app.solver import reference_error
+    from core import simulate
+
+    sol = solve(_deformable(LIMIT_OVERLAP_STOP), budget=120.0)
+    res = sol.result
+    assert res.status.name == "LIMIT_OVERLAP"
+    ref = simulate(sol.osc, sol.stop, float(res.t[-1]), sol.x0, sol.v0, method="exact",
+                   n_samples=2, rtol=1e-12, atol=1e-14)
+    assert ref.status.name == "LIMIT_OVERLAP" and float(ref.t[-1]) < float(res.t[-1])
+    assert reference_error(res, ref) == pytest.approx(_independent_error(sol), rel=1e-6)
+    assert sol.error_measured
+    assert sol.error_estimate == pytest.approx(_independent_error(sol), rel=1e-6)
+
+
+def test_a_preview_or_an_unmeasured_run_quotes_no_figure():
+    """A preview (draft, while a slider is dragged) quoted "~0.001 relative (draft)", and a
+    run whose measurement did not fit in its budget the preset's "expected error": figures
+    exceeded on random scenes. They now say that the error was not measured."""
+    import dataclasses
+    import re
+
+    for key, method in (("10", "auto"), ("10", "switch"), ("7c", "event")):
+        values = {**scene_values(key), "method": method}
+        preview = dict(readout_rows(solve(values, preview=True)))["Solve"]
+        assert preview.endswith("accuracy preview, not measured"), preview
+        full = solve(values, budget=120.0)
+        skipped = dataclasses.replace(full, error_measured=False, measure_skipped=True,
+                                      error_estimate=1e-6, reference_steady=None)
+        text = dict(readout_rows(skipped))["Solve"].split("accuracy ", 1)[1]
+        assert text.startswith("not measured for this run")
+        assert not re.search(r"\d", text), text  # no number at all
+    assert dict(readout_rows(solve(scene_values("7c"), preview=True)))["Solve"].endswith(
+        "closed form, rounding only")
+
+
+def test_a_reduced_model_s_start_is_said_in_the_page_s_units():
+    """An oscillation on a soft stop that dies out: a reduced model takes over. The readout
+    says from when (in seconds in SI units: it said "from t = 8.9" beside a time axis in
+    seconds); its error is in the one measured for the run."""
     from core import TransitionKind
 
-    short = solve(scene_values("10"))
-    assert short.result.info["n_contacts"] <= MANY_CONTACTS
-    assert "add up" not in dict(readout_rows(short))["Solve"]
-    long = solve({**scene_values("10"), "t_end": 1000.0}, budget=120.0)
-    contacts = max(long.result.info["n_contacts"], len(long.restitution_measured))
-    assert contacts > MANY_CONTACTS
-    row = dict(readout_rows(long))["Solve"]
-    assert f"over {contacts} contacts measured within {MANY_CONTACTS_ERROR:.4g} of the" in row
-    assert "timing errors add up over longer runs" in row
-    # An oscillation on a soft stop that dies out: a reduced model takes over.
     values = {**scene_values("10"), "mu_s": 0.45, "mu_k": 0.3, "belt_speed": 0.25,
               "u_s": 2.0, "clearance": 0.42, "k_c0": 1e3, "k_e0": 500.0,
               "limit_overlap": 0.01, "beta_c": 100.0, "beta_e": 100.0, "t_end": 100.0}
@@ -124,19 +204,10 @@ def test_a_deformable_stop_s_accuracy_says_how_it_grows_and_where_a_model_took_o
     assert switch
     row = dict(readout_rows(sol))["Solve"]
     assert f"from t = {switch[0]:.4g} a reduced model" in row
-    # The bound over the length scale max(a, b, v, x_bar, D) = b = 0.9 (it was quoted as a
-    # length and called a fraction of the scale).
-    info = sol.result.info
-    assert info["length_scale"] == pytest.approx(0.45 * 2.0)
-    assert f"<= {info['reduced_error'] / 0.9:.4g} of the scale" in row
-    # In SI units the times are seconds, t = tau / omega (the row said "from t = 8.9"
-    # beside a time axis in seconds).
     state = ExplorerState(units="SI", mass=2.0, stiffness=50.0)
     omega = 5.0
     si_row = dict(readout_rows(sol, state.scales()))["Solve"]
     assert f"from t = {switch[0] / omega:.4g} s a reduced model" in si_row
-    assert f"by t = {100.0 / omega:.4g} s at standard" in dict(
-        readout_rows(long, state.scales()))["Solve"]
 
 
 def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
@@ -199,64 +270,6 @@ def test_a_contact_that_has_not_ended_gives_no_restitution():
     assert "last of 2" not in text
 
 
-@pytest.mark.parametrize("law", ["paper", "passive"])
-def test_the_many_contacts_figure_holds_on_fig_10_s_train(law):
-    """What the readout quotes over many contacts is measured: Fig. 10's train of 160
-    contacts by t = 1000 at the standard preset, against every contact followed at rtol
-    1e-11 (which moves by 4e-10 at 1e-12), ends 3.8e-9 of the scale away (3.6e-9 with the
-    passive law); it was 8.9e-6 while the contacts' separation speeds were integrated at
-    the preset. The figure is quoted whatever the law."""
-    from app.readout import MANY_CONTACTS, MANY_CONTACTS_ERROR
-    from app.state import core_inputs
-    from core.hysteretic import simulate_hysteretic
-
-    values = {**scene_values("10"), "t_end": 1000.0, "contact_law": law}
-    sol = solve(values, budget=120.0)
-    res = sol.result
-    assert res.info["law"] == law
-    assert res.info["n_contacts"] > MANY_CONTACTS
-    osc, stop, x0, v0, t_end = core_inputs(values)
-    ref = simulate_hysteretic(osc, stop, t_end, x0, v0, rtol=1e-11, atol=1e-14, reduce=False,
-                              n_samples=10, transition_cap=10)
-    # the length scale the core's tolerances are relative to (info["length_scale"])
-    scale = max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap)
-    error = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
-    assert error < MANY_CONTACTS_ERROR
-
-
-def test_a_rest_on_the_stop_quotes_the_error_measured_for_rests():
-    """A mass pressed on a soft stop (k_c0 = 100, beta = 1000, D = 0.01) rests at t = 198.8
-    after ~2,500 loops, with no reduced model. The readout quoted "measured within 4e-07
-    of the scale by t = 100", a figure measured at t = 100 only: one time unit past a rest
-    on a sharper stop the state was 4.6e-6 away, the loops left at rest still swinging at
-    omega times the rest amplitude in the velocity. Rest now waits for the velocity's
-    swing too, and the readout quotes what the rule for rest leaves, which holds here
-    (4.5e-8, above the figure measured for runs that do not rest)."""
-    from app.readout import MANY_CONTACTS_ERROR, MANY_CONTACTS_REST_ERROR
-    from app.state import core_inputs
-    from core import SteadyKind
-    from core.hysteretic import simulate_hysteretic
-
-    values = {**scene_values("11"), "mu_s": 0.45, "mu_k": 0.30, "belt_speed": 0.25,
-              "u_s": 2.0, "clearance": 0.42, "k_c0": 100.0, "k_e0": 50.0,
-              "limit_overlap": 0.01, "beta_c": 1000.0, "beta_e": 1000.0, "t_end": 200.0,
-              "x0": 0.0, "v0": 0.0}
-    sol = solve(values, budget=120.0)
-    res = sol.result
-    assert res.steady.kind is SteadyKind.REST
-    assert res.transitions[-1].kind.value == "rest"
-    assert not any(t.kind.value == "reduced" for t in res.transitions)
-    solve_row = dict(readout_rows(sol))["Solve"]
-    assert f"within {MANY_CONTACTS_REST_ERROR:.4g} of the scale at standard" in solve_row
-    assert "at rest: the rule for rest leaves loops within it" in solve_row
-    osc, stop, x0, v0, t_end = core_inputs(values)
-    ref = simulate_hysteretic(osc, stop, t_end, x0, v0, rtol=1e-11, atol=1e-14, reduce=False,
-                              n_samples=10, transition_cap=10)
-    scale = max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap)
-    error = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
-    assert MANY_CONTACTS_ERROR < error < MANY_CONTACTS_REST_ERROR
-
-
 def test_an_inelastic_restitution_is_not_printed_as_one():
     """``?scene=7c&r=0.999999`` printed "r = 1" in the x* row beside "inelastic impact"."""
     rows = dict(readout_rows(solve(scene_values("7c") | {"restitution": 0.999999})))
@@ -289,7 +302,6 @@ def test_a_numerical_method_s_error_is_measured_for_the_run(key, extra, referenc
     x_ref, _ = ref.evaluate(np.asarray(res.t, float))
     error = np.max(np.abs(np.asarray(res.x) - x_ref)) / np.max(np.abs(x_ref - x_ref.mean()))
     assert sol.error_estimate == pytest.approx(error, rel=1e-6)
-    assert error > ACCURACY["standard"]["error"][sol.method]  # the table said less
     text = dict(readout_rows(sol))["Solve"]
     assert f"measured against {reference}" in text
 
