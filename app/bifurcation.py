@@ -127,6 +127,7 @@ SIM_MAP_CELLS = {"closed": 128, "integrated": 16}
 LABEL_COLORS: Mapping[str, str] = {
     "periodic": "#1f5fbf", "grazing": "#e07b00", "rest": "#2ca02c", "equilibrium": "#6a3d9a",
     "pure_slip": "#c8102e", "contact_train": "#8c564b", "none": "#7f7f7f",
+    "oscillation": "#17becf",
 }
 #: Colour and opacity of the cells where simulation and theory disagree.
 DISAGREE_RGBA = (200, 16, 46, 220)

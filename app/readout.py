@@ -138,7 +138,8 @@ def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     th, res = sol.theory, sol.result
     vel_unit = " m/s" if scales.si else ""
     time_unit = " s" if scales.si else ""
-    steady = res.steady.describe(scales.time, time_unit, scales.velocity, vel_unit)
+    len_unit = " m" if scales.si else ""
+    steady = res.steady.describe(scales.time, time_unit, scales.velocity, vel_unit, len_unit)
     rest_error = res.info.get("rest_time_error")
     if res.steady.kind is SteadyKind.REST and rest_error is not None:
         # A modelled rest's time is known to its stated bound, not to six digits.
@@ -157,7 +158,7 @@ def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     if ref is not None and ref.kind is not res.steady.kind:
         # A method can change the verdict: said beside it, not left to the trade table.
         rows.append(("The exact method finds",
-                     f"{ref.describe(scales.time, time_unit, scales.velocity, vel_unit)}"
+                     f"{ref.describe(scales.time, time_unit, scales.velocity, vel_unit, len_unit)}"
                      f" (over the same span; the {sol.method} method finds the steady "
                      "state above)"))
     if th is not None and th.regime.expected_steady != res.steady.kind.value:

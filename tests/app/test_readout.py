@@ -333,3 +333,22 @@ def test_a_modelled_rest_says_how_well_its_time_is_known():
     # The steady row gives the time to the digits the bound allows, not to six.
     assert (rows["Steady state found"]
             == f"rest at the stop (from t = {_num(t_rest)} ± {bound}, by a reduced model)")
+
+
+def test_loops_still_swinging_on_the_stop_are_said_with_their_amplitude_in_the_units_shown():
+    """Scene 11 at t_end = 80: the loops on the stop still swing by ~6e-8 in x, twice what
+    the rule for rest lets rest at the standard preset. The readout said "rest at the
+    stop, approached asymptotically"; it now says how far they swing there, lengths in m
+    and speeds in m/s in SI, and that the rigid stop's theory expects rest."""
+    sol = solve(scene_values("11"))
+    steady = sol.result.steady
+    rows = dict(readout_rows(sol, DIMENSIONLESS))
+    found = rows["Steady state found"]
+    assert found.startswith("oscillation on the stop, dying out but not yet at rest")
+    assert f"amplitude {steady.amplitude:.3g} in x" in found
+    assert rows["Theory expects"].startswith("rest")
+    si = ExplorerState(units="SI", mass=1.0, stiffness=400.0).scales()  # omega = 20 rad/s
+    found = dict(readout_rows(sol, si))["Steady state found"]
+    assert f"amplitude {steady.amplitude:.3g} m in x" in found
+    assert f"{steady.velocity_amplitude * 20.0:.3g} m/s in x'" in found
+    assert f"period {steady.period / 20.0:.4g} s" in found
