@@ -103,8 +103,10 @@ class Steady:
         of the run; ``nan`` otherwise.
     amplitude, velocity_amplitude : float
         Oscillation on the stop: half the range of ``x`` and of ``x'`` over its last cycle
-        before ``t_end`` (``period``), above what the rule for rest lets rest (``rest_amplitude``,
-        ``rest_velocity``); ``nan`` otherwise.
+        before ``t_end`` (``period``); ``nan`` otherwise.
+    rest_amplitude, rest_velocity : float
+        Oscillation on the stop: the swings of ``x`` and ``x'`` the rule for rest lets rest
+        (``core.hysteretic_reduced.rest_swing``), one of which it exceeds; ``nan`` otherwise.
     """
 
     kind: SteadyKind
@@ -179,10 +181,12 @@ class Steady:
                               velocity_scale: float, velocity_unit: str,
                               length_unit: str) -> str:
         half = self.halving_time
-        decay = ("not shrinking at the end of the run" if not math.isfinite(half) else
-                 f"shrinking by {100.0 * (1.0 - self.decay_rate):.2g} % per cycle (halving "
-                 f"in ~{half * time_scale:.3g}{time_unit} at that rate)")
-        return (f"oscillation on the stop, dying out but not yet at rest: amplitude "
+        shrinks = math.isfinite(half)
+        decay = (f"shrinking by {100.0 * (1.0 - self.decay_rate):.2g} % per cycle (halving "
+                 f"in ~{half * time_scale:.3g}{time_unit} at that rate)" if shrinks
+                 else "not shrinking at the end of the run")
+        return (f"oscillation on the stop, {'dying out but ' if shrinks else ''}"
+                f"not yet at rest: amplitude "
                 f"{self.amplitude:.3g}{length_unit} in x and "
                 f"{self.velocity_amplitude * velocity_scale:.3g}{velocity_unit} in x' at t_end "
                 f"(rest: below {self.rest_amplitude:.3g}{length_unit} and "
