@@ -69,7 +69,7 @@ class SteadyKind(str, enum.Enum):
     CONTACT_TRAIN = "contact_train"  # contacts of shrinking amplitude (deformable stop)
     NONE = "none"  # nothing found within the horizon
     # (last: a sweep stores the kinds by their place here)
-    OSCILLATION = "oscillation"  # loops on a deformable stop still swinging at t_end, dying out
+    OSCILLATION = "oscillation"  # loops on a deformable stop swinging at t_end, shrinking
 
     def __str__(self) -> str:
         return self.value
@@ -181,14 +181,12 @@ class Steady:
                               velocity_scale: float, velocity_unit: str,
                               length_unit: str) -> str:
         half = self.halving_time
-        shrinks = math.isfinite(half)
         decay = (f"shrinking by {100.0 * (1.0 - self.decay_rate):.2g} % per cycle (halving "
-                 f"in ~{half * time_scale:.3g}{time_unit} at that rate)" if shrinks
-                 else "not shrinking at the end of the run")
-        return (f"oscillation on the stop, {'dying out but ' if shrinks else ''}"
-                f"not yet at rest: amplitude "
+                 f"in ~{half * time_scale:.3g}{time_unit} at that rate)"
+                 if math.isfinite(half) else "not shrinking at the end of the run")
+        return (f"oscillation on the stop, not at rest at t_end: amplitude "
                 f"{self.amplitude:.3g}{length_unit} in x and "
-                f"{self.velocity_amplitude * velocity_scale:.3g}{velocity_unit} in x' at t_end "
+                f"{self.velocity_amplitude * velocity_scale:.3g}{velocity_unit} in x' "
                 f"(rest: below {self.rest_amplitude:.3g}{length_unit} and "
                 f"{self.rest_velocity * velocity_scale:.3g}{velocity_unit}), period "
                 f"{self.period * time_scale:.4g}{time_unit}, {decay}")

@@ -344,7 +344,7 @@ def test_loops_still_swinging_on_the_stop_are_said_with_their_amplitude_in_the_u
     steady = sol.result.steady
     rows = dict(readout_rows(sol, DIMENSIONLESS))
     found = rows["Steady state found"]
-    assert found.startswith("oscillation on the stop, dying out but not yet at rest")
+    assert found.startswith("oscillation on the stop, not at rest at t_end: amplitude")
     assert f"amplitude {steady.amplitude:.3g} in x" in found
     assert rows["Theory expects"].startswith("rest")
     si = ExplorerState(units="SI", mass=1.0, stiffness=400.0).scales()  # omega = 20 rad/s
