@@ -40,7 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from core.hysteresis import ElasticLimit, elastic_limit, stored_energy
-from core.hysteretic_reduced import rest_swing
+from core.hysteretic_reduced import rest_swing_of
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
@@ -722,12 +722,11 @@ def result_from_track(
         pressed=facts.pressed,
         limit=elastic_limit(osc.a, c, stop) if soft and osc.v > 0.0 else None,
         lossless=soft and stop.law == "passive",
-        # the hysteretic solver's rule for rest at the same rtol on its length scale
-        # (core.hysteretic._Solver.scale); not the switch model's stick band (model_rtol,
-        # ~1e-3 at the standard preset): its loops on the stop never stick, and it follows
-        # Fig. 11's to 1e-2 of their 6e-8 amplitude at t = 80, as the event method does
-        rest_swing=rest_swing(rtol, 0.0, max(
-            osc.a, osc.b, osc.v, abs(c), stop.limit_overlap)) if soft else None,
+        # the hysteretic solver's rule for rest at the same rtol; not the switch model's
+        # stick band (model_rtol, ~1e-3 at the standard preset): its loops on the stop never
+        # stick, and it follows Fig. 11's to 1e-2 of their 6e-8 amplitude at t = 80, as the
+        # event method does
+        rest_swing=rest_swing_of(osc, stop, rtol, 0.0) if soft else None,
         belt_speed=osc.v,
         x_upper=c if facts.rigid else None,
         **result,

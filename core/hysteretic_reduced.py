@@ -640,6 +640,13 @@ def rest_swing(rtol: float, atol: float, scale: float) -> tuple[float, float]:
     return rest, REST_SPEED_PER_AMPLITUDE * rest
 
 
+def rest_swing_of(osc, stop, rtol: float, atol: float) -> tuple[float, float]:
+    """:func:`rest_swing` for the oscillator ``osc`` on the deformable ``stop``, on the
+    solver's length scale ``max(a, b, v, |x_bar|, D)`` (``core.hysteretic._Solver.scale``)."""
+    scale = max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap, 1e-300)
+    return rest_swing(rtol, atol, scale)
+
+
 def creep_left(ts, xs, t_end: float) -> float:
     """How far the centre of the last loops (reversal times ``ts``, positions ``xs``) would
     creep by ``t_end`` at its present rate per cycle. The paper's loops creep: on a soft

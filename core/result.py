@@ -132,6 +132,15 @@ class Steady:
             return math.inf
         return self.period * math.log(2.0) / -math.log(self.decay_rate)
 
+    def at_rest_within(self, rest_amplitude: float, rest_velocity: float) -> bool:
+        """Rest, or an oscillation on the stop whose swing at ``t_end`` is within these
+        swings of the position and velocity: at rest by a looser rule for rest than the one
+        it was labelled by (a solve at another ``rtol``)."""
+        if self.kind is SteadyKind.REST:
+            return True
+        return (self.kind is SteadyKind.OSCILLATION and self.amplitude <= rest_amplitude
+                and self.velocity_amplitude <= rest_velocity)
+
     def describe(self, time_scale: float = 1.0, time_unit: str = "",
                  velocity_scale: float = 1.0, velocity_unit: str = "",
                  length_unit: str = "") -> str:
