@@ -380,7 +380,9 @@ _SCENE_LIST = (
     _scene(
         "11", "Fig. 11: hysteretic stop, slow belt, x_bar <= a",
         "Compare with Fig. 7d: the mass stays pressed on the stop and the contact force "
-        "tends to k (a - x), a little below k (a - x_bar): the mass rests inside the stop.",
+        "tends to k (a - x), a little below k (a - x_bar): the loops on the stop die out "
+        "and the mass comes to rest inside the stop. The readout says whether they have "
+        "within the accuracy by the end of the run, or how far they still swing.",
         {**_HYST, "belt_speed": V_SLOW_INELASTIC, "clearance": 0.15, "t_end": 80.0},
         HYSTERETIC_PLOTS,
         [SLOW, ("x_bar <= a", lambda s: _xb(s) <= _a(s))],

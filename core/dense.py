@@ -40,6 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from core.hysteresis import ElasticLimit, elastic_limit, stored_energy
+from core.hysteretic_reduced import rest_swing_of
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
@@ -57,6 +58,7 @@ from core.solve_inputs import SolveInputs, StopFacts
 from core.steady import (
     FIXED_POINT_RTOL,
     FixedPointDetector,
+    SwingProbe,
     impacts_lose,
     pressed_steady,
     train_loses,
@@ -206,6 +208,7 @@ def steady_from_transitions(
     pressed: bool = False,
     limit: ElasticLimit | None = None,
     lossless: bool = False,
+    probe: SwingProbe | None = None,
 ) -> Steady:
     """The steady state read off the most recent transitions (``docs/physics.md``).
 
@@ -228,6 +231,9 @@ def steady_from_transitions(
         The belt presses the mass on the stop (:func:`core.steady.pressed_on_stop`). No
         slip circle grazes the stop then, so impacts of vanishing speed are rest at the
         stop and, without a fixed point, :func:`core.steady.pressed_steady` decides.
+    probe : SwingProbe, optional
+        The solution at the horizon, for :func:`core.steady.pressed_steady` to tell rest
+        from loops still swinging there.
 
     Returns
     -------
@@ -258,7 +264,7 @@ def steady_from_transitions(
     if periodic is not None:
         return periodic
     if pressed:
-        return pressed_steady(tail, lossless=lossless)
+        return pressed_steady(tail, lossless=lossless, probe=probe)
     falling = _falling_contacts(tail)
     if falling == "rest":
         return Steady(SteadyKind.REST, impact_speed=0.0, t_reached=math.nan)
@@ -471,6 +477,7 @@ def result_from_dense(
     pressed: bool = False,
     limit: ElasticLimit | None = None,
     lossless: bool = False,
+    rest_swing: tuple[float, float] | None = None,
     belt_speed: float = math.nan,
     x_max: float | None = None,
     x_upper: float | None = None,
@@ -538,6 +545,10 @@ def result_from_dense(
         The belt presses the mass on the stop (see :func:`steady_from_transitions`).
     limit, lossless : optional
         A deformable stop's law (see :func:`steady_from_transitions`).
+    rest_swing : (float, float), optional
+        The swing of the position and of the velocity within which loops on a pressed
+        deformable stop are at rest (:func:`core.hysteretic_reduced.rest_swing`): loops
+        still swinging more at the horizon are an oscillation, not rest (needs ``dense``).
     belt_speed : float
         ``v`` (for the belt's work).
     x_max : float, optional
@@ -649,8 +660,9 @@ def result_from_dense(
         scale = _state_scale(x, v, belt_speed)
         steady_rtol = (max(STEADY_TOL_PER_RTOL * rtol, model_rtol, STEADY_TOL_FLOOR)
                        if steady_tol is None else steady_tol / scale)
+        probe = _swing_probe(dense, t_stop, rest_swing) if pressed else None
         steady = _steady_of(log, t, x, v, mode, scale, steady_rtol, t_stop, pressed, limit,
-                            lossless)
+                            lossless, probe)
 
     return Result(
         t=ts,
@@ -710,10 +722,24 @@ def result_from_track(
         pressed=facts.pressed,
         limit=elastic_limit(osc.a, c, stop) if soft and osc.v > 0.0 else None,
         lossless=soft and stop.law == "passive",
+        # the hysteretic solver's rule for rest at the same rtol; not the switch model's
+        # stick band (model_rtol, ~1e-3 at the standard preset): its loops on the stop never
+        # stick, and it follows Fig. 11's to 1e-2 of their 6e-8 amplitude at t = 80, as the
+        # event method does
+        rest_swing=rest_swing_of(osc, stop, rtol, 0.0) if soft else None,
         belt_speed=osc.v,
         x_upper=c if facts.rigid else None,
         **result,
     )
+
+
+def _swing_probe(dense: DenseSolution | None, t_stop: float,
+                 rest_swing: tuple[float, float] | None) -> SwingProbe | None:
+    """The method's interpolant at the horizon against the rule for rest, where there are
+    both."""
+    if dense is None or rest_swing is None:
+        return None
+    return SwingProbe(lambda t: dense.evaluate(t, -1), t_stop, *rest_swing)
 
 
 def _state_scale(x: np.ndarray, v: np.ndarray, belt_speed: float) -> float:
@@ -738,6 +764,7 @@ def _steady_of(
     pressed: bool,
     limit: ElasticLimit | None,
     lossless: bool,
+    probe: SwingProbe | None = None,
 ) -> Steady:
     """The steady state of dense points ``(t, x, v, mode)`` and their transitions."""
     n = len(t)
@@ -760,6 +787,7 @@ def _steady_of(
         pressed=pressed,
         limit=limit,
         lossless=lossless,
+        probe=probe,
     )
 
 

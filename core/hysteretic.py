@@ -132,12 +132,14 @@ from core.hysteretic_base import (
 from core.hysteretic_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
 from core.hysteretic_map import map_train
 from core.hysteretic_reduced import (
+    REST_AMPLITUDE_PER_RTOL,  # noqa: F401 (the rule's constant, read from here too)
     advance_train,
     creep_end,
     fit_train,
     reduce_extent,
     reduce_oscillation,
     rest_rule,
+    rest_swing,
     rest_swing_factor,
 )
 from core.hysteretic_samples import _assemble
@@ -160,16 +162,6 @@ EQUILIBRIUM_XTOL = 1e-16
 
 #: Relative tolerance of brentq's roots (its smallest allowed value).
 ROOT_RTOL = 4.0 * np.finfo(float).eps
-
-
-#: Overlap reversals of a sustained contact whose swing falls below this multiple of
-#: ``rtol`` (times the length scale; ``atol`` at least) in the position, and below ten
-#: times that in the velocity (:data:`~core.hysteretic_reduced.REST_SPEED_PER_AMPLITUDE`),
-#: are the limit of rest at the stop: the mass is pressed on the stop, and rest is
-#: declared at the equilibrium. The rest state then differs from the motion by less than
-#: ``10 rtol`` in the position and ``100 rtol`` in the velocity, within the error the app
-#: states for each accuracy preset (``~100 rtol``, app/solver.py).
-REST_AMPLITUDE_PER_RTOL = 10.0
 
 
 #: Reversals between two tries of the reduced oscillation: a try fits the decay of the last
@@ -787,7 +779,7 @@ class _Solver:
 
     def rest_amplitude(self) -> float:
         """Amplitude of the overlap oscillation below which the mass rests on the stop."""
-        return REST_AMPLITUDE_PER_RTOL * max(self.rtol * self.scale(), self.atol)
+        return rest_swing(self.rtol, self.atol, self.scale())[0]
 
     def equilibrium(self, branch: Branch, s: int) -> float | None:
         """Position on ``branch`` where the stop holds the mass against friction,

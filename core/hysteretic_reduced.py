@@ -621,6 +621,32 @@ def oscillation_end(sv: _Solver, st: _State, model: Oscillation) -> tuple[float,
 REST_SPEED_PER_AMPLITUDE = 10.0
 
 
+#: Overlap reversals of a sustained contact whose swing falls below this multiple of
+#: ``rtol`` (times the length scale; ``atol`` at least) in the position, and below ten
+#: times that in the velocity (:data:`REST_SPEED_PER_AMPLITUDE`),
+#: are the limit of rest at the stop: the mass is pressed on the stop, and rest is
+#: declared at the equilibrium. The rest state then differs from the motion by less than
+#: ``10 rtol`` in the position and ``100 rtol`` in the velocity, within the error the app
+#: states for each accuracy preset (``~100 rtol``, app/solver.py).
+REST_AMPLITUDE_PER_RTOL = 10.0
+
+
+def rest_swing(rtol: float, atol: float, scale: float) -> tuple[float, float]:
+    """The swing of the position and of the velocity within which loops on the stop are
+    at rest, for a solve at ``rtol``, ``atol`` on the length ``scale``: the rest amplitude
+    :data:`REST_AMPLITUDE_PER_RTOL` ``max(rtol scale, atol)`` and
+    :data:`REST_SPEED_PER_AMPLITUDE` times it."""
+    rest = REST_AMPLITUDE_PER_RTOL * max(rtol * scale, atol)
+    return rest, REST_SPEED_PER_AMPLITUDE * rest
+
+
+def rest_swing_of(osc, stop, rtol: float, atol: float) -> tuple[float, float]:
+    """:func:`rest_swing` for the oscillator ``osc`` on the deformable ``stop``, on the
+    solver's length scale ``max(a, b, v, |x_bar|, D)`` (``core.hysteretic._Solver.scale``)."""
+    scale = max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap, 1e-300)
+    return rest_swing(rtol, atol, scale)
+
+
 def creep_left(ts, xs, t_end: float) -> float:
     """How far the centre of the last loops (reversal times ``ts``, positions ``xs``) would
     creep by ``t_end`` at its present rate per cycle. The paper's loops creep: on a soft

@@ -28,10 +28,11 @@ from core.hysteretic_base import (
     _dpoly,
     _poly,
 )
+from core.hysteretic_reduced import REST_SPEED_PER_AMPLITUDE
 from core.numerics.hermite import hermite_max
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
-from core.steady import pressed_steady, train_steady
+from core.steady import SwingProbe, pressed_steady, train_steady
 from core.trajectory import evaluate
 
 if TYPE_CHECKING:
@@ -486,6 +487,16 @@ def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np
     return stored
 
 
+def swing_probe(sv: _Solver, t_end: float) -> SwingProbe:
+    """The solution at the horizon against the solver's rule for rest
+    (:func:`core.hysteretic_reduced.rest_rule`): a swing of ``rest_amplitude`` in the
+    position and :data:`~core.hysteretic_reduced.REST_SPEED_PER_AMPLITUDE` times it in the
+    velocity."""
+    rest = sv.rest_amplitude()
+    return SwingProbe(HystereticDense(sv, t_end).evaluate, t_end, rest,
+                      REST_SPEED_PER_AMPLITUDE * rest)
+
+
 def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
     """Steady state read off the last transitions when no fixed point was found."""
     if sv.status is not Status.SUCCESS:
@@ -496,7 +507,8 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
         if train is not None:
             return train
         # The passive law's loops of reversals alone retrace their curve: no loss.
-        return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive")
+        return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive",
+                              probe=swing_probe(sv, t_end))
     endless = getattr(sv, "endless", None)
     if endless is not None:
         if endless.mode is Mode.SLIP:

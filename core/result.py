@@ -68,6 +68,8 @@ class SteadyKind(str, enum.Enum):
     PURE_SLIP = "pure_slip"  # a slip circle that never sticks nor impacts
     CONTACT_TRAIN = "contact_train"  # contacts of shrinking amplitude (deformable stop)
     NONE = "none"  # nothing found within the horizon
+    # (last: a sweep stores the kinds by their place here)
+    OSCILLATION = "oscillation"  # loops on a deformable stop swinging at t_end, shrinking
 
     def __str__(self) -> str:
         return self.value
@@ -97,7 +99,14 @@ class Steady:
         state is only approached asymptotically.
     decay_rate : float
         Contact train: measured ratio of successive contacts' approach speeds (``< 1``
-        shrinking); ``nan`` otherwise.
+        shrinking); oscillation: measured ratio of successive cycles' amplitudes at the end
+        of the run; ``nan`` otherwise.
+    amplitude, velocity_amplitude : float
+        Oscillation on the stop: half the range of ``x`` and of ``x'`` over its last cycle
+        before ``t_end`` (``period``); ``nan`` otherwise.
+    rest_amplitude, rest_velocity : float
+        Oscillation on the stop: the swings of ``x`` and ``x'`` the rule for rest lets rest
+        (``core.hysteretic_reduced.rest_swing``), one of which it exceeds; ``nan`` otherwise.
     """
 
     kind: SteadyKind
@@ -108,12 +117,37 @@ class Steady:
     impact_speed: float = math.nan
     t_reached: float = math.nan
     decay_rate: float = math.nan
+    amplitude: float = math.nan
+    velocity_amplitude: float = math.nan
+    rest_amplitude: float = math.nan
+    rest_velocity: float = math.nan
+
+    @property
+    def halving_time(self) -> float:
+        """Oscillation: the time its amplitude takes to halve at the rate measured at the end
+        of the run (``inf`` if it does not shrink there); ``nan`` otherwise."""
+        if self.kind is not SteadyKind.OSCILLATION:
+            return math.nan
+        if not 0.0 < self.decay_rate < 1.0:
+            return math.inf
+        return self.period * math.log(2.0) / -math.log(self.decay_rate)
+
+    def at_rest_within(self, rest_amplitude: float, rest_velocity: float) -> bool:
+        """Rest, or an oscillation on the stop whose swing at ``t_end`` is within these
+        swings of the position and velocity: at rest by a looser rule for rest than the one
+        it was labelled by (a solve at another ``rtol``)."""
+        if self.kind is SteadyKind.REST:
+            return True
+        return (self.kind is SteadyKind.OSCILLATION and self.amplitude <= rest_amplitude
+                and self.velocity_amplitude <= rest_velocity)
 
     def describe(self, time_scale: float = 1.0, time_unit: str = "",
-                 velocity_scale: float = 1.0, velocity_unit: str = "") -> str:
+                 velocity_scale: float = 1.0, velocity_unit: str = "",
+                 length_unit: str = "") -> str:
         """One line in words, for the readout; times are shown multiplied by
         ``time_scale`` and followed by ``time_unit`` (e.g. ``1/omega`` and ``" s"``),
-        speeds by ``velocity_scale`` and ``velocity_unit``."""
+        speeds by ``velocity_scale`` and ``velocity_unit``, lengths (the same in both
+        units) followed by ``length_unit``."""
         if self.kind is SteadyKind.PERIODIC:
             seq = " -> ".join(self.sequence)
             return (
@@ -145,9 +179,26 @@ class Steady:
                 "contacts of shrinking amplitude on the stop, approach speed x "
                 f"{self.decay_rate:.6g} per contact"
             )
+        if self.kind is SteadyKind.OSCILLATION:
+            return self._describe_oscillation(time_scale, time_unit, velocity_scale,
+                                              velocity_unit, length_unit)
         if self.kind is SteadyKind.PURE_SLIP:
             return f"pure slip on a circle, period {self.period * time_scale:.6g}{time_unit}"
         return "no steady state found within the horizon"
+
+    def _describe_oscillation(self, time_scale: float, time_unit: str,
+                              velocity_scale: float, velocity_unit: str,
+                              length_unit: str) -> str:
+        half = self.halving_time
+        decay = (f"shrinking by {100.0 * (1.0 - self.decay_rate):.2g} % per cycle (halving "
+                 f"in ~{half * time_scale:.3g}{time_unit} at that rate)"
+                 if math.isfinite(half) else "not shrinking at the end of the run")
+        return (f"oscillation on the stop, not at rest at t_end: amplitude "
+                f"{self.amplitude:.3g}{length_unit} in x and "
+                f"{self.velocity_amplitude * velocity_scale:.3g}{velocity_unit} in x' "
+                f"(rest: below {self.rest_amplitude:.3g}{length_unit} and "
+                f"{self.rest_velocity * velocity_scale:.3g}{velocity_unit}), period "
+                f"{self.period * time_scale:.4g}{time_unit}, {decay}")
 
 
 class Status(str, enum.Enum):

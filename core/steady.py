@@ -9,7 +9,9 @@ For every method (exact, hysteretic, switch, event; docs/physics.md, "Steady sta
   cycle maps into the stored period, with the number of whole periods it moved;
 * :func:`pressed_on_stop`, :func:`rest_force` and :func:`comes_to_rest` decide whether a
   mass that has come to rest at the stop stays there, and with what force;
-  :func:`pressed_steady` labels a pressed mass's motion when no fixed point is found.
+  :func:`pressed_steady` labels a pressed mass's motion when no fixed point is found: rest
+  where its swing at the horizon (:class:`SwingProbe`) is within what the rule for rest
+  lets rest, else an oscillation on the stop with that swing and its decay.
 
 The rule: at the stop ``x = x_bar`` with ``x' = 0`` the mass moves backwards relative to
 a moving belt, so kinetic friction ``+a`` acts and the net force without the stop is
@@ -21,6 +23,7 @@ come back to the stop ever faster (accumulation, ``x_bar < a``) or not (grazing)
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,6 +46,16 @@ SWING_STEADY = 1e-6
 #: Swings (two a cycle) whose change the label of an oscillation on the stop is read from:
 #: four cycles, three ratios of successive cycles.
 SWING_WINDOW = 8
+#: Points per cycle on which the swing at the horizon is measured: the half range of
+#: samples of a sine misses its amplitude by at most ``1 - cos(pi / 256) = 7.5e-5`` of it.
+SWING_POINTS = 256
+#: Cycles an oscillation must have run past its last stored reversals for its decay to be
+#: read from the amplitude there and at the horizon (a reduced model carried it on) rather
+#: than from those reversals: the amplitudes then differ by far more than their sampling.
+SWING_SPAN_CYCLES = 8
+#: ... over enough cycles for the amplitude to change by this fraction: its sampling
+#: (:data:`SWING_POINTS`) then moves the rate read by ~2e-3 of itself.
+SWING_SPAN_CHANGE = 0.1
 #: How many earlier transitions of the same kind are compared with each new one.
 FIXED_POINT_LOOKBACK = 64
 #: A cycle must last more than this many ulps of the time it closes at (a shorter one is a
@@ -117,7 +130,62 @@ def comes_to_rest(osc: Oscillator, clearance: float, speed: float) -> bool:
     return speed <= REST_SPEED * math.sqrt(d * scale)
 
 
-def pressed_steady(tail: list[Transition], lossless: bool = False) -> Steady:
+@dataclass(frozen=True)
+class SwingProbe:
+    """How far a motion on the stop swings at the horizon, against the rule for rest.
+
+    ``evaluate(t) -> (x, x')`` is the solution; ``rest_amplitude`` and ``rest_velocity``
+    the rule's thresholds on the swing of the position and of the velocity (the solver's
+    :func:`core.hysteretic_reduced.rest_swing`: 10 and 100 ``rtol`` of the length scale,
+    docs/contact-law.md)."""
+
+    evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+    t_end: float
+    rest_amplitude: float
+    rest_velocity: float
+
+    def swing(self, t1: float, cycle: float) -> tuple[float, float]:
+        """Half the range of ``x`` and of ``x'`` over the cycle that ends at ``t1``."""
+        t = np.linspace(max(t1 - cycle, 0.0), t1, SWING_POINTS + 1)
+        x, v = self.evaluate(t)
+        return 0.5 * float(np.ptp(x)), 0.5 * float(np.ptp(v))
+
+    def at_rest(self, amplitude: float, velocity: float) -> bool:
+        return amplitude <= self.rest_amplitude and velocity <= self.rest_velocity
+
+
+def _oscillation(probe: SwingProbe, reversals: list[Transition], ratio: float,
+                 x_max: float) -> Steady | None:
+    """The oscillation on the stop that the reversals end on, as it is at the horizon, or
+    ``None`` if its swing there is within what the rule for rest lets rest.
+
+    Its decay is the ratio of successive cycles' amplitudes: the reversals' ``ratio``
+    where they reach the horizon, else (a reduced model carried the loops on) read from
+    the amplitude of their last cycle and the one at the horizon, over the cycles between."""
+    cycle = reversals[-1].t - reversals[-3].t
+    if not cycle > 0.0:
+        return None
+    amp, vel = probe.swing(probe.t_end, cycle)
+    if probe.at_rest(amp, vel):
+        return None
+    cycles = (probe.t_end - reversals[-1].t) / cycle
+    if cycles >= SWING_SPAN_CYCLES:
+        # Back from the horizon by as many cycles as shrink it by SWING_SPAN_CHANGE at the
+        # reversals' rate (the rate at the horizon, not averaged over the model's run: on
+        # loops dying like 1/k, from a switch at t ~ 100 to t_end = 1600 that average was
+        # 1.6 times the rate at the end), all the cycles since them at most.
+        back = cycles if not ratio < 1.0 else min(
+            cycles, max(SWING_SPAN_CYCLES, SWING_SPAN_CHANGE / (1.0 - ratio)))
+        then = probe.swing(probe.t_end - back * cycle, cycle)[0]
+        ratio = (amp / then) ** (1.0 / back) if then > 0.0 else ratio
+    return Steady(SteadyKind.OSCILLATION, period=cycle, transitions_per_period=2,
+                  sequence=("reversal", "reversal"), x_max=x_max, decay_rate=ratio,
+                  amplitude=amp, velocity_amplitude=vel,
+                  rest_amplitude=probe.rest_amplitude, rest_velocity=probe.rest_velocity)
+
+
+def pressed_steady(tail: list[Transition], lossless: bool = False,
+                   probe: SwingProbe | None = None) -> Steady:
     """Steady state of a mass the belt presses on the stop (``x_bar < a``), read off the
     latest transitions when no fixed point was found.
 
@@ -128,6 +196,11 @@ def pressed_steady(tail: list[Transition], lossless: bool = False) -> Steady:
     whose swings shrink is rest approached, with the measured ratio of successive swings
     (over whole cycles), and one whose swings keep their size (:data:`SWING_STEADY` per
     cycle) is periodic.
+
+    ``probe``: the solution at the horizon. Shrinking loops are rest only where their
+    swing there is within what the rule for rest lets rest; else they are an oscillation
+    on the stop, with that swing and its decay (:class:`SwingProbe`). Without it they are
+    rest approached.
 
     ``lossless``: the contact law dissipates nothing on loops made of overlap reversals
     alone (the passive law retraces its curve there, docs/contact-law.md). Such loops are
@@ -154,6 +227,9 @@ def pressed_steady(tail: list[Transition], lossless: bool = False) -> Steady:
         ratio = float(np.median(amps[1:] / amps[:-1]))
         retrace = lossless and all(tr.kind is TransitionKind.REVERSAL for tr in tail[-n - 1:])
         if ratio < 1.0 - SWING_STEADY and not retrace:
+            swinging = None if probe is None else _oscillation(probe, reversals, ratio, max(xs))
+            if swinging is not None:
+                return swinging
             return Steady(SteadyKind.REST, x_max=max(xs), impact_speed=0.0,
                           decay_rate=math.sqrt(ratio))
         if ratio <= 1.0 + SWING_STEADY or retrace:
@@ -164,6 +240,11 @@ def pressed_steady(tail: list[Transition], lossless: bool = False) -> Steady:
                           transitions_per_period=2, sequence=("reversal", "reversal"),
                           x_max=max(xs), t_reached=last[0].t)
     if tail and tail[-1].kind is TransitionKind.REDUCED:
+        swinging = None
+        if probe is not None and len(reversals) >= 3:
+            swinging = _oscillation(probe, reversals, math.nan, max(tr.x for tr in tail))
+        if swinging is not None:
+            return swinging
         return Steady(SteadyKind.REST, x_max=tail[-1].x, impact_speed=0.0)
     return Steady(SteadyKind.NONE)
 

@@ -314,3 +314,24 @@ def test_every_steady_label_has_its_own_colour_and_missing_samples_are_said():
     assert "2 of 4 values have no sample" in _no_samples(data, spec)
     assert _no_samples(Points(data.x, data.y, data.label, np.array([0.2, 0.3]),
                               labels[1:3]), spec) == ""
+
+
+def test_an_oscillation_on_the_stop_is_not_a_disagreement_where_theory_expects_rest():
+    """Loops on a pressed deformable stop still swinging at the horizon are labelled an
+    oscillation, on their way to the rest the theory expects for the equivalent rigid stop
+    (they were "rest" approached): the simulated map must not mark those cells as
+    disagreeing, as it does not mark cells that have not settled ("none")."""
+    from app.bifurcation import compare_map
+
+    values = scene_values("11")
+    frame = (0.1, 0.05, 0.15)  # slow belts, clearances below a = 0.2: pressed
+    cells = 3
+    plain = compare_map(values, frame, np.full((cells, cells), "rest", dtype=object))
+    expected = plain.expected.T  # rows: speeds, as the simulated labels come
+    assert (expected == "rest").any()
+    labels = np.where(expected == "rest", "oscillation", expected).astype(object)
+    sim = compare_map(values, frame, labels)
+    assert not sim.disagree.any()
+    # a label the theory does not expect still disagrees
+    other = np.where(expected == "rest", "periodic", expected).astype(object)
+    assert compare_map(values, frame, other).disagree[(expected == "rest").T].all()
