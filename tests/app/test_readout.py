@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from app.readout import readout_rows
-from app.solver import solve
+from app.solver import ACCURACY, solve
 from app.state import DIMENSIONLESS, ExplorerState, scene_values
 
 
