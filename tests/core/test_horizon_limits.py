@@ -102,3 +102,19 @@ def test_success_with_non_finite_samples_is_an_error():
         dataclasses.replace(res, x=x)
     failed = dataclasses.replace(res, x=x, status=type(res.status).TIME_BUDGET)
     assert not failed.success  # a cut-short result may keep what it had
+
+
+# the step that overshoots evaluates the force past the asymptote: SciPy's RK warns of its nan
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")
+@pytest.mark.parametrize(("limit_overlap", "v0"), [(1e-100, 0.0), (1e-300, 0.0), (0.01, -1e100)])
+def test_an_overlap_past_the_asymptote_ends_the_event_solve_with_a_status(limit_overlap, v0):
+    """Regression: a deformable stop with a tiny limit overlap, or a start at -1e100 speed
+    (the mass comes back at 1e100), raised a bare 'math domain error' in the event method:
+    a step overshot the asymptote ``delta = D`` of the compression envelope and the stop's
+    work took the log of a negative number. The work stored there is infinite, and the
+    solve reports the overlap or the failed integration instead of a success."""
+    stop = dataclasses.replace(SOFT, clearance=0.24, limit_overlap=limit_overlap)
+    res = simulate(Oscillator(0.3, 0.2, 0.1), stop, t_end=20.0, v0=v0, method="event",
+                   max_steps=20_000)
+    assert res.status.value in ("limit_overlap", "integration_failed")
+    assert np.all(np.isfinite(res.x))
