@@ -562,7 +562,7 @@ def solve_event(
     atol: float = 1e-10,
     solver: str = "RK45",
     rest_speed: float | None = None,
-    max_steps: int | None = None,
+    max_steps: int = DEFAULT_MAX_STEPS,
     time_budget: float | None = None,
     max_events: int = MAX_EVENTS,
 ) -> Result:
@@ -584,7 +584,7 @@ def solve_event(
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop rests there (Zeno guard);
         default ``sqrt(2 atol (a - clearance))``.
-    max_steps : int, optional
+    max_steps : int
         Largest number of solver steps; default :data:`DEFAULT_MAX_STEPS`. When it is
         reached the solve stops with ``Status.STEP_LIMIT``; the result covers the time up
         to that point (``t[-1]``).
@@ -616,8 +616,7 @@ def solve_event(
     ('slip->stick', 0.02679492)
     """
     opts = EventOptions(rtol, atol, solver, rest_speed, max_events)
-    limit = WorkLimit(DEFAULT_MAX_STEPS if max_steps is None else max_steps, time_budget)
-    run = EventSolver(inputs, opts, limit)
+    run = EventSolver(inputs, opts, WorkLimit(max_steps, time_budget))
     run.run()
     return run.result()
 

@@ -633,7 +633,7 @@ def solve_switch(
     eta: float | None = None,
     max_step: float = math.inf,
     rest_speed: float | None = None,
-    max_steps: int | None = None,
+    max_steps: int = DEFAULT_MAX_STEPS,
     time_budget: float | None = None,
 ) -> Result:
     """Response by the switch model and adaptive RKF 4(5), the paper's method.
@@ -657,7 +657,7 @@ def solve_switch(
     rest_speed : float, optional
         Rebound speed below which a mass pressed on a rigid stop is taken to rest there
         (the Zeno guard, see the module docstring); default ``eta``.
-    max_steps : int, optional
+    max_steps : int
         Largest number of Runge-Kutta steps tried (accepted and rejected); default
         :data:`DEFAULT_MAX_STEPS`. When it is reached the solve stops with
         ``Status.STEP_LIMIT`` and the result covers the time up to that point (``t[-1]``).
@@ -692,8 +692,7 @@ def solve_switch(
         eta = check_eta(eta, osc, rtol)
     rest_speed = eta if rest_speed is None else rest_speed
     opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
-    limit = WorkLimit(DEFAULT_MAX_STEPS if max_steps is None else max_steps, time_budget)
-    run = SwitchSolver(inputs, opts, limit)
+    run = SwitchSolver(inputs, opts, WorkLimit(max_steps, time_budget))
     run.run()
     return run.result()
 
