@@ -37,7 +37,6 @@ from app.sampling import samples_for
 from app.session_loop import from_any_thread
 from app.state import SOLVE_PARAMS, core_inputs
 from core import (
-    DEFAULT_MAX_STEPS,
     FIRST_LOADING,
     HystereticStop,
     Mode,
@@ -99,6 +98,10 @@ PREVIEW_ACCURACY = "draft"
 #: the closed form for a rigid stop needs milliseconds. ``FIE_SOLVE_BUDGET_S`` in the
 #: server's environment sets another (a slow classroom machine may want more).
 SOLVE_BUDGET_S = 2.0
+#: Step limit of the numerical methods in a solve of :data:`SOLVE_BUDGET_S`: the page stops
+#: them by time, so far above what fits in the budget (the core's own defaults are lower:
+#: they bound a call that gives no budget).
+SOLVE_MAX_STEPS = 2_000_000
 #: A retry of a solve that ran out of time or steps gets this many times the budget (and
 #: the step limit) of the attempt before, up to :data:`MAX_SOLVE_BUDGET_S`.
 RETRY_FACTOR = 10.0
@@ -652,9 +655,10 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         options = preset_options(accuracy, used, osc)
         if "time_budget" in used:
             options["time_budget"] = _budget(preview, budget)
-        if "max_steps" in used and budget is not None and budget > SOLVE_BUDGET_S:
+        if "max_steps" in used:
             # A retry with more time may take as many more steps.
-            options["max_steps"] = int(DEFAULT_MAX_STEPS * budget / SOLVE_BUDGET_S)
+            options["max_steps"] = int(SOLVE_MAX_STEPS * max(1.0, (budget or 0.0)
+                                                              / SOLVE_BUDGET_S))
         result = _simulate(osc, stop, t_end, x0, v0, n_samples=n_samples, method=method,
                            **options)
     solve_time = time.perf_counter() - start

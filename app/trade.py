@@ -31,7 +31,13 @@ from typing import Any
 
 import numpy as np
 
-from app.solver import ACCURACY, position_error, preset_options, reference_options
+from app.solver import (
+    ACCURACY,
+    SOLVE_MAX_STEPS,
+    position_error,
+    preset_options,
+    reference_options,
+)
 from app.state import ACCURACIES, core_inputs
 from core import HystereticStop, Steady, SteadyKind, method_options, simulate
 from core.hysteretic_reduced import rest_swing_of
@@ -89,6 +95,8 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
             kwargs = preset_options(acc, used, osc)
             if "time_budget" in used:  # the solve itself stops, not only the wait for it
                 kwargs["time_budget"] = budget_s
+            if "max_steps" in used:  # stopped by time, as the page's solves
+                kwargs["max_steps"] = SOLVE_MAX_STEPS
 
             def run(m=method, kw=kwargs):
                 start = time.perf_counter()

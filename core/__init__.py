@@ -19,7 +19,6 @@ from core.hysteresis import phi_compression as phi_compression
 from core.hysteresis import phi_expansion as phi_expansion
 from core.hysteresis import reverse as reverse
 from core.hysteretic import effective_restitutions as effective_restitutions
-from core.numerics.limits import MAX_STEPS as DEFAULT_MAX_STEPS
 from core.params import HystereticStop as HystereticStop
 from core.params import Oscillator as Oscillator
 from core.params import RigidStop as RigidStop
@@ -44,7 +43,6 @@ from core.validation import check_range as check_range
 from core.validation import check_start as check_start
 
 __all__ = [
-    "DEFAULT_MAX_STEPS",
     "ETA_MAX_REL",
     "FIRST_LOADING",
     "METHODS",

@@ -500,10 +500,13 @@ def start_branch(delta: float, v0: float, pull: float, stop: HystereticStop) -> 
 
 
 def _envelope_energy(delta: float, stiffness: float, d_lim: float) -> float:
-    """``int_0^delta k0 D s/(D-s) ds = k0 D^2 (-x - log(1-x))``, ``x = delta/D``."""
+    """``int_0^delta k0 D s/(D-s) ds = k0 D^2 (-x - log(1-x))``, ``x = delta/D``; infinite
+    from the asymptote ``delta = D`` on (an integrator's step may overshoot it)."""
     x = delta / d_lim
     if x <= 0.0:
         return 0.0
+    if x >= 1.0:
+        return math.inf
     if x < SERIES_CUTOFF:
         total, term = 0.0, x
         for n in range(2, SERIES_TERMS + 2):

@@ -290,6 +290,18 @@ class Energy:
     stop_stored: np.ndarray
 
 
+def _check_finite_samples(t: np.ndarray, x: np.ndarray, v: np.ndarray) -> None:
+    """A result that reports success has finite samples: an overflow in a solve is an
+    error, never a success (a pass over the samples, far below the cost of the solve)."""
+    for name, values in (("t", t), ("x", x), ("v", v)):
+        if not np.all(np.isfinite(values)):
+            bad = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise FloatingPointError(
+                f"the solve overflowed: {name}[{bad}] = {float(values[bad])} is not finite at "
+                f"t = {float(t[bad]):.6g}; the inputs lie beyond what the method resolves"
+            )
+
+
 @dataclass(frozen=True)
 class Result:
     """Response of the oscillator over ``[0, t_end]``.
@@ -341,6 +353,8 @@ class Result:
     def __post_init__(self) -> None:
         for name in ("t", "x", "v", "mode", "contact_force", "overlap", "impulses"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        if self.status is Status.SUCCESS:
+            _check_finite_samples(self.t, self.x, self.v)
 
     def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
         """Position and velocity at any times in ``[0, t_end]``: exact on closed-form

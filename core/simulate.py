@@ -68,9 +68,13 @@ def simulate(
         Sample at these times in ``[0, t_end]`` instead of ``n_samples`` uniform ones
         (every method).
     max_steps, time_budget : optional
-        Work limits of the numerical methods (``switch``, ``event``): accepted steps at
-        most, and wall time in seconds. A solve that reaches one returns the result up to
-        that point with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``.
+        Work limits of the numerical methods (``switch``, ``event``): steps at most, and
+        wall time in seconds. A solve that reaches one returns the result up to that point
+        (``t[-1]``) with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``. By default each
+        method stops at its own step limit (:data:`core.switch.DEFAULT_MAX_STEPS`,
+        :data:`core.event_method.DEFAULT_MAX_STEPS`), which it reaches within a few
+        seconds whatever the horizon; there is no default time budget, so a default call
+        gives the same result on any machine.
 
     Examples
     --------

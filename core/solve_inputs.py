@@ -21,9 +21,9 @@ from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
 from core.steady import pressed_on_stop
 from core.validation import (
+    check_horizon,
     check_integer,
     check_oscillator,
-    check_range,
     check_size,
     check_start,
     check_stop,
@@ -44,7 +44,9 @@ class SolveInputs:
     osc, stop
         The oscillator (paper Eqs. 1-6) and the obstacle (Eq. 8, Eqs. 9-13, or ``None``).
     t_end : float
-        Horizon (dimensionless time), ``> 0``.
+        Horizon (dimensionless time), in ``(0, MAX_T_END]``
+        (:data:`core.validation.MAX_T_END`, 1e9: where a sample's time is still resolved
+        to ~1e-7 of the time scale).
     x0, v0 : float
         Initial state; ``x0 <= clearance`` (rigid stop), ``x0 - clearance < D``
         (deformable stop).
@@ -82,7 +84,7 @@ def check_solve_inputs(
     """
     check_oscillator(osc)
     check_stop(stop)
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
+    t_end = check_horizon(t_end)
     x0 = check_size("x0", x0)
     v0 = check_size("v0", v0)
     if stop is not None:

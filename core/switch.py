@@ -57,7 +57,8 @@ Work limits
 A solve stops, and returns its result up to that time, with ``Status.STEP_LIMIT`` after
 ``max_steps`` Runge-Kutta steps (accepted and rejected) and with ``Status.TIME_BUDGET`` when
 ``time_budget`` seconds have passed. The method has no other event count to limit: every
-event is a cut step, counted among the steps.
+event is a cut step, counted among the steps. The default step limit,
+:data:`DEFAULT_MAX_STEPS`, returns within a few seconds whatever the horizon.
 """
 
 from __future__ import annotations
@@ -77,7 +78,7 @@ from core.hysteresis import (
 )
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
-from core.numerics.limits import MAX_STEPS, WorkLimit
+from core.numerics.limits import WorkLimit
 from core.numerics.rk import STAGES_PER_STEP, StepControl, rkf45_step
 from core.params import HystereticStop, Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
@@ -93,6 +94,12 @@ FIRST_STEP = 1e-3
 ETA_REL = 1e-4
 #: Widest stick band, relative to the belt speed (:func:`check_eta`).
 ETA_MAX_REL = 0.1
+#: Default limit on the Runge-Kutta steps (accepted and rejected) of one solve: 8-16 us a
+#: step on a 2-core machine, so a default call returns within 1-4 s whatever its horizon
+#: (``benchmarks/default_limits.py``), having reached t ~ 1.4e4 (rigid scene 5a) to 1.7e4
+#: (deformable scene 10) at the default tolerances. Pass ``max_steps`` or ``time_budget``
+#: to go further.
+DEFAULT_MAX_STEPS = 200_000
 #: Least scatter of the model's transition states over a cycle, relative to the state's
 #: scale, whatever the band: a stick-slip cycle's states scatter by 8 to 20 eta at
 #: ``eta = 1e-5 v`` (up to 7e-5 of the scale), and the cycle of Fig. 5a went unfound
@@ -626,7 +633,7 @@ def solve_switch(
     eta: float | None = None,
     max_step: float = math.inf,
     rest_speed: float | None = None,
-    max_steps: int = MAX_STEPS,
+    max_steps: int = DEFAULT_MAX_STEPS,
     time_budget: float | None = None,
 ) -> Result:
     """Response by the switch model and adaptive RKF 4(5), the paper's method.
@@ -651,9 +658,9 @@ def solve_switch(
         Rebound speed below which a mass pressed on a rigid stop is taken to rest there
         (the Zeno guard, see the module docstring); default ``eta``.
     max_steps : int
-        Largest number of Runge-Kutta steps tried (accepted and rejected). When it is
-        reached the solve stops with ``Status.STEP_LIMIT`` and the result covers the time
-        up to that point.
+        Largest number of Runge-Kutta steps tried (accepted and rejected); default
+        :data:`DEFAULT_MAX_STEPS`. When it is reached the solve stops with
+        ``Status.STEP_LIMIT`` and the result covers the time up to that point (``t[-1]``).
     time_budget : float, optional
         Wall-clock seconds the solve may take; when they run out it stops with
         ``Status.TIME_BUDGET`` (result up to that point). ``None``: no budget.

@@ -2,7 +2,9 @@
 
 A solve that reaches a limit stops there and returns its result up to that time with
 :attr:`~core.result.Status.STEP_LIMIT` or :attr:`~core.result.Status.TIME_BUDGET`; it never
-loops without end nor raises.
+loops without end nor raises. Each method declares its own default step limit, sized to
+its cost per step (:data:`core.switch.DEFAULT_MAX_STEPS`,
+:data:`core.event_method.DEFAULT_MAX_STEPS`).
 """
 
 from __future__ import annotations
@@ -14,13 +16,10 @@ from dataclasses import dataclass, field
 from core.result import Status
 from core.validation import check_integer, check_range
 
-#: Default limit on the steps of one solve (accepted and rejected): far above what a solve
-#: to ``t_end = 1e4`` at ``rtol = 1e-10`` needs, and a bound of a few tens of seconds on a
-#: scene the method cannot resolve.
-MAX_STEPS = 2_000_000
 #: Default limit on the events (transitions and restarts of the integration) of one solve.
 MAX_EVENTS = 1_000_000
-#: Upper bound of a count option (only so that its error message can state a range).
+#: Upper bound of a count option (only so that its error message can state a range); a
+#: :class:`WorkLimit` made without a step count allows this many, i.e. no step limit.
 COUNT_MAX = 10**15
 
 
@@ -31,7 +30,7 @@ class WorkLimit:
     Parameters
     ----------
     max_steps : int
-        Steps allowed (``>= 1``).
+        Steps allowed (``>= 1``); default :data:`COUNT_MAX` (no step limit).
     time_budget : float or None
         Wall-clock seconds allowed (``> 0``); ``None``: no budget.
 
@@ -42,7 +41,7 @@ class WorkLimit:
     (None, <Status.STEP_LIMIT: 'step_limit'>)
     """
 
-    max_steps: int = MAX_STEPS
+    max_steps: int = COUNT_MAX
     time_budget: float | None = None
     deadline: float = field(init=False, default=math.inf)
 

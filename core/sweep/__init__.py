@@ -32,7 +32,7 @@ from core.params import HystereticStop, Oscillator, RigidStop
 from core.simulate import METHODS
 from core.sweep.lanes import PARAMETERS, Lanes, make_lanes
 from core.sweep.result import KINDS, LABELS, QUANTITIES, LaneRecords, SweepResult, check_quantity
-from core.validation import check_range
+from core.validation import check_horizon, check_size
 
 __all__ = [
     "KINDS",
@@ -150,10 +150,10 @@ def plan_grid(
     if not quantity:  # impact speed with a stop, the stick onset without
         quantity = "stick_x" if stop is None else "impact_speed"
     quantity = check_quantity(quantity, isinstance(stop, HystereticStop))
-    t_end = check_range("t_end", t_end, 0.0, low_open=True)
+    t_end = check_horizon(t_end)
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}; got {method!r}")
-    x0, v0 = check_range("x0", x0), check_range("v0", v0)
+    x0, v0 = check_size("x0", x0), check_size("v0", v0)
     if not 1 <= len(axes) <= 2:
         raise ValueError(f"a sweep varies one or two parameters; got {len(axes)}")
     lanes = make_lanes(osc, stop, dict(axes), x0)

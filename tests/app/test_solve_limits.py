@@ -1,0 +1,34 @@
+"""The page's numerical solves keep their own step limit (app/solver.py:
+``SOLVE_MAX_STEPS``), not the core's lower defaults: they are stopped by their time
+budget, and a retry with more time gets as many more steps."""
+
+from __future__ import annotations
+
+import pytest
+
+import app.solver as solver_module
+from app.state import scene_values
+
+
+class _Asked(Exception):
+    pass
+
+
+def _options_of_solve(monkeypatch, budget):
+    def record(*args, **kwargs):
+        raise _Asked(kwargs)
+
+    monkeypatch.setattr(solver_module, "_simulate", record)
+    values = {**dict(scene_values("5a")), "method": "switch", "t_end": 61.2345}
+    with pytest.raises(_Asked) as info:
+        solver_module._solve(solver_module._key(values), False, budget)
+    return info.value.args[0]
+
+
+@pytest.mark.parametrize(
+    ("budget", "factor"), [(None, 1.0), (solver_module.SOLVE_BUDGET_S, 1.0),
+                           (10.0 * solver_module.SOLVE_BUDGET_S, 10.0)])
+def test_the_page_passes_its_step_limit(monkeypatch, budget, factor):
+    options = _options_of_solve(monkeypatch, budget)
+    assert options["max_steps"] == int(solver_module.SOLVE_MAX_STEPS * factor)
+    assert options["time_budget"] == (budget or solver_module.SOLVE_BUDGET_S)
