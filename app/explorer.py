@@ -21,9 +21,10 @@ import panel as pn
 import param
 from bokeh.core.properties import validate
 from bokeh.events import Tap
+from panel.io.location import Location
 from panel.io.state import set_curdoc
 
-from app import presentation
+from app import links, presentation
 from app.animation import ANIM_SIZE, Animation
 from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
@@ -64,7 +65,6 @@ from app.state import (
     VIEW_PARAMS,
     ExplorerState,
     core_inputs,
-    scene_key,
     scene_values,
     si_bound_error,
     si_units,
@@ -225,6 +225,11 @@ class Explorer(pn.viewable.Viewer):
         self.error: str | None = None
         self._syncing = False
         self._url_timer: _Deferred | None = None
+        #: The page's address (:meth:`sync_url`), or None.
+        self.location: Location | None = None
+        #: The alert of the address's refused values and the values the page opened with:
+        #: it stays while the solution drawn is of those values.
+        self._link_alert: tuple[str, dict[str, Any]] | None = None
         #: Counts the commits: a preview solved before the latest commit is not drawn.
         self._commits = 0
         #: Full solves and drag previews, in the worker pool (the latest request wins).
@@ -528,48 +533,61 @@ class Explorer(pn.viewable.Viewer):
 
     # --- URL -----------------------------------------------------------------------------
 
-    def sync_url(self) -> None:
-        """Keep the state in the page's query string (permalinks).
+    def sync_url(self, location: Location | None = None) -> None:
+        """Keep the state in the page's query string (permalinks), that of ``location``
+        (default: the session's, :func:`app.links.session_location`).
 
         A URL naming only a scene loads that scene; parameters given beside it override the
-        scene's values. The URL is rewritten :data:`URL_DELAY_MS` after the last change, so
-        that its round trip (the browser echoes the new address) does not delay the
-        repaint of a slider release.
+        scene's values. The page reads the address's text itself (:mod:`app.links`): no
+        value can fail in Panel's parser. The URL is rewritten :data:`URL_DELAY_MS` after
+        the last change, so that its round trip (the browser echoes the new address) does
+        not delay the repaint of a slider release.
         """
-        loc = pn.state.location
+        self.location = loc = location if location is not None else links.session_location()
         if loc is None:
             return
-        query = loc.query_params
-        scene = scene_key(query.get("scene"))
+        texts, repeated = links.once(links.query_pairs(loc.search))
+        scene = texts.get("scene")
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
-        self._apply_query(query)
-        self.menu.apply_query(query)
+        errors, unknown = self._apply_query(texts, repeated)
+        errors += self.menu.apply_query(texts)
+        if errors or unknown:
+            self._url_error(errors, unknown)
         self.state.param.watch(self._url_changed, list(URL_KEYS))
         pn.state.onload(self._write_url)
 
-    def _apply_query(self, query: Mapping[str, Any]) -> None:
-        """Set the state from the URL's parameters in one batch; report what failed.
+    def _apply_query(self, texts: Mapping[str, str],
+                     repeated: Mapping[str, Sequence[str]]) -> tuple[list[str], list[str]]:
+        """Set the state from the URL's parameters (their text, :mod:`app.links`) in one
+        batch; return the messages of the values refused and the unknown keys.
 
         A parameter is read under its permalink key (``tend``) or its own name (``t_end``);
-        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported. With
-        ``units=SI`` the values of :data:`URL_SI_PARAMS` are SI values (m/s, s, N/m), as
-        the page writes them, converted with the address's ``m`` and ``k``."""
+        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported, and so is
+        a key given more than once. With ``units=SI`` the values of
+        :data:`URL_SI_PARAMS` are SI values (m/s, s, N/m), as the page writes them,
+        converted with the address's ``m`` and ``k``."""
         names = {**{name: name for name in URL_KEYS},
                  **{key: name for name, key in URL_KEYS.items()}}
-        values, unknown = {}, []
-        for key, raw in query.items():
+        values, given, unknown, errors = {}, {}, [], []
+        for key, texts_of_key in repeated.items():
+            if key in names or key in OTHER_URL_KEYS:
+                errors.append(links.repeated_message(key, names.get(key), texts_of_key))
+            else:
+                unknown.append(key)
+        for key, text in texts.items():
             name = names.get(key)
             if name is None:
                 if key not in OTHER_URL_KEYS:
                     unknown.append(key)
                 continue
+            given[name] = text
             try:
-                values[name] = self.state.param[name].deserialize(raw)
-            except Exception:  # noqa: BLE001 - an unreadable value is reported below
-                values[name] = raw
+                values[name] = links.parse_value(self.state.param[name], text)
+            except ValueError:
+                errors.append(links.refused_message(name, self.state.param[name], text))
         # Each value is checked on its own, so that one bad value does not drop the others.
-        good, bad, si_errors = {}, {}, []
+        good, bad = {}, {}
         for name, value in values.items():
             try:
                 ExplorerState(**{name: value})
@@ -578,7 +596,7 @@ class Explorer(pn.viewable.Viewer):
             else:
                 good[name] = value
         if good.get("units", self.state.units) == "SI":
-            si_errors = self._si_from_url(good, bad)
+            errors.extend(self._si_from_url(good, bad))
         good = {name: value for name, value in good.items()
                 if value != getattr(self.state, name)}
         # A scene's values changed by the address are no longer that scene: its title and
@@ -591,8 +609,9 @@ class Explorer(pn.viewable.Viewer):
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
             bad.update(good)
-        if bad or unknown or si_errors:
-            self._url_error(bad, unknown, si_errors)
+        errors = [links.refused_message(name, self.state.param[name], given[name])
+                  for name in bad if name in given] + errors
+        return errors, unknown
 
     def _si_from_url(self, good: dict[str, Any], bad: dict[str, Any]) -> list[str]:
         """Turn the SI values of an SI address (:data:`URL_SI_PARAMS` in ``good`` and
@@ -607,11 +626,7 @@ class Explorer(pn.viewable.Viewer):
             if raw is None:
                 continue
             bad.pop(name, None)
-            try:
-                value = float(raw) / factors[name][2]
-            except (TypeError, ValueError):
-                bad[name] = raw
-                continue
+            value = raw / factors[name][2]
             message = si_bound_error(name, value, mass, stiffness)
             if message:
                 errors.append(f"{URL_KEYS[name]}: {message}")
@@ -642,7 +657,7 @@ class Explorer(pn.viewable.Viewer):
 
     def _write_url(self, *events: param.parameterized.Event) -> None:
         self._url_timer = None
-        loc = pn.state.location
+        loc = self.location if self.location is not None else pn.state.location
         if loc is None:
             return
         query = {}
@@ -655,21 +670,19 @@ class Explorer(pn.viewable.Viewer):
                 value = float(f"{value * si[name][2]:.12g}")
             value = self.state.param[name].serialize(value)
             query[key] = value if isinstance(value, str) else json.dumps(value)
-        query.update(self.menu.query(loc.query_params))
-        loc.update_query(**query)
+        current = dict(links.query_pairs(loc.search))
+        query.update(self.menu.query(current))
+        # Written as text (app.links): the keys the page does not read stay as they came.
+        loc.search = links.merged_search(loc.search, query)
 
-    def _url_error(self, values: Mapping[str, Any], unknown: Sequence[str] = (),
-                   si_errors: Sequence[str] = ()) -> None:
-        """Say which of the URL's values were rejected, what each allows and what came, and
-        which keys the page does not know."""
-        parts = [f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
-                 f"got {_shown(value)}" for name, value in values.items()]
-        parts.extend(si_errors)
+    def _url_error(self, errors: Sequence[str], unknown: Sequence[str] = ()) -> None:
+        """Say which of the URL's values were rejected (``errors``: each names its key,
+        what it allows and what came), and which keys the page does not know."""
+        parts = list(errors)
         if unknown:
-            parts.append(f"unknown {'keys' if len(unknown) > 1 else 'key'} "
-                         f"{', '.join(_shown(k) for k in unknown)} (known: "
-                         f"{', '.join(URL_KEYS.values())}, or the parameters' names)")
+            parts.append(links.unknown_message(unknown, URL_KEYS.values()))
         self._show_error("Some URL parameters could not be applied: " + "; ".join(parts))
+        self._link_alert = (self.alert.object, self.state.values())
 
     # --- events --------------------------------------------------------------------------
 
@@ -1101,7 +1114,8 @@ class Explorer(pn.viewable.Viewer):
                 if self.sweeps is not None:
                     self.sweeps.set_scales(scales)
                 set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
-                set_changed(self.alert, visible=False)
+                if self._link_alert != (self.alert.object, dict(sol.values)):
+                    set_changed(self.alert, visible=False)
                 if self.trade.visible and self._trade_values != sol.values:
                     set_changed(self.trade, visible=False)  # it described another run
                 self._arrivals += 1  # last: the page's figures hold their paints until it
@@ -1293,10 +1307,6 @@ def _core_reason(values: Mapping[str, Any]) -> str | None:
     return None
 
 
-#: Characters of a rejected value shown in a message (a long value is cut, and says so).
-SHOWN_CHARS = 60
-
-
 def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     """Whether solve values differ from a scene's: numbers beyond 1e-11 relative (an SI
     address holds 12 digits), anything else at all; the method and accuracy are not the
@@ -1319,36 +1329,6 @@ def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
         elif a != b:
             return True
     return False
-
-
-def _shown(value: Any) -> str:
-    """A received value for a message: its repr, cut to :data:`SHOWN_CHARS` characters.
-
-    >>> _shown("x" * 100).endswith("xx… (100 characters)'")
-    True
-    """
-    text = repr(value)
-    if len(text) <= SHOWN_CHARS:
-        return text
-    n = len(value) if isinstance(value, str) else len(text)
-    return f"{text[:SHOWN_CHARS]}… ({n} characters)'"
-
-
-def _allowed(state: ExplorerState, name: str) -> str:
-    """What parameter ``name`` of the state accepts, in words.
-
-    >>> _allowed(ExplorerState(), "restitution"), _allowed(ExplorerState(), "units")
-    ('a number in [0, 1]', "one of 'dimensionless', 'SI'")
-    """
-    p = state.param[name]
-    if isinstance(p, param.Number):
-        low, high = p.bounds
-        return f"a number in [{low:g}, {high:g}]"
-    if isinstance(p, param.Boolean):
-        return "true or false"
-    if isinstance(p, param.Selector):
-        return "one of " + ", ".join(repr(o) for o in p.objects)
-    return "a valid value"
 
 
 def _show_all_label(visible: tuple[str, ...], applicable: tuple[str, ...]) -> str:

@@ -85,9 +85,13 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
     Bokeh walked the whole document again (~930 models) to list its models; with the
     document's model list frozen (``Document.models.freeze``) while the public
     ``server_doc`` attaches it, it walks it once: a page costs ~15 % less server CPU.
+    The page's location is the one its explorer read the address from
+    (:func:`app.links.session_location`): Panel's own would parse the address again.
     """
+    location = template.explorer.location
     with doc.models.freeze():
-        template.server_doc(doc, title=TITLE)
+        template.server_doc(doc, title=TITLE,
+                            location=location if location is not None else True)
 
 
 def skip_development_checks() -> None:
