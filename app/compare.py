@@ -30,6 +30,7 @@ import numpy as np
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
 from app.links import allowed, parse_value, shown
+from app.perf.browser_values import say_refused
 from app.plots import (
     FORCE_TITLE,
     MODE_NAMES,
@@ -715,6 +716,10 @@ class CompareMenu:
     def _clicked(self, event: Any) -> None:
         value = event.new
         ex = self.explorer
+        if value not in (PIN_LABEL, None) and value not in dict(self.button.items).values():
+            # Not an entry of the menu (a script's click): nothing to do, one quiet line.
+            say_refused(f"refused from the browser: menu entry {value!r:.60}")
+            return
         if value == PIN_LABEL or value is None:
             ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
                            ex.state.stiffness)

@@ -29,6 +29,7 @@ from app.animation import ANIM_SIZE, Animation
 from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
+from app.perf.browser_values import say_refused
 from app.plots import MAP_PALETTE, MAP_SIZE, PHASE_SIZE, PLOT_WIDTHS, SMALL_SIZE, TIME_SIZE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
@@ -70,7 +71,16 @@ from app.state import (
     si_units,
 )
 from app.trade import measure, trade_html
-from app.widgets import ShownLater, TypedSlider, bounds_reason, format_number, set_changed
+from app.widgets import (
+    Checkbox,
+    RadioButtonGroup,
+    Select,
+    ShownLater,
+    TypedSlider,
+    bounds_reason,
+    format_number,
+    set_changed,
+)
 from core import Status
 
 log = logging.getLogger(__name__)
@@ -353,25 +363,25 @@ class Explorer(pn.viewable.Viewer):
                 validate=lambda v, n=name, k=key: self._refusal_si(n, k, v),
                 lazy=name in SHOWN_LATER,
             )
-        self.scene_select = pn.widgets.Select(
+        self.scene_select = Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
             options={**{SCENES[k].title: k for k in SCENES}, "custom": CUSTOM},
             css_classes=["fie-scene"],
         )
         self.scene_select.param.watch(self._on_scene_select, "value")
-        self.stop_type = pn.widgets.RadioButtonGroup(
+        self.stop_type = RadioButtonGroup(
             label="Stop", options=list(STOP_TYPES), value=st.stop_type, width=WIDGET_WIDTH,
             color="default", css_classes=["fie-stop-type"])
-        self.units = pn.widgets.RadioButtonGroup(
+        self.units = RadioButtonGroup(
             label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
-        self.accuracy = pn.widgets.RadioButtonGroup(
+        self.accuracy = RadioButtonGroup(
             label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH,
             description=_accuracy_tip(), css_classes=["fie-accuracy"])
-        self.method = pn.widgets.Select(
+        self.method = Select(
             label="Method", options=list(METHODS), value=st.method, width=WIDGET_WIDTH,
             description="; ".join(f"{k}: {v}" for k, v in METHOD_TIPS.items()) + ".",
             css_classes=["fie-method"])
-        self.program = pn.widgets.Checkbox(
+        self.program = Checkbox(
             label="overlap program (Fig. 2b): the stop alone", value=st.program,
             css_classes=["fie-program"])
         self.reset = pn.widgets.Button(
@@ -380,9 +390,9 @@ class Explorer(pn.viewable.Viewer):
         self.reset.on_click(self._reset)
         #: The paper's figure the reset button returns to (the last scene loaded).
         self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
-        self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
+        self.show_all = Checkbox(label="show all plots", value=st.show_all)
         # First in the deformable stop's group, and like it in the page once first shown.
-        self.contact_law = pn.widgets.Select(
+        self.contact_law = Select(
             label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
             width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
             description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
@@ -855,17 +865,28 @@ class Explorer(pn.viewable.Viewer):
             self.plots.update_preview(sol, self.state.scales())
 
     def _on_phase_tap(self, event: Tap) -> None:
-        if event.x is None or event.y is None:
-            return
-        self._commit({"x0": round(float(event.x), 4),
-                      "v0": round(float(event.y) / self.state.scales().velocity, 4)})
+        self._commit_tap(event, lambda x, y: {
+            "x0": round(x, 4), "v0": round(y / self.state.scales().velocity, 4)})
 
     def _on_map_tap(self, event: Tap) -> None:
+        self._commit_tap(event, lambda x, y: {
+            "belt_speed": max(0.0, round(x / self.state.scales().velocity, 4)),
+            "clearance": round(y, 4)})
+
+    def _commit_tap(self, event: Tap, values: Callable[[float, float], dict[str, float]]) -> None:
+        """Commit the ``values`` of a tap at ``(x, y)``; a tap no user can make (a script's:
+        not numbers, or values outside the state's bounds) is refused in one quiet line."""
         if event.x is None or event.y is None:
             return
-        self._commit({"belt_speed": max(0.0, round(float(event.x) /
-                                                   self.state.scales().velocity, 4)),
-                      "clearance": round(float(event.y), 4)})
+        try:
+            tapped = values(float(event.x), float(event.y))
+        except (TypeError, ValueError, OverflowError):
+            tapped = {}
+        bounds = {name: self.state.param[name].bounds for name in tapped}
+        if not tapped or not all(low <= tapped[n] <= high for n, (low, high) in bounds.items()):
+            say_refused(f"refused from the browser: tap at ({event.x!r:.30}, {event.y!r:.30})")
+            return
+        self._commit(tapped)
 
     def _on_scene_select(self, event: param.parameterized.Event) -> None:
         if self._syncing or event.new == CUSTOM or event.new not in SCENES:
