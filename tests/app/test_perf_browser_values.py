@@ -16,8 +16,9 @@ from bokeh.document import Document
 from app.perf import applies, browser_values
 from app.widgets import Checkbox, RadioButtonGroup, Select, TypedSlider
 
-pytestmark = pytest.mark.skipif(not applies("browser-values"),
-                                reason="the refusal at the widget is a patch, switched off")
+#: The refusal at the widget is a patch (app.perf), which the switch may have turned off.
+patched = pytest.mark.skipif(not applies("browser-values"),
+                             reason="the refusal at the widget is a patch, switched off")
 
 
 @pytest.fixture
@@ -32,6 +33,7 @@ def _model(widget):
     return widget.get_root(Document())
 
 
+@patched
 def test_a_radio_index_outside_the_buttons_is_refused(said):
     w = RadioButtonGroup(options=["draft", "standard", "precise"], value="standard")
     model = _model(w)
@@ -44,6 +46,7 @@ def test_a_radio_index_outside_the_buttons_is_refused(said):
     _one_quiet_line(said, "RadioButtonGroup", "active=-1")
 
 
+@patched
 def test_a_select_value_outside_the_options_is_refused(said):
     w = Select(options=["auto", "exact"], value="auto")
     model = _model(w)
@@ -55,6 +58,7 @@ def test_a_select_value_outside_the_options_is_refused(said):
     _one_quiet_line(said, "Select", "value='bogus'")
 
 
+@patched
 def test_a_slider_value_outside_its_range_is_neither_committed_nor_kept(said):
     committed, dragged = [], []
     t = TypedSlider("r", 0.5, 0.01, (0.0, 1.0), (0.0, 1.0), on_drag=dragged.append,
@@ -71,6 +75,7 @@ def test_a_slider_value_outside_its_range_is_neither_committed_nor_kept(said):
     _one_quiet_line(said, "_Slider", "value=5.0")
 
 
+@patched
 def test_a_hidden_checkbox_takes_nothing(said):
     w = Checkbox(value=False, visible=False)
     model = _model(w)
