@@ -24,7 +24,7 @@ from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
-from app.protocol_refusals import watch as watch_refusals  # noqa: E402
+from app.protocol_refusals import quiet_refusals  # noqa: E402
 from app.solve_process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
@@ -93,7 +93,6 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
     with doc.models.freeze():
         template.server_doc(doc, title=TITLE,
                             location=location if location is not None else True)
-    watch_refusals(doc)  # a value of the wrong type from the browser: one quiet line
 
 
 def skip_development_checks() -> None:
@@ -106,5 +105,6 @@ def skip_development_checks() -> None:
 if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:  # served
     skip_development_checks()  # before Bokeh validates this session's document
     report()  # logs each perf patch left out (app.perf)
+    quiet_refusals()  # a value of a type Bokeh refuses from the browser: one quiet line
     warm_up()  # the solver's child processes (once per server process)
     serve(create_app(), pn.state.curdoc)
