@@ -29,6 +29,8 @@ import numpy as np
 
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
+from app.links import allowed, parse_value, shown
+from app.perf.browser_values import say_refused
 from app.plots import (
     FORCE_TITLE,
     MODE_NAMES,
@@ -160,11 +162,13 @@ def _defaults() -> dict[str, Any]:
     return {name: ExplorerState.param[name].default for name in SOLVE_PARAMS}
 
 
-def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto",
+def decode_pins(raw: str, accuracy: str = "standard", method: str = "auto",
                 mass: float = MASS, stiffness: float = STIFFNESS) -> list[PinSpec]:
     """Read the permalink's pins back (:func:`encode_pins`); raises ``ValueError`` naming
-    the pin and the item it could not read, and what is allowed. A pin that names no mass
-    or stiffness has the page's (``mass``, ``stiffness``: so did every pin of the links
+    the pin and the item it could not read, and what is allowed. Each value is read as the
+    address's are (:func:`app.links.parse_value`: a number is a finite decimal numeral, a
+    switch ``true`` or ``false``), and each key is given once. A pin that names no mass or
+    stiffness has the page's (``mass``, ``stiffness``: so did every pin of the links
     written before pins kept their own).
 
     >>> decode_pins("5b,r=0.5")[0].values["restitution"]
@@ -174,37 +178,21 @@ def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto",
     >>> decode_pins("5b,r=2")
     Traceback (most recent call last):
     ...
-    ValueError: pin 1 (5b,r=2): r (restitution) must be a number in [0, 1]; got '2'
+    ValueError: pin 1 ('5b,r=2'): r (restitution) must be a number in [0, 1]; got '2'
     """
-    text = str(int(raw)) if isinstance(raw, float) and raw.is_integer() else str(raw)
-    names = {key: name for name, key in URL_KEYS.items()}
     pins = []
-    for i, chunk in enumerate(p for p in text.split(PIN_SEP) if p):
+    for i, chunk in enumerate(p for p in str(raw).split(PIN_SEP) if p):
         if len(pins) == MAX_PINS:
             raise ValueError(f"at most {MAX_PINS} pins; the address names more")
+        where = f"pin {i + 1} ({shown(chunk)})"
         scene, *items = chunk.split(ITEM_SEP)
         if scene not in SCENES and scene != CUSTOM:
-            raise ValueError(f"pin {i + 1} ({chunk}): scene must be one of "
-                             f"{', '.join(SCENES)} or custom; got {scene!r}")
+            raise ValueError(f"{where}: scene must be one of {', '.join(SCENES)} or custom; "
+                             f"got {shown(scene)}")
         values = _scene_values(scene) if scene in SCENES else _defaults()
         values.update(accuracy=accuracy, method=method)
         units = {"mass": float(mass), "stiffness": float(stiffness)}
-        for item in items:
-            key, _, text_value = item.partition("=")
-            name = names.get(key)
-            if name not in (*SOLVE_PARAMS, *units) or name in ("accuracy", "method"):
-                raise ValueError(f"pin {i + 1} ({chunk}): unknown parameter {key!r}")
-            p = ExplorerState.param[name]
-            try:
-                value = (text_value == "true" if p.__class__.__name__ == "Boolean"
-                         else float(text_value) if hasattr(p, "bounds") else text_value)
-                ExplorerState(**{name: value})
-            except Exception:  # noqa: BLE001 - any refusal is said in one message
-                bounds = getattr(p, "bounds", None)
-                allowed = (f"a number in [{bounds[0]:g}, {bounds[1]:g}]" if bounds
-                           else f"one of {', '.join(map(str, p.objects))}")
-                raise ValueError(f"pin {i + 1} ({chunk}): {key} ({name}) must be {allowed}; "
-                                 f"got {text_value!r}") from None
+        for name, value in _pin_items(items, where).items():
             if name in units:
                 units[name] = value
             else:
@@ -212,9 +200,32 @@ def decode_pins(raw: Any, accuracy: str = "standard", method: str = "auto",
         try:
             core_inputs(values)
         except ValueError as exc:
-            raise ValueError(f"pin {i + 1} ({chunk}): {exc}") from None
+            raise ValueError(f"{where}: {exc}") from None
         pins.append(PinSpec(scene, values, units["mass"], units["stiffness"]))
     return pins
+
+
+def _pin_items(items: Sequence[str], where: str) -> dict[str, Any]:
+    """The values a pin's ``key=value`` items set, by parameter; raises ``ValueError``
+    naming the pin (``where``) and the item."""
+    names = {key: name for name, key in URL_KEYS.items()}
+    out: dict[str, Any] = {}
+    for item in items:
+        key, _, text = item.partition("=")
+        name = names.get(key)
+        if name not in (*SOLVE_PARAMS, "mass", "stiffness") or name in ("accuracy", "method"):
+            raise ValueError(f"{where}: unknown parameter {shown(key)}")
+        if name in out:
+            raise ValueError(f"{where}: {key} ({name}) must be given once")
+        p = ExplorerState.param[name]
+        try:
+            value = parse_value(p, text)
+            ExplorerState(**{name: value})
+        except Exception:  # noqa: BLE001 - any refusal is said in one message
+            raise ValueError(f"{where}: {key} ({name}) must be {allowed(p)}; "
+                             f"got {shown(text)}") from None
+        out[name] = value
+    return out
 
 
 # --- what a pin shows ----------------------------------------------------------------------
@@ -705,6 +716,10 @@ class CompareMenu:
     def _clicked(self, event: Any) -> None:
         value = event.new
         ex = self.explorer
+        if value not in (PIN_LABEL, None) and value not in dict(self.button.items).values():
+            # Not an entry of the menu (a script's click): nothing to do, one quiet line.
+            say_refused(f"refused from the browser: menu entry {value!r:.60}")
+            return
         if value == PIN_LABEL or value is None:
             ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
                            ex.state.stiffness)
@@ -742,20 +757,23 @@ class CompareMenu:
 
     # --- permalink -------------------------------------------------------------------------
 
-    def apply_query(self, query: Mapping[str, Any]) -> None:
-        """Pins and presentation mode from the page's address."""
+    def apply_query(self, query: Mapping[str, str]) -> list[str]:
+        """Pins and presentation mode from the address's text values; returns what was
+        refused, in words."""
         ex = self.explorer
+        refused = []
         raw = query.get(URL_KEY)
-        if raw not in (None, ""):
+        if raw:
             try:
                 pins = decode_pins(raw, ex.state.accuracy, ex.state.method,
                                    ex.state.mass, ex.state.stiffness)
             except ValueError as exc:
-                ex._show_error(f"The pinned runs of the address could not be restored: {exc}")
+                refused.append(f"{URL_KEY}: the pinned runs could not be restored: {exc}")
             else:
                 ex.compare.set_pins(pins)
-        self.presentation.apply_query(query)
+        refused += self.presentation.apply_query(query)
         self.refresh()
+        return refused
 
     def query(self, current: Mapping[str, Any]) -> dict[str, str]:
         """What the address says of the pins and the presentation (keys only written when

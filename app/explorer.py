@@ -21,13 +21,15 @@ import panel as pn
 import param
 from bokeh.core.properties import validate
 from bokeh.events import Tap
+from panel.io.location import Location
 from panel.io.state import set_curdoc
 
-from app import presentation
+from app import links, presentation
 from app.animation import ANIM_SIZE, Animation
 from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
+from app.perf.browser_values import say_refused
 from app.plots import MAP_PALETTE, MAP_SIZE, PHASE_SIZE, PLOT_WIDTHS, SMALL_SIZE, TIME_SIZE, PlotSet
 from app.readout import readout_html
 from app.scenes import (
@@ -64,13 +66,21 @@ from app.state import (
     VIEW_PARAMS,
     ExplorerState,
     core_inputs,
-    scene_key,
     scene_values,
     si_bound_error,
     si_units,
 )
 from app.trade import measure, trade_html
-from app.widgets import ShownLater, TypedSlider, bounds_reason, format_number, set_changed
+from app.widgets import (
+    Checkbox,
+    RadioButtonGroup,
+    Select,
+    ShownLater,
+    TypedSlider,
+    bounds_reason,
+    format_number,
+    set_changed,
+)
 from core import Status
 
 log = logging.getLogger(__name__)
@@ -225,6 +235,11 @@ class Explorer(pn.viewable.Viewer):
         self.error: str | None = None
         self._syncing = False
         self._url_timer: _Deferred | None = None
+        #: The page's address (:meth:`sync_url`), or None.
+        self.location: Location | None = None
+        #: The alert of the address's refused values and the values the page opened with:
+        #: it stays while the solution drawn is of those values.
+        self._link_alert: tuple[str, dict[str, Any]] | None = None
         #: Counts the commits: a preview solved before the latest commit is not drawn.
         self._commits = 0
         #: Full solves and drag previews, in the worker pool (the latest request wins).
@@ -348,25 +363,25 @@ class Explorer(pn.viewable.Viewer):
                 validate=lambda v, n=name, k=key: self._refusal_si(n, k, v),
                 lazy=name in SHOWN_LATER,
             )
-        self.scene_select = pn.widgets.Select(
+        self.scene_select = Select(
             label="Scene (paper figure)", value=st.scene, width=WIDGET_WIDTH,
             options={**{SCENES[k].title: k for k in SCENES}, "custom": CUSTOM},
             css_classes=["fie-scene"],
         )
         self.scene_select.param.watch(self._on_scene_select, "value")
-        self.stop_type = pn.widgets.RadioButtonGroup(
+        self.stop_type = RadioButtonGroup(
             label="Stop", options=list(STOP_TYPES), value=st.stop_type, width=WIDGET_WIDTH,
             color="default", css_classes=["fie-stop-type"])
-        self.units = pn.widgets.RadioButtonGroup(
+        self.units = RadioButtonGroup(
             label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
-        self.accuracy = pn.widgets.RadioButtonGroup(
+        self.accuracy = RadioButtonGroup(
             label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH,
             description=_accuracy_tip(), css_classes=["fie-accuracy"])
-        self.method = pn.widgets.Select(
+        self.method = Select(
             label="Method", options=list(METHODS), value=st.method, width=WIDGET_WIDTH,
             description="; ".join(f"{k}: {v}" for k, v in METHOD_TIPS.items()) + ".",
             css_classes=["fie-method"])
-        self.program = pn.widgets.Checkbox(
+        self.program = Checkbox(
             label="overlap program (Fig. 2b): the stop alone", value=st.program,
             css_classes=["fie-program"])
         self.reset = pn.widgets.Button(
@@ -375,9 +390,9 @@ class Explorer(pn.viewable.Viewer):
         self.reset.on_click(self._reset)
         #: The paper's figure the reset button returns to (the last scene loaded).
         self.figure = st.scene if st.scene in SCENES else DEFAULT_FIGURE
-        self.show_all = pn.widgets.Checkbox(label="show all plots", value=st.show_all)
+        self.show_all = Checkbox(label="show all plots", value=st.show_all)
         # First in the deformable stop's group, and like it in the page once first shown.
-        self.contact_law = pn.widgets.Select(
+        self.contact_law = Select(
             label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
             width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
             description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
@@ -528,48 +543,61 @@ class Explorer(pn.viewable.Viewer):
 
     # --- URL -----------------------------------------------------------------------------
 
-    def sync_url(self) -> None:
-        """Keep the state in the page's query string (permalinks).
+    def sync_url(self, location: Location | None = None) -> None:
+        """Keep the state in the page's query string (permalinks), that of ``location``
+        (default: the session's, :func:`app.links.session_location`).
 
         A URL naming only a scene loads that scene; parameters given beside it override the
-        scene's values. The URL is rewritten :data:`URL_DELAY_MS` after the last change, so
-        that its round trip (the browser echoes the new address) does not delay the
-        repaint of a slider release.
+        scene's values. The page reads the address's text itself (:mod:`app.links`): no
+        value can fail in Panel's parser. The URL is rewritten :data:`URL_DELAY_MS` after
+        the last change, so that its round trip (the browser echoes the new address) does
+        not delay the repaint of a slider release.
         """
-        loc = pn.state.location
+        self.location = loc = location if location is not None else links.session_location()
         if loc is None:
             return
-        query = loc.query_params
-        scene = scene_key(query.get("scene"))
+        texts, repeated = links.once(links.query_pairs(loc.search))
+        scene = texts.get("scene")
         if scene in SCENES and scene != self.state.scene:
             self.state.load_scene(scene)
-        self._apply_query(query)
-        self.menu.apply_query(query)
+        errors, unknown = self._apply_query(texts, repeated)
+        errors += self.menu.apply_query(texts)
+        if errors or unknown:
+            self._url_error(errors, unknown)
         self.state.param.watch(self._url_changed, list(URL_KEYS))
         pn.state.onload(self._write_url)
 
-    def _apply_query(self, query: Mapping[str, Any]) -> None:
-        """Set the state from the URL's parameters in one batch; report what failed.
+    def _apply_query(self, texts: Mapping[str, str],
+                     repeated: Mapping[str, Sequence[str]]) -> tuple[list[str], list[str]]:
+        """Set the state from the URL's parameters (their text, :mod:`app.links`) in one
+        batch; return the messages of the values refused and the unknown keys.
 
         A parameter is read under its permalink key (``tend``) or its own name (``t_end``);
-        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported. With
-        ``units=SI`` the values of :data:`URL_SI_PARAMS` are SI values (m/s, s, N/m), as
-        the page writes them, converted with the address's ``m`` and ``k``."""
+        a key that is neither, nor one of :data:`OTHER_URL_KEYS`, is reported, and so is
+        a key given more than once. With ``units=SI`` the values of
+        :data:`URL_SI_PARAMS` are SI values (m/s, s, N/m), as the page writes them,
+        converted with the address's ``m`` and ``k``."""
         names = {**{name: name for name in URL_KEYS},
                  **{key: name for name, key in URL_KEYS.items()}}
-        values, unknown = {}, []
-        for key, raw in query.items():
+        values, given, unknown, errors = {}, {}, [], []
+        for key, texts_of_key in repeated.items():
+            if key in names or key in OTHER_URL_KEYS:
+                errors.append(links.repeated_message(key, names.get(key), texts_of_key))
+            else:
+                unknown.append(key)
+        for key, text in texts.items():
             name = names.get(key)
             if name is None:
                 if key not in OTHER_URL_KEYS:
                     unknown.append(key)
                 continue
+            given[name] = text
             try:
-                values[name] = self.state.param[name].deserialize(raw)
-            except Exception:  # noqa: BLE001 - an unreadable value is reported below
-                values[name] = raw
+                values[name] = links.parse_value(self.state.param[name], text)
+            except ValueError:
+                errors.append(links.refused_message(name, self.state.param[name], text))
         # Each value is checked on its own, so that one bad value does not drop the others.
-        good, bad, si_errors = {}, {}, []
+        good, bad = {}, {}
         for name, value in values.items():
             try:
                 ExplorerState(**{name: value})
@@ -578,7 +606,7 @@ class Explorer(pn.viewable.Viewer):
             else:
                 good[name] = value
         if good.get("units", self.state.units) == "SI":
-            si_errors = self._si_from_url(good, bad)
+            errors.extend(self._si_from_url(good, bad))
         good = {name: value for name, value in good.items()
                 if value != getattr(self.state, name)}
         # A scene's values changed by the address are no longer that scene: its title and
@@ -591,8 +619,9 @@ class Explorer(pn.viewable.Viewer):
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
             bad.update(good)
-        if bad or unknown or si_errors:
-            self._url_error(bad, unknown, si_errors)
+        errors = [links.refused_message(name, self.state.param[name], given[name])
+                  for name in bad if name in given] + errors
+        return errors, unknown
 
     def _si_from_url(self, good: dict[str, Any], bad: dict[str, Any]) -> list[str]:
         """Turn the SI values of an SI address (:data:`URL_SI_PARAMS` in ``good`` and
@@ -607,11 +636,7 @@ class Explorer(pn.viewable.Viewer):
             if raw is None:
                 continue
             bad.pop(name, None)
-            try:
-                value = float(raw) / factors[name][2]
-            except (TypeError, ValueError):
-                bad[name] = raw
-                continue
+            value = raw / factors[name][2]
             message = si_bound_error(name, value, mass, stiffness)
             if message:
                 errors.append(f"{URL_KEYS[name]}: {message}")
@@ -642,7 +667,7 @@ class Explorer(pn.viewable.Viewer):
 
     def _write_url(self, *events: param.parameterized.Event) -> None:
         self._url_timer = None
-        loc = pn.state.location
+        loc = self.location if self.location is not None else pn.state.location
         if loc is None:
             return
         query = {}
@@ -655,21 +680,19 @@ class Explorer(pn.viewable.Viewer):
                 value = float(f"{value * si[name][2]:.12g}")
             value = self.state.param[name].serialize(value)
             query[key] = value if isinstance(value, str) else json.dumps(value)
-        query.update(self.menu.query(loc.query_params))
-        loc.update_query(**query)
+        current = dict(links.query_pairs(loc.search))
+        query.update(self.menu.query(current))
+        # Written as text (app.links): the keys the page does not read stay as they came.
+        loc.search = links.merged_search(loc.search, query)
 
-    def _url_error(self, values: Mapping[str, Any], unknown: Sequence[str] = (),
-                   si_errors: Sequence[str] = ()) -> None:
-        """Say which of the URL's values were rejected, what each allows and what came, and
-        which keys the page does not know."""
-        parts = [f"{URL_KEYS[name]} ({name}) must be {_allowed(self.state, name)}; "
-                 f"got {_shown(value)}" for name, value in values.items()]
-        parts.extend(si_errors)
+    def _url_error(self, errors: Sequence[str], unknown: Sequence[str] = ()) -> None:
+        """Say which of the URL's values were rejected (``errors``: each names its key,
+        what it allows and what came), and which keys the page does not know."""
+        parts = list(errors)
         if unknown:
-            parts.append(f"unknown {'keys' if len(unknown) > 1 else 'key'} "
-                         f"{', '.join(_shown(k) for k in unknown)} (known: "
-                         f"{', '.join(URL_KEYS.values())}, or the parameters' names)")
+            parts.append(links.unknown_message(unknown, URL_KEYS.values()))
         self._show_error("Some URL parameters could not be applied: " + "; ".join(parts))
+        self._link_alert = (self.alert.object, self.state.values())
 
     # --- events --------------------------------------------------------------------------
 
@@ -842,17 +865,28 @@ class Explorer(pn.viewable.Viewer):
             self.plots.update_preview(sol, self.state.scales())
 
     def _on_phase_tap(self, event: Tap) -> None:
-        if event.x is None or event.y is None:
-            return
-        self._commit({"x0": round(float(event.x), 4),
-                      "v0": round(float(event.y) / self.state.scales().velocity, 4)})
+        self._commit_tap(event, lambda x, y: {
+            "x0": round(x, 4), "v0": round(y / self.state.scales().velocity, 4)})
 
     def _on_map_tap(self, event: Tap) -> None:
+        self._commit_tap(event, lambda x, y: {
+            "belt_speed": max(0.0, round(x / self.state.scales().velocity, 4)),
+            "clearance": round(y, 4)})
+
+    def _commit_tap(self, event: Tap, values: Callable[[float, float], dict[str, float]]) -> None:
+        """Commit the ``values`` of a tap at ``(x, y)``; a tap no user can make (a script's:
+        not numbers, or values outside the state's bounds) is refused in one quiet line."""
         if event.x is None or event.y is None:
             return
-        self._commit({"belt_speed": max(0.0, round(float(event.x) /
-                                                   self.state.scales().velocity, 4)),
-                      "clearance": round(float(event.y), 4)})
+        try:
+            tapped = values(float(event.x), float(event.y))
+        except (TypeError, ValueError, OverflowError):
+            tapped = {}
+        bounds = {name: self.state.param[name].bounds for name in tapped}
+        if not tapped or not all(low <= tapped[n] <= high for n, (low, high) in bounds.items()):
+            say_refused(f"refused from the browser: tap at ({event.x!r:.30}, {event.y!r:.30})")
+            return
+        self._commit(tapped)
 
     def _on_scene_select(self, event: param.parameterized.Event) -> None:
         if self._syncing or event.new == CUSTOM or event.new not in SCENES:
@@ -1101,7 +1135,8 @@ class Explorer(pn.viewable.Viewer):
                 if self.sweeps is not None:
                     self.sweeps.set_scales(scales)
                 set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
-                set_changed(self.alert, visible=False)
+                if self._link_alert != (self.alert.object, dict(sol.values)):
+                    set_changed(self.alert, visible=False)
                 if self.trade.visible and self._trade_values != sol.values:
                     set_changed(self.trade, visible=False)  # it described another run
                 self._arrivals += 1  # last: the page's figures hold their paints until it
@@ -1294,10 +1329,6 @@ def _core_reason(values: Mapping[str, Any]) -> str | None:
     return None
 
 
-#: Characters of a rejected value shown in a message (a long value is cut, and says so).
-SHOWN_CHARS = 60
-
-
 def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     """Whether solve values differ from a scene's: numbers beyond 1e-11 relative (an SI
     address holds 12 digits), anything else at all; the method and accuracy are not the
@@ -1320,36 +1351,6 @@ def _differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
         elif a != b:
             return True
     return False
-
-
-def _shown(value: Any) -> str:
-    """A received value for a message: its repr, cut to :data:`SHOWN_CHARS` characters.
-
-    >>> _shown("x" * 100).endswith("xx… (100 characters)'")
-    True
-    """
-    text = repr(value)
-    if len(text) <= SHOWN_CHARS:
-        return text
-    n = len(value) if isinstance(value, str) else len(text)
-    return f"{text[:SHOWN_CHARS]}… ({n} characters)'"
-
-
-def _allowed(state: ExplorerState, name: str) -> str:
-    """What parameter ``name`` of the state accepts, in words.
-
-    >>> _allowed(ExplorerState(), "restitution"), _allowed(ExplorerState(), "units")
-    ('a number in [0, 1]', "one of 'dimensionless', 'SI'")
-    """
-    p = state.param[name]
-    if isinstance(p, param.Number):
-        low, high = p.bounds
-        return f"a number in [{low:g}, {high:g}]"
-    if isinstance(p, param.Boolean):
-        return "true or false"
-    if isinstance(p, param.Selector):
-        return "one of " + ", ".join(repr(o) for o in p.objects)
-    return "a valid value"
 
 
 def _show_all_label(visible: tuple[str, ...], applicable: tuple[str, ...]) -> str:

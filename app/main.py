@@ -24,6 +24,7 @@ from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
+from app.protocol_refusals import quiet_refusals  # noqa: E402
 from app.solve_process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
@@ -85,9 +86,13 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
     Bokeh walked the whole document again (~930 models) to list its models; with the
     document's model list frozen (``Document.models.freeze``) while the public
     ``server_doc`` attaches it, it walks it once: a page costs ~15 % less server CPU.
+    The page's location is the one its explorer read the address from
+    (:func:`app.links.session_location`): Panel's own would parse the address again.
     """
+    location = template.explorer.location
     with doc.models.freeze():
-        template.server_doc(doc, title=TITLE)
+        template.server_doc(doc, title=TITLE,
+                            location=location if location is not None else True)
 
 
 def skip_development_checks() -> None:
@@ -100,5 +105,6 @@ def skip_development_checks() -> None:
 if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:  # served
     skip_development_checks()  # before Bokeh validates this session's document
     report()  # logs each perf patch left out (app.perf)
+    quiet_refusals()  # a value of a type Bokeh refuses from the browser: one quiet line
     warm_up()  # the solver's child processes (once per server process)
     serve(create_app(), pn.state.curdoc)

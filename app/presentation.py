@@ -21,9 +21,9 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
-import panel as pn
 from bokeh.models import GlyphRenderer, SaveTool, Title
 
+from app.links import shown
 from app.plots import (
     AXIS_LABEL_FONT,
     LABEL_FONT_PX,
@@ -123,10 +123,10 @@ class Presentation:
         backend_changed = (fmt == "svg") != (self.slides == "svg")
         self.slides = fmt
         self.restyle()
-        if backend_changed and pn.state.location is not None:
+        if backend_changed and self.explorer.location is not None:
             # BokehJS picks a figure's drawing backend when it makes its view: the page
             # loads its own permalink again (pins, presentation and all).
-            pn.state.location.reload = True
+            self.explorer.location.reload = True
             self.explorer._write_url()
             return
         self.explorer._url_changed()
@@ -152,25 +152,26 @@ class Presentation:
 
     # --- address ---------------------------------------------------------------------------
 
-    def apply_query(self, query: Mapping[str, Any]) -> None:
+    def apply_query(self, query: Mapping[str, str]) -> list[str]:
+        """The slide format and the layout from the address's text values; returns what
+        was refused, in words."""
+        refused = []
         fmt = query.get(SLIDES_KEY)
-        if fmt not in (None, "", 0):
-            if str(fmt) in SLIDES:
-                self.set_slides(str(fmt))
+        if fmt:
+            if fmt in SLIDES:
+                self.set_slides(fmt)
             else:
-                self.explorer._show_error(
-                    f"slides must be one of {', '.join(SLIDES)} (figure formats for slides); "
-                    f"got {str(fmt)[:20]!r}")
-        raw = query.get(URL_KEY)
-        if raw in (None, "", 0, "0"):
-            return
-        mode = str(int(raw)) if isinstance(raw, (int, float)) else str(raw)
+                refused.append(f"slides must be one of {', '.join(SLIDES)} (figure formats "
+                               f"for slides); got {shown(fmt)}")
+        mode = query.get(URL_KEY)
+        if mode in (None, "", "0"):
+            return refused
         if mode not in MODES:
-            self.explorer._show_error(
-                f"present must be one of {', '.join(MODES)} (presentation layouts: "
-                f"{', '.join(MODES.values())}) or 0; got {str(raw)[:20]!r}")
-            return
+            refused.append(f"present must be one of {', '.join(MODES)} (presentation "
+                           f"layouts: {', '.join(MODES.values())}) or 0; got {shown(mode)}")
+            return refused
         self.set_mode(mode)
+        return refused
 
     def query(self, current: Mapping[str, Any]) -> dict[str, str]:
         out = {}

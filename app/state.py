@@ -115,37 +115,13 @@ def si_scales(mass: float, stiffness: float) -> Scales:
     )
 
 
-class SceneSelector(param.Selector):
-    """The scene parameter: a URL's ``scene=11`` is read back as the scene name ``'11'``.
-
-    Panel parses query values as JSON, so a numeric scene name arrives as a number.
-    """
-
-    @classmethod
-    def deserialize(cls, value: Any) -> Any:
-        return scene_key(value)
-
-
-def scene_key(value: Any) -> Any:
-    """The scene name a (possibly numeric) query value stands for: ``11`` -> ``'11'``.
-
-    >>> scene_key(11), scene_key("5b"), scene_key(11.0)
-    ('11', '5b', '11')
-    """
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if isinstance(value, int) and not isinstance(value, bool):
-        return str(value)
-    return value
-
-
 class ExplorerState(param.Parameterized):
     """All the user can set; defaults are the scene :data:`app.scenes.DEFAULT_SCENE`.
 
     Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges.
     """
 
-    scene = SceneSelector(default=DEFAULT_SCENE, objects=[*SCENES, CUSTOM], doc="""
+    scene = param.Selector(default=DEFAULT_SCENE, objects=[*SCENES, CUSTOM], doc="""
         The paper's figure last loaded, or 'custom' once a parameter was changed.""")
     units = param.Selector(default="dimensionless", objects=list(UNITS))
     belt_speed = param.Number(0.1, bounds=(0.0, 10.0), softbounds=(0.0, 0.6), doc="""

@@ -16,6 +16,13 @@ from typing import Any
 import panel as pn
 import param
 
+from app.perf.browser_values import (
+    CheckboxValues,
+    RadioValues,
+    SelectValues,
+    SliderValues,
+    refusing,
+)
 from app.perf.slider import keep_released_value, release_bases
 from core import check_range
 
@@ -67,9 +74,25 @@ class ShownLater(pn.Column):
         return not self._later
 
 
-class _Slider(*release_bases(), pn.widgets.FloatSlider):
+class Select(*refusing(SelectValues), pn.widgets.Select):
+    """A select that refuses a value outside its options from the browser quietly and
+    shows the value in use again (:mod:`app.perf.browser_values`)."""
+
+
+class RadioButtonGroup(*refusing(RadioValues), pn.widgets.RadioButtonGroup):
+    """A radio button group that refuses an index outside its buttons (-1 included) from
+    the browser quietly and shows the button in use again (:mod:`app.perf.browser_values`)."""
+
+
+class Checkbox(*refusing(CheckboxValues), pn.widgets.Checkbox):
+    """A checkbox that takes only ticked or not from the browser
+    (:mod:`app.perf.browser_values`)."""
+
+
+class _Slider(*release_bases(), *refusing(SliderValues), pn.widgets.FloatSlider):
     """A float slider whose release, where :mod:`app.perf.slider` applies, is handled as
-    soon as it arrives instead of after the drag's debounce."""
+    soon as it arrives instead of after the drag's debounce, and which refuses a value
+    outside its range from the browser quietly (:mod:`app.perf.browser_values`)."""
 
     #: Called as soon as a release arrives from the browser, before Panel processes it
     #: (where :mod:`app.perf.slider` applies; else the release's commit comes first).

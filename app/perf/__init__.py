@@ -1,10 +1,11 @@
 """Every patch of a Panel or Bokeh internal, in one package, each with the versions it was
 written for.
 
-The explorer runs on public Panel and Bokeh APIs. A few measured delays could only be
-removed by reaching into library internals; each such patch lives here
-(:mod:`app.perf.websocket`, :mod:`app.perf.slider`, :mod:`app.perf.defaults`), names the
-library versions it was written and tested for (:data:`PATCHES`), and is applied only
+The explorer runs on public Panel and Bokeh APIs. A few measured delays, and the quiet
+refusal of values from the browser that no user can give, could only be had by reaching
+into library internals; each such patch lives here (:mod:`app.perf.websocket`,
+:mod:`app.perf.slider`, :mod:`app.perf.defaults`, :mod:`app.perf.browser_values`), names
+the library versions it was written and tested for (:data:`PATCHES`), and is applied only
 
 * inside that version window (checked when the server starts; outside it a log line says
   the patch was left out), and
@@ -12,8 +13,10 @@ library versions it was written and tested for (:data:`PATCHES`), and is applied
 
 The page's JavaScript patches (``static/perf/``) check their BokehJS version in the browser,
 with ``paint_shortcuts=off`` in the page's address as their switch. The explorer works fully
-without any patch; ``benchmarks/README.md`` has a paired measurement of what they buy, and
-the findings worth reporting upstream.
+without any patch (without ``browser-values`` a script's malformed value is still refused,
+but by Panel, with a traceback in the log, and a radio index of -1 picks the last option);
+``benchmarks/README.md`` has a paired measurement of what they buy, and the findings worth
+reporting upstream.
 """
 
 from __future__ import annotations
@@ -74,6 +77,10 @@ PATCHES = {
               "a theme says so without an exception"),
         Patch("slider-release", "panel", "1.9", "1.10",
               "a slider's release is processed at once, not after the drag's debounce"),
+        Patch("browser-values", "panel", "1.9", "1.10",
+              "a value from the browser that a widget cannot hold (outside a slider's "
+              "range, a select's options, a radio group's buttons) is refused at the "
+              "widget in one rate-limited WARNING line, and the browser set back"),
     )
 }
 

@@ -136,6 +136,21 @@ def test_presets_load_one_scene_and_pin_the_other():
         assert ex.compare.pins[0].values["restitution"] < 1.0
 
 
+def test_a_menu_entry_the_menu_does_not_hold_is_refused_quietly(caplog):
+    """A script's click on an entry the menu does not hold (``preset:99``, ``unpin:x``)
+    failed in the handler with an ERROR and a traceback (an IndexError, a ValueError)."""
+    from types import SimpleNamespace
+
+    ex, doc = _page()
+    before = ex.state.values()
+    with set_curdoc(doc), caplog.at_level("WARNING"):
+        for item in ("preset:99", "unpin:x", "unpin:7", "present:<b>"):
+            ex.menu._clicked(SimpleNamespace(new=item))
+    assert ex.state.values() == before and not ex.compare.pins
+    assert not ex.menu.presentation.on
+    assert [r for r in caplog.records if r.levelno >= 40] == []
+
+
 #: A pin far from scene 5a's run: a three times larger static deflection, a farther stop
 #: and a faster belt (its excursion and speeds are some three times 5a's).
 FAR_PIN = {"u_s": 3.0, "clearance": 2.0, "belt_speed": 0.3, "t_end": 120.0}

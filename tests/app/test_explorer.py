@@ -254,6 +254,19 @@ def test_tap_on_the_map_moves_belt_speed_and_clearance(ex):
     assert ex.plots.sources["here"].data == {"v": [0.3], "x": [0.25]}
 
 
+@pytest.mark.parametrize(("x", "y"), [(1e9, 0.0), (0.1, float("nan")), ("a", 0.1),
+                                       (float("inf"), 0.1)])
+def test_a_tap_no_user_can_make_is_refused_quietly(ex, caplog, x, y):
+    """A script's tap outside the state's bounds, or not at numbers, failed in the handler
+    with an ERROR and a traceback (the state's bounds, ``float('a')``)."""
+    before = ex.state.values()
+    with caplog.at_level("WARNING"):
+        ex._on_phase_tap(Tap(ex.plots.figures["phase"], x=x, y=y))
+        ex._on_map_tap(Tap(ex.plots.figures["map"], x=x, y=y))
+    assert ex.state.values() == before
+    assert [r for r in caplog.records if r.levelno >= 40] == []
+
+
 def test_si_units_convert_the_view(ex):
     ex.units.value = "SI"
     assert ex.si_box.visible and not ex.sliders["u_s"].visible
