@@ -39,7 +39,8 @@ JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_url_history": f"{ASSETS}/url_history.js",
             "fie_a11y": f"{ASSETS}/a11y.js",
             "fie_present": f"{ASSETS}/present.js",
-            "fie_lazy_plots": f"{ASSETS}/lazy_plots.js"}
+            "fie_lazy_plots": f"{ASSETS}/lazy_plots.js",
+            "fie_reconnect": f"{ASSETS}/reconnect.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 #: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
