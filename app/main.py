@@ -23,6 +23,7 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
+from app.perf.resources import load_each_bundle_once  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.solve_process import warm_up  # noqa: E402
 
@@ -76,6 +77,7 @@ def create_app() -> pn.template.BaseTemplate:
     keep_long_lived_out_of_collections()
     send_without_delay_once_loaded()
     send_arrays_inline()
+    load_each_bundle_once()
     return template
 
 
