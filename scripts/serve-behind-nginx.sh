@@ -34,6 +34,7 @@ NGINX=${NGINX:-$(command -v nginx || echo /usr/sbin/nginx)}
 EXAMPLE=$ROOT/docs/nginx-example.conf
 
 [ -x "$NGINX" ] || { echo "serve-behind-nginx: nginx is missing (apt-get install -y nginx)" >&2; exit 1; }
+[ -f "$EXAMPLE" ] || { echo "serve-behind-nginx: $EXAMPLE is missing" >&2; exit 1; }
 mkdir -p "$RUN_DIR"
 
 PIDS=()
