@@ -27,7 +27,8 @@ def page():
     """(template, document) of a whole page, as a session builds it."""
     main = importlib.import_module("app.main")
     doc = Document()
-    with set_curdoc(doc):
+    with pytest.MonkeyPatch.context() as mp, set_curdoc(doc):
+        mp.setenv(perf.SWITCH, "on")  # `make test` runs tests/app once more with it off
         template = main.create_app()
         main.serve(template, doc)
         yield template, doc
