@@ -1,8 +1,12 @@
 # Friction-Impact Explorer: one image a teacher runs for a class.
 #
 #   docker build -t friction-explorer .
-#   docker run --rm -p 5006:5006 -e NUM_PROCS=1 \
-#       -e ALLOW_WEBSOCKET_ORIGIN=explorer.school.example friction-explorer
+#   docker run -d --restart unless-stopped -p 5006:5006 \
+#       -e ALLOW_WEBSOCKET_ORIGIN=explorer.school.example:5006 friction-explorer
+#
+# It does not start without ALLOW_WEBSOCKET_ORIGIN (the host:port students type); the log
+# says what to set. nginx, inside the image, serves the page compressed in front of NUM_PROCS
+# server processes (0 = one per core). See docs/deploy.md.
 #
 # The install and start steps live in scripts/install.sh and scripts/serve.sh, which CI also
 # runs in a fresh virtual environment (tests/deploy/). CI builds this file with buildah, no
@@ -16,6 +20,14 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1 \
     VENV=/opt/venv \
     PATH=/opt/venv/bin:$PATH
+
+# nginx in front of the server processes (scripts/serve-behind-nginx.sh with
+# docs/nginx-example.conf): compression, caching of the versioned static files, sticky
+# sessions, per-client limits. Debian's own package, the release's current version.
+# hadolint ignore=DL3008
+RUN apt-get update \
+    && apt-get install -y --no-install-recommends nginx \
+    && rm -rf /var/lib/apt/lists/*
 
 # An unprivileged user runs the server.
 RUN groupadd --system --gid 10001 explorer \
@@ -35,12 +47,14 @@ RUN scripts/install.sh /opt/venv
 USER 10001:10001
 
 # Settings for scripts/serve.sh; override with `docker run -e NAME=value`.
+# ALLOW_WEBSOCKET_ORIGIN has no default: the server refuses to start without it.
+# BOKEH_SECRET_KEY, when set, signs the session ids.
 ENV PORT=5006 \
     ADDRESS=0.0.0.0 \
     NUM_PROCS=1 \
-    ALLOW_WEBSOCKET_ORIGIN=localhost:5006 \
-    SESSION_LIFETIME_MS=30000 \
-    CHECK_UNUSED_MS=10000 \
+    PROXY=nginx \
+    SESSION_LIFETIME_MS=7000 \
+    CHECK_UNUSED_MS=3000 \
     WARM=1
 
 EXPOSE 5006
@@ -49,5 +63,5 @@ EXPOSE 5006
 HEALTHCHECK --interval=30s --timeout=5s --start-period=60s --retries=3 \
     CMD ["python", "-c", "import os, urllib.request; urllib.request.urlopen('http://127.0.0.1:%s/liveness' % os.environ.get('PORT', '5006'), timeout=4)"]
 
-# panel serve app/main.py --num-procs $NUM_PROCS --check-unused-sessions ... --warm
+# nginx on $PORT in front of NUM_PROCS `panel serve app/main.py ... --warm` processes
 CMD ["scripts/serve.sh"]

@@ -23,6 +23,7 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
+from app.perf.resources import load_each_bundle_once  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.protocol_refusals import quiet_refusals  # noqa: E402
 from app.solve_process import warm_up  # noqa: E402
@@ -40,7 +41,8 @@ JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_url_history": f"{ASSETS}/url_history.js",
             "fie_a11y": f"{ASSETS}/a11y.js",
             "fie_present": f"{ASSETS}/present.js",
-            "fie_lazy_plots": f"{ASSETS}/lazy_plots.js"}
+            "fie_lazy_plots": f"{ASSETS}/lazy_plots.js",
+            "fie_reconnect": f"{ASSETS}/reconnect.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 #: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
@@ -76,6 +78,7 @@ def create_app() -> pn.template.BaseTemplate:
     keep_long_lived_out_of_collections()
     send_without_delay_once_loaded()
     send_arrays_inline()
+    load_each_bundle_once()
     return template
 
 

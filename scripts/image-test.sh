@@ -15,8 +15,9 @@
 #    pip in the build uses the host's CA bundle, mounted read-only.
 # 3. The image's configuration is checked (user, health check, command), the image is mounted
 #    (`podman image mount`) and its CMD runs there under `chroot --userspec=UID:GID` with the
-#    image's ENV and WORKDIR (`podman run` cannot set rlimits in this sandbox); /liveness,
-#    /liveness?endpoint=/main and /main must answer.
+#    image's ENV and WORKDIR (`podman run` cannot set rlimits in this sandbox): without
+#    ALLOW_WEBSOCKET_ORIGIN it must refuse to start; with it (nginx in front of the server,
+#    as the image runs), /liveness, /liveness?endpoint=/main and /main must answer.
 # Everything (server, mounts, storage) is removed on exit, whatever the outcome; every long
 # step has a time limit.
 #
@@ -210,6 +211,18 @@ mount -t tmpfs -o size=256m,mode=1777 tmpfs "$MNT/dev/shm"
 for dev in null zero random urandom; do
     [ -e "$MNT/dev/$dev" ] || cp -a "/dev/$dev" "$MNT/dev/$dev"
 done
+
+# Without ALLOW_WEBSOCKET_ORIGIN the image's CMD must refuse to start, saying what to set.
+# shellcheck disable=SC2016  # $1 and $@ are the inner shell's
+if timeout 60 chroot --userspec="$IMG_USER" "$MNT" /usr/bin/env -i "${IMG_ENV[@]}" \
+        "HOME=/home/explorer" "PORT=$PORT" \
+        /bin/sh -c 'cd "$1" && shift && exec "$@"' sh "$IMG_WORKDIR" "${IMG_CMD[@]}" \
+        >"$WORKDIR/refused.log" 2>&1; then
+    die "the image started without ALLOW_WEBSOCKET_ORIGIN"
+fi
+grep -q "ALLOW_WEBSOCKET_ORIGIN is not set" "$WORKDIR/refused.log" ||
+    { cat "$WORKDIR/refused.log" >&2; die "no word of ALLOW_WEBSOCKET_ORIGIN from the image"; }
+say "without ALLOW_WEBSOCKET_ORIGIN the image refuses to start and says what to set"
 
 # The image's ENV, then what `docker run -e` would override: a loopback port of ours.
 SERVE_ENV=("${IMG_ENV[@]}" "HOME=/home/explorer" "PORT=$PORT" "ADDRESS=127.0.0.1"

@@ -5,7 +5,8 @@
 #
 # Starts one scripts/serve.sh process per port in UPSTREAM_PORTS and nginx (Debian's package)
 # on PROXY_ADDRESS:PROXY_PORT with docs/nginx-example.conf, its `listen` and `server` lines
-# replaced by these ports. Students open http://PROXY_ADDRESS:PROXY_PORT/main. Runs in the
+# replaced by these ports (scripts/serve.sh does this by itself when NUM_PROCS > 1 or
+# PROXY=nginx, as in the image). Students open http://PROXY_ADDRESS:PROXY_PORT/main. Runs in the
 # foreground until stopped (Ctrl-C, SIGTERM) or until one of its processes exits; then it
 # stops the others. tests/deploy/test_nginx.py runs it.
 #
@@ -19,7 +20,8 @@
 #                   directory under /tmp, printed)
 #   NGINX           the nginx binary (default: nginx on PATH, else /usr/sbin/nginx)
 # and scripts/serve.sh's variables (VENV, SESSION_LIFETIME_MS, WARM, ...) for the processes.
-# The processes bind 127.0.0.1 and trust nginx's X-Forwarded-* headers (USE_XHEADERS=1).
+# The processes bind 127.0.0.1, trust nginx's X-Forwarded-* headers (USE_XHEADERS=1) and leave
+# compression to nginx (HTTP_GZIP=0).
 set -euo pipefail
 
 ROOT=$(CDPATH='' cd -- "$(dirname -- "$0")/.." && pwd)
@@ -32,6 +34,7 @@ NGINX=${NGINX:-$(command -v nginx || echo /usr/sbin/nginx)}
 EXAMPLE=$ROOT/docs/nginx-example.conf
 
 [ -x "$NGINX" ] || { echo "serve-behind-nginx: nginx is missing (apt-get install -y nginx)" >&2; exit 1; }
+[ -f "$EXAMPLE" ] || { echo "serve-behind-nginx: $EXAMPLE is missing" >&2; exit 1; }
 mkdir -p "$RUN_DIR"
 
 PIDS=()
@@ -50,10 +53,13 @@ trap 'exit 143' TERM
 SERVERS=""
 for port in $UPSTREAM_PORTS; do
     SERVERS="$SERVERS    server 127.0.0.1:$port max_fails=3 fail_timeout=30s;\n"
-    PORT=$port ADDRESS=127.0.0.1 NUM_PROCS=1 USE_XHEADERS=1 ALLOW_WEBSOCKET_ORIGIN=$ORIGINS \
-        "$ROOT/scripts/serve.sh" "$@" >"$RUN_DIR/serve-$port.log" 2>&1 &
+    PORT=$port ADDRESS=127.0.0.1 NUM_PROCS=1 PROXY=none USE_XHEADERS=1 HTTP_GZIP=0 \
+        ALLOW_WEBSOCKET_ORIGIN=$ORIGINS \
+        "$ROOT/scripts/serve.sh" "$@" \
+        > >(tee "$RUN_DIR/serve-$port.log" | sed -u "s/^/[$port] /") 2>&1 &
     PIDS+=($!)
-    echo "serve-behind-nginx: process $! on 127.0.0.1:$port (log $RUN_DIR/serve-$port.log)"
+    echo "serve-behind-nginx: process $! on 127.0.0.1:$port (log $RUN_DIR/serve-$port.log," \
+        "and here with [$port] in front)"
 done
 
 # The example's http-level snippet with these ports, inside a complete configuration whose
@@ -82,8 +88,10 @@ EOF
 grep -q "listen $PROXY_ADDRESS:$PROXY_PORT;" "$RUN_DIR/nginx.conf" &&
     [ "$(grep -c '^ *server 127.0.0.1:' "$RUN_DIR/nginx.conf")" = "$(echo "$UPSTREAM_PORTS" | wc -w)" ] ||
     { echo "serve-behind-nginx: $EXAMPLE has changed shape (listen/hash/server lines)" >&2; exit 1; }
-"$NGINX" -t -q -p "$RUN_DIR" -c "$RUN_DIR/nginx.conf"
-"$NGINX" -p "$RUN_DIR" -c "$RUN_DIR/nginx.conf" -g 'daemon off;' &
+# -e: the error log from the start, before the configuration is read (the default path,
+# /var/log/nginx, is not writable by an unprivileged user such as the image's).
+"$NGINX" -t -q -e "$RUN_DIR/error.log" -p "$RUN_DIR" -c "$RUN_DIR/nginx.conf"
+"$NGINX" -e "$RUN_DIR/error.log" -p "$RUN_DIR" -c "$RUN_DIR/nginx.conf" -g 'daemon off;' &
 PIDS+=($!)
 echo "serve-behind-nginx: nginx $! on http://$PROXY_ADDRESS:$PROXY_PORT/main (config and logs in $RUN_DIR)"
 echo "serve-behind-nginx: pids ${PIDS[*]}"

@@ -7,18 +7,38 @@
 #                           project root if it exists, else `panel` on PATH)
 #   PORT                    port to listen on (default: 5006)
 #   ADDRESS                 address to bind (default: 127.0.0.1; the image sets 0.0.0.0)
-#   NUM_PROCS               worker processes, 0 = one per core (default: 1)
+#   NUM_PROCS               server processes, 0 = one per core (default: 1)
+#   PROXY                   nginx = serve through nginx with docs/nginx-example.conf
+#                           (scripts/serve-behind-nginx.sh: compression, caching, sticky
+#                           sessions, per-client limits), NUM_PROCS processes behind it;
+#                           none = `panel serve` alone (--num-procs when NUM_PROCS > 1);
+#                           auto = nginx when NUM_PROCS > 1 and nginx is installed
+#                           (default: auto; the image sets nginx)
+#   UPSTREAM_BASE_PORT      with nginx, the processes listen on 127.0.0.1 at this port + 1,
+#                           + 2, ... (default: 15000)
 #   ALLOW_WEBSOCKET_ORIGIN  comma- or space-separated host[:port] list allowed to open the
-#                           websocket, e.g. "explorer.school.example,10.0.0.5:5006"
-#                           (default: localhost:$PORT,127.0.0.1:$PORT; "*" allows any)
-#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 30000)
-#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 10000)
+#                           websocket: what students type in the address bar, e.g.
+#                           "explorer.school.example:5006,192.168.1.20:5006". Required when
+#                           ADDRESS is not a loopback address (the server refuses to start
+#                           without it); on loopback the default is
+#                           localhost:$PORT,127.0.0.1:$PORT. "*" allows any origin (a warning
+#                           is logged: a page of any web site may then open sessions here)
+#   BOKEH_SECRET_KEY        when set, session ids are signed with it (--session-ids signed):
+#                           the server creates no session for an id it did not sign. Make one
+#                           with `python -c "import secrets; print(secrets.token_urlsafe(32))"`
+#                           (at least 32 characters); the same key for every process
+#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 7000)
+#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 3000); a closed
+#                           tab's session is gone after at most the sum of the two (10 s)
 #   KEEP_ALIVE_MS           websocket keep-alive ping interval (default: 37000, Bokeh's)
 #   WARM                    1 = run the app once at start-up (--warm) (default: 1)
 #   PREFIX                  URL prefix when served under a sub-path behind a proxy (default: none)
 #   USE_XHEADERS            1 = trust X-Forwarded-* headers from a reverse proxy (default: 0)
 #   STATIC_DIRS             --static-dirs mapping (default: assets=static)
 #   LOG_LEVEL               panel/bokeh log level (default: info)
+#   HTTP_GZIP               1 = gzip the server's HTTP answers (app/serve_compressed.py);
+#                           0 = plain `panel serve` (behind nginx, which compresses)
+#                           (default: 1)
 # Any arguments are passed on to `panel serve` unchanged.
 set -eu
 
@@ -29,28 +49,94 @@ APP_PATH=${APP_PATH:-app/main.py}
 PORT=${PORT:-5006}
 ADDRESS=${ADDRESS:-127.0.0.1}
 NUM_PROCS=${NUM_PROCS:-1}
-ALLOW_WEBSOCKET_ORIGIN=${ALLOW_WEBSOCKET_ORIGIN:-localhost:$PORT,127.0.0.1:$PORT}
-SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-30000}
-CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-10000}
+PROXY=${PROXY:-auto}
+UPSTREAM_BASE_PORT=${UPSTREAM_BASE_PORT:-15000}
+ALLOW_WEBSOCKET_ORIGIN=${ALLOW_WEBSOCKET_ORIGIN:-}
+SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-7000}
+CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-3000}
 KEEP_ALIVE_MS=${KEEP_ALIVE_MS:-37000}
 WARM=${WARM:-1}
 PREFIX=${PREFIX:-}
 USE_XHEADERS=${USE_XHEADERS:-0}
 STATIC_DIRS=${STATIC_DIRS:-assets=static}
 LOG_LEVEL=${LOG_LEVEL:-info}
+HTTP_GZIP=${HTTP_GZIP:-1}
 
 if [ -n "${VENV:-}" ]; then
     PANEL=$VENV/bin/panel
+    PYTHON=$VENV/bin/python
 elif [ -x "$ROOT/.venv/bin/panel" ]; then
     PANEL=$ROOT/.venv/bin/panel
+    PYTHON=$ROOT/.venv/bin/python
 else
     PANEL=panel
+    PYTHON=python
 fi
 
 if [ ! -f "$APP_PATH" ]; then
     echo "serve.sh: no app at $APP_PATH (set APP_PATH)" >&2
     exit 1
 fi
+
+# Students' browsers open the websocket from the address they typed; the server accepts only
+# the origins listed. A server for other machines without that list would serve blank pages,
+# so it does not start: the one who starts it sees why, not a class of students.
+case "$ADDRESS" in
+    127.*|localhost|::1) LOOPBACK=1 ;;
+    *) LOOPBACK=0 ;;
+esac
+if [ -z "$ALLOW_WEBSOCKET_ORIGIN" ]; then
+    if [ "$LOOPBACK" = 0 ]; then
+        cat >&2 <<EOF
+serve.sh: ALLOW_WEBSOCKET_ORIGIN is not set, and the server listens on $ADDRESS for other
+machines. Set it to every host:port students type in the address bar, comma-separated, e.g.
+    docker run ... -e ALLOW_WEBSOCKET_ORIGIN=explorer.school.example:$PORT,192.168.1.20:$PORT ...
+    ALLOW_WEBSOCKET_ORIGIN=192.168.1.20:$PORT scripts/serve.sh
+(without it their pages would load but stay blank). See docs/deploy.md.
+EOF
+        exit 2
+    fi
+    ALLOW_WEBSOCKET_ORIGIN=localhost:$PORT,127.0.0.1:$PORT
+fi
+case ",$(echo "$ALLOW_WEBSOCKET_ORIGIN" | tr ' ' ','),"  in
+    *,\*,*)
+        echo "serve.sh: WARNING: ALLOW_WEBSOCKET_ORIGIN=* accepts websockets from any origin:" \
+            "a page of any web site a student visits may open sessions on this server." \
+            "List the host:port students type instead." >&2 ;;
+esac
+
+case "$NUM_PROCS" in
+    ''|*[!0-9]*) echo "serve.sh: NUM_PROCS must be a whole number >= 0, got '$NUM_PROCS'" >&2
+                 exit 2 ;;
+esac
+if [ "$NUM_PROCS" = 0 ]; then
+    NUM_PROCS=$(nproc 2>/dev/null || echo 1)
+fi
+if [ "$PROXY" = auto ]; then
+    PROXY=none
+    if [ "$NUM_PROCS" -gt 1 ] && { command -v nginx >/dev/null 2>&1 || [ -x /usr/sbin/nginx ]; }
+    then
+        PROXY=nginx
+    fi
+fi
+case "$PROXY" in
+    nginx)
+        # One process per port behind nginx with sticky sessions (docs/deploy.md); each runs
+        # this script again with PROXY=none and NUM_PROCS=1.
+        UPSTREAM_PORTS=""
+        i=1
+        while [ "$i" -le "$NUM_PROCS" ]; do
+            UPSTREAM_PORTS="$UPSTREAM_PORTS $((UPSTREAM_BASE_PORT + i))"
+            i=$((i + 1))
+        done
+        PROXY_ADDRESS=$ADDRESS PROXY_PORT=$PORT ORIGINS=$ALLOW_WEBSOCKET_ORIGIN \
+            UPSTREAM_PORTS=${UPSTREAM_PORTS# } \
+            SESSION_LIFETIME_MS=$SESSION_LIFETIME_MS CHECK_UNUSED_MS=$CHECK_UNUSED_MS \
+            exec "$ROOT/scripts/serve-behind-nginx.sh" "$@" ;;
+    none) ;;
+    *) echo "serve.sh: PROXY must be auto, nginx or none, got '$PROXY'" >&2
+       exit 2 ;;
+esac
 
 # The app imports `core` from the project root, whichever directory it is served from.
 PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}"
@@ -59,6 +145,10 @@ export PYTHONPATH
 # Build the argument list in "$@" (POSIX sh has no arrays): options are put in front of the
 # caller's arguments, which therefore come last and can override them.
 set -f  # no globbing: ALLOW_WEBSOCKET_ORIGIN may be "*"
+if [ -n "${BOKEH_SECRET_KEY:-}" ]; then
+    # Bokeh reads the key from the environment; ids it did not sign are refused.
+    set -- --session-ids signed "$@"
+fi
 if [ "$USE_XHEADERS" = 1 ]; then
     set -- --use-xheaders "$@"
 fi
@@ -90,5 +180,10 @@ set -- "$APP_PATH" \
     --liveness \
     "$@"
 
+if [ "$HTTP_GZIP" = 1 ]; then
+    # `panel serve` with Tornado's compress_response (app/serve_compressed.py).
+    echo "serve.sh: $PYTHON -m app.serve_compressed (panel serve, gzip) $*"
+    exec "$PYTHON" -m app.serve_compressed "$@"
+fi
 echo "serve.sh: $PANEL serve $*"
 exec "$PANEL" serve "$@"

@@ -1,11 +1,12 @@
 """Every patch of a Panel or Bokeh internal, in one package, each with the versions it was
 written for.
 
-The explorer runs on public Panel and Bokeh APIs. A few measured delays, and the quiet
-refusal of values from the browser that no user can give, could only be had by reaching
-into library internals; each such patch lives here (:mod:`app.perf.websocket`,
-:mod:`app.perf.slider`, :mod:`app.perf.defaults`, :mod:`app.perf.browser_values`), names
-the library versions it was written and tested for (:data:`PATCHES`), and is applied only
+The explorer runs on public Panel and Bokeh APIs. A few measured delays, the bundles a
+page loads, and the quiet refusal of values from the browser that no user can give could
+only be had by reaching into library internals; each such patch lives here
+(:mod:`app.perf.websocket`, :mod:`app.perf.slider`, :mod:`app.perf.defaults`,
+:mod:`app.perf.resources`, :mod:`app.perf.browser_values`), names the library versions it
+was written and tested for (:data:`PATCHES`), and is applied only
 
 * inside that version window (checked when the server starts; outside it a log line says
   the patch was left out), and
@@ -75,6 +76,11 @@ PATCHES = {
               "class, not on every read; a container default is copied from the class's; "
               "whether a default is per instance is asked once per class; a model without "
               "a theme says so without an exception"),
+        Patch("bootstrap-css-once", "panel", "1.9", "1.10",
+              "the design's page-level CSS links carry Panel's version suffix, as the "
+              "shadow roots' copies do: one address, one download"),
+        Patch("mathjax-on-demand", "panel", "1.9", "1.10",
+              "MathJax is loaded where Bokeh finds TeX, not for every HTML pane"),
         Patch("slider-release", "panel", "1.9", "1.10",
               "a slider's release is processed at once, not after the drag's debounce"),
         Patch("browser-values", "panel", "1.9", "1.10",

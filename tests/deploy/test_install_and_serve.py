@@ -121,7 +121,8 @@ def server(fresh_venv, tmp_path_factory):
 def test_serve_runs_the_panel_from_the_fresh_venv(server, fresh_venv):
     _, log_path = server
     log = log_path.read_text()
-    assert f"{fresh_venv}/bin/panel serve" in log
+    # `panel serve` with gzip (app/serve_compressed.py), by the fresh venv's Python.
+    assert f"{fresh_venv}/bin/python -m app.serve_compressed (panel serve, gzip)" in log
     for flag in ("--num-procs", "--check-unused-sessions", "--unused-session-lifetime",
                  "--allow-websocket-origin", "--liveness", "--warm"):
         assert flag in log

@@ -1,0 +1,86 @@
+"""Patches of Panel's page resources (1.9): each bundle is loaded once, and MathJax only
+where a model asks for it.
+
+A first open of the page transferred 5.3 MB (1.5 MB gzipped), of which two items bought
+nothing:
+
+* **Bootstrap's CSS twice** (221 kB, 30 kB gzipped). The Bootstrap design lists
+  ``bundled/bootstrap5/css/bootstrap.min.css`` for the page's ``<head>`` without a version,
+  and Panel gives the same file to every component's shadow root with ``?v=<version>``
+  (``panel.io.resources.patch_stylesheet``): two addresses, so the browser fetched and
+  parsed it twice. :func:`version_design_css` gives the ``<head>`` link the version too.
+* **MathJax** (``bokeh-mathjax.min.js``, 1.8 MB, 0.62 MB gzipped). Bokeh loads it when a
+  model holds TeX (``bokeh.embed.bundle._use_mathjax``); Panel adds it whenever the page
+  has any HTML pane, in case its text holds TeX (``_panel_use_mathjax``). The explorer's
+  panes hold no TeX, so :func:`mathjax_on_demand` leaves Bokeh's own test to decide.
+
+Both are applied only where :mod:`app.perf` says so (names ``bootstrap-css-once``,
+``mathjax-on-demand``); ``tests/app/test_perf_resources.py`` checks the page's resource list
+and that no pane's text holds TeX.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from app.perf import applies
+
+#: Panel's own functions, kept when patched.
+_design_resolve: Any = None
+_panel_use_mathjax: Any = None
+
+
+def _versioned(url: Any, dist: str, suffix: str) -> Any:
+    # A file of Panel's own distribution without a query: the address its shadow-root copy
+    # has (patch_stylesheet adds the same suffix to those).
+    if isinstance(url, str) and dist in url and "?" not in url and url.endswith(".css"):
+        return url + suffix
+    return url
+
+
+def _resolve_versioned(self, *args, **kwargs):
+    from panel.io.resources import JS_VERSION
+
+    resources = _design_resolve(self, *args, **kwargs)
+    css = resources.get("css")
+    if isinstance(css, dict):
+        suffix = f"?v={JS_VERSION}"
+        for name, url in css.items():
+            css[name] = _versioned(url, "extensions/panel/", suffix)
+    return resources
+
+
+def version_design_css() -> None:
+    """Give the design's page-level CSS links Panel's version suffix (see the module's
+    docstring); idempotent."""
+    global _design_resolve
+    if not applies("bootstrap-css-once"):
+        return
+    from panel.theme.base import Design
+
+    if Design.__dict__["resolve_resources"] is not _resolve_versioned:
+        _design_resolve = Design.__dict__["resolve_resources"]
+        Design.resolve_resources = _resolve_versioned
+
+
+def _no_tex_in_panes(roots) -> bool:
+    return False
+
+
+def mathjax_on_demand() -> None:
+    """Load MathJax only where Bokeh finds a model that needs it (see the module's
+    docstring); idempotent."""
+    global _panel_use_mathjax
+    if not applies("mathjax-on-demand"):
+        return
+    import panel.io.resources as resources
+
+    if resources._panel_use_mathjax is not _no_tex_in_panes:
+        _panel_use_mathjax = resources._panel_use_mathjax
+        resources._panel_use_mathjax = _no_tex_in_panes
+
+
+def load_each_bundle_once() -> None:
+    """Both patches of this module, where they apply."""
+    version_design_css()
+    mathjax_on_demand()
