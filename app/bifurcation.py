@@ -836,6 +836,12 @@ class BifurcationView:
         total = self.spec.n if self.spec else 0
         self._set_status(f"Cancelled after {done} of {total} values.")
 
+    def close(self) -> None:
+        """The page closed: stop the sweep and the simulated map (a chunk in a solver
+        process is stopped)."""
+        self.job.cancel()
+        self.map_job.cancel()
+
     @staticmethod
     def _work(spec: SweepSpec, chunk: np.ndarray, cancelled: threading.Event) -> Points:
         return sweep_points(spec.values, spec.parameter, chunk, spec.quantity, cancelled)
