@@ -1,5 +1,6 @@
-"""Budgets of the page's long work: 'Measure the trade' runs in the solver processes, within
-a budget, one at a time per page, and stops when the page closes.
+"""Budgets of the page's long work. 'Measure the trade' runs in the solver processes, within
+a budget, one at a time per page; a sweep states its budget before it starts, stops at it
+with what it has, and a sweep estimated past it is refused; both stop when the page closes.
 
 The probes below stand in for ``core.simulate``; a solver process gets them by reference
 (module-level functions of this module) and records its process id in a file named by the
@@ -14,11 +15,14 @@ import pathlib
 import time
 from types import SimpleNamespace
 
+import numpy as np
+import panel as pn
 import pytest
 from bokeh.document import Document
 from panel.io.state import set_curdoc
 
-from app import solve_process, trade
+from app import solve_process, sweep_budget, trade
+from app.bifurcation import ChunkedSweep, SweepSpec, check_spec, default_range
 from app.state import scene_values
 from core import simulate as core_simulate
 
@@ -217,3 +221,144 @@ def test_a_closed_page_stops_its_measurement_and_frees_its_solver_process(monkey
         callback(SimpleNamespace(destroyed=True))
     _wait_for(lambda: not _alive(pid), "the closed page's measurement still runs")
     _wait_for(lambda: not ex._trade.running, "the measurement did not end")
+
+
+# --- sweeps ----------------------------------------------------------------------------------
+
+def _sleepy_sweep(osc, stop, parameter, values, *, t_end, **options):
+    """Stands in for ``core.sweep.sweep`` in a solver process: records it, then sleeps."""
+    _pid_file(t_end).write_text(str(os.getpid()))
+    time.sleep(SLEEP_S)
+    raise AssertionError("the sweep was not stopped")
+
+
+class _Session:
+    """A server session's document as the sweep uses it: its next-tick callbacks are kept
+    (and not run: the sweep stays where it is)."""
+
+    session_context = SimpleNamespace(destroyed=False)
+
+    def add_next_tick_callback(self, fn) -> None:
+        pass
+
+
+def _opened(scene: str = "5a"):
+    from app.explorer import Explorer
+    from app.state import ExplorerState
+
+    ex = Explorer(ExplorerState(scene=scene, **scene_values(scene)))
+    ex._open_sweeps()
+    return ex
+
+
+def test_a_sweep_estimated_past_its_budget_is_refused_with_the_points_that_fit():
+    """Defect: a sweep had no budget; a deformable stop's 200,000 points (~0.1 s each)
+    would have run for hours while the tab was open. The estimate (points times the cost
+    of a point) is checked before it starts."""
+    values = scene_values("10")
+    lo, hi = default_range(values, "belt_speed")
+    most = sweep_budget.max_points(closed=False, t_end=values["t_end"])
+    # the largest count whose estimate fits the budget
+    cost = sweep_budget.INTEGRATED_S_PER_TIME * values["t_end"]
+    assert most * cost <= sweep_budget.SWEEP_BUDGET_S < (most + 1) * cost
+    with pytest.raises(ValueError, match=rf"points must be at most {most} for this run.*"
+                                         r"got 200000"):
+        check_spec(values, "belt_speed", lo, hi, 200_000, "impact_speed")
+    check_spec(values, "belt_speed", lo, hi, most, "impact_speed")
+    # The closed form (a rigid stop): 200,000 points fit.
+    closed = scene_values("5a")
+    check_spec(closed, "belt_speed", *default_range(closed, "belt_speed"), 200_000,
+               "impact_speed")
+
+
+def test_a_sweep_s_card_states_its_budget_before_it_starts(monkeypatch):
+    ex = _opened()
+    view = ex.sweeps
+    said = []
+    shown = view._set_status
+    monkeypatch.setattr(view, "_set_status", lambda text, **kw: (said.append(text),
+                                                                 shown(text, **kw)))
+    monkeypatch.setattr(view.job, "start", lambda *a, **k: said.append("started"))
+    view.points.value = 2000
+    view.start()
+    estimate = sweep_budget.estimate_s(2000, closed=True, t_end=200.0)
+    assert said == [f"Sweeping 2000 values of belt speed v (about {estimate:.2g} s; at "
+                    f"most {sweep_budget.SWEEP_BUDGET_S:g} s: stops with what it has)…",
+                    "started"]
+
+
+def test_a_sweep_stopped_at_its_budget_keeps_what_it_has_and_says_so(monkeypatch):
+    ex = _opened()
+    view = ex.sweeps
+    monkeypatch.setattr(sweep_budget, "SWEEP_BUDGET_S", 1e-6)  # over after the first chunk
+    monkeypatch.setattr(sweep_budget, "check_cost", lambda *a, **k: None)
+    view.points.value = 5000
+    view.start()  # no session: the chunks run before it returns
+    first = len(view.data.swept)
+    assert 0 < first < 5000 and not view.job.running and view.stop.disabled
+    assert len(view.source.data["x"]) == len(view.data.x) > 0  # what it has is drawn
+    status = view.status.object
+    assert f"Stopped at the sweep's budget of 1e-06 s after {first} of 5000 values" in status
+    assert "the diagram shows what it has" in status
+    assert f"swept up to {view.data.swept.max():.4g}" in status
+
+
+def _sleep_in_a_solver_process(task, chunk, cancelled):
+    return solve_process.call(_sleepy_sweep, None, None, "belt_speed", chunk, t_end=task,
+                              cancelled=cancelled)
+
+
+def test_a_chunk_running_past_the_sweep_s_budget_is_stopped(probe_file):
+    """A chunk in a solver process that outlives the budget (by a chunk's aim) is stopped;
+    the sweep says it was cut, not that it failed."""
+    _warm()
+    cut, failed = [], []
+    job = ChunkedSweep(_sleep_in_a_solver_process, lambda *a: pytest.fail("no chunk ends"),
+                       failed.append, lambda done, total: cut.append((done, total)))
+    job.start(probe_file, np.arange(10.0), 10, scene_values("10"), target_s=0.2,
+              budget_s=0.3)
+    assert cut == [(0, 10)] and failed == [] and not job.running
+    pid = _started(probe_file)
+    _wait_for(lambda: not _alive(pid), "the chunk's process still runs")
+
+
+def test_a_closed_page_stops_its_sweep_and_frees_its_solver_process(monkeypatch,
+                                                                    probe_file):
+    """Defect: a sweep's running chunk went on after its page closed (the next chunk was
+    not submitted only once the session was gone). The server's end of the session stops
+    it, and its solver process."""
+    from app import bifurcation
+
+    _warm()
+    main = importlib.import_module("app.main")
+    doc = Document()
+    with set_curdoc(doc):
+        template = main.create_app()
+    ex = template.explorer
+    ex._open_sweeps()  # scene 5a, closed form: swept at once
+    session = _Session()
+    monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: session))
+    monkeypatch.setattr(bifurcation.sweeps, "sweep", _sleepy_sweep)
+    values = {**scene_values("10"), "t_end": probe_file}
+    spec = SweepSpec(values, "belt_speed", 0.01, 0.1, 10, "impact_speed")
+    ex.sweeps.job.start(spec, spec.grid(), 1, values, 2.0, 60.0)
+    pid = _started(probe_file)
+    assert ex.sweeps.job.running
+    for callback in list(doc.session_destroyed_callbacks):
+        callback(SimpleNamespace(destroyed=True))
+    _wait_for(lambda: not _alive(pid), "the closed page's sweep still runs")
+
+
+def test_a_simulated_map_estimated_past_the_budget_is_refused(monkeypatch):
+    """The simulated regime map is a sweep too: a deformable stop's 16 x 16 cells to
+    t = 5000 (~2,000 s by the estimate) are not started, and the card says why."""
+    ex = _opened()
+    view = ex.sweeps
+    values = {**scene_values("10"), "t_end": 5000.0}
+    monkeypatch.setattr(view, "_values", lambda: values)
+    view.sim_layer.value = True
+    most = sweep_budget.max_points(closed=False, t_end=5000.0)
+    assert "The regime map is not simulated: its 16 x 16 cells exceed the sweep's budget" \
+        in view.map_status.object
+    assert f"at most {most} for this run" in view.map_status.object
+    assert not view.map_job.running and view.map_job.submitted == 0
