@@ -275,6 +275,8 @@ class Explorer(pn.viewable.Viewer):
         self.measure.on_click(self._measure)
         #: The measurement of the trade, in the solver processes (one at a time).
         self._trade = TradeRunner(self._measured, self._measure_failed)
+        #: The message of the last refused measurement (hidden when the measurement ends).
+        self._measure_refusal: str | None = None
         #: The sweep card (app.bifurcation), built when first opened.
         self.sweeps: Any = None
         #: The regime labels the map legend names (the last map drawn).
@@ -1151,6 +1153,7 @@ class Explorer(pn.viewable.Viewer):
             self._trade.start(values)
         except MeasureRefused as exc:
             self._show_error(str(exc), lead="Not measured:", tail="")
+            self._measure_refusal = self.error
             return
         self.measure.disabled = True
         self.measure.label = f"Measuring… (at most {MEASURE_BUDGET_S:g} s)"
@@ -1158,6 +1161,8 @@ class Explorer(pn.viewable.Viewer):
     def _measure_ended(self) -> None:
         self.measure.disabled = False
         self.measure.label = MEASURE_LABEL
+        if self.alert.visible and self.error == self._measure_refusal:
+            self.alert.visible = False  # "already running": no longer so
 
     def _measured(self, values: Mapping[str, Any], rows: list) -> None:
         self._measure_ended()

@@ -180,6 +180,7 @@ def test_a_second_measurement_of_a_page_is_refused_while_one_runs(monkeypatch, p
     ex._trade.cancel()
     _wait_for(lambda: not ex.measure.disabled, "the button stayed disabled")
     assert ex.measure.label == label
+    assert not ex.alert.visible  # "already running" no longer holds
     _wait_for(lambda: not _alive(pid), "the cancelled measurement's process still runs")
 
 
