@@ -113,7 +113,9 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
 
     Each solve runs in a solver process (:mod:`app.solve_process`), stopped at its
     deadline; the calling thread only waits. With ``stop`` set (the page closed) the
-    running solve is stopped and :class:`app.solve_process.Abandoned` raised.
+    running solve is stopped and :class:`app.solve_process.Abandoned` raised. (With the
+    processes turned off the solves run in the calling thread, where only the numerical
+    methods stop at their budget, and the rest is checked between solves.)
 
     Raises
     ------
@@ -180,6 +182,8 @@ def _solve(inputs: tuple, method: str, options: dict[str, Any], within: float,
            stop: threading.Event | None) -> Sampled | None:
     """One solve in a solver process, ``None`` if it was stopped at ``within`` seconds;
     :class:`app.solve_process.Abandoned` if ``stop`` was set."""
+    if stop is not None and stop.is_set():  # a solve in this thread is not stopped
+        raise solve_process.Abandoned("the measurement was cancelled")
     deadline = solve_process.Deadline(within, stop)
     try:
         # ``simulate`` looked up at each call: tests put a probe in its place.

@@ -184,6 +184,19 @@ def test_a_second_measurement_of_a_page_is_refused_while_one_runs(monkeypatch, p
     _wait_for(lambda: not _alive(pid), "the cancelled measurement's process still runs")
 
 
+def test_with_the_solver_processes_off_a_cancelled_measurement_makes_no_further_solve(
+        monkeypatch):
+    """In the calling thread a solve cannot be stopped; a cancelled measurement starts no
+    other (it had gone on through every method and preset)."""
+    import threading
+
+    monkeypatch.setenv(solve_process.SWITCH, "off")
+    stop = threading.Event()
+    stop.set()
+    with pytest.raises(solve_process.Abandoned):
+        trade.measure(_values(61.9), stop=stop)
+
+
 def test_the_server_refuses_measurements_past_its_queue(monkeypatch, probe_file):
     """One measuring thread per server: past :data:`app.trade.MEASURE_QUEUE` waiting, the
     next page's measurement is refused at once instead of queueing."""
