@@ -5,7 +5,9 @@ sweep runs in the solver's worker pool (:func:`app.solver.executor_for`), one ch
 parameter values at a time: each chunk's answer is drawn on the session's event loop, and
 the next chunk is submitted only then, so a cancel (or a new sweep) stops the work after the
 chunk that is running. A sweep of more than :data:`DENSITY_SAMPLES` samples is drawn as a
-2-D histogram (one image) instead of one marker per sample.
+2-D histogram (one image) instead of one marker per sample. A sweep has a budget
+(:mod:`app.sweep_budget`): its card says it before the sweep starts, and a sweep stopped at
+it keeps what it has and says so.
 
 The theory is drawn on the diagram (docs/physics.md): the critical speed ``v*`` (Eq. 25),
 the slip centre ``a``, the stick limit ``b``, the critical clearance ``x*`` (Eq. 35), the
@@ -45,6 +47,7 @@ from bokeh.plotting import figure
 from panel.io.state import set_curdoc
 
 from app import solve_process
+from app import sweep_budget as budget
 from app.session_loop import from_any_thread
 from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
 from app.state import DIMENSIONLESS, Scales, core_inputs
@@ -261,6 +264,7 @@ def check_spec(values: Mapping[str, Any], parameter: str, lo: float, hi: float, 
         raise ValueError(f"the range of {parameter} must have from < to; got {lo:g} to {hi:g}")
     if not 2 <= n <= MAX_POINTS:
         raise ValueError(f"points must be in [2, {MAX_POINTS}]; got {n}")
+    budget.check_cost(int(n), **sweep_cost(values))
     spec = SweepSpec(dict(values), parameter, float(lo), float(hi), int(n), quantity)
     # The core checks each value against its range (its message names both).
     sweep_points(spec.values, parameter, [spec.lo, spec.hi], quantity)
@@ -273,6 +277,12 @@ def _inputs(values: Mapping[str, Any]):
     method = choose_method(values["method"], values["stop_type"])
     closed = method == "exact" and not isinstance(stop, HystereticStop)
     return osc, stop, x0, v0, (CLOSED_FORM_T_END if closed else t_end), method
+
+
+def sweep_cost(values: Mapping[str, Any]) -> dict[str, Any]:
+    """What a point of a sweep of ``values`` costs (:func:`app.sweep_budget.point_cost_s`'s
+    arguments): closed form or integrated, and its horizon."""
+    return {"closed": closed_form(values), "t_end": _inputs(values)[4]}
 
 
 def closed_form(values: Mapping[str, Any]) -> bool:
@@ -516,7 +526,9 @@ class ChunkedSweep:
     take about ``target_s`` (:data:`CHUNK_SECONDS`). :meth:`cancel` (or a new
     :meth:`start`) drops the answer of the chunk that runs and submits no other. Without a
     server session (scripts, tests) the chunks run one after the other before
-    :meth:`start` returns.
+    :meth:`start` returns. A sweep with a budget stops at it with the values it has: no
+    chunk is submitted past it, each is sized to end before it, and one in a solver process
+    still running a chunk's aim past it is stopped; ``on_cut(done, total)`` says so.
 
     Parameters
     ----------
@@ -526,18 +538,22 @@ class ChunkedSweep:
         process, :func:`run_core`, is stopped by it).
     on_chunk : callable(done, total, part)
     on_failed : callable(Exception)
+    on_cut : callable(done, total), optional
     """
 
     def __init__(self, work: Callable[[Any, np.ndarray, threading.Event], Any],
                  on_chunk: Callable[[int, int, Any], None],
-                 on_failed: Callable[[Exception], None]) -> None:
+                 on_failed: Callable[[Exception], None],
+                 on_cut: Callable[[int, int], None] | None = None) -> None:
         self.work, self.on_chunk, self.on_failed = work, on_chunk, on_failed
+        self.on_cut = on_cut
         self._token = 0
         self._lock = threading.Lock()
         #: Chunks submitted since this object was made (tests count them).
         self.submitted = 0
         self.running = False
         self._cancelled = threading.Event()
+        self._deadline: solve_process.Deadline | None = None
 
     def cancel(self) -> None:
         """Stop: the running chunk's answer is dropped (a chunk in a child process is
@@ -548,15 +564,18 @@ class ChunkedSweep:
         self.running = False
 
     def start(self, task: Any, items: np.ndarray, first: int, pool_values: Mapping[str, Any],
-              target_s: float = CHUNK_SECONDS["closed"]) -> None:
+              target_s: float = CHUNK_SECONDS["closed"], budget_s: float | None = None
+              ) -> None:
         """Compute ``work(task, chunk)`` over ``items`` (along the first axis), in the pool
-        that solves ``pool_values`` (:func:`app.solver.executor_for`)."""
+        that solves ``pool_values`` (:func:`app.solver.executor_for`), within ``budget_s``
+        seconds (``None``: no budget)."""
         self.cancel()
         with self._lock:
             token = self._token
             self._cancelled = threading.Event()
         self.running = True
         self._target_s = target_s
+        self._deadline = None if budget_s is None else solve_process.Deadline(budget_s)
         doc = pn.state.curdoc
         if doc is not None and doc.session_context is None:
             doc = None
@@ -567,13 +586,22 @@ class ChunkedSweep:
         chunk = items[done:done + size]
         self.submitted += 1
         started = time.perf_counter()
-        future: Future = pool.submit(self.work, task, chunk, self._cancelled)
+        stop: Any = self._cancelled
+        if self._deadline is not None:  # a chunk in a solver process ends by the deadline
+            stop = solve_process.Deadline(self._deadline.left() + self._target_s, stop)
+        future: Future = pool.submit(self.work, task, chunk, stop)
 
         def answered() -> None:
             if token != self._token:
                 return
             try:
                 part = future.result()
+            except solve_process.Abandoned as exc:
+                if self._over():
+                    self._cut(token, done, total)
+                else:
+                    self._fail(token, exc)
+                return
             except Exception as exc:  # noqa: BLE001 - any failure is shown, the page lives
                 self._fail(token, exc)
                 return
@@ -583,8 +611,12 @@ class ChunkedSweep:
                 self.running = False
             self.on_chunk(now, total, part)
             if now < total and token == self._token:
-                rate = len(chunk) / elapsed
-                nxt = int(min(max(rate * self._target_s, 1), MAX_CHUNK))
+                if self._over():
+                    self._cut(token, now, total)
+                    return
+                aim = self._target_s if self._deadline is None else min(
+                    self._target_s, self._deadline.left())
+                nxt = int(min(max(len(chunk) / elapsed * aim, 1), MAX_CHUNK))
                 self._next(token, doc, pool, task, items, now, nxt)
 
         if doc is None:
@@ -603,6 +635,16 @@ class ChunkedSweep:
         if token == self._token:
             self.running = False
             self.on_failed(exc)
+
+    def _over(self) -> bool:
+        """The budget has run out."""
+        return self._deadline is not None and self._deadline.left() <= 0.0
+
+    def _cut(self, token: int, done: int, total: int) -> None:
+        if token == self._token:
+            self.running = False
+            if self.on_cut is not None:
+                self.on_cut(done, total)
 
 
 # --- the view --------------------------------------------------------------------------
@@ -650,7 +692,8 @@ class BifurcationView:
                                         css_classes=["fie-bif-lo"])
         self.hi = pn.widgets.FloatInput(label="to", value=_round(hi), width=110,
                                         css_classes=["fie-bif-hi"])
-        self.points = pn.widgets.IntInput(label="points", value=DEFAULT_POINTS, start=2,
+        self.points = pn.widgets.IntInput(label="points", start=2, value=min(
+            DEFAULT_POINTS, max(budget.max_points(**sweep_cost(vals)), 2)),
                                           end=MAX_POINTS, width=110,
                                           css_classes=["fie-bif-points"])
         self.quantity = pn.widgets.Select(
@@ -679,8 +722,9 @@ class BifurcationView:
         self.sim_layer.param.watch(lambda e: self._layers_changed(), "value")
         self.disagree_layer.param.watch(lambda e: self._layers_changed(), "value")
         self._build_figure()
-        self.job = ChunkedSweep(self._work, self._on_chunk, self._failed)
-        self.map_job = ChunkedSweep(self._map_work, self._on_map_chunk, self._map_failed)
+        self.job = ChunkedSweep(self._work, self._on_chunk, self._failed, self._cut)
+        self.map_job = ChunkedSweep(self._map_work, self._on_map_chunk, self._map_failed,
+                                    self._map_cut)
         self.spec: SweepSpec | None = None
         self.parts: list[Points] = []
         self.data = Points.join([])
@@ -826,10 +870,13 @@ class BifurcationView:
             self.current.location = float(values[spec.parameter]) * self._units(spec).parameter
             self.progress.value = 0
             self.stop.disabled = False
+            estimate = budget.estimate_s(spec.n, **sweep_cost(values))
             self._set_status(f"Sweeping {spec.n} values of "
-                             f"{parameter_name(spec.parameter, self.scales)}…")
+                             f"{parameter_name(spec.parameter, self.scales)} "
+                             f"({budget.budget_note(estimate)})…")
         kind = "closed" if closed_form(values) else "integrated"
-        self.job.start(spec, spec.grid(), FIRST_CHUNK[kind], values, CHUNK_SECONDS[kind])
+        self.job.start(spec, spec.grid(), FIRST_CHUNK[kind], values, CHUNK_SECONDS[kind],
+                       budget.SWEEP_BUDGET_S)
 
     def cancel(self) -> None:
         """Stop the running sweep; what was computed stays drawn."""
@@ -840,6 +887,12 @@ class BifurcationView:
         self.stop.disabled = True
         total = self.spec.n if self.spec else 0
         self._set_status(f"Cancelled after {done} of {total} values.")
+
+    def close(self) -> None:
+        """The page closed: stop the sweep and the simulated map (a chunk in a solver
+        process is stopped)."""
+        self.job.cancel()
+        self.map_job.cancel()
 
     @staticmethod
     def _work(spec: SweepSpec, chunk: np.ndarray, cancelled: threading.Event) -> Points:
@@ -858,7 +911,18 @@ class BifurcationView:
                 self._set_status(self._finished_status(spec, data, total), done=True)
             else:
                 self._set_status(f"{done} of {total} values of "
-                                 f"{parameter_name(spec.parameter, self.scales)}…")
+                                 f"{parameter_name(spec.parameter, self.scales)}… (at most "
+                                 f"{budget.SWEEP_BUDGET_S:g} s)")
+
+    def _cut(self, done: int, total: int) -> None:
+        """The sweep's budget ran out: what it has stays drawn, the card says so."""
+        spec = self.spec
+        self.last_seconds = time.perf_counter() - self._started
+        self.stop.disabled = True
+        reached = (f" ({parameter_name(spec.parameter, self.scales)} swept up to "
+                   f"{float(self.data.swept.max()) * self._units(spec).parameter:.4g})"
+                   if len(self.data.swept) else "")
+        self._set_status(budget.cut_note(done, total) + reached, done=True)
 
     def _finished_status(self, spec: SweepSpec, data: Points, total: int) -> str:
         """What a complete sweep found, in the card's units."""
@@ -984,11 +1048,20 @@ class BifurcationView:
         self._map_key, self.sim_map, self._map_rows = key, None, []
         kind = "closed" if closed_form(values) else "integrated"
         cells = SIM_MAP_CELLS[kind]
+        try:
+            budget.check_cost(cells * cells, **sweep_cost(values))
+        except ValueError as exc:
+            self.map_job.cancel()
+            self.map_status.object = (
+                "<div class='fie-bif-error'>The regime map is not simulated: its "
+                f"{cells} x {cells} cells exceed the sweep's budget ({html.escape(str(exc))})"
+                "</div>")
+            return
         speeds, clearances = map_cells(frame, cells)
         self._map_spec = (values, frame, clearances)
         self.map_status.object = self._map_note(values, cells, 0)
         self.map_job.start(self._map_spec, speeds, cells if kind == "closed" else 1, values,
-                           CHUNK_SECONDS[kind])
+                           CHUNK_SECONDS[kind], budget.SWEEP_BUDGET_S)
 
     @staticmethod
     def _map_work(spec, speeds: np.ndarray, cancelled: threading.Event) -> np.ndarray:
@@ -1004,6 +1077,12 @@ class BifurcationView:
         self.sim_map = compare_map(values, frame, np.concatenate(self._map_rows, axis=0))
         self._show_layers()
 
+    def _map_cut(self, done: int, total: int) -> None:
+        self.map_status.object = (
+            f"<div class='fie-bif-error'>The simulated map stopped at the sweep's budget of "
+            f"{budget.SWEEP_BUDGET_S:g} s after {done} of {total} belt speeds: not drawn. A "
+            "shorter horizon t_end finishes within it.</div>")
+
     def _map_failed(self, exc: Exception) -> None:
         self.map_status.object = (f"<div class='fie-bif-error'>The simulated map failed: "
                                   f"{html.escape(type(exc).__name__)}: "
@@ -1015,8 +1094,10 @@ class BifurcationView:
                 f"point, so this map is a coarse {cells} x {cells} grid, compared with the "
                 "theory of its equivalent rigid stop (r_eq = sqrt(k_e0/k_c0), Eq. 16)."
                 if deformable else "")
+        cost = budget.budget_note(budget.estimate_s(cells * cells, **sweep_cost(values)),
+                                  partial=False)
         return (f"<div class='fie-bif-running'>Simulating the regime map: {done} of {cells} "
-                f"belt speeds.{html.escape(note)}</div>")
+                f"belt speeds ({cost}).{html.escape(note)}</div>")
 
     def _show_layers(self) -> None:
         sim = self.sim_map

@@ -9,7 +9,6 @@ failure of a solve shows its message in an alert and keeps the last good picture
 
 from __future__ import annotations
 
-import asyncio
 import html
 import json
 import logging
@@ -42,6 +41,7 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
+from app.solve_process import Abandoned
 from app.solver import (
     ACCURACY,
     MAX_SOLVE_BUDGET_S,
@@ -70,7 +70,7 @@ from app.state import (
     si_bound_error,
     si_units,
 )
-from app.trade import measure, trade_html
+from app.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
 from app.widgets import (
     Checkbox,
     RadioButtonGroup,
@@ -184,6 +184,8 @@ CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
 MU_S_MIN = 0.005
 #: Width of the sidebar widgets [px].
 WIDGET_WIDTH = 290
+#: The label of the button that measures the speed/accuracy trade (app.trade).
+MEASURE_LABEL = "Measure the trade (a few seconds)"
 #: The house stylesheet (served by ``--static-dirs assets=static``); panes render in shadow
 #: DOMs, so each pane that uses the house classes links it itself.
 STYLESHEET = "assets/explorer.css"
@@ -281,11 +283,15 @@ class Explorer(pn.viewable.Viewer):
             css_classes=["fie-download-transitions"],
         )
         self.measure = pn.widgets.Button(
-            label="Measure the trade (a few seconds)", width=WIDGET_WIDTH,
-            css_classes=["fie-measure"],
+            label=MEASURE_LABEL, width=WIDGET_WIDTH, css_classes=["fie-measure"],
             description="Solve this run again with every method and preset: wall time now, "
-                        "error against a reference solution, steady state found.")
+                        "error against a reference solution, steady state found (at most "
+                        f"{MEASURE_BUDGET_S:g} s).")
         self.measure.on_click(self._measure)
+        #: The measurement of the trade, in the solver processes (one at a time).
+        self._trade = TradeRunner(self._measured, self._measure_failed)
+        #: The message of the last refused measurement (hidden when the measurement ends).
+        self._measure_refusal: str | None = None
         #: The sweep card (app.bifurcation), built when first opened.
         self.sweeps: Any = None
         #: The regime labels the map legend names (the last map drawn).
@@ -1137,8 +1143,7 @@ class Explorer(pn.viewable.Viewer):
                 set_changed(self.show_all, name=_show_all_label(visible, self.applicable_plots()))
                 if self._link_alert != (self.alert.object, dict(sol.values)):
                     set_changed(self.alert, visible=False)
-                if self.trade.visible and self._trade_values != sol.values:
-                    set_changed(self.trade, visible=False)  # it described another run
+                self._trade_follows(sol)
                 self._arrivals += 1  # last: the page's figures hold their paints until it
                 self.arrived.object = str(self._arrivals)
         if cut_short(sol):
@@ -1149,6 +1154,14 @@ class Explorer(pn.viewable.Viewer):
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
             self._later(lambda: self._draw_map(sol), 0)
+
+    def _trade_follows(self, sol: Solution) -> None:
+        """A new run on screen: the trade table of another run goes, and a measurement of
+        another run stops (its table would not be shown)."""
+        if self.trade.visible and self._trade_values != sol.values:
+            set_changed(self.trade, visible=False)
+        if self._trade.running and self._trade.values != dict(sol.values):
+            self._trade.cancel()
 
     def _say_cut_short(self, sol: Solution) -> None:
         """Say that the core stopped ``sol`` before its horizon, and offer more time."""
@@ -1165,21 +1178,29 @@ class Explorer(pn.viewable.Viewer):
             lead="Solved only in part:", tail="The plots show the run up to there.")
         self._show_retry(sol.budget)
 
-    async def _measure(self, event: Any = None) -> None:
-        """Measure the speed/accuracy trade of the run on screen, off the event loop."""
+    def _measure(self, event: Any = None) -> None:
+        """Measure the speed/accuracy trade of the run on screen, in the solver processes
+        (:class:`app.trade.TradeRunner`); a click while one runs is refused."""
         values = dict(self.state.values())
         if values.get("program"):
             return
-        self.measure.disabled = True
-        self.measure.label = "Measuring…"
         try:
-            rows = await asyncio.get_running_loop().run_in_executor(None, measure, values)
-        except Exception as exc:  # noqa: BLE001 - say why and keep the page
-            self._show_error(f"The measurement failed: {type(exc).__name__}: {exc}")
+            self._trade.start(values)
+        except MeasureRefused as exc:
+            self._show_error(str(exc), lead="Not measured:", tail="")
+            self._measure_refusal = self.error
             return
-        finally:
-            self.measure.disabled = False
-            self.measure.label = "Measure the trade (a few seconds)"
+        self.measure.disabled = True
+        self.measure.label = f"Measuring… (at most {MEASURE_BUDGET_S:g} s)"
+
+    def _measure_ended(self) -> None:
+        self.measure.disabled = False
+        self.measure.label = MEASURE_LABEL
+        if self.alert.visible and self.error == self._measure_refusal:
+            self.alert.visible = False  # "already running": no longer so
+
+    def _measured(self, values: Mapping[str, Any], rows: list) -> None:
+        self._measure_ended()
         if values != dict(self.state.values()):
             return  # the run changed meanwhile
         self._trade_values = values
@@ -1188,6 +1209,21 @@ class Explorer(pn.viewable.Viewer):
             + trade_html(rows))
         self.trade.visible = True
         self._above_plots(self.trade)
+
+    def _measure_failed(self, exc: Exception) -> None:
+        self._measure_ended()
+        if not isinstance(exc, Abandoned):  # cancelled: the run changed or the page closed
+            self._show_error(f"{type(exc).__name__}: {exc}", lead="The measurement failed:",
+                             tail="")
+
+    def close(self) -> None:
+        """The page closed: stop its measurement, sweeps and solves, freeing their solver
+        processes (called by the server when it discards the session)."""
+        self._trade.cancel()
+        if self.sweeps is not None:
+            self.sweeps.close()
+        self._solves.cancel()
+        self._previews.cancel()
 
     def _reserve_readout(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows

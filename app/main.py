@@ -75,6 +75,12 @@ def create_app() -> pn.template.BaseTemplate:
         busy_indicator=None,
     )
     template.explorer = explorer  # reachable from tests and the benchmark
+    doc = pn.state.curdoc
+    if doc is not None:
+        # A closed page's measurement, sweeps and solves stop, freeing their solver
+        # processes (the server discards a session its unused-session lifetime after its
+        # last connection closed).
+        doc.on_session_destroyed(lambda session_context: explorer.close())
     keep_long_lived_out_of_collections()
     send_without_delay_once_loaded()
     send_arrays_inline()

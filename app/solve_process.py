@@ -24,6 +24,7 @@ import multiprocessing
 import os
 import sys
 import threading
+import time
 import types
 from collections.abc import Callable
 from pathlib import Path
@@ -41,6 +42,25 @@ JOIN_S = 2.0
 
 class Abandoned(RuntimeError):
     """Nobody waits for the solve any more: its process was stopped."""
+
+
+class Deadline:
+    """A :func:`call`'s ``cancelled`` that is set ``seconds`` from now, or when ``also`` (a
+    stop of its own, e.g. the session's) is set: the call's budget, whatever the solve.
+
+    >>> Deadline(60.0).is_set(), Deadline(0.0).is_set()
+    (False, True)
+    """
+
+    def __init__(self, seconds: float, also: threading.Event | None = None) -> None:
+        self.at, self.also = time.monotonic() + seconds, also
+
+    def is_set(self) -> bool:
+        return time.monotonic() >= self.at or (self.also is not None and self.also.is_set())
+
+    def left(self) -> float:
+        """Seconds until the deadline (negative past it)."""
+        return self.at - time.monotonic()
 
 
 def running() -> bool:

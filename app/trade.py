@@ -8,6 +8,12 @@ closed form for no stop or a rigid stop (rounding only), exact flight with the c
 integrated at ``rtol`` 1e-12 for a deformable stop. The steady state each one finds is shown
 too: a method can change the verdict (the switch model at draft on scene 10).
 
+Every solve runs in a solver process (:mod:`app.solve_process`), as the page's own
+integrating solves do: measured in the server's threads, scene 10 to ``t_end = 5000`` held
+the server's interpreter lock for seconds, and repeated clicks slowed every other page's
+replies. A measurement has a budget (:data:`MEASURE_BUDGET_S`), a page runs one at a time
+(:class:`TradeRunner`) and the server one after the other.
+
 Examples
 --------
 >>> from app.state import scene_values
@@ -22,15 +28,18 @@ from __future__ import annotations
 
 import html
 import math
-import time
-from collections.abc import Mapping
-from concurrent.futures import ThreadPoolExecutor
-from concurrent.futures import TimeoutError as FutureTimeout
+import threading
+from collections.abc import Callable, Mapping
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import panel as pn
+from panel.io.state import set_curdoc
 
+from app import solve_process
+from app.session_loop import from_any_thread
 from app.solver import (
     ACCURACY,
     SOLVE_MAX_STEPS,
@@ -39,7 +48,8 @@ from app.solver import (
     reference_options,
 )
 from app.state import ACCURACIES, core_inputs
-from core import HystereticStop, Steady, SteadyKind, method_options, simulate
+from app.trade_solve import Sampled, sampled
+from core import HystereticStop, Status, Steady, SteadyKind, method_options, simulate
 from core.hysteretic_reduced import rest_swing_of
 
 #: Methods compared (``auto`` is one of them).
@@ -49,6 +59,20 @@ COMPARE_POINTS = 1000
 #: Wall-time budget [s] of one measured solve; a method past it is not tried at the
 #: finer presets (a numerical method on a Zeno scene can take minutes).
 SOLVE_BUDGET_S = 3.0
+#: Wall-time budget [s] of a whole measurement, the reference and every method at every
+#: preset: a solve that would end past it is not made (its row says so). Scene 10 to
+#: ``t_end = 5000`` took 5-9 s in all; without a budget one click could hold a solver
+#: process for minutes.
+MEASURE_BUDGET_S = 30.0
+#: Share of :data:`MEASURE_BUDGET_S` the reference solve may take: past it nothing is
+#: compared and the page says why.
+REFERENCE_SHARE = 0.5
+#: Time [s] a solve the core stops at its budget gets to hand back what it has before its
+#: process is stopped.
+STOP_GRACE_S = 0.5
+#: Measurements that may wait for the measuring thread, server-wide: past that one more is
+#: refused at once (the page says so) instead of queueing behind them.
+MEASURE_QUEUE = 2
 #: What each method models, in one sentence.
 SENTENCES: Mapping[str, str] = {
     "exact": "Slip arcs and stick segments in closed form and Newton's impact law; with a "
@@ -59,9 +83,20 @@ SENTENCES: Mapping[str, str] = {
               "integrated by RKF 4(5); its error follows eta, not rtol.",
 }
 
-#: One worker per server: measurements queue rather than load the machine; a solve past
-#: its budget finishes there in the background.
+#: One measuring thread per server: measurements queue rather than load the machine. It
+#: only waits: each solve runs in a solver process (:mod:`app.solve_process`), stopped at
+#: its deadline.
 _executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="fie-trade")
+_admitted = [0]  # measurements running or waiting
+_admitted_lock = threading.Lock()
+
+
+class MeasureRefused(RuntimeError):
+    """A measurement not started: one already runs for the page, or the server is busy."""
+
+
+class ReferenceTooSlow(RuntimeError):
+    """The reference solve did not finish within its share of the measurement's budget."""
 
 
 @dataclass(frozen=True)
@@ -77,50 +112,80 @@ class TradeRow:
 
 
 def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
-            budget_s: float = SOLVE_BUDGET_S) -> list[TradeRow]:
-    """Solve ``values`` with each method at each preset; raises ``ValueError`` on bad input.
+            budget_s: float | None = None, *, total_s: float | None = None,
+            stop: threading.Event | None = None) -> list[TradeRow]:
+    """Solve ``values`` with each method at each preset, within ``total_s`` seconds in all
+    (default :data:`MEASURE_BUDGET_S`) and ``budget_s`` per solve (default
+    :data:`SOLVE_BUDGET_S`); raises ``ValueError`` on bad input.
 
-    Runs in the calling thread, each solve waited for at most ``budget_s`` on a worker.
+    Each solve runs in a solver process (:mod:`app.solve_process`), stopped at its
+    deadline; the calling thread only waits. With ``stop`` set (the page closed) the
+    running solve is stopped and :class:`app.solve_process.Abandoned` raised. (With the
+    processes turned off the solves run in the calling thread, where only the numerical
+    methods stop at their budget, and the rest is checked between solves.)
+
+    Raises
+    ------
+    ReferenceTooSlow
+        The reference did not finish within ``REFERENCE_SHARE * total_s``.
     """
-    osc, stop, x0, v0, t_end = core_inputs(values)
+    budget_s = SOLVE_BUDGET_S if budget_s is None else budget_s
+    total_s = MEASURE_BUDGET_S if total_s is None else total_s
+    overall = solve_process.Deadline(total_s)
+    osc, stop_, x0, v0, t_end = core_inputs(values)
     t_eval = np.linspace(0.0, t_end, COMPARE_POINTS)
-    ref = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method="exact",
-                   **reference_options(stop))
-    x_ref = _at(ref, t_eval)
+    ref_s = REFERENCE_SHARE * total_s
+    ref = _solve((osc, stop_, t_end, x0, v0, t_eval), "exact", reference_options(stop_),
+                 min(ref_s, overall.left()), stop)
+    if ref is None:
+        raise ReferenceTooSlow(
+            f"the reference solve (exact method, tight tolerances) did not finish within "
+            f"{ref_s:g} s, half the measurement's budget of {total_s:g} s: a shorter "
+            "horizon t_end is measured sooner.")
     rows: list[TradeRow] = []
     for method in methods:
-        for accuracy in ACCURACIES:
-            acc = ACCURACY[accuracy]
-            used = method_options(method, stop)
-            kwargs = preset_options(acc, used, osc)
-            if "time_budget" in used:  # the solve itself stops, not only the wait for it
-                kwargs["time_budget"] = budget_s
-            if "max_steps" in used:  # stopped by time, as the page's solves
-                kwargs["max_steps"] = SOLVE_MAX_STEPS
+        rows += _method_rows(method, (osc, stop_, t_end, x0, v0, t_eval), ref, budget_s,
+                             overall, total_s, stop)
+    return rows
 
-            def run(m=method, kw=kwargs):
-                start = time.perf_counter()
-                res = simulate(osc, stop, t_end, x0, v0, t_eval=t_eval, method=m, **kw)
-                return time.perf_counter() - start, res
 
-            future = _executor.submit(run)
-            try:
-                seconds, res = future.result(timeout=budget_s)
-            except FutureTimeout:
-                finer = ": finer presets not tried" if accuracy != ACCURACIES[-1] else ""
-                rows.append(TradeRow(method, accuracy, math.inf, math.nan, "—",
-                                     f"over {budget_s:g} s{finer}"))
-                break
-            except Exception as exc:  # noqa: BLE001 - a method that fails is reported
-                rows.append(TradeRow(method, accuracy, math.nan, math.nan, "—",
-                                     f"failed: {exc}"))
-                continue
-            error = position_error(_at(res, t_eval), x_ref)
-            verdict = res.steady.kind.value
-            note = (f"verdict differs from the reference ({ref.steady.kind.value})"
-                    if verdict != ref.steady.kind.value
-                    and not _rest_alike(res.steady, ref.steady, osc, stop, kwargs) else "")
-            rows.append(TradeRow(method, accuracy, seconds, error, verdict, note))
+def _method_rows(method: str, inputs: tuple, ref: Sampled, budget_s: float,
+                 overall: solve_process.Deadline, total_s: float,
+                 stop: threading.Event | None) -> list[TradeRow]:
+    """The rows of ``method`` at each preset, finer ones not tried past a budget."""
+    used = method_options(method, inputs[1])
+    rows: list[TradeRow] = []
+    for accuracy in ACCURACIES:
+        within = min(budget_s, overall.left())
+        if within <= 0.0:
+            rows.append(TradeRow(method, accuracy, math.nan, math.nan, "—",
+                                 f"not measured: the measurement's budget of {total_s:g} s "
+                                 "ran out"))
+            continue
+        kwargs = preset_options(ACCURACY[accuracy], used, inputs[0])
+        if "time_budget" in used:  # the solve itself stops, not only the wait for it
+            kwargs["time_budget"] = within
+        if "max_steps" in used:  # stopped by time, as the page's solves
+            kwargs["max_steps"] = SOLVE_MAX_STEPS
+        try:
+            res = _solve(inputs, method, kwargs, within + STOP_GRACE_S, stop)
+        except solve_process.Abandoned:
+            raise
+        except Exception as exc:  # noqa: BLE001 - a method that fails is reported
+            rows.append(TradeRow(method, accuracy, math.nan, math.nan, "—",
+                                 f"failed: {exc}"))
+            continue
+        if res is None or res.status == Status.TIME_BUDGET.value:
+            finer = ": finer presets not tried" if accuracy != ACCURACIES[-1] else ""
+            rows.append(TradeRow(method, accuracy, math.inf, math.nan, "—",
+                                 f"over {within:.3g} s{finer}"))
+            break
+        note = (f"verdict differs from the reference ({ref.verdict})"
+                if res.verdict != ref.verdict
+                and not _rest_alike(res.steady, ref.steady, inputs[0], inputs[1], kwargs)
+                else "")
+        rows.append(TradeRow(method, accuracy, res.seconds, position_error(res.x, ref.x),
+                             res.verdict, note))
     return rows
 
 
@@ -135,14 +200,120 @@ def _rest_alike(steady: Steady, ref: Steady, osc: Any, stop: Any,
                                              options.get("atol", 0.0)))
 
 
-def _at(res, t_eval: np.ndarray) -> np.ndarray:
-    """Positions of ``res`` at the times ``t_eval`` it was asked for (it adds its exact
-    transition times to them)."""
-    t = np.asarray(res.t)
-    idx = np.clip(np.searchsorted(t, t_eval), 0, len(t) - 1)
-    if np.array_equal(t[idx], t_eval):
-        return np.asarray(res.x)[idx]
-    return np.interp(t_eval, t, np.asarray(res.x))  # a result cut short: what it has
+def _solve(inputs: tuple, method: str, options: dict[str, Any], within: float,
+           stop: threading.Event | None) -> Sampled | None:
+    """One solve in a solver process, ``None`` if it was stopped at ``within`` seconds;
+    :class:`app.solve_process.Abandoned` if ``stop`` was set."""
+    if stop is not None and stop.is_set():  # a solve in this thread is not stopped
+        raise solve_process.Abandoned("the measurement was cancelled")
+    deadline = solve_process.Deadline(within, stop)
+    try:
+        # ``simulate`` looked up at each call: tests put a probe in its place.
+        return solve_process.call(sampled, simulate, *inputs, method, options,
+                                  cancelled=deadline)
+    except solve_process.Abandoned:
+        if stop is not None and stop.is_set():
+            raise
+        return None
+
+
+def _admit() -> None:
+    with _admitted_lock:
+        if _admitted[0] > MEASURE_QUEUE:
+            raise MeasureRefused(
+                "the server is measuring the trade for other pages; try again in a moment.")
+        _admitted[0] += 1
+
+
+def _release() -> None:
+    with _admitted_lock:
+        _admitted[0] -= 1
+
+
+class TradeRunner:
+    """One page's measurement: at most one at a time, off the event loop, stopped when the
+    page closes (:meth:`cancel`).
+
+    :meth:`start` hands :func:`measure` to the measuring thread and returns; the rows come
+    back on the session's event loop (:func:`app.session_loop.from_any_thread`) to
+    ``on_done(values, rows)``, or the failure to ``on_failed(exc)``; a cancelled
+    measurement calls ``on_failed`` with :class:`app.solve_process.Abandoned`. Without a
+    server session (scripts, tests) they are called in the measuring thread.
+    """
+
+    def __init__(self, on_done: Callable[[Mapping[str, Any], list[TradeRow]], None],
+                 on_failed: Callable[[Exception], None]) -> None:
+        self.on_done, self.on_failed = on_done, on_failed
+        self.future: Future | None = None
+        #: The values being measured (``None``: none runs).
+        self.values: Mapping[str, Any] | None = None
+        self._stop = threading.Event()
+
+    @property
+    def running(self) -> bool:
+        """A measurement runs (or waits for the measuring thread) for this page."""
+        return self.values is not None
+
+    def start(self, values: Mapping[str, Any]) -> Future:
+        """Measure ``values``; :class:`MeasureRefused` if one runs for this page (the
+        button is disabled then, but a page can send a click anyway) or the server's
+        queue of measurements is full."""
+        if self.running:
+            raise MeasureRefused("a measurement is already running for this page; its "
+                                 "table comes when it is done.")
+        _admit()
+        self._stop = stop = threading.Event()
+        self.values = values = dict(values)
+        try:
+            future = _executor.submit(measure, values, stop=stop)
+        except BaseException:
+            _release()
+            self.values = None
+            raise
+        future.add_done_callback(lambda _: _release())
+        self.future = future
+        doc = pn.state.curdoc
+        if doc is None or doc.session_context is None:
+            future.add_done_callback(lambda f: self._answer(f, stop))
+            return future
+
+        def on_loop() -> None:
+            with set_curdoc(doc):
+                self._answer(future, stop)
+
+        answer = from_any_thread(doc, on_loop)
+        future.add_done_callback(lambda _: answer())
+        return future
+
+    def cancel(self) -> None:
+        """Stop the running measurement (its solve's process is stopped, a waiting one is
+        not started); ``on_failed`` gets :class:`app.solve_process.Abandoned`."""
+        if not self.running:
+            return
+        self._stop.set()
+        if self.future is not None and self.future.cancel():
+            self._finish(self._stop)
+            self.on_failed(solve_process.Abandoned("the measurement was cancelled"))
+
+    def _finish(self, stop: threading.Event) -> bool:
+        """End the measurement of ``stop``; False if another has started since."""
+        if stop is not self._stop:
+            return False
+        self.values, self.future = None, None
+        return True
+
+    def _answer(self, future: Future, stop: threading.Event) -> None:
+        if future.cancelled():
+            return  # cancel() has told the page
+        values = self.values
+        if not self._finish(stop):
+            return
+        try:
+            rows = future.result()
+        except Exception as exc:  # noqa: BLE001 - the page says why and lives
+            self.on_failed(exc)
+            return
+        self.on_done(values, rows)
 
 
 def trade_html(rows: list[TradeRow]) -> str:

@@ -30,6 +30,14 @@ running 60 Chromiums on the same cores. Browser-side rendering time is not inclu
 
 A session keeps the cookies the page set (a proxy's sticky-session cookie) for its websocket,
 as a browser does.
+
+With ``--measure-clicks K`` one more session (not counted in the table's moves) opens
+``--measure-query`` (default scene 10 to t_end = 5000) and, while the others move, clicks
+"Measure the trade" every ``--measure-every`` seconds, K times at most: clicks a page sends
+itself, whether the button is disabled or not. The other sessions' move latencies then say
+what one such student costs the class:
+
+    python benchmarks/load.py --sessions 10 --moves 10 --measure-clicks 30 --measure-every 0.2
 """
 
 from __future__ import annotations
@@ -63,6 +71,7 @@ LOOPBACK = {"127.0.0.1", "localhost", "::1"}
 TOKEN_RE = re.compile(r'"token"\s*:\s*"([^"]+)"')
 DATA_EVENT_KINDS = {"ColumnDataChanged", "ColumnsStreamed", "ColumnsPatched"}
 SLIDER_TYPES = {"Slider"}  # bokeh.models.Slider, which Panel's (Editable)FloatSlider renders
+MEASURE_CLASS = "fie-measure"  # the css class of the "Measure the trade" button
 PROTOCOL = Protocol()
 
 
@@ -275,8 +284,10 @@ class Session:
     JSON patches BokehJS sends, and the server's patches are inspected, not applied.
     """
 
-    def __init__(self, server: Server, rng: random.Random, args: argparse.Namespace):
+    def __init__(self, server: Server, rng: random.Random, args: argparse.Namespace,
+                 query: str = ""):
         self.server = server
+        self.query = query  # the page's address query, e.g. "scene=10&tend=5000"
         self.rng = rng
         self.args = args
         self.ws = None
@@ -291,6 +302,8 @@ class Session:
         self.reader: asyncio.Task | None = None
         self.closing = False
         self.acked = asyncio.Event()
+        self.measure_button: str | None = None  # the "Measure the trade" button's model id
+        self.clicks = 0
 
     # ---- wire ----------------------------------------------------------------------------
 
@@ -363,7 +376,9 @@ class Session:
         t0 = time.perf_counter()
         timeout = self.args.request_timeout
         http = AsyncHTTPClient()
-        resp = await http.fetch(self.server.base + self.server.app_path, request_timeout=timeout)
+        query = f"?{self.query}" if self.query else ""
+        resp = await http.fetch(self.server.base + self.server.app_path + query,
+                                request_timeout=timeout)
         match = TOKEN_RE.search(resp.body.decode("utf-8", "replace"))
         token = match.group(1) if match else generate_jwt_token(generate_session_id())
         ws_url = "ws" + self.server.base[4:] + self.server.app_path + "/ws"
@@ -389,6 +404,8 @@ class Session:
         for obj in _visible_objects(reply.content["doc"]):
             if obj.get("name") in SLIDER_TYPES:
                 self.sliders[obj["id"]] = dict(obj.get("attributes") or {})
+            elif MEASURE_CLASS in ((obj.get("attributes") or {}).get("css_classes") or []):
+                self.measure_button = obj["id"]
         # What BokehJS sends once the page is rendered; Panel runs onload callbacks on it.
         await self._send_events([{
             "kind": "MessageSent",
@@ -474,6 +491,28 @@ class Session:
             self.result.moves.append(mv)
             if mv.error:
                 self.result.errors.append(mv.error)
+
+    async def click_measure(self, done: asyncio.Event) -> None:
+        """Click "Measure the trade" every --measure-every s until ``done`` (the other
+        sessions' moves ended), --measure-clicks times at most: the ButtonClick event
+        BokehJS sends, whatever the button's state."""
+        if self.measure_button is None:
+            self.result.errors.append("no 'Measure the trade' button in the document")
+            return
+        for _ in range(self.args.measure_clicks):
+            if done.is_set():
+                return
+            await self._send_events([{
+                "kind": "MessageSent",
+                "msg_type": "bokeh_event",
+                "msg_data": {"type": "event", "name": "button_click", "values": {
+                    "type": "map", "entries": [["model", {"id": self.measure_button}]]}},
+            }])
+            self.clicks += 1
+            try:
+                await asyncio.wait_for(done.wait(), self.args.measure_every)
+            except asyncio.TimeoutError:
+                pass
 
     async def close(self) -> None:
         self.closing = True
@@ -575,21 +614,30 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
                 import traceback
                 traceback.print_exc()
 
+    measurer = (Session(server, random.Random(rng.random()), args, args.measure_query)
+                if args.measure_clicks else None)
     await asyncio.gather(*(open_one(i, s) for i, s in enumerate(sessions)))
+    if measurer is not None:
+        await open_one(0, measurer)
     opened = [s for s in sessions if s.result.open_s is not None]
     t_opened = time.perf_counter()
     await asyncio.sleep(1.0)  # let onload work finish before the moves start
     cpu_opened = server.cpu()
     rss_open = server.rss()
     live_open = await server.live_sessions()
-    start = asyncio.Event()
+    start, moved = asyncio.Event(), asyncio.Event()
     movers = asyncio.gather(*(s.run_moves(start) for s in opened))
+    clicker = (asyncio.ensure_future(measurer.click_measure(moved))
+               if measurer is not None and measurer.result.open_s is not None else None)
     start.set()
     try:
         await asyncio.wait_for(movers, args.round_timeout)
         timed_out = False
     except asyncio.TimeoutError:
         timed_out = True
+    moved.set()
+    if clicker is not None:
+        await clicker
     t_moved = time.perf_counter()
     cpu_moved = server.cpu()
     # CPU used by neither the server nor this client (other work on the machine), in cores.
@@ -599,7 +647,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     await sampler
     rss_peak = max(peak, server.rss())
 
-    for s in sessions:
+    for s in sessions + ([measurer] if measurer is not None else []):
         await s.close()
     # Wait until the server has discarded the sessions (lifetime + check interval + margin).
     wait_limit = (args.session_lifetime_ms + 2 * args.check_unused_ms) / 1000 + 15
@@ -620,12 +668,15 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     nodata_first = [m.first * 1000 for m in moves if m.first is not None and not m.had_data]
     first = [m.first * 1000 for m in moves if m.first is not None]
     errors = open_errors + [e for s in sessions for e in s.result.errors]
+    if measurer is not None:
+        errors += [f"measuring session: {e}" for e in measurer.result.errors]
     errors += [f"server log: {e}" for e in server.log_errors()[log_errors0:]]
     if timed_out:
         errors.append(f"round timed out after {args.round_timeout} s")
     open_s = [s.result.open_s * 1000 for s in opened]
     return {
         "n": n,
+        "measure_clicks": measurer.clicks if measurer is not None else 0,
         "opened": len(opened),
         "sliders": max((s.result.sliders for s in opened), default=0),
         "moves": len(moves),
@@ -660,6 +711,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
 def print_table(rows: list[dict]) -> None:
     cols = [
         ("N", 4, lambda r: f"{r['n']}"),
+        ("clicks", 6, lambda r: f"{r.get('measure_clicks', 0)}"),
         ("open", 5, lambda r: f"{r['opened']}"),
         ("moves", 7, lambda r: f"{r['moves_with_data']}/{r['moves']}"),
         ("err", 4, lambda r: f"{r['errors']}"),
@@ -755,6 +807,13 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     p.add_argument("--round-timeout", type=float, default=300.0, help="s for one N's moves")
     p.add_argument("--startup-timeout", type=float, default=120.0)
     p.add_argument("--max-seconds", type=float, default=1200.0, help="stop starting new rounds")
+    p.add_argument("--measure-clicks", type=int, default=0,
+                   help="one more session clicks 'Measure the trade' this many times at most "
+                        "while the others move (default 0: none)")
+    p.add_argument("--measure-every", type=float, default=0.2,
+                   help="s between its clicks (default 0.2)")
+    p.add_argument("--measure-query", default="scene=10&tend=5000",
+                   help="that session's page query (default scene=10&tend=5000)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--log", default="/tmp/load-server.log", help="server log file")
     p.add_argument("--json", help="also write the results to this JSON file")
@@ -763,6 +822,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
         p.error("at most 200 sessions per round")
     if args.moves > 50:
         p.error("at most 50 moves per session")
+    if not 0 <= args.measure_clicks <= 1000 or args.measure_every <= 0:
+        p.error("--measure-clicks must be in [0, 1000] and --measure-every > 0")
     if args.url and not args.server_pid:
         print("no --server-pid: memory is not measured", file=sys.stderr)
     return args
@@ -789,7 +850,9 @@ def main(argv: list[str] | None = None) -> int:
           "(peak - base)/N, after = once the server discarded them);\n"
           "moves: with a data patch / all; live: Panel's live sessions while open > after;\n"
           "srv cpu: server CPU (cores) during the round; others: cores used by other processes "
-          f"on this machine ({os.cpu_count()} cores) during it.\n")
+          f"on this machine ({os.cpu_count()} cores) during it;\nclicks: 'Measure the trade' "
+          f"clicks sent by one more session ({args.measure_query}), every "
+          f"{args.measure_every} s while the others moved.\n")
     print_table(rows)
     print(f"\na new session's default page: {getattr(args, 'page_models', 'n/a')} Bokeh models")
     return 0 if rows and all(r["errors"] == 0 for r in rows) else 1

@@ -683,17 +683,28 @@ def test_coupled_bound_note_and_program_toggle(ex):
     assert ex.reset.label == "Reset to Fig. 2b"
 
 
+def _periodic_switch(*args, method, **kwargs):
+    """Stands in for ``core.simulate`` (a solver process gets it by reference): the switch
+    model calls every run periodic."""
+    import dataclasses
+
+    from core import simulate
+    from core.result import Steady, SteadyKind
+
+    res = simulate(*args, method=method, **kwargs)
+    if method != "switch":
+        return res
+    return dataclasses.replace(res, steady=Steady(SteadyKind.PERIODIC))
+
+
 def test_trade_table_measures_every_method_and_marks_a_changed_verdict(monkeypatch):
     """Scene 10: the reference (exact flight, contact at rtol 1e-12) grazes the stop; the
     exact method's error falls with the preset (its contact is integrated at the preset's
     rtol). Every method at every preset labels the train as the reference does: the switch
     model at draft called it periodic while its contacts still lost 4 % each (the row said
     "verdict differs"). A verdict that differs is marked in the row and the table."""
-    import dataclasses
-
     from app import trade
     from app.trade import measure, trade_html
-    from core.result import Steady, SteadyKind
 
     rows = {(r.method, r.accuracy): r for r in measure(scene_values("10"))}
     assert len(rows) == 9
@@ -703,15 +714,7 @@ def test_trade_table_measures_every_method_and_marks_a_changed_verdict(monkeypat
     assert all(r.verdict == "grazing" and not r.note for r in rows.values())
     assert "verdict differs" not in trade_html(list(rows.values()))
 
-    solve = trade.simulate
-
-    def periodic_switch(*args, method, **kwargs):
-        res = solve(*args, method=method, **kwargs)
-        if method != "switch":
-            return res
-        return dataclasses.replace(res, steady=Steady(SteadyKind.PERIODIC))
-
-    monkeypatch.setattr(trade, "simulate", periodic_switch)
+    monkeypatch.setattr(trade, "simulate", _periodic_switch)
     rows = measure(scene_values("10"), methods=("switch",))
     assert all("verdict differs from the reference (grazing)" in r.note for r in rows)
     assert "verdict differs" in trade_html(rows)
