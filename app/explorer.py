@@ -68,6 +68,7 @@ from app.state import (
     core_inputs,
     scene_values,
     si_bound_error,
+    si_range,
     si_units,
 )
 from app.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
@@ -585,7 +586,7 @@ class Explorer(pn.viewable.Viewer):
         converted with the address's ``m`` and ``k``."""
         names = {**{name: name for name in URL_KEYS},
                  **{key: name for name, key in URL_KEYS.items()}}
-        values, given, unknown, errors = {}, {}, [], []
+        values, given, unknown, errors, unparsed = {}, {}, [], [], {}
         for key, texts_of_key in repeated.items():
             if key in names or key in OTHER_URL_KEYS:
                 errors.append(links.repeated_message(key, names.get(key), texts_of_key))
@@ -601,7 +602,7 @@ class Explorer(pn.viewable.Viewer):
             try:
                 values[name] = links.parse_value(self.state.param[name], text)
             except ValueError:
-                errors.append(links.refused_message(name, self.state.param[name], text))
+                unparsed[name] = text
         # Each value is checked on its own, so that one bad value does not drop the others.
         good, bad = {}, {}
         for name, value in values.items():
@@ -611,7 +612,9 @@ class Explorer(pn.viewable.Viewer):
                 bad[name] = value
             else:
                 good[name] = value
-        if good.get("units", self.state.units) == "SI":
+        si = good.get("units", self.state.units) == "SI"
+        errors.extend(self._unparsed_messages(unparsed, good, si))
+        if si:
             errors.extend(self._si_from_url(good, bad))
         good = {name: value for name, value in good.items()
                 if value != getattr(self.state, name)}
@@ -628,6 +631,19 @@ class Explorer(pn.viewable.Viewer):
         errors = [links.refused_message(name, self.state.param[name], given[name])
                   for name in bad if name in given] + errors
         return errors, unknown
+
+    def _unparsed_messages(self, unparsed: Mapping[str, str], good: Mapping[str, Any],
+                           si: bool) -> list[str]:
+        """The messages of an address's values that are no value at all (``tend=true``):
+        in an SI address those of :data:`URL_SI_PARAMS` with their SI range (they are read
+        in m/s, s, N/m), not the state's dimensionless one."""
+        mass = good.get("mass", self.state.mass)
+        stiffness = good.get("stiffness", self.state.stiffness)
+        return [f"{URL_KEYS[name]}: {si_units(mass, stiffness)[name][0]} must be a number "
+                f"in {si_range(name, mass, stiffness)}; got {links.shown(text)}"
+                if si and name in URL_SI_PARAMS
+                else links.refused_message(name, self.state.param[name], text)
+                for name, text in unparsed.items()]
 
     def _si_from_url(self, good: dict[str, Any], bad: dict[str, Any]) -> list[str]:
         """Turn the SI values of an SI address (:data:`URL_SI_PARAMS` in ``good`` and

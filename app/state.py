@@ -321,8 +321,20 @@ def si_bound_error(name: str, value: float, mass: float, stiffness: float) -> st
     if low <= snap_to_bounds(name, value) <= high:
         return None
     si_name, unit, factor = si_units(mass, stiffness)[name]
-    return (f"{si_name} must lie in [{low * factor:.4g}, {high * factor:.4g}] {unit} with "
-            f"m = {mass:g} kg, k = {stiffness:g} N/m; got {value * factor:.6g} {unit}")
+    return (f"{si_name} must lie in {si_range(name, mass, stiffness)}; "
+            f"got {value * factor:.6g} {unit}")
+
+
+def si_range(name: str, mass: float, stiffness: float) -> str:
+    """The SI range of state value ``name`` with mass ``m`` [kg] and stiffness ``k`` [N/m].
+
+    >>> si_range("t_end", 2.0, 50.0)
+    '[0.02, 1000] s with m = 2 kg, k = 50 N/m'
+    """
+    low, high = ExplorerState.param[name].bounds
+    _, unit, factor = si_units(mass, stiffness)[name]
+    return (f"[{low * factor:.4g}, {high * factor:.4g}] {unit} with m = {mass:g} kg, "
+            f"k = {stiffness:g} N/m")
 
 
 def scene_values(key: str, **overrides: Any) -> dict[str, Any]:

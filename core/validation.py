@@ -95,7 +95,8 @@ def check_range(
         left = "(" if low_open or low == -math.inf else "["
         right = ")" if high_open or (high == math.inf and not allow_inf) else "]"
         raise ValueError(
-            f"{name} must lie in {left}{_fmt(low)}, {_fmt(high)}{right}; got {_fmt(value)}"
+            f"{name} must lie in {left}{_fmt(low)}, {_fmt(high)}{right}; "
+            f"got {_fmt_beside(value, low, high)}"
         )
     return value
 
@@ -106,6 +107,17 @@ def _fmt(x: float) -> str:
     if x == -math.inf:
         return "-inf"
     return f"{x:.6g}"
+
+
+def _fmt_beside(x: float, *bounds: float) -> str:
+    """``x`` in six digits, or in all of its digits where six would read as one of the
+    ``bounds`` it misses (``got 5000`` beside ``[0.1, 5000]`` for 5000.0000001).
+
+    >>> _fmt_beside(5000.0000001, 0.1, 5000.0), _fmt_beside(0.5, 0.0, 1.0)
+    ('5000.0000001', '0.5')
+    """
+    text = _fmt(x)
+    return repr(x) if any(text == _fmt(b) for b in bounds) else text
 
 
 def check_start(x0: float, clearance: float, limit_overlap: float | None = None) -> None:

@@ -19,7 +19,7 @@ from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
 from app.solver import ACCURACY, MAP_CELLS
-from app.state import ExplorerState, scene_values
+from app.state import ExplorerState, scene_values, si_bound_error, si_units
 
 
 @pytest.fixture
@@ -569,7 +569,30 @@ def test_an_si_permalink_out_of_range_is_refused_in_si(monkeypatch):
     shown = html.unescape(ex.alert.object)
     assert ("tend: horizon t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got "
             "1500 s") in shown
-    assert "v (belt_speed)" in shown and "'abc'" in shown
+    assert "v: belt speed v_dr must be a number in" in shown and "'abc'" in shown
+    assert ex.state.t_end == scene_values("5a")["t_end"]
+
+
+def test_an_si_permalink_s_non_number_is_told_its_si_range(monkeypatch):
+    """Regression: in an SI link ``v`` is in m/s and ``tend`` in s, yet a value that is no
+    number (``tend=true``) was told the state's dimensionless range ('must be a number in
+    [0.1, 5000]'), which a number in seconds would not have been held to. The range named
+    is the one the same link's numbers are checked against (the message of ``tend=1500``
+    there), from m and k; keys read the same in both units keep their range."""
+    from panel.io.location import Location
+
+    monkeypatch.setattr(pn.state, "_location", Location(
+        search="?scene=5a&units=SI&m=2&k=50&tend=true&v=abc&r=abc"))
+    ex = Explorer()
+    ex.sync_url()
+    shown = html.unescape(ex.alert.object)
+    numeric = si_bound_error("t_end", 1e9, 2.0, 50.0)  # the link's range for a number
+    t_range = numeric[numeric.index("["):numeric.index("; got")]
+    assert f"tend: horizon t_end must be a number in {t_range}; got 'true'" in shown
+    v_si = si_units(2.0, 50.0)["belt_speed"]
+    assert (f"[{0.0:.4g}, {ExplorerState.param.belt_speed.bounds[1] * v_si[2]:.4g}] m/s"
+            in shown)
+    assert "r (restitution) must be a number in [0, 1]; got 'abc'" in shown
     assert ex.state.t_end == scene_values("5a")["t_end"]
 
 
