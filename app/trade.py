@@ -78,7 +78,9 @@ SENTENCES: Mapping[str, str] = {
     "exact": "Slip arcs and stick segments in closed form and Newton's impact law; with a "
              "deformable stop only the contact phase is integrated.",
     "event": "A general-purpose integrator (solve_ivp) on the non-smooth model, stopped at "
-             "each stick, slip and contact event: its error follows rtol.",
+             "each stick, slip and contact event: its error shrinks with rtol on most "
+             "runs, not on all (a missed or moved event near grazing or in an impact "
+             "sequence).",
     "switch": "The paper's switch model: the mass sticks (x'' = 0) while |x' - v| <= eta, "
               "integrated by RKF 4(5); its error follows eta, not rtol.",
 }

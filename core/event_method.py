@@ -107,8 +107,9 @@ REBOUND_STEP_FRACTION = 0.25
 #: Restarts at (numerically) the same time that count as an event stuck in place.
 MAX_SAME_TIME = 64
 #: Default limit on the solver steps of one solve: ~85 us a step of RK45 with its event
-#: functions on a 2-core machine, so a default call returns within 1-4 s whatever its
-#: horizon (``benchmarks/default_limits.py``), having reached t ~ 4e3 (rigid scene 5a) and
+#: functions on a 2-core machine, so a default call returns within seconds whatever its
+#: horizon (1-4 s on scenes 5a and 10, 5.7 s on scene 11's stiff stop;
+#: ``benchmarks/default_limits.py``), having reached t ~ 4e3 (rigid scene 5a) and
 #: 2.5e3 (deformable scene 10) at the default tolerances. Pass ``max_steps`` or
 #: ``time_budget`` to go further.
 DEFAULT_MAX_STEPS = 30_000

@@ -626,8 +626,8 @@ REST_SPEED_PER_AMPLITUDE = 10.0
 #: times that in the velocity (:data:`REST_SPEED_PER_AMPLITUDE`),
 #: are the limit of rest at the stop: the mass is pressed on the stop, and rest is
 #: declared at the equilibrium. The rest state then differs from the motion by less than
-#: ``10 rtol`` in the position and ``100 rtol`` in the velocity, within the error the app
-#: states for each accuracy preset (``~100 rtol``, app/solver.py).
+#: ``10 rtol`` in the position and ``100 rtol`` in the velocity: a swing the integration
+#: at that ``rtol`` does not resolve better (a run's error is measured, app/solver.py).
 REST_AMPLITUDE_PER_RTOL = 10.0
 
 

@@ -373,6 +373,14 @@ class Result:
         return self.status is Status.SUCCESS
 
     @property
+    def message(self) -> str:
+        """How the solve ended, in words; a solve stopped before its horizon says at what
+        time it stopped (its samples end there)."""
+        if self.status is Status.SUCCESS or not len(self.t):
+            return self.status.message
+        return f"Stopped at t = {float(self.t[-1]):.6g}. {self.status.message}"
+
+    @property
     def truncated(self) -> bool:
         """True when more transitions happened than are stored."""
         return self.n_transitions > len(self.transitions)

@@ -95,8 +95,9 @@ ETA_REL = 1e-4
 #: Widest stick band, relative to the belt speed (:func:`check_eta`).
 ETA_MAX_REL = 0.1
 #: Default limit on the Runge-Kutta steps (accepted and rejected) of one solve: 8-16 us a
-#: step on a 2-core machine, so a default call returns within 1-4 s whatever its horizon
-#: (``benchmarks/default_limits.py``), having reached t ~ 1.4e4 (rigid scene 5a) to 1.7e4
+#: step on a 2-core machine, so a default call returns within seconds whatever its horizon
+#: (1-4 s on scenes 5a and 10, 5.5 s on scene 11's stiff stop;
+#: ``benchmarks/default_limits.py``), having reached t ~ 1.4e4 (rigid scene 5a) to 1.7e4
 #: (deformable scene 10) at the default tolerances. Pass ``max_steps`` or ``time_budget``
 #: to go further.
 DEFAULT_MAX_STEPS = 200_000

@@ -34,6 +34,9 @@ def test_a_default_call_stops_at_its_step_limit_and_says_where(method, steps, de
     # the scene's period is ~6: the limit is reached after hundreds of cycles at least
     assert 100.0 < t_reached < T_END
     assert np.all(np.isfinite(res.x)) and res.t[0] == 0.0
+    # the result says, in words, where it stopped and why
+    assert f"Stopped at t = {t_reached:.6g}." in res.message
+    assert "limit on the number of integration steps" in res.message
     again = simulate(OSC, STOP, t_end=T_END, method=method, max_steps=default, n_samples=50)
     assert again.status is Status.STEP_LIMIT and float(again.t[-1]) == t_reached
 
