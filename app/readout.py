@@ -13,8 +13,15 @@ import numpy as np
 
 from app.solver import ACCURACY, Solution, integrates, reference_name
 from app.state import DIMENSIONLESS, Scales
-from core import HystereticStop, Mode, Status, Steady, SteadyKind, TransitionKind
-from core.hysteretic_reduced import rest_swing_of
+from core import (
+    HystereticStop,
+    Mode,
+    Status,
+    Steady,
+    SteadyKind,
+    TransitionKind,
+    rest_swing_of,
+)
 
 #: What the page says of each reading of the contact law (docs/contact-law.md).
 CONTACT_LAW_TEXT = {

@@ -49,8 +49,15 @@ from app.solver import (
 )
 from app.state import ACCURACIES, core_inputs
 from app.trade_solve import Sampled, sampled
-from core import HystereticStop, Status, Steady, SteadyKind, method_options, simulate
-from core.hysteretic_reduced import rest_swing_of
+from core import (
+    HystereticStop,
+    Status,
+    Steady,
+    SteadyKind,
+    method_options,
+    rest_swing_of,
+    simulate,
+)
 
 #: Methods compared (``auto`` is one of them).
 METHODS = ("exact", "event", "switch")

@@ -19,6 +19,7 @@ from core.hysteresis import phi_compression as phi_compression
 from core.hysteresis import phi_expansion as phi_expansion
 from core.hysteresis import reverse as reverse
 from core.hysteretic import effective_restitutions as effective_restitutions
+from core.hysteretic_reduced import rest_swing_of as rest_swing_of
 from core.params import HystereticStop as HystereticStop
 from core.params import Oscillator as Oscillator
 from core.params import RigidStop as RigidStop
@@ -68,6 +69,7 @@ __all__ = [
     "phi_compression",
     "phi_expansion",
     "pressed_on_stop",
+    "rest_swing_of",
     "rest_force",
     "reverse",
     "simulate",

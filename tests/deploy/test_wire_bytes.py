@@ -71,10 +71,9 @@ def served(request, tmp_path_factory):
         stop_group(proc)
 
 
+@pytest.mark.parametrize("served", ["nginx"], indirect=True)
 def test_more_than_one_process_runs_behind_nginx_with_per_client_limits(served):
-    kind, _, run_dir, base_port = served
-    if kind != "nginx":
-        pytest.skip("one process is served directly")
+    _, _, run_dir, base_port = served
     for port in (base_port + 1, base_port + 2):  # one process per NUM_PROCS, each live
         with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=30) as r:
             assert r.status == 200
