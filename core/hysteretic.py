@@ -69,7 +69,6 @@ from core.flight import Segment, after_event, free_flight, start_motion
 from core.hysteresis import (
     EXP_CAP,
     FIRST_LOADING,
-    LIMIT_MARGIN,
     Branch,
     ElasticLimit,
     _on_compression,
@@ -128,6 +127,7 @@ from core.hysteretic_base import (
     _hermite_coeffs,
     _poly,
     _State,
+    limit_band,
 )
 from core.hysteretic_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
 from core.hysteretic_map import map_train
@@ -211,7 +211,7 @@ class _Solver:
         self.tight_rtol = min(rtol, max(TIGHT_RTOL * rtol, TIGHT_RTOL_MIN))
         self.a, self.b, self.vb = osc.a, osc.b, osc.v
         self.xb, self.d_lim = stop.clearance, stop.limit_overlap
-        self.d_max = (1.0 - LIMIT_MARGIN) * stop.limit_overlap
+        self.d_max = limit_band(stop.clearance, stop.limit_overlap)
         self.table = SegmentTable()
         self.contact = _Contact()
         self.timeline: list[tuple[float, int, int]] = []  # (t0, 0 free / 1 contact, row)
