@@ -90,9 +90,10 @@ NARROWING = 0.25
 REGULAR = ("contact", "reversal", "separation")
 
 #: Contacts the map lays out per step of the solve's work limit (``max_steps``,
-#: :data:`core.hysteretic.DEFAULT_MAX_STEPS`): ~2.5 us a contact against ~20 us a contact
-#: step, an arc or a transition solved. Uncounted, a train laid out to t_end = 1e6 took
-#: 2 s (7.5e5 contacts) and one to 1e9 would hold arrays of 7.5e8.
+#: :data:`core.hysteretic.DEFAULT_MAX_STEPS`): 0.2-1.7 us a contact (2e6 in 0.4-3.5 s on
+#: the pressed cells of benchmarks/hysteretic_speed.py) against ~15 us a contact step, an
+#: arc or a transition solved. Uncounted, a train laid out to t_end = 1e6 took 2 s
+#: (7.5e5 contacts) and one to 1e9 would hold arrays of 7.5e8.
 MAP_CONTACTS_PER_STEP = 8
 
 
