@@ -154,9 +154,11 @@ from core.validation import check_integer
 
 #: Default work limit of :func:`solve_hysteretic`: its steps, counted as the Dormand-Prince
 #: steps of the contacts (accepted and rejected), the semi-analytic arcs and the transitions
-#: solved one by one (not those a reduced model lays out), each of which costs ~20 us on the
-#: development machine (58e3 a second on a grazing train, 62e3 on scene 11's loops). It is
-#: checked at each transition; past it the result ends there with ``Status.STEP_LIMIT``.
+#: solved one by one, each of which costs ~15 us on the development machine (58e3 a second
+#: on a grazing train, 62e3 on scene 11's loops), and the contacts the contact-to-contact
+#: map lays out, far cheaper, at one step per
+#: :data:`core.hysteretic_map.MAP_CONTACTS_PER_STEP`. It is checked at each transition;
+#: past it the result ends there with ``Status.STEP_LIMIT``.
 #: Sized so that a call without ``max_steps`` returns within a few seconds whatever the
 #: horizon (~4 s; benchmarks/hysteretic_limits.py) while scene 11's loops (2.1e5 steps to
 #: rest) still end at rest.
@@ -984,9 +986,10 @@ def solve_hysteretic(
         reference of the tests and ``benchmarks/hysteretic_speed.py``).
     max_steps : int
         Work limit (``>= 1``; default :data:`DEFAULT_MAX_STEPS`, which returns within a few
-        seconds whatever the horizon): contact steps, arcs and transitions solved, counted
-        in ``info["work_steps"]``. At the first transition past it the result ends there
-        (``t[-1]``) with ``Status.STEP_LIMIT``.
+        seconds whatever the horizon): contact steps, arcs, transitions solved and the
+        contacts a map lays out (one per eight), counted in ``info["work_steps"]``. At the
+        first transition past it the result ends there (``t[-1]``) with
+        ``Status.STEP_LIMIT``.
     reduce : bool
         Advance the small motion of a mass pressed on the stop by a reduced model
         (:mod:`core.hysteretic_reduced`) once it is below the tolerance; ``False`` follows

@@ -386,7 +386,7 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
         out = np.nonzero(ws[1:stop + 1] < cmap.lo)[0]
         if len(out):
             stop, reason = int(out[0]), "range"
-        if stop >= left and reason is None:
+        if stop > left or (stop == left and reason is None):
             stop, reason = int(left), "limit"
         left -= stop
         begins = np.concatenate(([t], ends[:-1]))
