@@ -52,6 +52,7 @@ from core import (
     simulate,
     theory,
 )
+from core.simulate import MAX_STEPS
 
 log = logging.getLogger(__name__)
 
@@ -102,6 +103,11 @@ SOLVE_BUDGET_S = 2.0
 #: them by time, so far above what fits in the budget (the core's own defaults are lower:
 #: they bound a call that gives no budget).
 SOLVE_MAX_STEPS = 2_000_000
+#: Step limit of the exact method on a deformable stop, which does not stop at the page's
+#: budget (the page waits for it in the background): the largest the core takes, so that
+#: it runs to its end as it did before it had a default limit (and a cut-short result,
+#: whose retry would join the same solve, is not offered).
+UNBUDGETED_MAX_STEPS = MAX_STEPS
 #: A retry of a solve that ran out of time or steps gets this many times the budget (and
 #: the step limit) of the attempt before, up to :data:`MAX_SOLVE_BUDGET_S`.
 RETRY_FACTOR = 10.0
@@ -655,7 +661,9 @@ def _solve(key: tuple, preview: bool, budget: float | None = None) -> Solution:
         options = preset_options(accuracy, used, osc)
         if "time_budget" in used:
             options["time_budget"] = _budget(preview, budget)
-        if "max_steps" in used:
+        if "max_steps" in used and "time_budget" not in used:
+            options["max_steps"] = UNBUDGETED_MAX_STEPS
+        elif "max_steps" in used:
             # A retry with more time may take as many more steps.
             options["max_steps"] = int(SOLVE_MAX_STEPS * max(1.0, (budget or 0.0)
                                                               / SOLVE_BUDGET_S))
@@ -702,9 +710,11 @@ REFERENCE_RTOL, REFERENCE_ATOL = 1e-12, 1e-14
 
 
 def reference_options(stop: Any) -> dict[str, float]:
-    """The exact method's options as a reference: the tight tolerances where it takes
-    them (a deformable stop's contact), none for a closed form."""
-    return {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL))
+    """The exact method's options as a reference: the tight tolerances and no step limit
+    in practice where it takes them (a deformable stop's contact; the reference is stopped
+    at the page's deadline, not cut short), none for a closed form."""
+    return {k: v for k, v in (("rtol", REFERENCE_RTOL), ("atol", REFERENCE_ATOL),
+                              ("max_steps", UNBUDGETED_MAX_STEPS))
             if k in method_options("exact", stop)}
 
 

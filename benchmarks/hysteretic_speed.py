@@ -28,7 +28,7 @@ closes.
 
     PYTHONPATH=. .venv/bin/python benchmarks/hysteretic_speed.py [--quick] [--repeat N]
         [--repeat-long N] [--no-reference] [--cells k_c0,beta,D ...] [--law paper|passive]
-        [--reference-long [--long-events N]]
+        [--reference-long [--long-steps N]]
 
 ``--quick`` runs 8 cells (the corners and the worst cells of the old solver); ``--law``
 picks the contact law's reading (docs/contact-law.md; the paper's by default);
@@ -37,7 +37,8 @@ picks the contact law's reading (docs/contact-law.md; the paper's by default);
 and stated bound there), against a reference to 1e4: every loop and contact followed at
 rtol 1e-11, from seconds (loops on the stop: ~36 us a reversal) to many minutes (trains of
 contacts: 99 s to t = 1e3 on k_c0 1e6, beta 1000, D 1e-3); a reference past
-``--long-events`` transitions stops and its columns read ``cap``. Use it on a subset
+``--long-steps`` steps (``max_steps``: contact steps, arcs and transitions) stops and its
+columns read ``cap``. Use it on a subset
 (``--cells``) unless there is the time.
 """
 
@@ -59,11 +60,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from core import HystereticStop, Oscillator, Status, TransitionKind, simulate  # noqa: E402
 from core.hysteretic import (  # noqa: E402
-    MAX_EVENTS,
     REST_AMPLITUDE_PER_RTOL,
     simulate_hysteretic,
 )
 from core.hysteretic_reduced import PAGE_RESOLUTION, REDUCE_PER_RTOL, rest_rule  # noqa: E402
+from core.numerics.limits import COUNT_MAX  # noqa: E402
 
 OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 CLEARANCE = 0.42
@@ -155,12 +156,12 @@ def errors(res, ref, d: float, t_end: float) -> list[str]:
     return [f"{state:>8.1e}", f"{xmax:>8.1e}", f"{rest:>8}", f"{ref.steady.kind.value:>13}"]
 
 
-def reference(stop, t_end: float, max_events: int):
+def reference(stop, t_end: float, max_steps: int):
     """The reference solve (every loop and contact followed) and its CPU time in s."""
     t0 = time.process_time()
     ref = simulate_hysteretic(OSC, stop, t_end, 0.0, 0.0, reduce=False,
                               n_samples=PRESET["n_samples"], transition_cap=2_000_000,
-                              max_events=max_events, **REFERENCE)
+                              max_steps=max_steps, **REFERENCE)
     return ref, time.process_time() - t0
 
 
@@ -188,14 +189,14 @@ def row(cell, args) -> str:
             f"{err_bound:>8.1e}", f"{band:>8.1e}", f"{balance(res):>8.1e}"]
     if args.no_reference:
         return " ".join(cols)
-    ref, _ = reference(stop, HORIZONS[0], MAX_EVENTS)
+    ref, _ = reference(stop, HORIZONS[0], COUNT_MAX)
     cols += errors(res, ref, d, HORIZONS[0])
     if args.reference_long:
         red = [tr.t for tr in res_long.transitions if tr.kind is TransitionKind.REDUCED]
         cols += [f"{red[0] if red else math.nan:>8.3g}",
                  f"{res_long.info.get('reduced_error', 0.0) / scale:>8.1e}"]
-        ref, cpu = reference(stop, HORIZONS[1], args.long_events)
-        if ref.status is Status.EVENT_LIMIT:
+        ref, cpu = reference(stop, HORIZONS[1], args.long_steps)
+        if ref.status is Status.STEP_LIMIT:
             cols += [f"{'cap':>8}"] * 3 + [f"{ref.steady.kind.value:>13}"]
         else:
             cols += errors(res_long, ref, d, HORIZONS[1])
@@ -216,8 +217,8 @@ def main() -> None:
     parser.add_argument("--reference-long", action="store_true",
                         help="the error columns at t_end = 1e4 too (slow: every loop and "
                              "contact to 1e4 at rtol 1e-11)")
-    parser.add_argument("--long-events", type=int, default=2_000_000,
-                        help="most transitions of a reference at t_end = 1e4 ('cap' past it)")
+    parser.add_argument("--long-steps", type=int, default=100_000_000,
+                        help="most steps of a reference at t_end = 1e4 ('cap' past it)")
     args = parser.parse_args()
     if args.cells:
         cells = [tuple(float(v) for v in c.split(",")) for c in args.cells]
@@ -237,7 +238,7 @@ def main() -> None:
         head += f" {'state':>8} {'x_max':>8} {'rest':>8} {'ref steady':>13}"
         if args.reference_long:
             print(f"# errors at t_end 1e4 too, on {len(cells)} of the grid's 80 cells; a "
-                  f"reference past {args.long_events} transitions is not finished ('cap'); "
+                  f"reference past {args.long_steps} steps is not finished ('cap'); "
                   f"last column: the reference's CPU s at 1e4")
             head += (f" {'red 1e4':>8} {'bnd 1e4':>8} {'st 1e4':>8} {'xm 1e4':>8} "
                      f"{'rest 1e4':>8} {'ref st 1e4':>13} {'ref s':>8}")

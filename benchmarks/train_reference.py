@@ -64,7 +64,7 @@ def reference_end(stop, pieces: int) -> tuple[float, float, int, float]:
         last = t + span >= T_END * (1.0 - 1e-15)
         res = simulate_hysteretic(OSC, stop, T_END - t if last else span, x, v,
                                   reduce=False, transition_cap=10**7, n_samples=10,
-                                  max_events=10**7, **REFERENCE)
+                                  max_steps=10**12, **REFERENCE)
         count += res.n_transitions
         if last:
             return float(res.x[-1]), float(res.v[-1]), count, time.process_time() - cpu

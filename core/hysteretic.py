@@ -69,7 +69,6 @@ from core.flight import Segment, after_event, free_flight, start_motion
 from core.hysteresis import (
     EXP_CAP,
     FIRST_LOADING,
-    LIMIT_MARGIN,
     Branch,
     ElasticLimit,
     _on_compression,
@@ -128,9 +127,10 @@ from core.hysteretic_base import (
     _hermite_coeffs,
     _poly,
     _State,
+    limit_band,
 )
 from core.hysteretic_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
-from core.hysteretic_map import map_train
+from core.hysteretic_map import MAP_CONTACTS_PER_STEP, map_train
 from core.hysteretic_reduced import (
     REST_AMPLITUDE_PER_RTOL,  # noqa: F401 (the rule's constant, read from here too)
     advance_train,
@@ -143,16 +143,26 @@ from core.hysteretic_reduced import (
     rest_swing_factor,
 )
 from core.hysteretic_samples import _assemble
+from core.numerics.limits import COUNT_MAX
 from core.params import HystereticStop
 from core.result import Mode, Result, Status, Steady, SteadyKind, TransitionKind
 from core.solve_inputs import SolveInputs, solve_entry
 from core.steady import FixedPointDetector, pressed_on_stop, train_loses
 from core.trajectory import SegmentTable
 from core.transitions import TransitionLog
+from core.validation import check_integer
 
-#: Default limit on the number of transitions (a guard against an endless event loop);
-#: past it the result ends there with ``Status.EVENT_LIMIT``.
-MAX_EVENTS = 2_000_000
+#: Default work limit of :func:`solve_hysteretic`: its steps, counted as the Dormand-Prince
+#: steps of the contacts (accepted and rejected), the semi-analytic arcs and the transitions
+#: solved one by one, each of which costs ~15 us on the development machine (58e3 a second
+#: on a grazing train, 62e3 on scene 11's loops), and the contacts the contact-to-contact
+#: map lays out, far cheaper, at one step per
+#: :data:`core.hysteretic_map.MAP_CONTACTS_PER_STEP`. It is checked at each transition;
+#: past it the result ends there with ``Status.STEP_LIMIT``.
+#: Sized so that a call without ``max_steps`` returns within a few seconds whatever the
+#: horizon (~4 s; benchmarks/hysteretic_limits.py) while scene 11's loops (2.1e5 steps to
+#: rest) still end at rest.
+DEFAULT_MAX_STEPS = 250_000
 
 
 #: Tolerance of the equilibrium on the stop (relative to the length scale): the rest force
@@ -211,7 +221,7 @@ class _Solver:
         self.tight_rtol = min(rtol, max(TIGHT_RTOL * rtol, TIGHT_RTOL_MIN))
         self.a, self.b, self.vb = osc.a, osc.b, osc.v
         self.xb, self.d_lim = stop.clearance, stop.limit_overlap
-        self.d_max = (1.0 - LIMIT_MARGIN) * stop.limit_overlap
+        self.d_max = limit_band(stop.clearance, stop.limit_overlap)
         self.table = SegmentTable()
         self.contact = _Contact()
         self.timeline: list[tuple[float, int, int]] = []  # (t0, 0 free / 1 contact, row)
@@ -224,8 +234,9 @@ class _Solver:
         self.arcs = 0
         self.use_arcs = True
         self.use_reduced = True
-        self.max_events = MAX_EVENTS
+        self.max_steps = DEFAULT_MAX_STEPS
         self.n_solved = 0  # transitions recorded by the solve (not laid out by a model)
+        self.laid_out = 0  # contacts laid out by the contact-to-contact map
         self.restitution: list[float] = []
         self.x_max = -math.inf
         self.t_stop = t_end  # end of the computed motion (earlier on failure)
@@ -881,11 +892,11 @@ class _Solver:
 
     def record(self, kind: TransitionKind, st: _State, v_after: float, phi: float = 0.0):
         self.log.add(kind, st.t, st.x, st.v, v_after)
-        # Only transitions solved here count against the limit (a guard against an
-        # endless loop): those a reduced model lays out cost no work and are not stored.
+        # Only transitions solved here count against the work limit: those a reduced model
+        # lays out cost no work and are not stored.
         self.n_solved += 1
-        if self.n_solved >= self.max_events and self.status is Status.SUCCESS:
-            self.status = Status.EVENT_LIMIT
+        if self.work_steps() >= self.max_steps and self.status is Status.SUCCESS:
+            self.status = Status.STEP_LIMIT
         # Reversals inside a sustained contact are not compared: a cycle made only of them
         # is integrated to ~1e-8 and never passes the fixed-point test, and comparing each
         # of the thousands of reversals of a long contact costs a third of the solve. A
@@ -905,6 +916,13 @@ class _Solver:
         cycle = self.detector.add(kind, st.t, st.x, st.v, self.log.total, phi)
         if cycle is not None:
             self.periodic(cycle.t_then, cycle.tag_then, st)
+
+    def work_steps(self) -> int:
+        """The steps counted against ``max_steps`` (:data:`DEFAULT_MAX_STEPS`); the map's
+        contacts, far cheaper, count as one per
+        :data:`core.hysteretic_map.MAP_CONTACTS_PER_STEP`."""
+        return (self.steps + self.rejected + self.arcs + self.n_solved
+                + self.laid_out // MAP_CONTACTS_PER_STEP)
 
     def elastic_limit(self) -> ElasticLimit | None:
         """What the law makes of a regular train's contacts
@@ -948,7 +966,7 @@ def solve_hysteretic(
     atol: float = 1e-12,
     arcs: bool = True,
     reduce: bool = True,
-    max_events: int = MAX_EVENTS,
+    max_steps: int = DEFAULT_MAX_STEPS,
 ) -> Result:
     """Response with a hysteretic stop: exact free flight and integrated contact phases.
 
@@ -966,9 +984,12 @@ def solve_hysteretic(
         Take the slip between two reversals of a contact semi-analytically where that is
         exact (:meth:`_Solver.arc`); ``False`` integrates every contact step by step (the
         reference of the tests and ``benchmarks/hysteretic_speed.py``).
-    max_events : int
-        Limit on the number of transitions; past it the result ends there with
-        ``Status.EVENT_LIMIT``.
+    max_steps : int
+        Work limit (``>= 1``; default :data:`DEFAULT_MAX_STEPS`, which returns within a few
+        seconds whatever the horizon): contact steps, arcs, transitions solved and the
+        contacts a map lays out (one per eight), counted in ``info["work_steps"]``. At the
+        first transition past it the result ends there (``t[-1]``) with
+        ``Status.STEP_LIMIT``.
     reduce : bool
         Advance the small motion of a mass pressed on the stop by a reduced model
         (:mod:`core.hysteretic_reduced`) once it is below the tolerance; ``False`` follows
@@ -1007,13 +1028,15 @@ def solve_hysteretic(
         raise TypeError(f"stop must be a HystereticStop; got {type(stop).__name__}")
     transition_cap, n_samples, t_eval = inputs.transition_cap, inputs.n_samples, inputs.t_eval
     sv = _Solver(osc, stop, t_end, rtol, atol, transition_cap)
-    sv.max_events = max_events
+    sv.max_steps = check_integer("max_steps", max_steps, 1, COUNT_MAX)
     sv.use_arcs = arcs and stop.law == "paper"  # the arcs' closed forms are the paper's
     sv.use_reduced = reduce
     xb = stop.clearance
     st = _State(0.0, x0, v0, (0.0, 0.0, 0.0))
     motion = start_motion(osc, x0, v0)
-    for _ in range(max_events):
+    # Each pass records a transition, or moves to a contact that records one: twice the
+    # limit bounds the passes should a pass record none.
+    for _ in range(2 * sv.max_steps + 2):
         if st.t >= t_end or sv.steady is not None or sv.status is not Status.SUCCESS:
             break
         if st.t == 0.0 and x0 > xb:  # a start inside the stop
@@ -1054,7 +1077,7 @@ def solve_hysteretic(
         sv.record(ev.kind, st, ev.v)
         motion = after_event(osc, ev, motion)
     else:
-        sv.status = Status.EVENT_LIMIT
+        sv.status = Status.STEP_LIMIT
     return _assemble(sv, osc, stop, t_end, x0, v0, n_samples, t_eval)
 
 

@@ -4,11 +4,13 @@ densely, event location on a step, the transition log."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from scipy.optimize import brentq
 
 from core.hysteresis import (
+    LIMIT_MARGIN,
     Branch,
 )
 
@@ -42,6 +44,33 @@ _E1, _E3, _E4, _E5, _E6, _E7 = (
     22 / 525,
     -1 / 40,
 )
+
+
+#: Positions (doubles) the band ``(d_max, D)`` where a contact counts as reaching the limit
+#: overlap holds at least: a step is rejected past ``D`` (the asymptote) and the event needs
+#: an accepted step ending inside the band, which the controller's factors (0.2 to 5) find
+#: only if the band is several position spacings wide. With ``LIMIT_MARGIN D`` alone, a stop
+#: at clearance 0.24 with ``D = 1e-12`` had a band of 1e-18 between positions 2.8e-17 apart:
+#: the steps shrank to nothing and grew back past ``D`` without end.
+LIMIT_BAND_SPACINGS = 16
+
+
+def limit_band(clearance: float, limit_overlap: float) -> float:
+    """``d_max``: the overlap at which a contact counts as reaching the limit ``D``,
+    ``(1 - LIMIT_MARGIN) D`` (:data:`core.hysteresis.LIMIT_MARGIN`) or lower where positions
+    near the stop are too coarse for that band (:data:`LIMIT_BAND_SPACINGS`); ``<= 0`` when
+    ``D`` itself is below their resolution (a contact then ends at the limit at once).
+
+    Examples
+    --------
+    >>> limit_band(0.24, 0.01) == (1.0 - LIMIT_MARGIN) * 0.01
+    True
+    >>> limit_band(0.24, 1e-12) < (1.0 - LIMIT_MARGIN) * 1e-12
+    True
+    """
+    spacing = math.ulp(abs(clearance) + limit_overlap)
+    return min((1.0 - LIMIT_MARGIN) * limit_overlap,
+               limit_overlap - LIMIT_BAND_SPACINGS * spacing)
 
 
 #: Step-size controller: safety factor and bounds of the growth per step (standard values).

@@ -89,6 +89,13 @@ NARROWING = 0.25
 #: The sequence of one regular contact in the log: contact, reversal, separation.
 REGULAR = ("contact", "reversal", "separation")
 
+#: Contacts the map lays out per step of the solve's work limit (``max_steps``,
+#: :data:`core.hysteretic.DEFAULT_MAX_STEPS`): 0.2-1.7 us a contact (2e6 in 0.4-3.5 s on
+#: the pressed cells of benchmarks/hysteretic_speed.py) against ~15 us a contact step, an
+#: arc or a transition solved. Uncounted, a train laid out to t_end = 1e6 took 2 s
+#: (7.5e5 contacts) and one to 1e9 would hold arrays of 7.5e8.
+MAP_CONTACTS_PER_STEP = 8
+
 
 class ContactMap(NamedTuple):
     """Interpolants of the loss ``L(w)``, duration ``d(w)`` and peak position over
@@ -301,7 +308,7 @@ class MapRun(NamedTuple):
     t_last: float
     err_speed: float
     err_time: float
-    reason: str  # "horizon", "bound" or "range"
+    reason: str  # "horizon", "bound", "range" or "limit" (the work limit)
 
 
 def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
@@ -342,18 +349,21 @@ def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
 
 
 def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float = 0.0,
-            dw0: float = 0.0, dt0: float = 0.0) -> MapRun:
+            dw0: float = 0.0, dt0: float = 0.0, max_contacts: int | None = None) -> MapRun:
     """Iterate the map from a contact at ``w0`` starting ``t0`` after the switch (with the
-    bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``
-    or ``w`` leaves the range, in blocks of contacts (:func:`_block`; a block that does
-    not settle is halved, one that settles fast doubled)."""
+    bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``,
+    ``w`` leaves the range or ``max_contacts`` are laid out, in blocks of contacts
+    (:func:`_block`; a block that does not settle is halved, one that settles fast
+    doubled)."""
     g, e_l, e_d = cmap.gain, cmap.err_loss, cmap.err_dur
     t_slope = cmap.dur_slope + 2.0 / gap
     dt_flight = 2.0 * e_l / gap
     starts, speeds, durs = [], [np.array([w0])], []
     t, w, dw, dt = t0, w0, dw0, dt0
     m = FIRST_BLOCK
+    left = math.inf if max_contacts is None else max_contacts
     while True:
+        m = int(min(m, max(left, 1)))
         ws = _block(cmap, w, m)
         if ws is None:
             m = max(1, m // 2)
@@ -376,6 +386,9 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
         out = np.nonzero(ws[1:stop + 1] < cmap.lo)[0]
         if len(out):
             stop, reason = int(out[0]), "range"
+        if stop > left or (stop == left and reason is None):
+            stop, reason = int(left), "limit"
+        left -= stop
         begins = np.concatenate(([t], ends[:-1]))
         starts.append(begins[:stop])
         durs.append(d[:stop])
@@ -435,6 +448,8 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     if not w_inf < w_now:
         return False
     sv.map_tried = True
+    # the contacts it may lay out within the work limit (what is left of it)
+    budget = max(0, sv.max_steps - sv.work_steps()) * MAP_CONTACTS_PER_STEP
     runs, maps = [], []
     t, w, dw, dt = 0.0, w_now, 0.0, 0.0
     # The train tends to w_inf ever more slowly: one interpolated range after another,
@@ -456,7 +471,8 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
             narrow *= NARROWING
             continue
         narrow = 1.0
-        run = iterate(cmap, w, sv.t_end - st.t, gap, t, dw, dt)
+        run = iterate(cmap, w, sv.t_end - st.t, gap, t, dw, dt,
+                      max_contacts=max(0, budget - sum(len(r.start) for r in runs)))
         runs.append(run)
         maps.append(cmap)
         t, w, dw, dt = run.t_last, float(run.w[-1]), run.err_speed, run.err_time
@@ -510,6 +526,7 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
         n = k - first - (1 if kind == "contact" and first == 0 else 0)
         sv.log.count(TransitionKind(kind), (k - 1 if kind == "contact" else k) - n)
     sv.n_contacts += k - 1
+    sv.laid_out += k
     record_last_restitution(sv, run.w)
     st.t, st.x, st.v = t_s + run.t_last, sv.xb, w1
     err = 2.0 * run.err_speed + max(cmap.accel, run.w[0]) * run.err_time

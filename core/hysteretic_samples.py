@@ -151,6 +151,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     )
     info = {
         "n_contacts": sv.n_contacts,
+        "work_steps": sv.work_steps(),
         "contact_rhs_evals": sv.rhs_evals,
         "arcs": sv.arcs,
         "arc_evals": sv.arc_evals,

@@ -15,7 +15,7 @@ METHODS = ("exact", "switch", "event")
 #: Options each method uses; any other one given is refused.
 METHOD_OPTIONS = {
     "exact": (),  # no stop or a rigid stop: closed form, nothing to tune
-    "exact-hysteretic": ("rtol", "atol"),  # exact flight, integrated contact phase
+    "exact-hysteretic": ("rtol", "atol", "max_steps"),  # exact flight, integrated contact
     "switch": ("rtol", "atol", "eta", "max_steps", "time_budget"),
     "event": ("rtol", "atol", "max_steps", "time_budget"),
 }
@@ -61,7 +61,8 @@ def simulate(
     rtol, atol, eta : float, optional
         Tolerances of the numerical parts and the switch model's stick band. Only the
         options the method uses may be given (:func:`method_options`): ``exact`` with no
-        stop or a rigid stop uses none, with a hysteretic stop ``rtol`` and ``atol``;
+        stop or a rigid stop uses none, with a hysteretic stop ``rtol``, ``atol`` and
+        ``max_steps``;
         ``event`` uses ``rtol`` and ``atol``; ``switch`` all three. Any other raises a
         ``TypeError`` that names it.
     t_eval : array, optional
@@ -69,12 +70,14 @@ def simulate(
         (every method).
     max_steps, time_budget : optional
         Work limits of the numerical methods (``switch``, ``event``): steps at most, and
-        wall time in seconds. A solve that reaches one returns the result up to that point
-        (``t[-1]``) with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``. By default each
-        method stops at its own step limit (:data:`core.switch.DEFAULT_MAX_STEPS`,
-        :data:`core.event_method.DEFAULT_MAX_STEPS`), which it reaches within a few
-        seconds whatever the horizon; there is no default time budget, so a default call
-        gives the same result on any machine.
+        wall time in seconds; ``exact`` on a hysteretic stop takes ``max_steps``, counting
+        the transitions it solves. A solve that reaches one returns the result up to that
+        point (``t[-1]``) with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``. By default
+        each method stops at its own step limit (:data:`core.switch.DEFAULT_MAX_STEPS`,
+        :data:`core.event_method.DEFAULT_MAX_STEPS`,
+        :data:`core.hysteretic.DEFAULT_MAX_STEPS`), which it reaches within a few seconds
+        whatever the horizon; there is no default time budget, so a default call gives the
+        same result on any machine.
 
     Examples
     --------
@@ -110,7 +113,7 @@ def simulate(
     if isinstance(inputs.stop, HystereticStop):
         from core.hysteretic import solve_hysteretic
 
-        return solve_hysteretic(inputs, **_given(rtol=rtol, atol=atol))
+        return solve_hysteretic(inputs, **limits, **_given(rtol=rtol, atol=atol))
     return solve_rigid(inputs)
 
 

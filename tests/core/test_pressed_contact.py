@@ -23,7 +23,7 @@ from core import (
     hysteretic_reduced,
     simulate,
 )
-from core.hysteretic import MAX_EVENTS, _Solver, simulate_hysteretic
+from core.hysteretic import DEFAULT_MAX_STEPS, _Solver, simulate_hysteretic
 from core.hysteretic_reduced import rest_swing_factor
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
@@ -159,13 +159,18 @@ def test_reduced_oscillation_against_the_full_model(monkeypatch):
     assert np.diff(fast.energy.stop_loss[fast.t >= switch[0].t]).min() >= -1e-15
 
 
-def test_too_many_events_is_an_event_limit():
-    """Past max_events the solve ends with Status.EVENT_LIMIT and the result up to there
-    (it returned SUCCESS)."""
+def test_too_many_steps_is_a_step_limit():
+    """Past max_steps the solve ends with Status.STEP_LIMIT and the result up to there
+    (it returned SUCCESS), at the first transition past the limit."""
     stop = HystereticStop(FACE, 1e6, 5e5, limit_overlap=1e-3, beta_c=1000.0, beta_e=1000.0)
-    res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, max_events=200, reduce=False)
-    assert res.status is Status.EVENT_LIMIT and not res.success
-    assert res.n_transitions == 200
+    res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, max_steps=2000, reduce=False)
+    assert res.status is Status.STEP_LIMIT and not res.success
+    work = res.info["work_steps"]
+    assert work == res.stats["steps"] + res.stats["rejected"] + res.info["arcs"] + (
+        res.n_transitions)
+    # one transition before the end the count was below the limit: at most one contact's
+    # steps (~200 at the default tolerances) past it
+    assert 2000 <= work < 2000 + 500
     assert res.t[-1] < 100.0 and res.t[-1] >= res.transitions[-1].t
     assert np.all(np.isfinite(res.x))
 
@@ -353,15 +358,16 @@ def test_a_train_tending_to_its_elastic_limit_is_not_called_periodic():
 
 
 def test_a_long_train_laid_out_by_its_map_is_no_event_limit():
-    """max_events guards the transitions the solve finds one by one: the ~8e5 contacts a
-    map lays out to t_end = 1e4 (2.4e6 transitions, counted, not stored) are not an event
-    limit (it ended the train there with Status.EVENT_LIMIT and no label)."""
+    """max_steps guards the transitions the solve finds one by one: the ~8e5 contacts a
+    map lays out to t_end = 1e4 (2.4e6 transitions, counted, not stored) do not count
+    against it (it ended the train there with Status.EVENT_LIMIT and no label)."""
     stop = HystereticStop(FACE, 1e6, 5e5, limit_overlap=1e-3, beta_c=1000.0, beta_e=1000.0)
     res = simulate(PRESSING, stop, 1e4, **STANDARD)
     assert res.status is Status.SUCCESS and res.t[-1] == 1e4
-    assert res.n_transitions > MAX_EVENTS
+    assert res.n_transitions > DEFAULT_MAX_STEPS
+    assert res.info["work_steps"] < DEFAULT_MAX_STEPS
     assert res.steady.kind is SteadyKind.CONTACT_TRAIN
-    assert res.info["n_contacts"] > MAX_EVENTS // 3
+    assert res.info["n_contacts"] > DEFAULT_MAX_STEPS
 
 
 def _tight_from_switch(stop, t_switch: float, t_end: float):
@@ -375,8 +381,10 @@ def _tight_from_switch(stop, t_switch: float, t_end: float):
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(hysteretic, "reduce_oscillation", tighten)
+        # every loop followed: past the default work limit, which bounds a call that
+        # gives none
         return simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, n_samples=10,
-                                   transition_cap=1_000_000, **STANDARD)
+                                   transition_cap=1_000_000, max_steps=10**9, **STANDARD)
 
 
 def _switch(res) -> float:
