@@ -18,10 +18,8 @@ proxy:
 
 from __future__ import annotations
 
-import asyncio
 import json
 import os
-import re
 import shutil
 import socket
 import subprocess
@@ -32,14 +30,13 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from processes import stop_group, wait_live
+from processes import TOKEN_RE, open_session, stop_group, wait_live
 
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLE_CONF = ROOT / "docs" / "nginx-example.conf"
 STARTUP_TIMEOUT = 180.0
-TOKEN_RE = re.compile(r'"token"\s*:\s*"([^"]+)"')
 COOKIE = "explorer_upstream"
 #: Sessions opened through the proxy, each with its own sticky key. Were a session's page and
 #: websocket sent to upstreams independently (no stickiness), each session would show it with
@@ -133,40 +130,7 @@ def _sessions(upstream: str) -> dict:
 async def _open_session(proxy: str, key: str) -> str:
     """Open /main through the proxy as a browser holding the sticky cookie ``key`` would:
     the page, then its websocket and the document; return the session's id."""
-    from bokeh.protocol import Protocol
-    from bokeh.protocol.receiver import Receiver
-    from bokeh.util.token import get_session_id
-    from tornado.httpclient import AsyncHTTPClient, HTTPRequest
-    from tornado.websocket import websocket_connect
-
-    headers = {"Cookie": f"{COOKIE}={key}"}
-    resp = await AsyncHTTPClient().fetch(f"{proxy}/main", headers=headers, request_timeout=120)
-    token = TOKEN_RE.search(resp.body.decode()).group(1)
-    request = HTTPRequest(f"ws{proxy[4:]}/main/ws", headers={**headers, "Origin": proxy},
-                          request_timeout=120)
-    ws = await websocket_connect(request, subprotocols=["bokeh", token],
-                                 max_message_size=64 * 1024 * 1024)
-    protocol = Protocol()
-    receiver = Receiver(protocol)
-
-    async def read(kind: str):
-        while True:
-            fragment = await asyncio.wait_for(ws.read_message(), 120)
-            assert fragment is not None, "the websocket was closed"
-            msg = await receiver.consume(fragment)
-            if msg is not None and msg.msgtype == kind:
-                return msg
-
-    try:
-        await read("ACK")
-        pull = protocol.create("PULL-DOC-REQ")
-        for part in (pull.header_json, pull.metadata_json, pull.content_json):
-            await ws.write_message(part)
-        reply = await read("PULL-DOC-REPLY")
-        assert reply.content["doc"]["roots"], "an empty document"
-    finally:
-        ws.close()
-    return get_session_id(token)
+    return await open_session(proxy, {"Cookie": f"{COOKIE}={key}"})
 
 
 def test_liveness_and_page_through_the_proxy(deployment):

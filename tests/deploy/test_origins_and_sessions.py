@@ -28,14 +28,13 @@ import urllib.request
 from pathlib import Path
 
 import pytest
-from processes import stop_group, wait_live
+from processes import open_session, stop_group, wait_live
 
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[2]
 SERVE = ROOT / "scripts" / "serve.sh"
 STARTUP_TIMEOUT = 180.0
-TOKEN_RE = re.compile(r'"token"\s*:\s*"([^"]+)"')
 #: A closed tab's session must be gone this long after its websocket closed [ms].
 DISCARD_WITHIN_MS = 10_000
 #: Bound of the wait for the discard in the test (a loaded machine's event loop can be late).
@@ -114,35 +113,7 @@ async def _websocket(base: str, token: str):
 async def _open_and_close(base: str) -> str:
     """Open /main as a browser does (the page, its websocket, the document), close the
     websocket as a closed tab does; return the session's id."""
-    from bokeh.protocol import Protocol
-    from bokeh.protocol.receiver import Receiver
-    from bokeh.util.token import get_session_id
-    from tornado.httpclient import AsyncHTTPClient
-
-    resp = await AsyncHTTPClient().fetch(f"{base}/main", request_timeout=120)
-    token = TOKEN_RE.search(resp.body.decode()).group(1)
-    ws = await _websocket(base, token)
-    protocol = Protocol()
-    receiver = Receiver(protocol)
-
-    async def read(kind: str):
-        while True:
-            fragment = await asyncio.wait_for(ws.read_message(), 120)
-            assert fragment is not None, "the websocket was closed"
-            msg = await receiver.consume(fragment)
-            if msg is not None and msg.msgtype == kind:
-                return msg
-
-    try:
-        await read("ACK")
-        pull = protocol.create("PULL-DOC-REQ")
-        for part in (pull.header_json, pull.metadata_json, pull.content_json):
-            await ws.write_message(part)
-        reply = await read("PULL-DOC-REPLY")
-        assert reply.content["doc"]["roots"], "an empty document"
-    finally:
-        ws.close()
-    return get_session_id(token)
+    return await open_session(base)
 
 
 def _session(base: str, session_id: str) -> dict:
