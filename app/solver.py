@@ -38,6 +38,7 @@ from app.session_loop import from_any_thread
 from app.state import SOLVE_PARAMS, core_inputs
 from core import (
     FIRST_LOADING,
+    MAX_STEPS,
     HystereticStop,
     Mode,
     Result,
@@ -52,7 +53,6 @@ from core import (
     simulate,
     theory,
 )
-from core.simulate import MAX_STEPS
 
 log = logging.getLogger(__name__)
 

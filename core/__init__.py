@@ -33,6 +33,7 @@ from core.result import Steady as Steady
 from core.result import SteadyKind as SteadyKind
 from core.result import Transition as Transition
 from core.result import TransitionKind as TransitionKind
+from core.simulate import MAX_STEPS as MAX_STEPS
 from core.simulate import METHODS as METHODS
 from core.simulate import method_options as method_options
 from core.simulate import simulate as simulate
@@ -46,6 +47,7 @@ from core.validation import check_start as check_start
 __all__ = [
     "ETA_MAX_REL",
     "FIRST_LOADING",
+    "MAX_STEPS",
     "METHODS",
     "STATS_KEYS",
     "DenseSolution",
