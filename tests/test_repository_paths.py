@@ -9,6 +9,7 @@ path behind in the prose; these tests name it.
 from __future__ import annotations
 
 import ast
+import functools
 import io
 import re
 import tokenize
@@ -48,15 +49,16 @@ def python_prose(source: str) -> list[str]:
         for node in ast.walk(ast.parse(source))
         if isinstance(node, nodes)
     ]
-    # consecutive comment lines read as one text, so a citation may wrap
+    # a module's comments read as one text, so that a citation may wrap over lines
     return [" ".join(comments), *docstrings]
 
 
-def prose() -> list[tuple[str, str]]:
+@functools.cache
+def prose() -> tuple[tuple[str, str], ...]:
     """``(file, text)`` for every piece of prose, whitespace collapsed to single spaces."""
     pieces = [(path, path.read_text()) for path in DOCS]
     pieces += [(path, text) for path in SOURCES for text in python_prose(path.read_text())]
-    return [(str(path.relative_to(ROOT)), " ".join(text.split())) for path, text in pieces]
+    return tuple((str(path.relative_to(ROOT)), " ".join(text.split())) for path, text in pieces)
 
 
 def exists(path: str) -> bool:
@@ -76,12 +78,9 @@ def headings(page: Path) -> set[str]:
     return found
 
 
-PROSE = prose()
-
-
 def test_the_prose_names_paths():
     """The extraction finds what it looks for (a regex that matched nothing would pass)."""
-    named = {path for _, text in PROSE for path in PATH.findall(text)}
+    named = {path for _, text in prose() for path in PATH.findall(text)}
     assert {"core/hysteresis.py", "docs/physics.md", "benchmarks/results/"} <= named
 
 
@@ -89,7 +88,7 @@ def test_every_path_named_in_the_prose_exists():
     """Each path named in the docs, comments and docstrings is in the repository."""
     missing = sorted(
         f"{name}: {path}"
-        for name, text in PROSE
+        for name, text in prose()
         for path in PATH.findall(text)
         if not exists(path)
     )
@@ -101,7 +100,7 @@ def test_every_cited_docs_section_exists():
     pages = {str(p.relative_to(ROOT)): headings(p) for p in ROOT.glob("docs/*.md")}
     wrong = sorted(
         f"{name}: {page}, {title!r}"
-        for name, text in PROSE
+        for name, text in prose()
         for page, title in SECTION.findall(text)
         if title not in pages.get(page, set())
     )
