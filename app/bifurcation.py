@@ -78,8 +78,9 @@ QUANTITY_LABELS: Mapping[str, str] = {
 UNITS_NOTE = "dimensionless units"
 #: In SI units (app.state.Scales): a swept parameter's label, the factor of
 #: :class:`app.state.Scales` that turns the core's number into it, and its unit. Lengths
-#: are metres in both systems (SPEC §2 scales time only), friction and restitution have no
-#: unit; the static deflection is shown as the normal force ``N = k u_s``, as in the sidebar.
+#: are metres in both systems (the dimensionless form scales time only: docs/physics.md,
+#: "Dimensionless form"), friction and restitution have no unit; the static deflection is
+#: shown as the normal force ``N = k u_s``, as in the sidebar.
 PARAMETER_SI: Mapping[str, tuple[str, str | None, str]] = {
     "belt_speed": ("belt speed v_dr", "velocity", "m/s"),
     "clearance": ("clearance x_bar", None, "m"),

@@ -551,8 +551,8 @@ def force_quantity(sol: Solution) -> str:
 
 def force_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dict]:
     """Contact force: rigid impulses as stems (``t``, ``j``) and, once the mass rests on a
-    rigid stop, the force that holds it there (``rest``: ``k (a - x_bar)``, SPEC §3, on an
-    axis of its own); deformable ``phi(t)``."""
+    rigid stop, the force that holds it there (``rest``: ``k (a - x_bar)``, docs/physics.md,
+    "Rest at the stop"; on an axis of its own); deformable ``phi(t)``."""
     res, prog = sol.result, sol.program
     stems = {"t": _f32([]), "j": _f32([])}
     line = {"t": _f32([]), "phi": _f32([])}

@@ -1,10 +1,10 @@
 """The paper's figures as scenes: parameters that satisfy each figure's conditions.
 
-Every scene is one record: the state values it loads, a one-line caption of what to look for,
-the plots it needs, and its conditions written in the paper's terms (SPEC §7) as predicates on
-the dimensionless parameters. The conditions are restated here from the paper, independently
-of :mod:`core.theory`, so that the tests can check each scene against the theory's own
-classification.
+Every scene is one record: the state values it loads, a one-line caption of what to look for, the
+plots it needs, and its conditions written in the paper's terms (docs/physics.md, "Closed-form
+results") as predicates on the dimensionless parameters. The conditions are restated here from the
+paper, independently of :mod:`core.theory`, so that the tests can check each scene against the
+theory's own classification.
 
 The scenes share one friction pair, ``mu_s = 0.3``, ``mu_k = 0.2``, ``u_s = 1`` (so
 ``a = 0.2``, ``b = 0.3`` and ``2a - b = 0.1``), and pick the belt speed and clearance that
@@ -80,7 +80,8 @@ Check = Callable[[Mapping[str, float]], bool]
 
 
 def _quantities(values: Mapping[str, float]) -> dict[str, float]:
-    """The paper's characteristic quantities of a scene (SPEC §7), dimensionless."""
+    """The paper's characteristic quantities of a scene, dimensionless (docs/physics.md,
+    "Closed-form results")."""
     a = values["mu_k"] * values["u_s"]
     b = values["mu_s"] * values["u_s"]
     v = values["belt_speed"]

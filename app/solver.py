@@ -841,7 +841,8 @@ def theory_for(osc, stop, x0: float, v0: float) -> Theory | None:
 
 
 def measured_restitution(result: Result | None) -> np.ndarray:
-    """Rebound over approach speed of each finished deformable contact (SPEC §4), from
+    """Rebound over approach speed of each finished deformable contact
+    (docs/contact-law.md, "Restitution against impact speed"), from
     :func:`core.hysteretic.effective_restitutions`; empty without a result."""
     if result is None:
         return np.zeros(0)

@@ -1,11 +1,11 @@
 """The explorer's UI state: one ``param.Parameterized`` that maps to the core's inputs.
 
-The state holds the dimensionless parameters of the core (SPEC §2) whatever the units shown:
-in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed ``v_dr`` [m/s]
-convert through :meth:`core.Oscillator.from_physical` / :meth:`~core.Oscillator.to_physical`
-with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here too, and those for the initial
-velocity [m/s] and the horizon [s] through ``omega = sqrt(k/m)``. Lengths (clearance,
-positions) are metres in SI mode and keep their unit otherwise.
+The state holds the dimensionless parameters of the core (docs/physics.md, "Dimensionless form")
+whatever the units shown: in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed
+``v_dr`` [m/s] convert through :meth:`core.Oscillator.from_physical` /
+:meth:`~core.Oscillator.to_physical` with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here
+too, and those for the initial velocity [m/s] and the horizon [s] through ``omega = sqrt(k/m)``.
+Lengths (clearance, positions) are metres in SI mode and keep their unit otherwise.
 
 Examples
 --------
@@ -52,7 +52,8 @@ SOLVER_CHOICES = ("accuracy", "method")
 #: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
 #: the deformable stop's initial compression and expansion stiffnesses [N/m].
 SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end", "k_c0", "k_e0")
-#: Stop stiffnesses: the state holds them over k (SPEC §3), SI shows them in N/m.
+#: Stop stiffnesses: the state holds them over k (docs/physics.md, "Dimensionless form"),
+#: SI shows them in N/m.
 STOP_STIFFNESSES = ("k_c0", "k_e0")
 #: Parameters that only change how results are shown.
 VIEW_PARAMS = ("units", "mass", "stiffness", "show_all")
@@ -98,7 +99,7 @@ DIMENSIONLESS = Scales()
 
 def si_scales(mass: float, stiffness: float) -> Scales:
     """The factors and labels of SI units with mass ``m`` [kg] and stiffness ``k`` [N/m]
-    (SPEC §2: ``omega = sqrt(k/m)``).
+    (docs/physics.md, "Dimensionless form": ``omega = sqrt(k/m)``).
 
     >>> s = si_scales(4.0, 100.0)
     >>> s.time, s.velocity, s.force, s.impulse
@@ -186,8 +187,8 @@ class ExplorerState(param.Parameterized):
         ``v0`` [m/s], ``t_end`` [s], ``k_c0`` and ``k_e0`` [N/m], ...
 
         Uses :meth:`core.Oscillator.to_physical`; the initial velocity is ``omega x'0``, the
-        horizon ``t_end / omega`` (SPEC §2: ``t = omega tau``), a stop stiffness ``k`` times
-        its ratio.
+        horizon ``t_end / omega`` (docs/physics.md, "Dimensionless form": ``t = omega tau``),
+        a stop stiffness ``k`` times its ratio.
         """
         osc = Oscillator(mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s),
                          belt_speed=self.belt_speed, u_s=self.u_s)
@@ -273,10 +274,10 @@ SI_NAMES: Mapping[str, tuple[str, str]] = {
 }
 
 
-#: The state values that read in other units in SI: the unit, and the factor of
-#: :class:`Scales` from the core's number to it (SPEC §2: velocities ``omega x'``, times
-#: ``t / omega``, the stop's stiffnesses ``k`` times their ratio, the normal force
-#: ``k u_s``). Lengths, ratios and coefficients read the same in both unit systems.
+#: The state values that read in other units in SI: the unit, and the factor of :class:`Scales` from
+#: the core's number to it (docs/physics.md, "Dimensionless form": velocities ``omega x'``, times
+#: ``t / omega``, the stop's stiffnesses ``k`` times their ratio, the normal force ``k u_s``).
+#: Lengths, ratios and coefficients read the same in both unit systems.
 SI_CONVERSIONS: Mapping[str, tuple[str, str]] = {
     "u_s": ("N", "force"), "belt_speed": ("m/s", "velocity"), "v0": ("m/s", "velocity"),
     "t_end": ("s", "time"), **{name: ("N/m", "force") for name in STOP_STIFFNESSES},

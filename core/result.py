@@ -22,7 +22,7 @@ class Mode(enum.IntEnum):
 
 
 class TransitionKind(str, enum.Enum):
-    """Kinds of transition between modes (paper §2.5, SPEC §6)."""
+    """Kinds of transition between modes (paper §2.5; docs/physics.md, "Transitions")."""
 
     SLIP_STICK = "slip->stick"
     STICK_SLIP = "stick->slip"
@@ -59,7 +59,7 @@ class Transition(NamedTuple):
 
 
 class SteadyKind(str, enum.Enum):
-    """What the response settles to (SPEC §6)."""
+    """What the response settles to (paper Eq. 20; docs/physics.md, "Steady states")."""
 
     PERIODIC = "periodic"  # fixed point of P^j, reached in finite time
     GRAZING = "grazing"  # impacts with speeds falling as r^h towards a grazing circle

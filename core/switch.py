@@ -593,11 +593,11 @@ def _friction_transition(run: SwitchSolver, fr: int, fr_new: int, step: tuple) -
 
 
 def eta_bounds(osc: Oscillator, rtol: float = 1e-6) -> tuple[float, float]:
-    """The stick band's half-widths the switch model takes at the tolerance ``rtol``: at
-    most :data:`ETA_MAX_REL` times the belt speed (the model needs ``eta << v``, SPEC §5: a
-    band that reaches ``x' = 0`` holds a mass at rest in "stick"; ``eta = v`` gave
-    ``x_max = 0`` where the exact motion grazes the stop), at most 1 on a still belt; at
-    least :data:`ETA_MIN_PER_TOL` times the speed the steps resolve.
+    """The stick band's half-widths the switch model takes at the tolerance ``rtol``: at most
+    :data:`ETA_MAX_REL` times the belt speed (the model needs ``eta << v``, docs/physics.md, "The
+    switch model": a band that reaches ``x' = 0`` holds a mass at rest in "stick"; ``eta = v`` gave
+    ``x_max = 0`` where the exact motion grazes the stop), at most 1 on a still belt; at least
+    :data:`ETA_MIN_PER_TOL` times the speed the steps resolve.
 
     >>> [f"{e:.3g}" for e in eta_bounds(Oscillator(0.3, 0.2, 0.1))]
     ['1e-09', '0.01']

@@ -157,7 +157,8 @@ def _tree(scene: _Scene, X, V, terms, select):
             ((branch == FAST) | (branch == FIRST_SLIP)) & elastic & w_positive,
             # otherwise the impact speeds r^h w decay: grazing iff x_bar >= a and w > 0;
             # a plastic impact at x_bar = a leaves the mass at rest at the centre (a, 0) of
-            # the slip circles, on the stop (SPEC §3: rest iff a - x_bar >= 0)
+            # the slip circles, on the stop (rest iff a - x_bar >= 0: docs/physics.md,
+            # "Rest at the stop")
             ((X > a) | ((X == a) & (r > 0.0))) & w_positive,
         ],
         [

@@ -145,7 +145,8 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
     ex = _opened()
     view = ex.sweeps
     values, osc, stop = _scene_5a_directly()
-    omega = math.sqrt(ex.state.stiffness / ex.state.mass)  # SPEC §2: t = omega tau
+    # t = omega tau (docs/physics.md, "Dimensionless form")
+    omega = math.sqrt(ex.state.stiffness / ex.state.mass)
     dimensionless_lo, dimensionless_hi = view.lo.value, view.hi.value
     view.disagree_layer.value = True
     ex.state.units = "SI"

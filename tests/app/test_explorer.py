@@ -155,9 +155,9 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
 
 
 def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_value(ex):
-    """Released at 0.12, then 0.15 typed, then released at 0.12 again: the browser sends
-    that release (static/release_hold.js), and the Bokeh model behind the slider must see
-    a change, or it drops the release before Panel hears of it."""
+    """Released at 0.12, then 0.15 typed, then released at 0.12 again: the browser sends that
+    release (static/perf/release_hold.js), and the Bokeh model behind the slider must see a change,
+    or it drops the release before Panel hears of it."""
     from bokeh.document import Document
 
     doc = Document()

@@ -38,8 +38,8 @@ def test_in_si_the_belt_row_gives_the_speeds_the_regime_s_relations_use():
 
 
 def test_the_force_holding_the_mass_on_a_rigid_stop_is_shown():
-    """Scenes 6b and 7d end at rest on the stop, pressed by k (a - x_bar) (SPEC §3): the
-    readout says so, and the force plot draws it from the accumulation time on."""
+    """Scenes 6b and 7d end at rest on the stop, pressed by k (a - x_bar) (docs/physics.md, "Rest at
+    the stop"): the readout says so, and the force plot draws it from the accumulation time on."""
     from app.plots import force_columns
 
     for key in ("6b", "7d"):
@@ -58,8 +58,9 @@ def test_the_force_holding_the_mass_on_a_rigid_stop_is_shown():
 
 
 def test_the_restitution_of_deformable_contacts_is_shown_first_to_last():
-    """Scene 10: the contacts shrink and grow more elastic (SPEC §4): the readout gives the
-    first and the last contact's measured restitution, not a mean that hides the spread."""
+    """Scene 10: the contacts shrink and grow more elastic (docs/contact-law.md, "Restitution
+    against impact speed"): the readout gives the first and the last contact's measured restitution,
+    not a mean that hides the spread."""
     sol = solve(scene_values("10"))
     measured = sol.restitution_measured
     assert len(measured) > 3 and measured[-1] > measured[0] + 0.3

@@ -1,7 +1,8 @@
 """solve_ivp with event location on the non-smooth model (core.event_method).
 
-No regularisation: the only error is the integration error, so the closed forms of SPEC §7
-hold to a small multiple of the tolerance. Tolerances below are justified per test.
+No regularisation: the only error is the integration error, so the closed forms of
+docs/physics.md, "Closed-form results" hold to a small multiple of the tolerance. Tolerances
+below are justified per test.
 """
 
 from __future__ import annotations

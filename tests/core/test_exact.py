@@ -52,7 +52,7 @@ def energy_residual(res) -> float:
     return float(np.max(np.abs(e.mechanical - e.mechanical[0] - (e.friction_work - e.stop_loss))))
 
 
-# --------------------------------------------------------------------- closed forms (§7)
+# --------------------------------- closed forms (docs/physics.md, "Closed-form results")
 
 
 def test_fast_belt_pure_slip_circle():
@@ -287,10 +287,10 @@ def test_plastic_impact_leaves_on_grazing_circle_when_stop_beyond_a():
 
 @pytest.mark.parametrize("r, steady", [(0.0, "rest"), (0.5, "grazing")])
 def test_a_stop_at_the_slip_centre(r, steady):
-    """x_bar = a: a plastic impact leaves the mass at the centre (a, 0) of the slip
-    circles, pressed with zero force: rest (SPEC §3, a - x_bar >= 0). The theory said
-    that it leaves on a grazing circle. With r > 0 the rebounds are half circles about the
-    stop, each of duration pi, so the impacts never accumulate: grazing."""
+    """x_bar = a: a plastic impact leaves the mass at the centre (a, 0) of the slip circles, pressed
+    with zero force: rest (a - x_bar >= 0, docs/physics.md, "Rest at the stop"). The theory said
+    that it leaves on a grazing circle. With r > 0 the rebounds are half circles about the stop,
+    each of duration pi, so the impacts never accumulate: grazing."""
     stop = RigidStop(FAST.a, r)
     assert classify(FAST, stop).expected_steady == steady
     assert simulate(FAST, stop, t_end=60.0).steady.kind.value == steady

@@ -1,4 +1,5 @@
-"""Properties of the hysteretic contact law (SPEC §4, paper Eqs. 9-13) in core.hysteresis."""
+"""Properties of the hysteretic contact law in core.hysteresis (paper Eqs. 9-13,
+docs/contact-law.md)."""
 
 from __future__ import annotations
 
@@ -160,7 +161,8 @@ def test_unloading_approaches_expansion_envelope_and_reloading_compression():
 
 
 def test_small_overlap_contact_is_elastic():
-    """Unloading from phi_C below beta*delta*(D-delta) = D^2 stays on phi_C (SPEC §4)."""
+    """Unloading from phi_C below beta*delta*(D-delta) = D^2 stays on phi_C (docs/contact-law.md,
+    "Restitution against impact speed")."""
     stop = PAPER_STOP
     d_r = 0.5 * D / stop.beta_e  # beta*d*(D-d) < D^2
     unload = reverse(d_r, float(phi_compression(d_r, stop)), FIRST_LOADING)
@@ -280,9 +282,9 @@ def test_passivity_of_closed_overlap_programs(log_beta, log_ratio, blocks):
 
 
 def test_law_is_not_passive_for_beta_c_below_beta_e():
-    """A documented limit of the SPEC §4 reading: with beta_e = 10 beta_c two blocks of small
-    cycles give back about 2 % more than the loading work (found by a random search over
-    closed programs). Guards the finding: if the law changes so that this program becomes
+    """A documented limit of the paper reading (docs/contact-law.md): with beta_e = 10 beta_c two
+    blocks of small cycles give back about 2 % more than the loading work (found by a random search
+    over closed programs). Guards the finding: if the law changes so that this program becomes
     passive, the documentation of the limit must change with it."""
     stop = HystereticStop(
         clearance=0.0, k_c0=1000.0, k_e0=500.0, limit_overlap=D, beta_c=0.45, beta_e=4.5
@@ -299,9 +301,9 @@ def test_law_is_not_passive_for_beta_c_below_beta_e():
 
 
 def test_law_is_not_passive_at_the_papers_beta():
-    """A documented limit of the SPEC §4 reading: at beta_c = beta_e = 5 (the paper's value)
-    the program 0 -> 0.641 D -> 0.537 D -> 0.896 D -> 0.093 D -> 0 gives back about 0.7 %
-    more work than it took (k_e0/k_c0 = 0.1; found by a random search)."""
+    """A documented limit of the paper reading (docs/contact-law.md): at beta_c = beta_e = 5
+    (the paper's value) the program 0 -> 0.641 D -> 0.537 D -> 0.896 D -> 0.093 D -> 0 gives back
+    about 0.7 % more work than it took (k_e0/k_c0 = 0.1; found by a random search)."""
     stop = HystereticStop(
         clearance=0.0, k_c0=1000.0, k_e0=100.0, limit_overlap=D, beta_c=5.0, beta_e=5.0
     )

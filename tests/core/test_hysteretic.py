@@ -1,4 +1,5 @@
-"""The deformable-stop solver core.hysteretic against the physics (SPEC §4, §7; paper §5)."""
+"""The deformable-stop solver core.hysteretic against the physics (paper §5; docs/physics.md,
+"The deformable stop"; docs/contact-law.md)."""
 
 from __future__ import annotations
 
@@ -38,7 +39,8 @@ def _balance(res):
 
 
 def _single_impact_speed(xb):
-    """Natural conditions, fast belt: impact at sqrt(xb (2a - xb)) (SPEC §7)."""
+    """Natural conditions, fast belt: impact at sqrt(xb (2a - xb)) (docs/physics.md,
+    "Closed-form results")."""
     return math.sqrt(xb * (2 * FAST.a - xb))
 
 
@@ -310,13 +312,13 @@ def test_grazing_on_a_deformable_stop_states_the_elastic_speed_the_impacts_tend_
 
 @pytest.mark.parametrize(("method", "rel"), [("exact", 1e-7), ("event", 1e-5), ("switch", 1e-3)])
 def test_elastic_contacts_on_a_fast_belt_are_a_periodic_impact_motion(method, rel):
-    """Fast belt (v = 0.5 > v* = a) on the paper's beta = 5 stop at x_bar = 0.3: every
-    contact comes in at sqrt(x_bar (2a - x_bar)) (SPEC §7, the slip circle through the
-    origin) with a peak overlap of 5e-3, far below the elastic limit r (D - r) = D^2 / beta_e
-    (1.4e-2), so each is elastic and the motion is the elastic fast-belt impact cycle:
-    flights of 2 arccos(1 - x_bar / a) (§4.1) between contacts. The exact method labelled it
-    "grazing approached: impact speeds fall towards 0.4884" (w_inf, above the speeds),
-    from a fall of 2e-10 per contact that is the integration's drift at rtol 1e-9."""
+    """Fast belt (v = 0.5 > v* = a) on the paper's beta = 5 stop at x_bar = 0.3: every contact comes
+    in at sqrt(x_bar (2a - x_bar)) (docs/physics.md, "Closed-form results": the slip circle through
+    the origin) with a peak overlap of 5e-3, far below the elastic limit r (D - r) = D^2 / beta_e
+    (1.4e-2), so each is elastic and the motion is the elastic fast-belt impact cycle: flights
+    of 2 arccos(1 - x_bar / a) (§4.1) between contacts. The exact method labelled it "grazing
+    approached: impact speeds fall towards 0.4884" (w_inf, above the speeds), from a fall of 2e-10
+    per contact that is the integration's drift at rtol 1e-9."""
     osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)
     res = simulate(osc, HystereticStop(0.3), t_end=30.0, method=method)
     steady = res.steady

@@ -1,8 +1,9 @@
 """The switch model with RKF 4(5) (core.switch) and the dense-to-Result helper (core.dense).
 
-Closed forms from SPEC §7 (paper §3-4). The switch model is a regularisation: its answers
-differ from the exact ones by the integration error (``rtol``) plus an ``O(eta)`` model
-error (the mass sticks at ``x' = v - eta``); each tolerance below says which it covers.
+Closed forms from docs/physics.md, "Closed-form results" (paper §3-4). The switch model is a
+regularisation: its answers differ from the exact ones by the integration error (``rtol``) plus an
+``O(eta)`` model error (the mass sticks at ``x' = v - eta``); each tolerance below says which it
+covers.
 """
 
 from __future__ import annotations
@@ -80,7 +81,7 @@ def test_elastic_fast_belt_impact():
     res = simulate_switch(FAST, RigidStop(c, 1.0), t_end=30.0, rtol=1e-10, atol=1e-12)
     impacts = [tr for tr in res.transitions if tr.kind is TransitionKind.IMPACT]
     assert len(impacts) >= 3
-    speed = math.sqrt(c * (2 * A - c))  # SPEC §7, paper §4.1
+    speed = math.sqrt(c * (2 * A - c))  # paper §4.1; docs/physics.md, "Closed-form results"
     period = 2 * math.acos(1 - c / A)
     for tr in impacts:
         # event located to the integration accuracy (Newton on the RKF step)
@@ -104,7 +105,8 @@ def test_rigid_stop_never_penetrated(osc, c, r):
 
 @pytest.mark.parametrize("osc", [FAST, SLOW], ids=["fast", "slow"])
 def test_zeno_terminates_at_rest(osc):
-    # 0 < r < 1 and clearance < a: impact accumulation (SPEC §3).
+    # 0 < r < 1 and clearance < a: impact accumulation (docs/physics.md, "Zeno and grazing
+    # sums").
     from core import simulate
 
     stop = RigidStop(0.15, 0.7)

@@ -94,9 +94,9 @@ def test_slider_drag_repaints(page, shots):
 
 @pytest.mark.parametrize("key", ["5b", "7c", "10"])
 def test_paint_shortcuts_change_no_pixel(browser, server, key):
-    """static/bokeh_paint.js makes BokehJS paint faster, never differently: the figures of
-    a scene are the same pixels with and without it, when the scene has loaded and after a
-    drag of a slider (its preview, the release's hold and the full solution)."""
+    """static/perf/bokeh_paint.js makes BokehJS paint faster, never differently: the figures of a
+    scene are the same pixels with and without it, when the scene has loaded and after a drag of a
+    slider (its preview, the release's hold and the full solution)."""
     seen = {}
     for flag in ("", "&paint_shortcuts=off"):
         p = Page(browser, f"{server}?scene={key}{flag}")
