@@ -245,10 +245,11 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     elif sol.preview:
         text = "preview, not measured"
     elif sol.measure_skipped:
-        text = ("not measured for this run (the exact solve it is measured against would "
-                "have made the answer late; 'Measure the trade' measures it)")
+        text = (f"not measured for this run ({sol.values['accuracy']}): the exact solve it is "
+                "measured against would have made the answer late; 'Measure the trade' "
+                "measures it")
     else:  # a run with no motion to compare (it stopped at its start)
-        text = "not measured for this run"
+        text = f"not measured for this run ({sol.values['accuracy']})"
     return text + _reduced_text(sol, scales)
 
 

@@ -185,7 +185,7 @@ def test_a_preview_or_an_unmeasured_run_quotes_no_figure():
         skipped = dataclasses.replace(full, error_measured=False, measure_skipped=True,
                                       error_estimate=1e-6, reference_steady=None)
         text = dict(readout_rows(skipped))["Solve"].split("accuracy ", 1)[1]
-        assert text.startswith("not measured for this run")
+        assert text.startswith("not measured for this run (standard)"), text  # the preset
         assert not re.search(r"\d", text), text  # no number at all
     assert dict(readout_rows(solve(scene_values("7c"), preview=True)))["Solve"].endswith(
         "closed form, rounding only")
