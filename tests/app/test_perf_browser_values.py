@@ -8,17 +8,29 @@ and an index of -1 chose the last radio button.
 
 from __future__ import annotations
 
+import importlib.util
 import logging
 
 import pytest
 from bokeh.document import Document
 
-from app.perf import applies, browser_values
-from app.widgets import Checkbox, RadioButtonGroup, Select, TypedSlider
+import app.widgets
+from app import perf
+from app.perf import browser_values
 
-#: The refusal at the widget is a patch (app.perf), which the switch may have turned off.
-patched = pytest.mark.skipif(not applies("browser-values"),
-                             reason="the refusal at the widget is a patch, switched off")
+
+@pytest.fixture(scope="module")
+def widgets():
+    """``app.widgets`` with the patch applied whatever the switch says (`make test` runs
+    tests/app once more with it off): the patch is chosen when the classes are defined, so
+    a copy of the module is loaded under a name of its own, the app's classes untouched."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv(perf.SWITCH, "on")
+        spec = importlib.util.spec_from_file_location("_patched_widgets", app.widgets.__file__)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    assert issubclass(module.Select, browser_values.SelectValues)
+    return module
 
 
 @pytest.fixture
@@ -33,9 +45,8 @@ def _model(widget):
     return widget.get_root(Document())
 
 
-@patched
-def test_a_radio_index_outside_the_buttons_is_refused(said):
-    w = RadioButtonGroup(options=["draft", "standard", "precise"], value="standard")
+def test_a_radio_index_outside_the_buttons_is_refused(said, widgets):
+    w = widgets.RadioButtonGroup(options=["draft", "standard", "precise"], value="standard")
     model = _model(w)
     for index in (-1, 3, 99):
         model.active = index
@@ -46,9 +57,8 @@ def test_a_radio_index_outside_the_buttons_is_refused(said):
     _one_quiet_line(said, "RadioButtonGroup", "active=-1")
 
 
-@patched
-def test_a_select_value_outside_the_options_is_refused(said):
-    w = Select(options=["auto", "exact"], value="auto")
+def test_a_select_value_outside_the_options_is_refused(said, widgets):
+    w = widgets.Select(options=["auto", "exact"], value="auto")
     model = _model(w)
     for value in ("bogus", "", "x" * 5000):
         model.value = value
@@ -58,10 +68,9 @@ def test_a_select_value_outside_the_options_is_refused(said):
     _one_quiet_line(said, "Select", "value='bogus'")
 
 
-@patched
-def test_a_slider_value_outside_its_range_is_neither_committed_nor_kept(said):
+def test_a_slider_value_outside_its_range_is_neither_committed_nor_kept(said, widgets):
     committed, dragged = [], []
-    t = TypedSlider("r", 0.5, 0.01, (0.0, 1.0), (0.0, 1.0), on_drag=dragged.append,
+    t = widgets.TypedSlider("r", 0.5, 0.01, (0.0, 1.0), (0.0, 1.0), on_drag=dragged.append,
                     on_commit=committed.append, width=200, css_class="fie-w-r")
     model = _model(t.slider)
     for value in (5.0, -0.5, float("nan")):
@@ -75,9 +84,8 @@ def test_a_slider_value_outside_its_range_is_neither_committed_nor_kept(said):
     _one_quiet_line(said, "_Slider", "value=5.0")
 
 
-@patched
-def test_a_hidden_checkbox_takes_nothing(said):
-    w = Checkbox(value=False, visible=False)
+def test_a_hidden_checkbox_takes_nothing(said, widgets):
+    w = widgets.Checkbox(value=False, visible=False)
     model = _model(w)
     model.active = True
     assert w.value is False and model.active is False

@@ -15,20 +15,16 @@ import json
 import re
 
 import pytest
-from conftest import SCREENSHOT_DIR
+from conftest import SCREENSHOT_DIR, free_port, panel_server
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from uipage import Page
 
-from app.perf import applies
+from app import perf
 
-pytestmark = [
-    pytest.mark.ui,
-    pytest.mark.skipif(not applies("browser-values"),
-                       reason="the refusal at the widget is a patch (app.perf), switched off"),
-]
+pytestmark = pytest.mark.ui
 
-#: The server's log (tests/ui/conftest.py).
-SERVER_LOG = SCREENSHOT_DIR.parent / "panel-serve.log"
+#: The log of this file's own server.
+SERVER_LOG = SCREENSHOT_DIR.parent / "panel-serve-browser-values.log"
 #: Tornado's report of a write to the websocket of a page closed meanwhile.
 CLOSED_SOCKET = re.compile(r"Task exception was never retrieved\n.*?"
                            r"tornado\.websocket\.WebSocketClosedError\n", re.S)
@@ -60,6 +56,16 @@ MALFORMED = [
     ("fie-w-restitution", "end", 50.0, 1.0),  # widening the range first is refused too
     ("fie-program", "active", True, False),  # hidden with a rigid stop: no user ticks it
 ]
+
+
+@pytest.fixture(scope="module")
+def server():
+    """A server of its own with the patches switched on: the refusal at the widget is a
+    patch (app.perf.browser_values), and `make test` runs tests/ui once more with the
+    switch off."""
+    port = free_port()
+    with panel_server("app/main.py", port, SERVER_LOG, env={perf.SWITCH: "on"}):
+        yield f"http://127.0.0.1:{port}/main"
 
 
 def test_malformed_values_are_refused_quietly_and_the_browser_set_back(browser, server,
