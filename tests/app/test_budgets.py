@@ -25,6 +25,7 @@ from app import solve_process, sweep_budget, trade
 from app.bifurcation import ChunkedSweep, SweepSpec, check_spec, default_range
 from app.state import scene_values
 from core import simulate as core_simulate
+from tests.app.processes import alive
 
 #: How long [s] a probe's slow solve sleeps: far past every budget used here, so that a
 #: measurement that returns before it kept to its budget (the sleeping process was stopped).
@@ -86,15 +87,6 @@ def _wait_for(condition, what: str) -> None:
         time.sleep(0.01)
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    with open(f"/proc/{pid}/stat") as f:  # a zombie is not running
-        return f.read().split(") ")[-1][0] != "Z"
-
-
 def _started(t_end: float) -> int:
     """The process id the probe recorded for ``t_end``, once it has."""
     path = _pid_file(t_end)
@@ -134,7 +126,7 @@ def test_a_reference_past_its_share_of_the_budget_stops_and_says_why(monkeypatch
         trade.measure(_values(probe_file))
     assert type(info.value).__name__ == "ReferenceTooSlow"
     pid = _started(probe_file)
-    _wait_for(lambda: not _alive(pid), "the stopped reference's process still runs")
+    _wait_for(lambda: not alive(pid), "the stopped reference's process still runs")
 
 
 def test_solves_past_the_measurement_s_budget_are_not_made_and_their_rows_say_so(
@@ -181,7 +173,7 @@ def test_a_second_measurement_of_a_page_is_refused_while_one_runs(monkeypatch, p
     _wait_for(lambda: not ex.measure.disabled, "the button stayed disabled")
     assert ex.measure.label == label
     assert not ex.alert.visible  # "already running" no longer holds
-    _wait_for(lambda: not _alive(pid), "the cancelled measurement's process still runs")
+    _wait_for(lambda: not alive(pid), "the cancelled measurement's process still runs")
 
 
 def test_with_the_solver_processes_off_a_cancelled_measurement_makes_no_further_solve(
@@ -213,7 +205,7 @@ def test_the_server_refuses_measurements_past_its_queue(monkeypatch, probe_file)
     finally:
         for runner in runners:
             runner.cancel()
-    _wait_for(lambda: not _alive(pid), "the cancelled measurement's process still runs")
+    _wait_for(lambda: not alive(pid), "the cancelled measurement's process still runs")
 
 
 def test_a_closed_page_stops_its_measurement_and_frees_its_solver_process(monkeypatch,
@@ -233,7 +225,7 @@ def test_a_closed_page_stops_its_measurement_and_frees_its_solver_process(monkey
     assert ex._trade.running
     for callback in list(doc.session_destroyed_callbacks):
         callback(SimpleNamespace(destroyed=True))
-    _wait_for(lambda: not _alive(pid), "the closed page's measurement still runs")
+    _wait_for(lambda: not alive(pid), "the closed page's measurement still runs")
     _wait_for(lambda: not ex._trade.running, "the measurement did not end")
 
 
@@ -333,7 +325,7 @@ def test_a_chunk_running_past_the_sweep_s_budget_is_stopped(probe_file):
               budget_s=0.3)
     assert cut == [(0, 10)] and failed == [] and not job.running
     pid = _started(probe_file)
-    _wait_for(lambda: not _alive(pid), "the chunk's process still runs")
+    _wait_for(lambda: not alive(pid), "the chunk's process still runs")
 
 
 def test_a_closed_page_stops_its_sweep_and_frees_its_solver_process(monkeypatch,
@@ -360,7 +352,7 @@ def test_a_closed_page_stops_its_sweep_and_frees_its_solver_process(monkeypatch,
     assert ex.sweeps.job.running
     for callback in list(doc.session_destroyed_callbacks):
         callback(SimpleNamespace(destroyed=True))
-    _wait_for(lambda: not _alive(pid), "the closed page's sweep still runs")
+    _wait_for(lambda: not alive(pid), "the closed page's sweep still runs")
 
 
 def test_a_simulated_map_estimated_past_the_budget_is_refused(monkeypatch):

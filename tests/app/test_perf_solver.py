@@ -21,6 +21,7 @@ from app.readout import readout_rows
 from app.solver import SolveRunner, SolveTooSlow, solve
 from app.state import scene_values
 from core import simulate as core_simulate
+from tests.app.processes import alive
 
 
 def _unique(values: dict, **changes) -> dict:
@@ -327,25 +328,15 @@ def _abandon_a_spinning_solve(monkeypatch, session) -> None:
             break
         time.sleep(0.01)
     pid = int(pid_file.read_text())
-    assert _alive(pid)
+    assert alive(pid)
     runner.cancel()  # a newer slider move would do this
     for _ in range(500):
-        if not _alive(pid):
+        if not alive(pid):
             break
         time.sleep(0.01)
-    assert not _alive(pid), "the abandoned solve's process still runs"
+    assert not alive(pid), "the abandoned solve's process still runs"
     assert failed == []
     pid_file.unlink()
-
-
-def _alive(pid: int) -> bool:
-    """Whether process ``pid`` runs (a finished child is reaped by the waiting thread)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    with open(f"/proc/{pid}/stat") as f:  # a zombie is not running
-        return f.read().split(") ")[-1][0] != "Z"
 
 
 def _pid(*args, **kwargs) -> int:
@@ -363,11 +354,11 @@ def test_solves_reuse_a_waiting_worker_and_a_dead_one_is_replaced():
     assert solve_process.call(_pid) == first  # the same worker, still warm
     os.kill(first, signal.SIGKILL)
     for _ in range(500):
-        if not _alive(first):
+        if not alive(first):
             break
         time.sleep(0.01)
     again = solve_process.call(_pid)
-    assert again not in (first, os.getpid()) and _alive(again)
+    assert again not in (first, os.getpid()) and alive(again)
 
 
 def test_an_abandoned_solve_s_worker_is_replaced_and_the_next_solve_answers(monkeypatch,
