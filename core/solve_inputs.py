@@ -19,16 +19,9 @@ import numpy as np
 
 from core.params import HystereticStop, Oscillator, RigidStop
 from core.result import Result
+from core.scene_checks import check_oscillator, check_stop
 from core.steady import pressed_on_stop
-from core.validation import (
-    check_horizon,
-    check_integer,
-    check_oscillator,
-    check_size,
-    check_start,
-    check_stop,
-    check_times,
-)
+from core.validation import check_horizon, check_integer, check_size, check_start, check_times
 
 #: Bounds of the sampling density and the transition store.
 MAX_SAMPLES = 10_000_000

@@ -144,47 +144,6 @@ def check_start(x0: float, clearance: float, limit_overlap: float | None = None)
         )
 
 
-def check_oscillator(osc: object) -> None:
-    """``osc`` must be an :class:`~core.params.Oscillator`."""
-    from core.params import Oscillator  # params imports this module
-
-    if not isinstance(osc, Oscillator):
-        raise TypeError(f"osc must be an Oscillator; got {type(osc).__name__}")
-
-
-def check_stop(stop: object) -> None:
-    """``stop`` must be None, a :class:`~core.params.RigidStop` or a
-    :class:`~core.params.HystereticStop`."""
-    from core.params import HystereticStop, RigidStop
-
-    if stop is not None and not isinstance(stop, (RigidStop, HystereticStop)):
-        raise TypeError(
-            f"stop must be None, a RigidStop or a HystereticStop; got {type(stop).__name__}"
-        )
-
-
-def check_rigid_stop(stop: object, x0: float) -> None:
-    """For the closed forms: ``stop`` must be None or a RigidStop ahead of ``x0``."""
-    from core.params import RigidStop
-
-    if stop is None:
-        return
-    if not isinstance(stop, RigidStop):
-        raise TypeError(
-            "stop must be a RigidStop or None; the closed forms hold for a rigid stop only "
-            f"(got {type(stop).__name__}; for a hysteretic stop use "
-            "RigidStop(stop.clearance, stop.equivalent_restitution) as its rigid equivalent)"
-        )
-    check_start(x0, stop.clearance)
-
-
-def check_state(osc: object, x0: float, v0: float) -> tuple[float, float]:
-    """``osc`` must be an :class:`~core.params.Oscillator`; returns the initial state as
-    finite floats."""
-    check_oscillator(osc)
-    return check_finite("x0", x0), check_finite("v0", v0)
-
-
 def check_integer(name: str, value: object, low: int, high: int) -> int:
     """Return ``value`` as ``int`` if it is an integer in ``[low, high]``; a float such as
     ``2.7`` (or ``2.0``) is refused rather than rounded.

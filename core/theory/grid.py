@@ -18,9 +18,10 @@ from typing import NamedTuple
 import numpy as np
 
 from core.params import Oscillator, RigidStop
+from core.scene_checks import check_rigid_stop, check_state
 from core.theory.impactless import rest_position_still_belt
 from core.theory.values import RegimeGrid
-from core.validation import check_grid, check_rigid_stop, check_state
+from core.validation import check_grid
 
 #: Branch codes of :func:`decide`: which closed form describes the point.
 IMPACTLESS = 0  # the stop is never reached (or there is none)

@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 
 from core.params import Oscillator
+from core.scene_checks import check_oscillator, check_state
 from core.theory.values import LimitCycle, Point
-from core.validation import check_oscillator, check_state
 
 # --------------------------------------------------------------------------- impactless
 

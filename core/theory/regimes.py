@@ -11,6 +11,7 @@ import math
 
 from core.params import Oscillator, RigidStop
 from core.result import SteadyKind
+from core.scene_checks import check_oscillator, check_rigid_stop, check_state
 from core.theory.accumulation import accumulation_time
 from core.theory.grid import (
     CASE_A,
@@ -33,7 +34,7 @@ from core.theory.values import (
     Analysis,
     Regime,
 )
-from core.validation import check_oscillator, check_range, check_rigid_stop, check_state
+from core.validation import check_range
 
 
 def x_star(osc: Oscillator, restitution: float) -> float:
