@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from core import HystereticStop, Mode, Result, SteadyKind, TransitionKind, simulate
+from core.steady import SteadyCycle, first_cycle_end, steady_cycle
 
 #: Largest time step [dimensionless time = radians of a slip arc] of the first pass over a
 #: piece of the phase path; the second pass subdivides where a chord is still too long.
@@ -66,9 +67,6 @@ THIN_PX = 0.25
 #: 1440-line screen): the thinning's pixel is a pixel of this frame, a smaller one of any
 #: other.
 THIN_FRAME_PX = 1400
-#: Duration of one turn of a slip circle (dimensionless time): what is drawn after the last
-#: transition of a motion that settles on a circle.
-TURN = 2.0 * math.pi
 #: The mode that follows each kind of transition.
 MODE_AFTER: dict[str, int] = {
     TransitionKind.SLIP_STICK.value: int(Mode.STICK),
@@ -138,40 +136,9 @@ def samples_for(t_end: float, n_samples: int) -> int:
 
 def draw_horizon(result: Result, t_end: float, step: tuple[float, float]) -> float:
     """Time up to which the phase portrait draws the motion: the end of its first steady
-    cycle. Periodic: the end of the first period; a mass that comes to rest: the time it
-    stops; otherwise (grazing, a pure slip circle, nothing found) one more turn after the
-    transitions have come within half a ``step`` (the chord bound, in data units per axis)
-    of the last one of their kind, from where the picture would only retrace itself."""
-    steady = result.steady
-    kind = steady.kind
-    if kind is SteadyKind.PERIODIC and math.isfinite(steady.period) and math.isfinite(
-            steady.t_reached):
-        t_draw = steady.t_reached + steady.period
-    elif kind in (SteadyKind.REST, SteadyKind.EQUILIBRIUM) and math.isfinite(
-            steady.t_reached):
-        # (no transition at all when the mass starts at rest)
-        t_draw = max([steady.t_reached, *(tr.t for tr in result.transitions[-1:])])
-    else:
-        t_draw = _converged(result, step) + TURN
-    return float(min(t_end, max(t_draw, 0.0)))
-
-
-def _converged(result: Result, step: tuple[float, float]) -> float:
-    """Time of the first transition from which every later transition of the last one's
-    kind lies within half a step of the last one (``inf`` if there are none)."""
-    trs = result.transitions
-    if not trs:
-        return math.inf if result.steady.kind is SteadyKind.NONE else 0.0
-    last = trs[-1]
-    same = [tr for tr in trs if tr.kind is last.kind]
-    x = np.array([tr.x for tr in same])
-    v = np.array([tr.v for tr in same])
-    far = np.hypot((x - last.x) / step[0], (v - last.v) / step[1]) >= 0.5
-    beyond = np.flatnonzero(far)
-    first = int(beyond[-1]) + 1 if len(beyond) else 0
-    if result.steady.kind is SteadyKind.NONE and first == len(same) - 1:
-        return math.inf  # the last one is new: no sign of settling
-    return same[first].t
+    cycle (:func:`core.steady.first_cycle_end`), where ``step`` is the chord bound (data
+    units per axis) and the transitions count as settled within half of it."""
+    return first_cycle_end(result, t_end, step)
 
 
 @dataclass(frozen=True)
@@ -354,38 +321,10 @@ class History:
     bands: tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
-def steady_cycle(result: Result, t_end: float, step: tuple[float, float]
-                 ) -> tuple[float, float] | None:
-    """``(t0, period)`` of a cycle that the motion repeats from ``t0`` on, to the horizon.
-
-    Periodic: the steady state's cycle, exactly (paper Eq. 20). Grazing or a pure slip
-    circle: from the time the transitions have settled within half a ``step`` of the last
-    one (:func:`draw_horizon`), the last interval between two transitions of one kind, or
-    one turn of a slip circle; the motion then differs from the repeats by less than that
-    (sub-pixel) bound. ``None`` otherwise.
-    """
-    steady = result.steady
-    if steady.kind is SteadyKind.PERIODIC:
-        if (math.isfinite(steady.period) and steady.period > 0
-                and math.isfinite(steady.t_reached)
-                and steady.t_reached + steady.period < t_end):
-            return steady.t_reached, steady.period
-        return None
-    if steady.kind not in (SteadyKind.GRAZING, SteadyKind.PURE_SLIP):
-        return None
-    t0 = _converged(result, step)
-    trs = result.transitions
-    same = [tr.t for tr in trs if trs and tr.kind is trs[-1].kind and tr.t >= t0]
-    period = same[-1] - same[-2] if len(same) >= 2 else TURN
-    if not math.isfinite(t0) or t0 + period >= t_end or period <= 0:
-        return None
-    return t0, period
-
-
 def fine_samples(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
-                 cycle: tuple[float, float] | None = None, column_width: float = 0.0):
+                 cycle: SteadyCycle | None = None, column_width: float = 0.0):
     """Samples of the whole horizon at :data:`HISTORY_DT` or finer, with the exact states
-    on both sides of each transition. A steady ``cycle`` (:func:`steady_cycle`) is
+    on both sides of each transition. A steady ``cycle`` (:func:`core.steady.steady_cycle`) is
     evaluated for one period and tiled; a mass at rest (on the stop or in equilibrium) is
     evaluated up to the time it stops. Returns ``t, x, v, mode``.
 
@@ -601,7 +540,7 @@ def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, column
 def history(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
             columns: int, step: tuple[float, float]) -> History:
     """The time histories and mode bands for a plot ``columns`` pixels wide (``step``:
-    the phase portrait's chord bound, see :func:`steady_cycle`)."""
+    the phase portrait's chord bound, see :func:`core.steady.steady_cycle`)."""
     cycle = steady_cycle(result, t_end, step) if exact else None
     t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle, t_end / columns)
     t_lo = float(t[0]) if len(t) else 0.0

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.dense import steady_from_transitions
 from core.hysteresis import (
     BranchPrimitive,
     branch_work,
@@ -32,7 +31,7 @@ from core.hysteretic_reduced import REST_SPEED_PER_AMPLITUDE
 from core.numerics.hermite import hermite_max
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
-from core.steady import SwingProbe, pressed_steady, train_steady
+from core.steady import SwingProbe, pressed_steady, steady_from_transitions, train_steady
 from core.trajectory import evaluate
 
 if TYPE_CHECKING:

@@ -8,14 +8,13 @@ few lanes it does not cover, and the work of a deformable-stop sweep (run in par
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
 from core.hysteresis import phi_compression
-from core.params import HystereticStop
 from core.result import Result, SteadyKind, TransitionKind
 from core.simulate import simulate
+from core.steady import cycle_transitions
 from core.sweep.lanes import Lanes
 from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
 
@@ -24,30 +23,18 @@ from core.sweep.result import KIND_CODE, LABEL_CODE, LaneRecords
 TRANSITION_CAP = 1_000_000
 
 
-def steady_cycle(res: Result, stop=None) -> list:
-    """Transitions of the steady period of ``res``: the ``transitions_per_period`` stored
-    transitions after ``steady.t_reached`` (empty unless periodic). A grazing motion gets
-    its limit: on a rigid stop one impact of speed 0; on a deformable ``stop`` whose law
-    turns slow contacts elastic, the contact at the elastic speed ``steady.impact_speed``
-    (its approach, its peak at ``steady.x_max`` and its separation with the compression
-    envelope's force there, :func:`core.steady.train_steady`)."""
-    steady = res.steady
-    if steady.kind is SteadyKind.GRAZING and isinstance(stop, HystereticStop) and (
-            steady.impact_speed > 0.0 and math.isfinite(steady.x_max)):
-        w, c, peak = steady.impact_speed, stop.clearance, steady.x_max
-        force = float(phi_compression(peak - c, stop))
-        return [(KIND_CODE[TransitionKind.CONTACT], c, w, w, np.nan),
-                (KIND_CODE[TransitionKind.REVERSAL], peak, 0.0, 0.0, np.nan),
-                (KIND_CODE[TransitionKind.SEPARATION], c, -w, -w, force)]
-    if steady.kind is SteadyKind.GRAZING:
-        return [(KIND_CODE[TransitionKind.IMPACT], float(steady.x_max), 0.0, 0.0, np.nan)]
-    if steady.kind is not SteadyKind.PERIODIC:
-        return []
-    stored = res.transitions
-    times = np.fromiter((tr.t for tr in stored), float, len(stored))
-    i0 = int(np.searchsorted(times, steady.t_reached, side="right"))
-    cycle = stored[i0 : i0 + steady.transitions_per_period]
-    force = _force_peaks(res, cycle)
+def cycle_rows(res: Result, stop=None) -> list:
+    """Rows ``(kind code, x, v, v_after, force)`` of the transitions of the steady period
+    of ``res`` (:func:`core.steady.cycle_transitions`: a periodic cycle, or the limit a
+    grazing motion approaches). ``force`` is the peak contact force over ``k`` of the
+    contact a separation ends: from the samples, and for the elastic contact of a grazing
+    limit the compression envelope's force at its peak ``steady.x_max``."""
+    cycle = cycle_transitions(res, stop)
+    if res.steady.kind is SteadyKind.GRAZING:
+        force = [float(phi_compression(res.steady.x_max - stop.clearance, stop))
+                 if tr.kind is TransitionKind.SEPARATION else np.nan for tr in cycle]
+    else:
+        force = _force_peaks(res, cycle)
     return [
         (KIND_CODE[tr.kind], tr.x, tr.v, tr.v_after, f)
         for tr, f in zip(cycle, force, strict=True)
@@ -98,7 +85,7 @@ def solve_lanes(
         rec.x_max[i] = steady.x_max
         rec.impact_speed[i] = steady.impact_speed
         sequences.append(tuple(KIND_CODE[TransitionKind(k)] for k in steady.sequence))
-        cycles.append(steady_cycle(res, stop))
+        cycles.append(cycle_rows(res, stop))
     flat = [row for cycle in cycles for row in cycle]
     rec = dataclasses.replace(
         rec,

@@ -124,9 +124,9 @@ def test_a_slowly_losing_train_is_never_a_fixed_point():
     t_end = 1e6 (speeds 0.33 % above w_inf, losing 2e-8 per contact) after calling it
     grazing at 1e5. Here a train losing 1e-12 of its speed per contact, within every
     tolerance of the fixed-point detector, read with the law and without it."""
-    from core.dense import steady_from_transitions
     from core.hysteresis import elastic_limit
     from core.result import Transition, TransitionKind
+    from core.steady import steady_from_transitions
 
     limit = elastic_limit(0.2, 0.24, _fig_stop(0.24))
     w, t, tail = 1.0033 * limit.w_inf, 0.0, []
@@ -176,8 +176,8 @@ def test_inelastic_impacts_alone_are_never_a_fixed_point():
     """Impacts at the rebound arcs' closed-form times (docs/physics.md, Zeno and grazing
     sums) losing 1e-9 of their speed each, within a loose detector tolerance: not
     periodic; the same train with r = 1 is."""
-    from core.dense import steady_from_transitions
     from core.result import Transition, TransitionKind
+    from core.steady import steady_from_transitions
 
     def train(r):
         w, t, tail = 0.05, 0.0, []

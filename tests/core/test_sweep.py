@@ -14,7 +14,7 @@ from core.flight import Motion, free_flight, start_motion
 from core.result import Mode, SteadyKind, TransitionKind
 from core.sweep import LABELS, closed_form, sweep, sweep_grid
 from core.sweep.result import KIND_CODE, SweepResult
-from core.sweep.scalar import steady_cycle
+from core.sweep.scalar import cycle_rows
 from core.theory import classify, classify_grid
 
 #: Agreement asked of the sweep with simulate (relative to the scene's length scale). Both
@@ -70,7 +70,7 @@ def _assert_lane(res: SweepResult, i: int, ref, scale: float) -> None:
         assert math.isnan(mine) == math.isnan(theirs)
         if not math.isnan(theirs):
             assert abs(mine - theirs) <= AGREE * scale
-    cycle = steady_cycle(ref)
+    cycle = cycle_rows(ref)
     lo, hi = res.offsets[i], res.offsets[i + 1]
     assert hi - lo == len(cycle)
     for j, (kind, x, v, v_after, _) in enumerate(cycle):

@@ -94,8 +94,8 @@ def test_numerical_steady_search_uses_the_detector_and_needs_whole_periods():
     # dense's search: periodic only when each transition of two whole periods repeats the
     # one j transitions earlier; a near-duplicate pair inside a period (same kind, states
     # within the tolerance, 1e-5 apart in time) is not a period of its own.
-    from core.dense import steady_from_transitions
     from core.result import Mode, SteadyKind, Transition
+    from core.steady import steady_from_transitions
 
     def tr(kind, t, x, v):
         return Transition(kind, t, x, v, v)
