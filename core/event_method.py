@@ -76,6 +76,7 @@ from core.hysteresis import (
     reverse,
     start_branch,
 )
+from core.method_entry import takes_options
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, WorkLimit
@@ -117,12 +118,15 @@ DEFAULT_MAX_STEPS = 30_000
 
 @dataclass(frozen=True)
 class EventOptions:
-    """Options of :func:`simulate_event` (checked once)."""
+    """Options of :func:`simulate_event`, declared and checked once (see its parameters;
+    :func:`core.method_entry.takes_options` makes them its keyword options)."""
 
     rtol: float = 1e-8
     atol: float = 1e-10
     solver: str = "RK45"
     rest_speed: float | None = None
+    max_steps: int = DEFAULT_MAX_STEPS
+    time_budget: float | None = None
     max_events: int = MAX_EVENTS
 
     def __post_init__(self) -> None:
@@ -556,17 +560,8 @@ def _stick_contact_end(stop: HystereticStop, branch: Branch, x: float, b: float)
     return kind, x_e
 
 
-def solve_event(
-    inputs: SolveInputs,
-    *,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
-    solver: str = "RK45",
-    rest_speed: float | None = None,
-    max_steps: int = DEFAULT_MAX_STEPS,
-    time_budget: float | None = None,
-    max_events: int = MAX_EVENTS,
-) -> Result:
+@takes_options(EventOptions)
+def solve_event(inputs: SolveInputs, opts: EventOptions) -> Result:
     """Response by event location on the non-smooth model (SciPy's solvers, see the module
     docstring).
 
@@ -616,8 +611,7 @@ def solve_event(
     >>> tr.kind.value, round(tr.x, 8)
     ('slip->stick', 0.02679492)
     """
-    opts = EventOptions(rtol, atol, solver, rest_speed, max_events)
-    run = EventSolver(inputs, opts, WorkLimit(max_steps, time_budget))
+    run = EventSolver(inputs, opts, WorkLimit(opts.max_steps, opts.time_budget))
     run.run()
     return run.result()
 

@@ -105,8 +105,9 @@ def solve_entry(method: Callable[..., Result]) -> Callable[..., Result]:
     the shared inputs and then ``method``'s own options.
     """
 
-    # the entry's own annotations stay: they describe the shared inputs
-    @functools.wraps(method, assigned=("__module__", "__name__", "__qualname__", "__doc__"))
+    # the entry's own annotations and signature stay: they describe the shared inputs
+    @functools.wraps(method, assigned=("__module__", "__name__", "__qualname__", "__doc__"),
+                     updated=())
     def entry(
         osc: Oscillator,
         stop: RigidStop | HystereticStop | None = None,

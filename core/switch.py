@@ -63,6 +63,7 @@ event is a cut step, counted among the steps. The default step limit,
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from functools import partial
@@ -76,6 +77,7 @@ from core.hysteresis import (
     reverse,
     start_branch,
 )
+from core.method_entry import takes_options
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import WorkLimit
@@ -205,20 +207,38 @@ def _default_eta(osc: Oscillator) -> float:
 
 @dataclass(frozen=True)
 class SwitchOptions:
-    """Options of :func:`simulate_switch`, checked once (see its parameters)."""
+    """Options of :func:`simulate_switch`, declared and checked once (see its parameters;
+    :func:`core.method_entry.takes_options` makes them its keyword options). ``eta`` and
+    ``rest_speed`` left ``None`` are set for the scene by :meth:`for_scene`."""
 
     rtol: float = 1e-6
     atol: float = 1e-9
-    eta: float = 1e-5
+    eta: float | None = None
     max_step: float = math.inf
-    rest_speed: float = 1e-5
+    rest_speed: float | None = None
+    max_steps: int = DEFAULT_MAX_STEPS
+    time_budget: float | None = None
 
     def __post_init__(self) -> None:
         check_range("rtol", self.rtol, 0.0, low_open=True)
         check_range("atol", self.atol, 0.0, low_open=True)
-        check_range("eta", self.eta, 0.0, low_open=True)
+        if self.eta is not None:
+            check_range("eta", self.eta, 0.0, low_open=True)
         check_range("max_step", self.max_step, 0.0, low_open=True, allow_inf=True)
-        check_range("rest_speed", self.rest_speed, 0.0)
+        if self.rest_speed is not None:
+            check_range("rest_speed", self.rest_speed, 0.0)
+
+    def for_scene(self, osc: Oscillator) -> SwitchOptions:
+        """The options with the stick band checked against the scene (:func:`check_eta`),
+        or by default ``ETA_REL`` times its speed scale within what ``rtol`` resolves
+        (:func:`eta_bounds`), and the rest speed by default the band."""
+        if self.eta is None:
+            low, high = eta_bounds(osc, self.rtol)
+            eta = min(max(_default_eta(osc), low), high)
+        else:
+            eta = check_eta(self.eta, osc, self.rtol)
+        rest_speed = eta if self.rest_speed is None else self.rest_speed
+        return dataclasses.replace(self, eta=eta, rest_speed=rest_speed)
 
 
 class SwitchSolver:
@@ -626,17 +646,8 @@ def check_eta(eta: float, osc: Oscillator, rtol: float = 1e-6) -> float:
     return eta
 
 
-def solve_switch(
-    inputs: SolveInputs,
-    *,
-    rtol: float = 1e-6,
-    atol: float = 1e-9,
-    eta: float | None = None,
-    max_step: float = math.inf,
-    rest_speed: float | None = None,
-    max_steps: int = DEFAULT_MAX_STEPS,
-    time_budget: float | None = None,
-) -> Result:
+@takes_options(SwitchOptions)
+def solve_switch(inputs: SolveInputs, opts: SwitchOptions) -> Result:
     """Response by the switch model and adaptive RKF 4(5), the paper's method.
 
     :func:`simulate_switch` takes the scene, horizon, start and sampling as
@@ -683,17 +694,8 @@ def solve_switch(
     >>> round(res.x_max, 5)           # fast belt: x_max = 2a (paper §3)
     0.4
     """
-    osc = inputs.osc
-    rtol = check_range("rtol", rtol, 0.0, low_open=True)
-    atol = check_range("atol", atol, 0.0, low_open=True)
-    if eta is None:  # the default, within what these tolerances resolve
-        low, high = eta_bounds(osc, rtol)
-        eta = min(max(_default_eta(osc), low), high)
-    else:
-        eta = check_eta(eta, osc, rtol)
-    rest_speed = eta if rest_speed is None else rest_speed
-    opts = SwitchOptions(rtol, atol, eta, max_step, rest_speed)
-    run = SwitchSolver(inputs, opts, WorkLimit(max_steps, time_budget))
+    opts = opts.for_scene(inputs.osc)
+    run = SwitchSolver(inputs, opts, WorkLimit(opts.max_steps, opts.time_budget))
     run.run()
     return run.result()
 

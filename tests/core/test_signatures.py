@@ -4,17 +4,18 @@ core.sweep.plan_grid); and an option nobody takes is refused by name."""
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
 
 import pytest
 
 from core import Oscillator, simulate
-from core.event_method import simulate_event
+from core.event_method import EventOptions, simulate_event
 from core.hysteretic import simulate_hysteretic
 from core.rigid import simulate_rigid
 from core.sweep import sweep, sweep_grid
 from core.sweep.distributed import sweep_distributed
-from core.switch import simulate_switch
+from core.switch import SwitchOptions, simulate_switch
 
 SHARED = {"stop": None, "t_end": 100.0, "x0": 0.0, "v0": 0.0, "n_samples": 2000,
           "transition_cap": 10_000, "t_eval": None}
@@ -64,3 +65,14 @@ def test_sweeps_list_their_options(fn):
 def test_sweep_refuses_an_unknown_option_by_name():
     with pytest.raises(TypeError, match="t_stop"):
         sweep(Oscillator(0.3, 0.2, 0.1), None, "belt_speed", [0.1], t_stop=10.0)
+
+
+@pytest.mark.parametrize(("fn", "options"), [(simulate_event, EventOptions),
+                                             (simulate_switch, SwitchOptions)],
+                         ids=lambda x: x.__name__)
+def test_a_methods_options_are_its_dataclass_fields_with_their_defaults(fn, options):
+    """The options are declared once (core.method_entry.takes_options): the entry's own
+    options are the dataclass's fields, in order, with the same defaults."""
+    own = list(inspect.signature(fn).parameters.values())[len(SHARED) + 1:]
+    assert [(p.name, p.default, p.kind) for p in own] == [
+        (f.name, f.default, inspect.Parameter.KEYWORD_ONLY) for f in dataclasses.fields(options)]
