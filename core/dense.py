@@ -1,12 +1,9 @@
 """Build a :class:`~core.result.Result` from the dense output of a numerical integrator.
 
-This module is longer than the project's ~500 lines because it is the one place where every
-numerical method's step points become a result (transitions, steady state, samples).
-
 The transitions go to the project's one log (:class:`core.transitions.TransitionLog`); the
-steady state read off them (:func:`core.steady.steady_from_transitions`) finds fixed points with the
-project's one detector (:class:`core.steady.FixedPointDetector`) at the tolerance of the
-numerical method.
+steady state is read off them by :func:`core.steady.steady_from_transitions` at the
+tolerance of the numerical method, and the energy terms at the samples come from
+:mod:`core.dense_energy`.
 
 The numerical methods (the switch model of :mod:`core.switch`, the event-driven
 ``solve_ivp`` method of :mod:`core.event_method`, and any other stepper) produce the state at
@@ -35,10 +32,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import NamedTuple
 
 import numpy as np
 
+from core.dense_energy import StopWorkSamples, energy_at_samples
 from core.hysteresis import ElasticLimit, elastic_limit, stored_energy
 from core.hysteretic_reduced import rest_swing_of
 from core.numerics.dense_output import PointTrack
@@ -86,89 +83,6 @@ def log_rest_at_stop(
     if t_rest <= t_end:
         log.add(TransitionKind.REST, t_rest, c, 0.0, 0.0)
     return t_rest
-
-
-class StopWorkSamples(NamedTuple):
-    """A deformable stop's work in closed form (:class:`core.stop_work.StopWork`): at the
-    points, at the samples, and where the mass sticks in contact (mode ``CONTACT``, where
-    the friction force is ``x + phi`` as on free stick)."""
-
-    points: np.ndarray
-    samples: np.ndarray
-    stuck: np.ndarray
-
-
-def _energy_at_samples(
-    t: np.ndarray,
-    x: np.ndarray,
-    v: np.ndarray,
-    mode: np.ndarray,
-    acc: np.ndarray | None,
-    phi: np.ndarray,
-    belt_speed: float,
-    idx: np.ndarray,
-    ts: np.ndarray,
-    xs: np.ndarray,
-    phis: np.ndarray,
-    stop_work: StopWorkSamples | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Friction work, belt work and work done on the stop at the samples (per unit ``k``).
-
-    Friction force over ``k`` on the interval after point ``i``: ``f = x'' + x + phi`` (the
-    equation of motion solved for it, ``docs/physics.md``). On slip it is the constant ``s*a``
-    (``+-b`` in the switch model's transition band), so its work ``f * dx`` is exact; on
-    stick it is the spring-plus-contact force, summed by the trapezoid rule in ``x`` (exact
-    off the stop, where it is linear in ``x``). A jump (rigid impact) hands its loss of
-    kinetic energy to the stop; the deformable stop's work is the trapezoid rule in ``x``,
-    or ``stop_work``, its values at the points and at the samples in closed form along the
-    law's branches (then the contact force's work on stick is exact too).
-    Inside an interval the same rules run from its start point to the sample, so the sums
-    at the samples are as accurate as at the points.
-    """
-    n = len(t)
-    if n < 2:
-        z = np.zeros(len(ts))
-        return z, z.copy(), z.copy()
-    mech = 0.5 * (x * x + v * v)
-    dx, dt = np.diff(x), np.diff(t)
-    jump = dt == 0.0
-    stick = mode[:-1] == Mode.STICK
-    if stop_work is not None:
-        stick = stick | stop_work.stuck[:-1]
-    k = np.clip(idx, 0, n - 2)
-    d_x = xs - x[k]
-    phi_mid = 0.5 * (phi[:-1] + phi[1:])
-    if stop_work is None:
-        cum_stop = np.concatenate([[0.0], np.cumsum(np.where(jump, -np.diff(mech),
-                                                             phi_mid * dx))])
-        stop_s = cum_stop[k] + np.where(jump[k], 0.0, 0.5 * (phi[k] + phis) * d_x)
-    else:
-        w_points, stop_s = stop_work.points, stop_work.samples
-    if acc is None:
-        # no acceleration given: the caller closes the balance with the friction work
-        return np.full(len(ts), math.nan), np.full(len(ts), math.nan), stop_s
-    f_left = acc[:-1] + x[:-1] + phi[:-1]
-    # On stick the friction force is the spring's and the stop's, x + phi: its mean over
-    # an interval by the trapezoid rule, or from the stop's work in closed form.
-    if stop_work is None:
-        f_stick = 0.5 * (x[:-1] + x[1:]) + phi_mid
-        f_stick_s = 0.5 * (x[k] + phi[k] + xs + phis)
-    else:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            f_stick = np.where(dx != 0.0, 0.5 * (x[:-1] + x[1:]) + np.diff(w_points) / dx,
-                               f_left)
-            f_stick_s = np.where(d_x != 0.0, 0.5 * (x[k] + xs) + (stop_s - w_points[k]) / d_x,
-                                 f_left[k])
-    f_int = np.where(stick, f_stick, f_left)
-    fric = np.where(jump, 0.0, f_int * dx)
-    belt = np.where(jump, 0.0, f_int * belt_speed * dt)
-    cum_f = np.concatenate([[0.0], np.cumsum(fric)])
-    cum_b = np.concatenate([[0.0], np.cumsum(belt)])
-    f_s = np.where(stick[k], f_stick_s, f_left[k])
-    f_s = np.where(jump[k], 0.0, f_s)
-    fric_s = cum_f[k] + f_s * d_x
-    belt_s = cum_b[k] + f_s * belt_speed * (ts - t[k])
-    return fric_s, belt_s, stop_s
 
 
 def result_from_dense(
@@ -296,15 +210,7 @@ def result_from_dense(
     v = np.asarray(v, dtype=float)
     mode = np.asarray(mode, dtype=np.int8)
     acc_arr = None if acc is None else np.asarray(acc, dtype=float)
-    n = len(t)
-    phi = np.zeros(n) if contact_force is None else np.asarray(contact_force, dtype=float)
-    ovl = np.zeros(n) if overlap is None else np.asarray(overlap, dtype=float)
-    stored_fn = stop_stored if callable(stop_stored) else None
-    stored = (
-        np.zeros(n)
-        if stop_stored is None or stored_fn is not None
-        else np.asarray(stop_stored, dtype=float)
-    )
+    phi, ovl, stored, stored_fn = _stop_points(len(t), contact_force, overlap, stop_stored)
     log = (
         transitions
         if isinstance(transitions, TransitionLog)
@@ -313,46 +219,14 @@ def result_from_dense(
 
     t_stop = min(float(t_end), float(t[-1]))
     ts, is_left = _sample_times(t_stop, n_samples, log, t_eval)
-
-    def sample(y: np.ndarray, dy: np.ndarray | None) -> np.ndarray:
-        out = np.empty(len(ts))
-        for side, sel in (("right", ~is_left), ("left", is_left)):
-            if not np.any(sel):
-                continue
-            if dy is None:
-                out[sel] = linear_eval(t, y, ts[sel], side)
-            else:
-                out[sel] = hermite_eval(t, y, dy, ts[sel], side)
-        return out
-
-    if dense is not None:
-        xs, vs = np.empty(len(ts)), np.empty(len(ts))
-        for side, sel in ((1, ~is_left), (-1, is_left)):
-            if np.any(sel):
-                xs[sel], vs[sel] = dense.evaluate(ts[sel], side)
-    else:
-        xs, vs = sample(x, v), sample(v, acc_arr)
-    if x_upper is not None:
-        # a rigid stop's face: the interpolant may round a few ulps beyond it
-        xs = np.minimum(xs, x_upper)
-    idx = np.where(
-        is_left,
-        np.clip(np.searchsorted(t, ts, side="left") - 1, 0, max(n - 1, 0)),
-        np.clip(np.searchsorted(t, ts, side="right") - 1, 0, max(n - 1, 0)),
-    )
+    sample = _sampler(t, ts, is_left)
+    xs, vs = _sample_state(sample, dense, x, v, acc_arr, ts, is_left, x_upper)
+    idx = _intervals(t, ts, is_left)
     modes = mode[idx].astype(np.int8)
-    if stop_law is not None:
-        phis, ovls, work_s, stored_s = stop_law.at(idx, xs)
-        exact_work = StopWorkSamples(np.asarray(stop_law.points, dtype=float), work_s,
-                                     np.asarray(stop_law.stuck, dtype=bool))
-    else:
-        phis, ovls, exact_work = sample(phi, None), sample(ovl, None), None
-        stored_s = (np.array([stored_fn(d, p) if d > 0.0 else 0.0
-                              for d, p in zip(ovls, phis, strict=True)])
-                    if stored_fn is not None else sample(stored, None))
-
+    phis, ovls, stored_s, exact_work = _stop_samples(sample, stop_law, idx, xs, phi, ovl,
+                                                     stored, stored_fn)
     if energy is None:
-        fric_s, belt_s, stop_s = _energy_at_samples(
+        fric_s, belt_s, stop_s = energy_at_samples(
             t, x, v, mode, acc_arr, phi, belt_speed, idx, ts, xs, phis, exact_work
         )
         mech_s = 0.5 * (xs * xs + vs * vs)
@@ -366,14 +240,10 @@ def result_from_dense(
             stop_stored=stored_s,
         )
 
-    if impulses is None:
-        impulses = np.array(log.impulses, dtype=float).reshape(-1, 2)
-    else:
-        impulses = np.asarray(impulses, dtype=float).reshape(-1, 2)
-
+    source = log.impulses if impulses is None else impulses
+    impulses = np.asarray(source, dtype=float).reshape(-1, 2)
     if x_max is None:
-        x_max = hermite_max(t, x, v) if n else math.nan
-
+        x_max = hermite_max(t, x, v) if len(t) else math.nan
     if steady is None:
         scale = _state_scale(x, v, belt_speed)
         steady_rtol = (method_rtol(rtol, model_rtol) if steady_tol is None
@@ -449,6 +319,82 @@ def result_from_track(
         x_upper=c if facts.rigid else None,
         **result,
     )
+
+
+def _stop_points(n: int, contact_force, overlap, stop_stored):
+    """The contact force, overlap and stored energy at the ``n`` points (zeros where not
+    given), and the stored energy's function when it is given as one."""
+    phi = np.zeros(n) if contact_force is None else np.asarray(contact_force, dtype=float)
+    ovl = np.zeros(n) if overlap is None else np.asarray(overlap, dtype=float)
+    stored_fn = stop_stored if callable(stop_stored) else None
+    given = stop_stored is not None and stored_fn is None
+    stored = np.asarray(stop_stored, dtype=float) if given else np.zeros(n)
+    return phi, ovl, stored, stored_fn
+
+
+def _sampler(t: np.ndarray, ts: np.ndarray, is_left: np.ndarray):
+    """``sample(y, dy)``: values at the sample times ``ts`` (left limits where
+    ``is_left``) of ``y`` at the points ``t``, cubic Hermite with the derivative ``dy``,
+    linear without it."""
+
+    def sample(y: np.ndarray, dy: np.ndarray | None) -> np.ndarray:
+        out = np.empty(len(ts))
+        for side, sel in (("right", ~is_left), ("left", is_left)):
+            if not np.any(sel):
+                continue
+            if dy is None:
+                out[sel] = linear_eval(t, y, ts[sel], side)
+            else:
+                out[sel] = hermite_eval(t, y, dy, ts[sel], side)
+        return out
+
+    return sample
+
+
+def _sample_state(sample, dense: DenseSolution | None, x: np.ndarray, v: np.ndarray,
+                  acc: np.ndarray | None, ts: np.ndarray, is_left: np.ndarray,
+                  x_upper: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """``x`` and ``x'`` at the samples: from the method's own interpolant where there is
+    one, else interpolated between the points; clipped at a rigid stop's face."""
+    if dense is not None:
+        xs, vs = np.empty(len(ts)), np.empty(len(ts))
+        for side, sel in ((1, ~is_left), (-1, is_left)):
+            if np.any(sel):
+                xs[sel], vs[sel] = dense.evaluate(ts[sel], side)
+    else:
+        xs, vs = sample(x, v), sample(v, acc)
+    if x_upper is not None:
+        # a rigid stop's face: the interpolant may round a few ulps beyond it
+        xs = np.minimum(xs, x_upper)
+    return xs, vs
+
+
+def _intervals(t: np.ndarray, ts: np.ndarray, is_left: np.ndarray) -> np.ndarray:
+    """The interval between points each sample lies in (the one that ends at it for a
+    left limit)."""
+    last = max(len(t) - 1, 0)
+    return np.where(
+        is_left,
+        np.clip(np.searchsorted(t, ts, side="left") - 1, 0, last),
+        np.clip(np.searchsorted(t, ts, side="right") - 1, 0, last),
+    )
+
+
+def _stop_samples(sample, stop_law, idx: np.ndarray, xs: np.ndarray, phi: np.ndarray,
+                  ovl: np.ndarray, stored: np.ndarray, stored_fn):
+    """The contact force, overlap and stored energy at the samples, and the stop's work in
+    closed form where its law is given (:class:`StopWorkSamples`, else ``None``)."""
+    if stop_law is not None:
+        phis, ovls, work_s, stored_s = stop_law.at(idx, xs)
+        exact_work = StopWorkSamples(np.asarray(stop_law.points, dtype=float), work_s,
+                                     np.asarray(stop_law.stuck, dtype=bool))
+        return phis, ovls, stored_s, exact_work
+    phis, ovls = sample(phi, None), sample(ovl, None)
+    if stored_fn is None:
+        return phis, ovls, sample(stored, None), None
+    stored_s = np.array([stored_fn(d, p) if d > 0.0 else 0.0
+                         for d, p in zip(ovls, phis, strict=True)])
+    return phis, ovls, stored_s, None
 
 
 def _swing_probe(dense: DenseSolution | None, t_stop: float,
