@@ -1,8 +1,8 @@
 """Event-driven integration of the non-smooth model with SciPy's Runge-Kutta and BDF solvers.
 
-This module is longer than the project's ~500 lines because it holds one method whole: the
-modes and their events, the solver class whose handlers share one state, and the entry
-point; the stepping loop with event location lives in :mod:`core.numerics.events`.
+The method whole: its options, the solver class whose handlers share one state, and the
+entry point; the modes' right-hand sides and events are :mod:`core.event_modes`, the
+stepping loop with event location :mod:`core.numerics.events`.
 
 A second numerical method beside the switch model (:mod:`core.switch`): the non-smooth
 Coulomb model (paper Eqs. 3-6) is integrated mode by mode, each mode a smooth ODE, and every
@@ -14,32 +14,7 @@ The stepping loop is the one of :func:`scipy.integrate.solve_ivp` (the public
 functions at the step ends, roots by :func:`scipy.optimize.brentq` on the step's
 interpolant), written out so that the solve can count its work and stop at its limits.
 
-Modes and the events that end them
-----------------------------------
-* **slip** with a fixed ``s`` (``x'' = -x + s*a - phi``, paper Eq. 3 and Eq. 14 in contact):
-  ``x' = v`` (relative velocity vanishes: stick if ``|x + phi| <= b``, else the sign of the
-  relative velocity changes, ``docs/physics.md``); ``x = clearance`` with ``x' > 0`` (rigid
-  impact, paper Eq. 8, or the start of a deformable contact); in a deformable contact,
-  ``x' = 0`` (reversal of the overlap rate: the branch of the hysteresis law is updated with
-  :func:`core.hysteresis.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
-  reaching the stop's strength (failure), the overlap reaching the limit overlap. A
-  non-terminal event at ``x' = 0`` records every maximum of ``x`` as a point, so ``x_max``
-  has the integration accuracy, and betrays a crossing of the stop that rose above it and
-  fell back inside one step.
-* the force of a contact has **kinks**: where a branch's curve is clipped to an envelope
-  (Eq. 11; :func:`core.hysteresis.branch_kinks`) and at the face. A step across a kink does
-  not see it in its error estimate: each separation speed was ~3e-7 relative off at rtol
-  1e-8, and trains of contacts added those up in their phase (1e-3 of the scale by t = 40
-  on random stops). A step that crosses a clip point is not kept: the solver steps to it
-  in a segment of its own (the event ``kink``, :class:`core.numerics.events.Event`); past
-  the face the force is ``phi_C`` continued, as in the exact method, so the step into
-  separation is smooth. The error left grows with the contacts of a train (each one's
-  timing error moves the next): up to 7e-5 of the scale by t = 40 at rtol 1e-8 on 120
-  random stops, 3e-8 the median.
-* **stick** (``x' = v``): in closed form, ``x = x_0 + v t``, up to ``x = b``, the stop, or in
-  a deformable contact up to ``x + phi(x - clearance) = b`` (one monotone root by
-  :func:`scipy.optimize.brentq`: along stick the overlap only grows, so the force follows
-  one loading branch).
+The modes and the events that end them are :mod:`core.event_modes`.
 
 Impact accumulation (Zeno, paper §4) is handled as in the switch model: a rebound slower
 than ``rest_speed`` while the mass is pressed on the stop (:func:`core.steady.pressed_on_stop`)
@@ -64,12 +39,16 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import DOP853, LSODA, RK45, Radau
-from scipy.optimize import brentq
 
 from core.dense import log_rest_at_stop, new_log, result_from_track
+from core.event_modes import (
+    LIMIT_OVERLAP_FRACTION,
+    slip_events,
+    slip_rhs,
+    stick_contact_end,
+)
 from core.hysteresis import (
     FIRST_LOADING,
-    LIMIT_MARGIN,
     Branch,
     branch_kinks,
     force_and_slope,
@@ -80,7 +59,6 @@ from core.method_entry import takes_options
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, WorkLimit
-from core.params import HystereticStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
@@ -94,24 +72,18 @@ _SOLVER_CLASSES = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "LSODA": LSOD
 #: Points that describe a stick segment inside a deformable contact (the force is a
 #: nonlinear function of the overlap there; on free stick two points are exact).
 STICK_CONTACT_POINTS = 16
-#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
-#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
-LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 #: Kinks of the force within this fraction of ``D`` of a branch's start (its reversal) or
 #: of the face (the separation) are not stepped to.
 KINK_MARGIN = 1e-9
-#: Relative tolerance of roots (event times, the stick-in-contact end point).
-ROOT_RTOL = 4.0 * np.finfo(float).eps
 #: Largest step of a rebound arc from a rigid stop, as a fraction of its estimated duration
 #: ``2|x'|/|x''|`` (only the segment that starts at the stop).
 REBOUND_STEP_FRACTION = 0.25
 #: Restarts at (numerically) the same time that count as an event stuck in place.
 MAX_SAME_TIME = 64
-#: Default limit on the solver steps of one solve: ~85 us a step of RK45 with its event
-#: functions on a 2-core machine, so a default call returns within seconds whatever its
-#: horizon (1-4 s on scenes 5a and 10, 5.7 s on scene 11's stiff stop;
-#: ``benchmarks/default_limits.py``), having reached t ~ 4e3 (rigid scene 5a) and
-#: 2.5e3 (deformable scene 10) at the default tolerances. Pass ``max_steps`` or
+#: Default limit on the solver steps of one solve, sized so that a default call returns
+#: within seconds whatever its horizon, having reached t ~ 4e3 (rigid scene 5a) and 2.5e3
+#: (deformable scene 10) at the default tolerances
+#: (benchmarks/results/2026-11-29-default-limits.md). Pass ``max_steps`` or
 #: ``time_budget`` to go further.
 DEFAULT_MAX_STEPS = 30_000
 
@@ -304,7 +276,7 @@ class EventSolver:
 
     def stick_in_contact(self) -> None:
         vb, x0, t0 = self.osc.v, self.x, self.t
-        kind, x_e = _stick_contact_end(self.stop, self.branch, self.x, self.osc.b)
+        kind, x_e = stick_contact_end(self.stop, self.branch, self.x, self.osc.b)
         t_e = t0 + (x_e - x0) / vb
         t_stop = min(t_e, self.t_end)
         for xx in np.linspace(x0, x0 + vb * (t_stop - t0), STICK_CONTACT_POINTS)[1:]:
@@ -344,60 +316,23 @@ class EventSolver:
             self.point(self.t, self.x, self.v, self.slip_acc(self.x, 1), 1)
 
     # --- slip: an ODE with events -----------------------------------------------------------
-    def slip_fun(self, s: int):
-        """Right-hand side of slip with sign ``s`` on the current branch (Eqs. 3 and 14)."""
-        a, c, stop = self.osc.a, self.c, self.stop
-        if self.soft and self.contact:
-            br = self.branch
-            kc = stop.k_c0 * stop.limit_overlap
-
-            def fun(_t, y):
-                d = y[0] - c
-                if d > 0.0:
-                    p = force_and_slope(d, br, stop)[0]
-                else:
-                    # phi_C continued past the face, as the exact method does
-                    # (docs/contact-law.md): the step that crosses the face into separation
-                    # stays smooth; with the force cut to 0 it has a kink there.
-                    p = kc * d / (stop.limit_overlap - d)
-                return np.array([y[1], -y[0] + s * a - p])
-
-            return fun
-
-        def fun_free(_t, y):
-            return np.array([y[1], -y[0] + s * a])
-
-        return fun_free
-
     def slip(self) -> None:
+        """One slip segment with the sign ``fr``: integrated up to its first event, or to
+        the next kink of the contact force (the horizon, a work limit)."""
         s = self.fr
         if self.land_at is not None and not self.land_at > self.t:  # on the kink already
             self.kinks.pop(0)
             self.land_at = None
         landing = self.land_at is not None
-        events = _slip_events(s, self)
         watch = self.stop is not None and not self.contact
-        opts = {}
-        if watch and self.x == self.c and self.v < 0.0 and self.slip_acc(self.x, s) > 0.0:
-            # pushed back to the stop, a rebound arc lasts about 2|x'|/x'': steps must not
-            # jump over it (the event function would see no sign change, or a root at t)
-            opts["max_step"] = REBOUND_STEP_FRACTION * 2.0 * abs(self.v) / self.slip_acc(self.x, s)
-        solver = _SOLVER_CLASSES[self.opts.solver](
-            self.slip_fun(s),
-            self.t,
-            np.array([self.x, self.v]),
-            self.land_at if landing else self.t_end,
-            rtol=self.opts.rtol,
-            atol=self.opts.atol,
-            **opts,
-        )
+        solver = self.slip_solver(s, watch)
 
         def point(t: float, y) -> None:
             x, v = float(y[0]), float(y[1])
             self.point(t, x, v, self.slip_acc(x, s), s)
 
         segment = SegmentIntegrator(
-            solver, events, self.limit, point, level=self.c if watch else None,
+            solver, self.slip_events(s), self.limit, point, level=self.c if watch else None,
             speed=(self.osc.v, float(s)),
         )
         end = segment.integrate(self.n_steps)
@@ -408,6 +343,40 @@ class EventSolver:
         if end.status is not None:
             self.status = end.status
         self.t, self.x, self.v = end.t, float(end.y[0]), float(end.y[1])
+        self.slip_ended(end, s, landing, point)
+
+    def in_contact_branch(self) -> Branch | None:
+        """The branch of the law the mass follows in a deformable contact, else ``None``."""
+        return self.branch if self.soft and self.contact else None
+
+    def slip_events(self, s: int) -> list[Event]:
+        """The events of a slip segment from here (:func:`core.event_modes.slip_events`);
+        the next kink only while not stepping to it already."""
+        kink = self.kinks[0] if self.kinks and self.land_at is None else None
+        return slip_events(s, self.osc.v, self.c, self.stop, self.in_contact_branch(), kink,
+                           lambda x: self.slip_acc(x, s))
+
+    def slip_solver(self, s: int, watch: bool):
+        """The SciPy solver of a slip segment with sign ``s`` from here, to the kink it
+        steps to or the horizon."""
+        opts = {}
+        if watch and self.x == self.c and self.v < 0.0 and self.slip_acc(self.x, s) > 0.0:
+            # pushed back to the stop, a rebound arc lasts about 2|x'|/x'': steps must not
+            # jump over it (the event function would see no sign change, or a root at t)
+            opts["max_step"] = REBOUND_STEP_FRACTION * 2.0 * abs(self.v) / self.slip_acc(self.x, s)
+        return _SOLVER_CLASSES[self.opts.solver](
+            slip_rhs(s, self.osc.a, self.c, self.stop, self.in_contact_branch()),
+            self.t,
+            np.array([self.x, self.v]),
+            self.land_at if self.land_at is not None else self.t_end,
+            rtol=self.opts.rtol,
+            atol=self.opts.atol,
+            **opts,
+        )
+
+    def slip_ended(self, end, s: int, landing: bool, point) -> None:
+        """The state after a slip segment that ended at ``end``: on a kink (or stepping to
+        the next one), at the horizon or a limit, or at an event (:meth:`handle`)."""
         if end.event == "kink" and end.target is not None:
             self.land_at = end.target  # the next segment steps to it
             return
@@ -488,76 +457,6 @@ class EventSolver:
             dense=self.dense if self.dense.pieces else None,
             stop_law=self.work,
         )
-
-
-def _slip_events(s: int, owner: EventSolver) -> list[Event]:
-    """Event functions of a slip segment with sign ``s`` (see the module docstring)."""
-    vb, c, stop = owner.osc.v, owner.c, owner.stop
-    events = [
-        Event("top", lambda _t, y: y[1], -1.0, terminal=False),
-        Event("ur", lambda _t, y: y[1] - vb, 1.0 if s > 0 else -1.0),
-        # where x' turns back from the belt's speed (SegmentIntegrator's speed watch: a step
-        # whose speed passed it and came back, as on entering a contact just below it)
-        Event("turn", lambda _t, y: owner.slip_acc(float(y[0]), s), -1.0 if s > 0 else 1.0,
-              terminal=False),
-    ]
-    if owner.rigid or (owner.soft and not owner.contact):
-        events.append(Event("stop", lambda _t, y: y[0] - c, 1.0))
-    elif owner.soft:
-        branch = owner.branch
-        d_lim = stop.limit_overlap * LIMIT_OVERLAP_FRACTION
-        events += [
-            Event("separation", lambda _t, y: y[0] - c, -1.0),
-            Event("reversal", lambda _t, y: y[1], -1.0 if branch.loading else 1.0),
-            Event("limit", lambda _t, y: y[0] - c - d_lim, 1.0),
-        ]
-        if owner.kinks and owner.land_at is None:  # not while stepping to it
-            kink = owner.kinks[0]
-            events.append(Event("kink", lambda _t, y: y[0] - kink,
-                                1.0 if branch.loading else -1.0, kink=True))
-        if math.isfinite(stop.strength):
-
-            def fail(_t, y):
-                d = y[0] - c
-                phi = force_and_slope(d, branch, stop)[0] if d > 0.0 else 0.0
-                return phi - stop.strength
-
-            events.append(Event("failure", fail, 1.0))
-    return events
-
-
-def _stick_contact_end(stop: HystereticStop, branch: Branch, x: float, b: float):
-    """End of stick inside a deformable contact: ``x + phi = b`` (stick->slip), the force
-    reaching the strength (``FAILURE``) or the limit overlap (``None``), whichever first.
-
-    Along stick the overlap grows, so ``x + phi`` grows monotonically on the loading branch.
-    """
-    c, d_lim = stop.clearance, stop.limit_overlap
-    x_hi = c + d_lim * LIMIT_OVERLAP_FRACTION
-
-    def phi(xx: float) -> float:
-        d = xx - c
-        return force_and_slope(d, branch, stop)[0] if d > 0.0 else 0.0
-
-    def g(xx: float) -> float:
-        return xx + phi(xx) - b
-
-    candidates = []
-    if g(x) >= 0.0:
-        return TransitionKind.STICK_SLIP, x
-    if g(x_hi) > 0.0:
-        candidates.append((brentq(g, x, x_hi, rtol=ROOT_RTOL), TransitionKind.STICK_SLIP))
-    if math.isfinite(stop.strength):
-
-        def gf(xx: float) -> float:
-            return phi(xx) - stop.strength
-
-        if gf(x) < 0.0 < gf(x_hi):
-            candidates.append((brentq(gf, x, x_hi, rtol=ROOT_RTOL), TransitionKind.FAILURE))
-    if not candidates:
-        return None, x_hi
-    x_e, kind = min(candidates, key=lambda p: p[0])
-    return kind, x_e
 
 
 @takes_options(EventOptions)
