@@ -39,8 +39,8 @@ from core.simulate import method_options as method_options
 from core.simulate import simulate as simulate
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
-from core.switch import ETA_MAX_REL as ETA_MAX_REL
-from core.switch import eta_bounds as eta_bounds
+from core.switch_model import ETA_MAX_REL as ETA_MAX_REL
+from core.switch_model import eta_bounds as eta_bounds
 from core.validation import check_range as check_range
 from core.validation import check_start as check_start
 

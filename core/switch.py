@@ -1,22 +1,14 @@
 """The paper's numerical method: the switch model integrated by Runge-Kutta-Fehlberg 4(5).
 
-This module is longer than the project's ~500 lines because it holds one method whole: the
-switch law (Eq. 7), the solver class whose event handlers share one state, and the entry
-point; what other methods share (tableau, step control, Hermite roots, dense output, work
-limits) lives in :mod:`core.numerics`.
+The method whole: its options, the solver class whose event handlers share one state, and
+the entry point; the switch law itself (Eq. 7) is :mod:`core.switch_model`, and what other
+methods share (tableau, step control, Hermite roots, dense output, work limits) lives in
+:mod:`core.numerics`.
 
 Andreaus & Casini integrate the non-smooth oscillator with the switch model of Leine et al.
 (1998) (paper §2.2, Eq. 7, Fig. 1c) and an adaptive Runge-Kutta-Fehlberg 4(5) scheme (paper
 §2.5). The project keeps it as one selectable method, the baseline that the exact and
 event-driven solvers are measured against (``docs/physics.md``).
-
-The switch model (state ``(x, x')``, relative velocity ``u_r = v - x'``, applied force over
-``k`` ``F = -x - phi``):
-
-* ``|u_r| > eta`` (slip): ``x'' = F + s*a`` with ``s = sign(u_r)`` (paper Eq. 3);
-* ``|u_r| <= eta`` and ``|F| <= b`` (stick): ``x'' = 0``, the belt's acceleration;
-* ``|u_r| <= eta`` and ``|F| > b`` (stick->slip transition): ``x'' = F - b sign(F)``, static
-  friction at its limit against the applied force, which takes the mass out of the band.
 
 The right-hand side is discontinuous across the band edges. The error control of the
 embedded pair shrinks the step across them, which is what the method costs; one crossing is
@@ -71,7 +63,6 @@ from functools import partial
 from core.dense import log_rest_at_stop, new_log, result_from_track
 from core.hysteresis import (
     FIRST_LOADING,
-    LIMIT_MARGIN,
     Branch,
     force_and_slope,
     reverse,
@@ -82,127 +73,29 @@ from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
 from core.numerics.limits import WorkLimit
 from core.numerics.rk import STAGES_PER_STEP, StepControl, rkf45_step
-from core.params import HystereticStop, Oscillator
+from core.params import Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
 from core.stop_work import StopWork
+from core.switch_model import band_edge, check_eta, default_eta, eta_bounds, switch_rhs
 from core.validation import check_range
 
 #: First trial step (dimensionless time); the controller grows it within a few steps.
 FIRST_STEP = 1e-3
-#: Default stick-band half-width relative to the belt speed, ``eta = ETA_REL * v``
-#: (``eta << v``, ``docs/physics.md``); on a still belt relative to ``max(a, b)``.
-ETA_REL = 1e-4
-#: Widest stick band, relative to the belt speed (:func:`check_eta`).
-ETA_MAX_REL = 0.1
-#: Default limit on the Runge-Kutta steps (accepted and rejected) of one solve: 8-16 us a
-#: step on a 2-core machine, so a default call returns within seconds whatever its horizon
-#: (1-4 s on scenes 5a and 10, 5.5 s on scene 11's stiff stop;
-#: ``benchmarks/default_limits.py``), having reached t ~ 1.4e4 (rigid scene 5a) to 1.7e4
-#: (deformable scene 10) at the default tolerances. Pass ``max_steps`` or ``time_budget``
-#: to go further.
+#: Default limit on the Runge-Kutta steps (accepted and rejected) of one solve, sized so
+#: that a default call returns within seconds whatever its horizon, having reached
+#: t ~ 1.4e4 (rigid scene 5a) to 1.7e4 (deformable scene 10) at the default tolerances
+#: (benchmarks/results/2026-11-29-default-limits.md). Pass ``max_steps`` or
+#: ``time_budget`` to go further.
 DEFAULT_MAX_STEPS = 200_000
 #: Least scatter of the model's transition states over a cycle, relative to the state's
 #: scale, whatever the band: a stick-slip cycle's states scatter by 8 to 20 eta at
 #: ``eta = 1e-5 v`` (up to 7e-5 of the scale), and the cycle of Fig. 5a went unfound
 #: ("no steady state") where the band's ``eta / v`` alone set the repeat's tolerance.
 TRANSITION_SCATTER = 3e-4
-#: Narrowest stick band, relative to the speed the steps resolve (``rtol v``, on a still
-#: belt ``rtol max(a, b, u_s)``): a narrower band is missed by the located steps. At
-#: rtol 1e-6, atol 1e-9, ``v = 0.1``, a band of 1e-10 (1e-3 of that speed) let the mass slip
-#: through it, and the model reported pure slip for a stick-slip cycle (0.24 off in x); at
-#: 1e-2 of it and above the model followed the exact motion (tests/core/test_exact.py).
-ETA_MIN_PER_TOL = 1e-2
 #: Newton corrections of a located event with the recomputed Runge-Kutta step.
 EVENT_NEWTON = 2
-#: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
-#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
-LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
-
-
-def switch_rhs(osc: Oscillator, eta: float, stop: HystereticStop | None, branch: Branch | None):
-    """The switch model's acceleration ``f(x, x')`` (paper Eq. 7 with Eq. 14 in contact).
-
-    Parameters
-    ----------
-    osc : Oscillator
-    eta : float
-        Half-width of the stick band ``|v - x'| <= eta``.
-    stop : HystereticStop or None
-        Deformable stop whose contact force enters the applied force, or ``None``.
-    branch : Branch or None
-        Branch of the contact law held over the step.
-
-    Returns
-    -------
-    callable
-        ``f(x, v) -> x''``.
-
-    Examples
-    --------
-    >>> f = switch_rhs(Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.1), 1e-5, None, None)
-    >>> f(0.0, 0.0), f(0.1, 0.1), f(0.4, 0.1)   # slip, stick, stick->slip
-    (0.2, 0.0, -0.10000000000000003)
-    """
-    a, b, vb = osc.a, osc.b, osc.v
-    if stop is None or branch is None:
-
-        def rhs(x: float, v: float) -> float:
-            ur = vb - v
-            if ur > eta:
-                return a - x
-            if ur < -eta:
-                return -a - x
-            if x < -b:
-                return -x - b
-            if x > b:
-                return b - x
-            return 0.0
-
-        return rhs
-
-    c = stop.clearance
-    d_lim = stop.limit_overlap * LIMIT_OVERLAP_FRACTION
-
-    def rhs_contact(x: float, v: float) -> float:
-        d = x - c
-        if d > 0.0:
-            if d >= d_lim:
-                return -math.inf
-            force = -x - force_and_slope(d, branch, stop)[0]
-        else:
-            force = -x
-        ur = vb - v
-        if ur > eta:
-            return force + a
-        if ur < -eta:
-            return force - a
-        if force > b:
-            return force - b
-        if force < -b:
-            return force + b
-        return 0.0
-
-    return rhs_contact
-
-
-def band_edge(vb: float, eta: float, s: int) -> float:
-    """The velocity where slip with sign ``s`` enters the stick band ``|vb - x'| <= eta``,
-    rounded so that the band test holds for it (``vb - (vb - eta)`` may round above ``eta``).
-
-    >>> v = band_edge(1e-5, 1e-9, 1); abs(1e-5 - v) <= 1e-9
-    True
-    """
-    v = vb - s * eta
-    while abs(vb - v) > eta:
-        v = math.nextafter(v, vb)
-    return v
-
-
-def _default_eta(osc: Oscillator) -> float:
-    scale = osc.v if osc.v > 0.0 else max(osc.a, osc.b, osc.u_s)
-    return ETA_REL * scale
 
 
 @dataclass(frozen=True)
@@ -234,7 +127,7 @@ class SwitchOptions:
         (:func:`eta_bounds`), and the rest speed by default the band."""
         if self.eta is None:
             low, high = eta_bounds(osc, self.rtol)
-            eta = min(max(_default_eta(osc), low), high)
+            eta = min(max(default_eta(osc), low), high)
         else:
             eta = check_eta(self.eta, osc, self.rtol)
         rest_speed = eta if self.rest_speed is None else self.rest_speed
@@ -424,24 +317,33 @@ class SwitchSolver:
         self.n_eval += STAGES_PER_STEP
         err = self.control.error(self.x, xn, ex, self.v, vn, ev)
         if not err <= 1.0:  # also catches nan from a stage beyond the limit overlap
-            self.rejected += 1
-            self.h = self.control.shrunk(h, err)
-            if self.control.too_small(self.h, self.t):
-                near_limit = self.soft and self.x - self.c >= 0.5 * self.stop.limit_overlap
-                self.status = Status.LIMIT_OVERLAP if near_limit else Status.INTEGRATION_FAILED
+            self.reject(h, err)
             return
         self.steps += 1
         h_next = h if last else self.control.grown(h, err)
-        # the events that may cut the step, each tried only where it can happen
-        contact, fr = self.contact, self.fr
-        cut = (
-            (self.cut_at_stop(h, xn, vn, h_next) if self.stop is not None and not contact else 0)
-            or (self.cut_in_contact(h, xn, vn, h_next) if contact else 0)
-            or (self.cut_at_band(h, xn, vn, h_next) if fr != 0 else 0)
-            or (self.cut_at_top(h, xn, vn, h_next) if self.v > 0.0 >= vn and not contact else 0)
-        )
-        if not cut:
+        if not self.cut(h, xn, vn, h_next):
             self.finish_step(h, xn, vn, h_next, last)
+
+    def reject(self, h: float, err: float) -> None:
+        """A rejected step of length ``h``: a smaller one next, or the end of the solve
+        where it would be too small (at the limit overlap of a deformable stop)."""
+        self.rejected += 1
+        self.h = self.control.shrunk(h, err)
+        if self.control.too_small(self.h, self.t):
+            near_limit = self.soft and self.x - self.c >= 0.5 * self.stop.limit_overlap
+            self.status = Status.LIMIT_OVERLAP if near_limit else Status.INTEGRATION_FAILED
+
+    def cut(self, h: float, xn: float, vn: float, h_next: float) -> bool:
+        """The first event that cuts an accepted step, each tried only where it can
+        happen; True if one did."""
+        contact, fr = self.contact, self.fr
+        if self.stop is not None and not contact and self.cut_at_stop(h, xn, vn, h_next):
+            return True
+        if contact and self.cut_in_contact(h, xn, vn, h_next):
+            return True
+        if fr != 0 and self.cut_at_band(h, xn, vn, h_next):
+            return True
+        return self.v > 0.0 >= vn and not contact and self.cut_at_top(h, xn, vn, h_next)
 
     def cut_at_stop(self, h: float, xn: float, vn: float, h_next: float) -> bool:
         """The step reaches the stop: impact (rigid) or the start of a contact (tried off the
@@ -610,40 +512,6 @@ def _friction_transition(run: SwitchSolver, fr: int, fr_new: int, step: tuple) -
     s = root(g, 0.0, 1.0, g0, g1) if g0 * g1 < 0.0 else 1.0
     xs, vs = xv(s)
     run.log.add(kind, t0 + s * h, xs, vs)
-
-
-def eta_bounds(osc: Oscillator, rtol: float = 1e-6) -> tuple[float, float]:
-    """The stick band's half-widths the switch model takes at the tolerance ``rtol``: at most
-    :data:`ETA_MAX_REL` times the belt speed (the model needs ``eta << v``, docs/physics.md, "The
-    switch model": a band that reaches ``x' = 0`` holds a mass at rest in "stick"; ``eta = v`` gave
-    ``x_max = 0`` where the exact motion grazes the stop), at most 1 on a still belt; at least
-    :data:`ETA_MIN_PER_TOL` times the speed the steps resolve.
-
-    >>> [f"{e:.3g}" for e in eta_bounds(Oscillator(0.3, 0.2, 0.1))]
-    ['1e-09', '0.01']
-    """
-    scale = osc.v if osc.v > 0.0 else max(osc.a, osc.b, osc.u_s)
-    return ETA_MIN_PER_TOL * rtol * scale, ETA_MAX_REL * osc.v if osc.v > 0.0 else 1.0
-
-
-def check_eta(eta: float, osc: Oscillator, rtol: float = 1e-6) -> float:
-    """The stick band's half-width ``eta``, within :func:`eta_bounds`.
-
-    >>> check_eta(0.1, Oscillator(0.3, 0.2, 0.1))  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    ValueError: eta must lie in [1e-09, 0.01] (at most a tenth of the belt speed ...); got 0.1
-    """
-    eta = check_range("eta", eta, 0.0, low_open=True)
-    low, high = eta_bounds(osc, rtol)
-    if not low <= eta <= high:
-        limit = (f"at most a tenth of the belt speed v = {osc.v:g}: the stick band "
-                 "|v - x'| <= eta must stay clear of x' = 0; " if osc.v > 0.0 else "")
-        why = (f" ({limit}at least {ETA_MIN_PER_TOL:g} rtol "
-               f"{'v' if osc.v > 0.0 else 'max(a, b, u_s)'} at rtol = {rtol:g}: a narrower "
-               "band is missed by the located steps)")
-        raise ValueError(f"eta must lie in [{low:.3g}, {high:.3g}]{why}; got {eta:g}")
-    return eta
 
 
 @takes_options(SwitchOptions)

@@ -17,7 +17,8 @@ from core import HystereticStop, Mode, Oscillator, RigidStop, SteadyKind, Transi
 from core.dense import result_from_dense
 from core.numerics.hermite import hermite_eval
 from core.numerics.rk import rkf45_step
-from core.switch import simulate_switch, switch_rhs
+from core.switch import simulate_switch
+from core.switch_model import switch_rhs
 
 A, B = 0.2, 0.3
 FAST = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)  # v > v* = a: pure slip
