@@ -105,8 +105,9 @@ def steady_cycle(result: Result, t_end: float, step: tuple[float, float]
     Periodic: the steady state's cycle, exactly (paper Eq. 20). Grazing or a pure slip
     circle: from the time the transitions have settled within half a ``step``
     (:func:`settled_time`), the last interval between two transitions of one kind, or one
-    :data:`TURN` of a slip circle; the motion then differs from the repeats by less than
-    that bound. ``None`` otherwise, or when the cycle does not close before ``t_end``.
+    :data:`TURN` of a slip circle; its later periods then trace the cycle's orbit in the
+    phase plane to within that bound. ``None`` otherwise, or when the cycle does not close
+    before ``t_end``.
 
     >>> from core import Oscillator, RigidStop, simulate
     >>> res = simulate(Oscillator(0.3, 0.2, 0.5), RigidStop(0.3, 1.0), t_end=50.0)
