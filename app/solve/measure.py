@@ -25,6 +25,10 @@ REFERENCE_RTOL, REFERENCE_ATOL = 1e-12, 1e-14
 #: theory's closed forms after it.
 MEASURE_MARGIN_S = 0.1
 
+#: ``keep(inputs, make)``: the reference solve of ``inputs`` kept, or ``make()``'s
+#: (:meth:`app.solve.cache.SolveCache.reference`).
+KeepReference = Callable[[tuple, Callable[[], Result]], Result]
+
 
 def integrates(method: str, stop: Any) -> bool:
     """Whether ``method`` integrates on ``stop`` (a closed form does not: its error is
@@ -89,8 +93,8 @@ def reference(simulate: Caller, osc: Any, stop: Any, t_end: float, x0: float, v0
 
 
 def measure_run(result: Result, osc: Any, stop: Any, x0: float, v0: float, within: float,
-                simulate: Caller, kept: Callable[[tuple, Callable[[], Result]], Result]
-                | None = None) -> tuple[float, Steady | None] | None:
+                simulate: Caller, kept: KeepReference | None = None
+                ) -> tuple[float, Steady | None] | None:
     """A run's error (:func:`reference_error`, ``nan`` where there is no motion to
     compare) and the steady state the exact method finds over its span (``None`` with no
     error: a method can change the verdict, e.g. a mass resting on the stop's face

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from app.sampling import samples_for
-from app.solve.measure import MEASURE_MARGIN_S, integrates, measure_run
+from app.solve.measure import MEASURE_MARGIN_S, KeepReference, integrates, measure_run
 from app.solve.presets import (
     ACCURACY,
     PREVIEW_ACCURACY,
@@ -136,8 +136,7 @@ def solve_key(values: Mapping[str, Any]) -> tuple:
 
 def compute(key: tuple, preview: bool = False, *, budget: float,
             simulate: Caller = IN_THREAD,
-            kept: Callable[[tuple, Callable[[], Result]], Result] | None = None
-            ) -> Solution:
+            kept: KeepReference | None = None) -> Solution:
     """Solve the state ``key`` (:func:`solve_key`) within ``budget`` seconds.
 
     Parameters
@@ -167,13 +166,12 @@ def compute(key: tuple, preview: bool = False, *, budget: float,
         result = simulate(osc, stop, t_end, x0, v0, method=method,
                           **run_options(values, method, stop, osc, preview, budget))
     solve_time = time.perf_counter() - start
-    run = None
-    if result is not None and not preview and integrates(method, stop):
-        # No preset's error holds on random scenes (ACCURACY): the run's is measured.
-        run = measure_run(result, osc, stop, x0, v0,
-                          budget - solve_time - MEASURE_MARGIN_S, simulate, kept)
+    # No preset's error holds on random scenes (ACCURACY): a full run that integrates has
+    # its error measured, within what is left of its budget.
+    measures = result is not None and not preview and integrates(method, stop)
+    run = (measure_run(result, osc, stop, x0, v0, budget - solve_time - MEASURE_MARGIN_S,
+                       simulate, kept) if measures else None)
     measured = run is not None and math.isfinite(run[0])
-    skipped = run is None and result is not None and not preview and integrates(method, stop)
     return Solution(
         values=values, osc=osc, stop=stop, x0=x0, v0=v0, t_end=t_end,
         result=result, program=program,
@@ -181,7 +179,7 @@ def compute(key: tuple, preview: bool = False, *, budget: float,
         method=method, solve_time=solve_time,
         error_estimate=run[0] if measured else math.nan, error_measured=measured,
         reference_steady=run[1] if measured else None,
-        measure_skipped=skipped,
+        measure_skipped=measures and run is None,
         restitution_measured=restitutions(result),
         preview=preview, budget=budget,
     )
