@@ -19,7 +19,7 @@ from bokeh.plotting import figure
 
 from app.glyphs import add_glyph
 from app.plots import MODE_COLORS, SharedModels
-from app.solver import Solution
+from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, Scales
 
 #: Size of the mechanism figure [px].

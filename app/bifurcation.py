@@ -46,12 +46,14 @@ from bokeh.models import (
 from bokeh.plotting import figure
 from panel.io.state import set_curdoc
 
-from app import solve_process
 from app import sweep_budget as budget
 from app.session_loop import from_any_thread
-from app.solver import choose_method, equivalent_rigid, executor_for, map_ranges
+from app.solve import process as solve_process
+from app.solve.pool import executor_for
+from app.solve.presets import choose_method
+from app.solve.regime_map import map_ranges
 from app.state import DIMENSIONLESS, Scales, core_inputs
-from core import HystereticStop, RigidStop, theory
+from core import HystereticStop, RigidStop, equivalent_rigid, theory
 from core import sweep as sweeps
 
 #: Swept parameters the page offers (:data:`core.sweep.PARAMETERS`), with their labels.
@@ -411,7 +413,7 @@ def regime_changes(values: Mapping[str, Any], parameter: str, lo: float, hi: flo
                    ) -> list[tuple[float, str]]:
     """Where the closed-form regime changes along ``[lo, hi]`` (sampled at
     :data:`THEORY_SAMPLES` values), labelled with the regime that follows."""
-    from app.solver import regime_labels
+    from app.solve.regime_map import regime_labels
 
     grid = np.linspace(lo, hi, THEORY_SAMPLES)
     v, x = values["belt_speed"], values["clearance"]

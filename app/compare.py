@@ -42,7 +42,8 @@ from app.plots import (
 )
 from app.readout import restitution_first_last
 from app.scenes import CUSTOM, SCENES
-from app.solver import Solution, SolveRunner
+from app.solve.runner import SolveRunner
+from app.solve.solution import Solution
 from app.state import (
     DIMENSIONLESS,
     SOLVE_PARAMS,
@@ -358,7 +359,7 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
     last impact or contact, one number where they agree to the digits shown.
 
     >>> from app.state import scene_values
-    >>> from app.solver import solve
+    >>> from app.solve.pool import solve
     >>> summary(solve(scene_values("10")))["restitution"]
     '0.399 / 0.969'
     """

@@ -41,17 +41,13 @@ from app.scenes import (
     RIGID_PLOTS,
     SCENES,
 )
-from app.solve_process import Abandoned
-from app.solver import (
-    ACCURACY,
-    MAX_SOLVE_BUDGET_S,
-    Solution,
-    SolveRunner,
-    SolveTooSlow,
-    cut_short,
-    regime_map,
-    retry_budget,
-)
+from app.solve.pool import SolveTooSlow
+from app.solve.presets import ACCURACY, MAX_SOLVE_BUDGET_S, retry_budget
+from app.solve.process import Abandoned
+from app.solve.regime_map import regime_map
+from app.solve.runner import SolveRunner
+from app.solve.solution import Solution, cut_short
+from app.solve.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
 from app.state import (
     ACCURACIES,
     CONTACT_LAWS,
@@ -71,7 +67,6 @@ from app.state import (
     si_range,
     si_units,
 )
-from app.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
 from app.widgets import (
     Checkbox,
     RadioButtonGroup,

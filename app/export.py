@@ -5,7 +5,7 @@ units in the column names, and a file name that says which run it is.
 Examples
 --------
 >>> from app.state import scene_values
->>> from app.solver import solve
+>>> from app.solve.pool import solve
 >>> sol = solve(scene_values("5b"))
 >>> trajectory_csv(sol).getvalue().splitlines()[2]
 't [1/omega],x [length],xdot [length],mode,contact_force [phi/k: length],overlap [length]'
@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from app.plots import MODE_NAMES
-from app.solver import Solution
+from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
 

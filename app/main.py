@@ -26,7 +26,7 @@ from app.perf.defaults import cache_immutable_defaults  # noqa: E402
 from app.perf.resources import load_each_bundle_once  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.protocol_refusals import quiet_refusals  # noqa: E402
-from app.solve_process import warm_up  # noqa: E402
+from app.solve.process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
 ASSETS = "assets"

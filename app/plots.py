@@ -47,7 +47,8 @@ from bokeh.plotting import figure
 from app import sampling
 from app.glyphs import add_glyph
 from app.scenes import CUSTOM, PLOTS
-from app.solver import Solution, map_ranges
+from app.solve.regime_map import map_ranges
+from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, Scales
 from core import Mode, TransitionKind, phi_compression, phi_expansion
 
@@ -540,7 +541,7 @@ def force_quantity(sol: Solution) -> str:
     Runs of different quantities are not drawn on one axis.
 
     >>> from app.state import scene_values
-    >>> from app.solver import solve
+    >>> from app.solve.pool import solve
     >>> force_quantity(solve(scene_values("7c"))), force_quantity(solve(scene_values("10")))
     ('impulses', 'contact force')
     """

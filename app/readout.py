@@ -11,7 +11,9 @@ import math
 
 import numpy as np
 
-from app.solver import ACCURACY, Solution, integrates, reference_name
+from app.solve.measure import integrates, reference_name
+from app.solve.presets import ACCURACY
+from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, Scales
 from core import (
     HystereticStop,
@@ -57,7 +59,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     """The readout as ``(label, text)`` rows.
 
     >>> from app.state import scene_values
-    >>> from app.solver import solve
+    >>> from app.solve.pool import solve
     >>> rows = dict(readout_rows(solve(scene_values("5b"))))
     >>> rows["Belt"].startswith("slow")
     True
@@ -202,7 +204,7 @@ def restitution_first_last(sol: Solution) -> tuple[float, float] | None:
     its map), a rigid stop's from its impacts (Newton's r, Eq. 8).
 
     >>> from app.state import scene_values
-    >>> from app.solver import solve
+    >>> from app.solve.pool import solve
     >>> [round(r, 6) for r in restitution_first_last(solve(scene_values("7c")))]
     [0.3, 0.3]
     """

@@ -1,15 +1,15 @@
 """Validation of every accuracy figure the page can quote, on random scenes.
 
-The page quotes an error figure for a run only where :data:`app.solver.ACCURACY`'s
+The page quotes an error figure for a run only where :data:`app.solve.presets.ACCURACY`'s
 ``error`` holds one and this script validated it (no failure on >= :data:`MIN_SCENES`
 random scenes); otherwise a run that integrates has its error measured against the exact
-solution (:func:`app.solver.measure_run`) or says "not measured". The script also checks
+solution (:func:`app.solve.measure.measure_run`) or says "not measured". The script also checks
 the figures the page quoted before (:data:`FORMER`): the presets' table, the switch rule
 ``max(figure, 20 eta/v)`` and the readout's many-contacts and rest figures of a deformable
 stop. It draws random scenes over the sliders' ranges (app/state.py), solves them as the
-page does (its presets, options and samples: :func:`app.solver.preset_options`,
+page does (its presets, options and samples: :func:`app.solve.presets.preset_options`,
 :func:`app.sampling.samples_for`) and takes the page's own error
-(:func:`app.solver.reference_error`: the largest distance of the positions from the exact
+(:func:`app.solve.measure.reference_error`: the largest distance of the positions from the exact
 solution at the run's sample times, over its amplitude).
 
 Families (``--family``):
@@ -51,13 +51,8 @@ import numpy as np
 import scipy
 
 from app.sampling import samples_for
-from app.solver import (
-    ACCURACY,
-    MAX_SOLVE_BUDGET_S,
-    preset_options,
-    reference_error,
-    reference_options,
-)
+from app.solve.measure import reference_error, reference_options
+from app.solve.presets import ACCURACY, MAX_SOLVE_BUDGET_S, preset_options
 from app.state import ACCURACIES, core_inputs
 from core import HystereticStop, TransitionKind, method_options, simulate, theory
 
@@ -71,7 +66,7 @@ FAMILY_METHODS = {"rigid": ("event", "switch"), "none": ("event", "switch"),
 #: is measured over what it has, as the page does).
 RUN_BUDGET_S = 20.0
 #: Wall time [s] of one scene's solves: the page's largest budget
-#: (:data:`app.solver.MAX_SOLVE_BUDGET_S`, a retry's) for each.
+#: (:data:`app.solve.presets.MAX_SOLVE_BUDGET_S`, a retry's) for each.
 SCENE_TIMEOUT_S = 4 * MAX_SOLVE_BUDGET_S
 
 
@@ -241,7 +236,7 @@ def run(family: str, seeds: list[int], t_end: float, budget_s: float, part: str 
     pool.terminate()
 
 
-#: The figures the page quoted before this validation (app.solver.ACCURACY's ``error``, the
+#: The figures the page quoted before this validation (app.solve.presets.ACCURACY's ``error``, the
 #: readout's many-contacts and rest figures): candidates, checked as the page stated them.
 FORMER = {
     "draft": {"contact": 1e-3, "event": 1e-3, "switch": 3e-2},
@@ -401,7 +396,7 @@ def main() -> None:
             f"\n\n{RUN_COMMANDS}\n\nthen `{' '.join(sys.argv)}`; Python "
             f"{platform.python_version()}, NumPy {np.__version__}, SciPy {scipy.__version__}, "
             f"{platform.machine()}, {os.cpu_count()} cpus shared. Error: the page's "
-            "(app.solver.reference_error). A failure: a scene beyond the figure (plus a "
+            "(app.solve.measure.reference_error). A failure: a scene beyond the figure (plus a "
             "reduced model's stated bound where one took over).\n\n"
             f"{table(rows)}\n\nValidated (0 failures on >= {MIN_SCENES} scenes): "
             f"{validated(rows)}. 'former': a figure the page quoted before; the page now "

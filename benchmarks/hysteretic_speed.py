@@ -71,7 +71,7 @@ CLEARANCE = 0.42
 K_C0 = (1e2, 1e3, 1e4, 1e5, 1e6)
 BETA = (1.0, 10.0, 100.0, 1000.0)
 D = (1e-3, 1e-2, 1e-1, 1.0)
-#: The app's "standard" accuracy preset (app/solver.py) and its stated relative error.
+#: The app's "standard" accuracy preset (app/solve/presets.py) and its stated relative error.
 PRESET = {"rtol": 1e-8, "atol": 1e-11, "n_samples": 1600}
 STATED_ERROR = 1e-6
 REFERENCE = {"rtol": 1e-11, "atol": 1e-14}

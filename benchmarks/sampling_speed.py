@@ -23,7 +23,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from app import plots  # noqa: E402
-from app.solver import solve  # noqa: E402
+from app.solve.pool import solve  # noqa: E402
 from app.state import DIMENSIONLESS, scene_values  # noqa: E402
 
 SCENES = ("4b", "5a", "5b", "5d", "7c", "7d", "10")

@@ -1,8 +1,8 @@
 """Wall time of scene 10's full solve in a worker process against the same solve in the
-calling thread, as the page's integrating lane runs it (``app.solver._solve_cached``).
+calling thread, as the page's integrating lane runs it (``app.solve.solution.compute``).
 
 Each round solves a new clearance twice (a value no cache holds): once in a child process
-(``app.solve_process``), once in this thread. The difference is what the process costs a
+(``app.solve.process``), once in this thread. The difference is what the process costs a
 release: starting and ending it, sending the answer back, and a solve in a process whose
 memory is not yet its own.
 
@@ -15,18 +15,20 @@ import statistics
 import sys
 import time
 
-from app import solve_process, solver
+from app.solve import process as solve_process
+from app.solve.cache import SolveCache
+from app.solve.presets import SOLVE_BUDGET_S
+from app.solve.process import Caller
+from app.solve.solution import compute, solve_key
 from app.state import scene_values
+from core import simulate
 
 
 def _solve(values: dict, isolated: bool) -> float:
-    solver._WORKER.isolated = isolated
-    try:
-        start = time.perf_counter()
-        solver._solve_cached(solver._key(values), False, None)
-        return time.perf_counter() - start
-    finally:
-        solver._WORKER.isolated = False
+    start = time.perf_counter()
+    compute(solve_key(values), False, budget=SOLVE_BUDGET_S,
+            simulate=Caller(simulate, isolated=isolated), kept=SolveCache().reference)
+    return time.perf_counter() - start
 
 
 def main(rounds: int = 15) -> None:

@@ -39,6 +39,9 @@ from core.simulate import method_options as method_options
 from core.simulate import simulate as simulate
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
+from core.stop_response import OverlapProgram as OverlapProgram
+from core.stop_response import equivalent_rigid as equivalent_rigid
+from core.stop_response import overlap_program as overlap_program
 from core.switch_model import ETA_MAX_REL as ETA_MAX_REL
 from core.switch_model import eta_bounds as eta_bounds
 from core.validation import check_range as check_range
@@ -55,6 +58,7 @@ __all__ = [
     "HystereticStop",
     "Mode",
     "Oscillator",
+    "OverlapProgram",
     "Result",
     "RigidStop",
     "Status",
@@ -66,8 +70,10 @@ __all__ = [
     "check_start",
     "contact_force",
     "effective_restitutions",
+    "equivalent_rigid",
     "eta_bounds",
     "method_options",
+    "overlap_program",
     "phi_compression",
     "phi_expansion",
     "pressed_on_stop",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from app.solver import ACCURACY
+from app.solve.presets import ACCURACY
 from app.state import ACCURACIES
 
 RESULTS = Path(__file__).resolve().parents[2] / "benchmarks" / "results"

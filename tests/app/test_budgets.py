@@ -2,9 +2,9 @@
 a budget, one at a time per page; a sweep states its budget before it starts, stops at it
 with what it has, and a sweep estimated past it is refused; both stop when the page closes.
 
-The probes below stand in for ``core.simulate``; a solver process gets them by reference
-(module-level functions of this module) and records its process id in a file named by the
-run's horizon (a child has the fork server's environment, not the test's).
+The probes below stand in for ``core.simulate`` (or ``core.sweep.sweep``); a solver process
+gets them by reference (module-level functions and classes of this module), and the slow
+ones record their process id in the file they carry (a test's own).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ import importlib
 import os
 import pathlib
 import time
+from dataclasses import dataclass
 from types import SimpleNamespace
 
 import numpy as np
@@ -21,8 +22,10 @@ import pytest
 from bokeh.document import Document
 from panel.io.state import set_curdoc
 
-from app import solve_process, sweep_budget, trade
+from app import sweep_budget
 from app.bifurcation import ChunkedSweep, SweepSpec, check_spec, default_range
+from app.solve import process as solve_process
+from app.solve import trade
 from app.state import scene_values
 from core import simulate as core_simulate
 from tests.app.processes import alive
@@ -35,17 +38,18 @@ SLEEP_S = 20.0
 WAIT_S = 30.0
 
 
-def _pid_file(t_end: float) -> pathlib.Path:
-    return pathlib.Path(f"/tmp/fie-test-trade-{t_end!r}")
+@dataclass(frozen=True)
+class _SlowExact:
+    """The exact method (the reference) records its process in ``path``, then sleeps;
+    others are the core's."""
 
+    path: str
 
-def _slow_exact(osc, stop, t_end, *args, method, **kwargs):
-    """The exact method (the reference) records its process, then sleeps; others are the
-    core's."""
-    if method == "exact":
-        _pid_file(t_end).write_text(str(os.getpid()))
-        time.sleep(SLEEP_S)
-    return core_simulate(osc, stop, t_end, *args, method=method, **kwargs)
+    def __call__(self, osc, stop, t_end, *args, method, **kwargs):
+        if method == "exact":
+            pathlib.Path(self.path).write_text(str(os.getpid()))
+            time.sleep(SLEEP_S)
+        return core_simulate(osc, stop, t_end, *args, method=method, **kwargs)
 
 
 def _slow_numerical(osc, stop, t_end, *args, method, **kwargs):
@@ -75,8 +79,8 @@ def _warm() -> None:
     solve_process.call(_pid)
 
 
-def _values(t_end: float) -> dict:
-    """Scene 5b (a rigid stop: the closed form is the reference) to a horizon of its own."""
+def _values(t_end: float = 60.0) -> dict:
+    """Scene 5b (a rigid stop: the closed form is the reference)."""
     return {**scene_values("5b"), "t_end": t_end}
 
 
@@ -87,20 +91,16 @@ def _wait_for(condition, what: str) -> None:
         time.sleep(0.01)
 
 
-def _started(t_end: float) -> int:
-    """The process id the probe recorded for ``t_end``, once it has."""
-    path = _pid_file(t_end)
+def _started(path: pathlib.Path) -> int:
+    """The process id a probe recorded in ``path``, once it has."""
     _wait_for(lambda: path.exists() and path.read_text(), "the probe never started")
     return int(path.read_text())
 
 
 @pytest.fixture
-def probe_file():
-    """A horizon whose probe file is removed before and after the test."""
-    t_end = 61.0 + os.getpid() % 9973 / 1e5
-    _pid_file(t_end).unlink(missing_ok=True)
-    yield t_end
-    _pid_file(t_end).unlink(missing_ok=True)
+def probe_file(tmp_path) -> pathlib.Path:
+    """The file a slow probe records its process in."""
+    return tmp_path / "probe-pid"
 
 
 def test_a_measurement_solves_in_a_solver_process_not_the_server_s(monkeypatch):
@@ -110,7 +110,7 @@ def test_a_measurement_solves_in_a_solver_process_not_the_server_s(monkeypatch):
     solve_process.warm_up(wait=True)
     monkeypatch.setattr(trade, "simulate", _raise_pid)
     with pytest.raises(_InChild) as info:
-        trade.measure(_values(61.7))
+        trade.measure(_values())
     assert info.value.args[0] != os.getpid()
 
 
@@ -120,10 +120,9 @@ def test_a_reference_past_its_share_of_the_budget_stops_and_says_why(monkeypatch
     ran as long as it took. It is stopped at half the measurement's budget, its process
     too."""
     solve_process.warm_up(wait=True)
-    monkeypatch.setattr(trade, "simulate", _slow_exact)
-    monkeypatch.setattr(trade, "MEASURE_BUDGET_S", 1.0, raising=False)
+    monkeypatch.setattr(trade, "simulate", _SlowExact(str(probe_file)))
     with pytest.raises(Exception, match=r"did not finish within 0\.5 s") as info:
-        trade.measure(_values(probe_file))
+        trade.measure(_values(), total_s=1.0)
     assert type(info.value).__name__ == "ReferenceTooSlow"
     pid = _started(probe_file)
     _wait_for(lambda: not alive(pid), "the stopped reference's process still runs")
@@ -135,9 +134,7 @@ def test_solves_past_the_measurement_s_budget_are_not_made_and_their_rows_say_so
     presets) and none is started past the whole measurement's: the rows say which."""
     _warm()
     monkeypatch.setattr(trade, "simulate", _slow_numerical)
-    monkeypatch.setattr(trade, "MEASURE_BUDGET_S", 1.0, raising=False)
-    monkeypatch.setattr(trade, "SOLVE_BUDGET_S", 0.5)
-    rows = trade.measure(_values(61.8), methods=("event", "switch"))
+    rows = trade.measure(_values(), methods=("event", "switch"), budget_s=0.5, total_s=1.0)
     notes = [(r.method, r.accuracy, r.note) for r in rows]
     assert notes[0] == ("event", "draft", "over 0.5 s: finer presets not tried"), notes
     # The event method's draft solve was stopped at 0.5 s plus its grace: the measurement's
@@ -156,20 +153,18 @@ def test_a_second_measurement_of_a_page_is_refused_while_one_runs(monkeypatch, p
     from app.explorer import Explorer
 
     solve_process.warm_up(wait=True)
-    monkeypatch.setattr(trade, "simulate", _slow_exact)
+    monkeypatch.setattr(trade, "simulate", _SlowExact(str(probe_file)))
     ex = Explorer()
     label = ex.measure.label
-    ex.state.t_end = probe_file
-    assert ex.solution.values["t_end"] == probe_file
-    ex._measure()
+    ex.measure.clicks += 1
     pid = _started(probe_file)
     assert ex.measure.disabled and "at most 30 s" in ex.measure.label
-    ex._measure()
+    ex.measure.clicks += 1  # a page can send a click to a disabled button
     assert ex.alert.visible
     assert "Not measured:</b> a measurement is already running for this page" in \
         ex.alert.object
-    assert _pid_file(probe_file).read_text() == str(pid)  # no second solve started
-    ex._trade.cancel()
+    assert probe_file.read_text() == str(pid)  # no second solve started
+    ex.close()  # the page closed: its measurement is cancelled
     _wait_for(lambda: not ex.measure.disabled, "the button stayed disabled")
     assert ex.measure.label == label
     assert not ex.alert.visible  # "already running" no longer holds
@@ -186,22 +181,22 @@ def test_with_the_solver_processes_off_a_cancelled_measurement_makes_no_further_
     stop = threading.Event()
     stop.set()
     with pytest.raises(solve_process.Abandoned):
-        trade.measure(_values(61.9), stop=stop)
+        trade.measure(_values(), stop=stop)
 
 
 def test_the_server_refuses_measurements_past_its_queue(monkeypatch, probe_file):
     """One measuring thread per server: past :data:`app.trade.MEASURE_QUEUE` waiting, the
     next page's measurement is refused at once instead of queueing."""
     solve_process.warm_up(wait=True)
-    monkeypatch.setattr(trade, "simulate", _slow_exact)
+    monkeypatch.setattr(trade, "simulate", _SlowExact(str(probe_file)))
     runners = [trade.TradeRunner(lambda v, r: None, lambda e: None)
                for _ in range(trade.MEASURE_QUEUE + 2)]
     try:
         for runner in runners[:-1]:
-            runner.start(_values(probe_file))
+            runner.start(_values())
         pid = _started(probe_file)  # the first runs, the others wait
         with pytest.raises(trade.MeasureRefused, match="measuring the trade for other pages"):
-            runners[-1].start(_values(probe_file))
+            runners[-1].start(_values())
     finally:
         for runner in runners:
             runner.cancel()
@@ -213,29 +208,34 @@ def test_a_closed_page_stops_its_measurement_and_frees_its_solver_process(monkey
     """Defect: a measurement went on after its page closed. The server's end of the
     session (its destroyed callbacks) stops it, and its solver process."""
     solve_process.warm_up(wait=True)
-    monkeypatch.setattr(trade, "simulate", _slow_exact)
+    monkeypatch.setattr(trade, "simulate", _SlowExact(str(probe_file)))
     main = importlib.import_module("app.main")
     doc = Document()
     with set_curdoc(doc):
         template = main.create_app()
     ex = template.explorer
-    ex.state.t_end = probe_file
-    ex._measure()
+    ex.measure.clicks += 1
     pid = _started(probe_file)
-    assert ex._trade.running
+    assert ex.measure.disabled  # while it runs
     for callback in list(doc.session_destroyed_callbacks):
         callback(SimpleNamespace(destroyed=True))
     _wait_for(lambda: not alive(pid), "the closed page's measurement still runs")
-    _wait_for(lambda: not ex._trade.running, "the measurement did not end")
+    _wait_for(lambda: not ex.measure.disabled, "the measurement did not end")
 
 
 # --- sweeps ----------------------------------------------------------------------------------
 
-def _sleepy_sweep(osc, stop, parameter, values, *, t_end, **options):
-    """Stands in for ``core.sweep.sweep`` in a solver process: records it, then sleeps."""
-    _pid_file(t_end).write_text(str(os.getpid()))
-    time.sleep(SLEEP_S)
-    raise AssertionError("the sweep was not stopped")
+@dataclass(frozen=True)
+class _SleepySweep:
+    """Stands in for ``core.sweep.sweep`` in a solver process: records its process in
+    ``path``, then sleeps."""
+
+    path: str
+
+    def __call__(self, osc, stop, parameter, values, **options):
+        pathlib.Path(self.path).write_text(str(os.getpid()))
+        time.sleep(SLEEP_S)
+        raise AssertionError("the sweep was not stopped")
 
 
 class _Session:
@@ -253,7 +253,7 @@ def _opened(scene: str = "5a"):
     from app.state import ExplorerState
 
     ex = Explorer(ExplorerState(scene=scene, **scene_values(scene)))
-    ex._open_sweeps()
+    ex.open_sweeps.clicks += 1
     return ex
 
 
@@ -280,17 +280,14 @@ def test_a_sweep_estimated_past_its_budget_is_refused_with_the_points_that_fit()
 def test_a_sweep_s_card_states_its_budget_before_it_starts(monkeypatch):
     ex = _opened()
     view = ex.sweeps
-    said = []
-    shown = view._set_status
-    monkeypatch.setattr(view, "_set_status", lambda text, **kw: (said.append(text),
-                                                                 shown(text, **kw)))
-    monkeypatch.setattr(view.job, "start", lambda *a, **k: said.append("started"))
+    said = []  # the card's status when the sweep starts
+    monkeypatch.setattr(view.job, "start", lambda *a, **k: said.append(view.status.object))
     view.points.value = 2000
     view.start()
     estimate = sweep_budget.estimate_s(2000, closed=True, t_end=200.0)
-    assert said == [f"Sweeping 2000 values of belt speed v (about {estimate:.2g} s; at "
-                    f"most {sweep_budget.SWEEP_BUDGET_S:g} s: stops with what it has)…",
-                    "started"]
+    assert len(said) == 1
+    assert (f">Sweeping 2000 values of belt speed v (about {estimate:.2g} s; at most "
+            f"{sweep_budget.SWEEP_BUDGET_S:g} s: stops with what it has)…<") in said[0]
 
 
 def test_a_sweep_stopped_at_its_budget_keeps_what_it_has_and_says_so(monkeypatch):
@@ -310,7 +307,7 @@ def test_a_sweep_stopped_at_its_budget_keeps_what_it_has_and_says_so(monkeypatch
 
 
 def _sleep_in_a_solver_process(task, chunk, cancelled):
-    return solve_process.call(_sleepy_sweep, None, None, "belt_speed", chunk, t_end=task,
+    return solve_process.call(_SleepySweep(task), None, None, "belt_speed", chunk,
                               cancelled=cancelled)
 
 
@@ -321,7 +318,7 @@ def test_a_chunk_running_past_the_sweep_s_budget_is_stopped(probe_file):
     cut, failed = [], []
     job = ChunkedSweep(_sleep_in_a_solver_process, lambda *a: pytest.fail("no chunk ends"),
                        failed.append, lambda done, total: cut.append((done, total)))
-    job.start(probe_file, np.arange(10.0), 10, scene_values("10"), target_s=0.2,
+    job.start(str(probe_file), np.arange(10.0), 10, scene_values("10"), target_s=0.2,
               budget_s=0.3)
     assert cut == [(0, 10)] and failed == [] and not job.running
     pid = _started(probe_file)
@@ -341,11 +338,11 @@ def test_a_closed_page_stops_its_sweep_and_frees_its_solver_process(monkeypatch,
     with set_curdoc(doc):
         template = main.create_app()
     ex = template.explorer
-    ex._open_sweeps()  # scene 5a, closed form: swept at once
+    ex.open_sweeps.clicks += 1  # scene 5a, closed form: swept at once
     session = _Session()
     monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: session))
-    monkeypatch.setattr(bifurcation.sweeps, "sweep", _sleepy_sweep)
-    values = {**scene_values("10"), "t_end": probe_file}
+    monkeypatch.setattr(bifurcation.sweeps, "sweep", _SleepySweep(str(probe_file)))
+    values = {**scene_values("10"), "t_end": 60.0}
     spec = SweepSpec(values, "belt_speed", 0.01, 0.1, 10, "impact_speed")
     ex.sweeps.job.start(spec, spec.grid(), 1, values, 2.0, 60.0)
     pid = _started(probe_file)

@@ -20,7 +20,7 @@ from app.compare import (
     pin_label,
     summary,
 )
-from app.solver import solve
+from app.solve.pool import solve
 from app.state import scene_values
 
 

@@ -13,12 +13,15 @@ import param
 import pytest
 from bokeh.events import Tap
 
-import app.solver as solver_module
 from app.explorer import SHOWN_LATER, Explorer
 from app.perf import applies
 from app.readout import DIGITS
 from app.scenes import CUSTOM, PLOTS, SCENES
-from app.solver import ACCURACY, MAP_CELLS
+from app.solve import pool
+from app.solve.pool import Solver
+from app.solve.presets import ACCURACY
+from app.solve.regime_map import MAP_CELLS
+from app.solve.solution import compute
 from app.state import ExplorerState, scene_values, si_bound_error, si_units
 
 
@@ -79,10 +82,10 @@ def test_invalid_input_shows_a_message_and_keeps_the_last_result(ex):
 def test_a_crashing_solver_does_not_take_the_session_down(ex, monkeypatch):
     before = ex.solution
 
-    def boom(key, preview=False, budget=None):
+    def boom(*args, **kwargs):
         raise RuntimeError("numerical trouble")
 
-    monkeypatch.setattr(solver_module, "_solve_cached", boom)  # in the worker thread
+    monkeypatch.setattr(pool, "SOLVER", Solver(compute=boom))  # in the worker thread
     _release(ex, "belt_speed", 0.12)
     assert ex.alert.visible and "numerical trouble" in ex.alert.object
     assert ex.solution is before
@@ -403,9 +406,9 @@ def test_overlap_program_scene(ex):
     assert "Fig. 2b" in ex.readout.object
 
 
-@pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solver", "app.plots",
+@pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solve.pool", "app.plots",
                                     "app.readout", "app.export", "app.explorer",
-                                    "app.widgets", "app.trade", "app.compare",
+                                    "app.widgets", "app.solve.trade", "app.compare",
                                     "app.bifurcation", "app.glyphs", "app.sampling"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
@@ -415,17 +418,13 @@ def test_docstring_examples(module):
 def test_a_too_slow_numerical_solve_keeps_the_picture_and_says_so(ex, monkeypatch):
     import threading
 
-    import app.solver as solver_module
-
     release = threading.Event()
-    real = solver_module._solve_cached
 
-    def slow(key, preview, budget=None):
+    def slow(*args, **kwargs):
         release.wait(5.0)  # a Zeno scene with the event method takes minutes
-        return real(key, preview, budget)
+        return compute(*args, **kwargs)
 
-    monkeypatch.setattr(solver_module, "_solve_cached", slow)
-    monkeypatch.setattr(solver_module, "SOLVE_BUDGET_S", 0.2)
+    monkeypatch.setattr(pool, "SOLVER", Solver(compute=slow, budget_s=0.2))
     before = ex.solution
     try:
         ex.method.value = "event"
@@ -610,7 +609,7 @@ def test_regime_map_of_a_hysteretic_scene(ex):
 def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
     """A change of friction needs a new map: the trajectory is drawn first and the
     map in a later callback of the session's loop; a map already computed comes at once."""
-    from app.solver import regime_map
+    from app.solve.regime_map import regime_map
 
     deferred = []
     ex._later = lambda fn, delay_ms: deferred.append(fn)
@@ -726,8 +725,8 @@ def test_trade_table_measures_every_method_and_marks_a_changed_verdict(monkeypat
     rtol). Every method at every preset labels the train as the reference does: the switch
     model at draft called it periodic while its contacts still lost 4 % each (the row said
     "verdict differs"). A verdict that differs is marked in the row and the table."""
-    from app import trade
-    from app.trade import measure, trade_html
+    from app.solve import trade
+    from app.solve.trade import measure, trade_html
 
     rows = {(r.method, r.accuracy): r for r in measure(scene_values("10"))}
     assert len(rows) == 9

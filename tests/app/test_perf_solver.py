@@ -1,71 +1,88 @@
 """No solve on the event loop: every method runs in the worker pool, within its budget, and
-a session's newer request replaces its older one."""
+a session's newer request replaces its older one.
+
+Each test solves with a :class:`~app.solve.pool.Solver` of its own (its own cache, and a
+probe in place of the core or of one solve where it needs one): no other test's answer is
+found in its cache."""
 
 from __future__ import annotations
 
 import asyncio
-import itertools
 import os
-import pathlib
 import signal
 import threading
 import time
+from dataclasses import dataclass
 from types import SimpleNamespace
 
 import panel as pn
 import pytest
 
-import app.solver as solver_module
-from app import solve_process
 from app.readout import readout_rows
-from app.solver import SolveRunner, SolveTooSlow, solve
+from app.solve import process as solve_process
+from app.solve import runner as runner_module
+from app.solve.cache import SolveCache
+from app.solve.pool import Solver, SolveTooSlow
+from app.solve.presets import retry_budget
+from app.solve.process import Caller
+from app.solve.runner import SolveRunner
+from app.solve.solution import compute, cut_short, solve_key
 from app.state import scene_values
+from core import Status
 from core import simulate as core_simulate
 from tests.app.processes import alive
 
 
-def _unique(values: dict, **changes) -> dict:
-    """``values`` with ``changes`` and by default a horizon no other test solves (the cache
-    would answer)."""
-    return {**values, "t_end": 60.0 + threading.get_ident() % 997 / 1e4 + 1e-6, **changes}
+@pytest.fixture
+def make_solver():
+    """Solvers of the test's own, their worker threads let go at its end."""
+    made: list[Solver] = []
+
+    def make(**kwargs) -> Solver:
+        made.append(Solver(cache=SolveCache(), **kwargs))
+        return made[-1]
+
+    yield make
+    for solver in made:
+        solver.shutdown()
 
 
-def _thread_of_solve(monkeypatch, values) -> str:
+def _values(scene: str, **changes) -> dict:
+    return {**dict(scene_values(scene)), **changes}
+
+
+def _thread_of_solve(make_solver, values) -> str:
     seen = []
-    real = solver_module._solve_cached
 
-    def spy(key, preview, budget=None):
+    def spy(*args, **kwargs):
         seen.append(threading.current_thread().name)
-        return real(key, preview, budget)
+        return compute(*args, **kwargs)
 
-    monkeypatch.setattr(solver_module, "_solve_cached", spy)
-    solve(values)
+    make_solver(compute=spy).solve(values)
     return seen[0]
 
 
 @pytest.mark.parametrize(("scene", "lane"), [("10", "fie-integrating"),
                                              ("5b", "fie-closed-form")])
-def test_every_method_solves_in_a_worker_thread(monkeypatch, scene, lane):
+def test_every_method_solves_in_a_worker_thread(make_solver, scene, lane):
     """Regression: the exact method with a deformable stop (scene 10) ran on the caller's
     thread, i.e. on the server's event loop."""
-    values = _unique(dict(scene_values(scene)), method="exact")
-    assert _thread_of_solve(monkeypatch, values).startswith(lane)
+    values = _values(scene, method="exact")
+    assert _thread_of_solve(make_solver, values).startswith(lane)
 
 
-def test_the_exact_deformable_stop_solve_has_a_budget(monkeypatch):
+def test_the_exact_deformable_stop_solve_has_a_budget(make_solver):
     """Regression: ``exact`` with a hysteretic stop bypassed the budget."""
     release = threading.Event()
-    real = solver_module._solve_cached
 
-    def slow(key, preview, budget=None):
+    def slow(*args, **kwargs):
         release.wait(5.0)
-        return real(key, preview, budget)
+        return compute(*args, **kwargs)
 
-    monkeypatch.setattr(solver_module, "_solve_cached", slow)
-    values = _unique(dict(scene_values("10")), method="exact", t_end=61.234)
+    solver = make_solver(compute=slow)
     try:
         with pytest.raises(SolveTooSlow, match="within 0.05 s"):
-            solve(values, budget=0.05)
+            solver.solve(_values("10", method="exact"), budget=0.05)
     finally:
         release.set()
 
@@ -110,28 +127,25 @@ def session(monkeypatch) -> _Session:
     return doc
 
 
-def _gated(monkeypatch) -> dict[float, threading.Event]:
-    """Make each solve wait for the test to open its gate (keyed by ``t_end``)."""
+def _gated(make_solver) -> tuple[Solver, dict[float, threading.Event]]:
+    """A solver whose solves wait for the test to open their gate (keyed by ``t_end``)."""
     gates: dict[float, threading.Event] = {}
-    real = solver_module._solve_cached
 
-    def gated(key, preview, budget=None):
+    def gated(key, *args, **kwargs):
         gates.setdefault(dict(key)["t_end"], threading.Event()).wait(5.0)
-        return real(key, preview, budget)
+        return compute(key, *args, **kwargs)
 
-    monkeypatch.setattr(solver_module, "_solve_cached", gated)
-    return gates
+    return make_solver(compute=gated), gates
 
 
-def test_a_newer_request_drops_the_older_answer_and_marks_busy(monkeypatch, session):
-    gates = _gated(monkeypatch)
+def test_a_newer_request_drops_the_older_answer_and_marks_busy(make_solver, session):
+    solver, gates = _gated(make_solver)
     solved, failed, busy = [], [], []
-    runner = SolveRunner(failed.append, busy.append)
-    base = dict(scene_values("10"))
-    first, second = (_unique(base, t_end=t) for t in (61.111, 62.222))
+    runner = SolveRunner(failed.append, busy.append, solver=solver)
+    first, second = (_values("10", t_end=t) for t in (61.111, 62.222))
     runner.request(first, solved.append)
     assert solved == [] and runner.pending  # the request returned before the answer
-    session.run_timeouts(solver_module.BUSY_DELAY_S * 1000)
+    session.run_timeouts(runner_module.BUSY_DELAY_S * 1000)
     assert busy == [True]  # still running at the busy delay: the plots say so
     runner.request(second, solved.append)
     assert busy == [True, False]  # replaced: the old request's mark goes
@@ -146,12 +160,12 @@ def test_a_newer_request_drops_the_older_answer_and_marks_busy(monkeypatch, sess
     assert failed == [] and not runner.pending
 
 
-def test_a_solve_past_its_budget_says_so_and_its_late_answer_is_dropped(monkeypatch,
+def test_a_solve_past_its_budget_says_so_and_its_late_answer_is_dropped(make_solver,
                                                                         session):
-    gates = _gated(monkeypatch)
+    solver, gates = _gated(make_solver)
     solved, failed = [], []
-    runner = SolveRunner(failed.append)
-    values = _unique(dict(scene_values("10")), t_end=63.333)
+    runner = SolveRunner(failed.append, solver=solver)
+    values = _values("10", t_end=63.333)
     runner.request(values, solved.append)
     session.run_timeouts(1e9)  # the budget's timer fires before the answer
     assert len(failed) == 1 and isinstance(failed[0], SolveTooSlow)
@@ -164,16 +178,16 @@ def test_a_solve_past_its_budget_says_so_and_its_late_answer_is_dropped(monkeypa
     assert solved == []
 
 
-def test_the_answer_is_handed_to_the_session_on_its_event_loop(monkeypatch, session):
+def test_the_answer_is_handed_to_the_session_on_its_event_loop(make_solver, session):
     """Regression: the worker thread added the answer's callback to the document itself.
     Bokeh can lose a callback added so while the loop releases a hold of the document
     (``benchmarks/next_tick_race.py``): a permalink's pinned run then never appeared."""
-    gates = _gated(monkeypatch)
+    solver, gates = _gated(make_solver)
     solved, failed = [], []
-    values = _unique(dict(scene_values("10")), t_end=64.444)
+    values = _values("10", t_end=64.444)
 
     async def page() -> str:
-        SolveRunner(failed.append).request(values, solved.append)
+        SolveRunner(failed.append, solver=solver).request(values, solved.append)
         gates.setdefault(64.444, threading.Event()).set()
         for _ in range(500):
             if session.next_tick:
@@ -187,39 +201,59 @@ def test_the_answer_is_handed_to_the_session_on_its_event_loop(monkeypatch, sess
     assert [s.values["t_end"] for s in solved] == [64.444] and failed == []
 
 
-def test_without_a_session_a_request_is_answered_before_it_returns():
+def test_without_a_session_a_request_is_answered_before_it_returns(make_solver):
     solved = []
-    SolveRunner(pytest.fail).request(dict(scene_values("5b")), solved.append)
+    SolveRunner(pytest.fail, solver=make_solver()).request(_values("5b"), solved.append)
     assert len(solved) == 1 and solved[0].result is not None
 
 
-def test_a_retry_gets_more_time_and_no_answer_cut_short(monkeypatch):
+def test_a_runner_solves_with_the_server_s_solver_unless_given_one(make_solver,
+                                                                   monkeypatch):
+    """The page's runners take the server's solver as it is when they ask (a test may put
+    one of its own there); a runner given one keeps it."""
+    from app.solve import pool
+
+    own, server = make_solver(), make_solver()
+    monkeypatch.setattr(pool, "SOLVER", server)
+    assert SolveRunner(pytest.fail).solver is server
+    assert SolveRunner(pytest.fail, solver=own).solver is own
+
+
+def test_a_retry_gets_more_time_and_no_answer_cut_short(make_solver):
     """A solve the core stopped at its budget is not cached; a retry with a larger budget
     solves again with that budget (and a step limit in proportion), and its full answer
     then serves the default budget too."""
-    from app.solver import cut_short, retry_budget, submit
-    from core import Status
-
     seen = []
-    real = solver_module._solve
 
-    def recording(key, preview, budget=None):
+    def recording(*args, budget, **kwargs):
         seen.append(budget)
-        return real(key, preview, budget)
+        return compute(*args, budget=budget, **kwargs)
 
-    monkeypatch.setattr(solver_module, "_solve", recording)
+    solver = make_solver(compute=recording)
     # The switch model over a few hundred periods: ~0.15 s unloaded, far more than 1 ms.
-    values = _unique(dict(scene_values("10")), method="switch", t_end=300.0 + 1.234e-4)
-    short = submit(values, budget=1e-3).result(timeout=60)
+    values = _values("10", method="switch", t_end=300.0)
+    short = solver.submit(values, budget=1e-3).result(timeout=60)
     assert cut_short(short) and short.result.status is Status.TIME_BUDGET
     assert short.result.t[-1] < values["t_end"] and short.budget == 1e-3
     more = retry_budget(6.0)  # 60 s, the largest a retry gets
-    full = submit(values, budget=more).result(timeout=120)
+    full = solver.submit(values, budget=more).result(timeout=120)
     assert full.result.status is Status.SUCCESS and full.budget == more
     assert seen == [1e-3, more]
     # Now cached: the default budget is answered at once with the full solution.
-    again = submit(values)
+    again = solver.submit(values)
     assert again.done() and again.result() is full and seen == [1e-3, more]
+
+
+def test_a_solver_keeps_its_answers_in_its_own_cache(make_solver):
+    """Two solvers share no answer: a test's solver finds nothing another has solved (the
+    tests had to give each solve a horizon of its own, salted with the process id)."""
+    values = _values("5b")
+    first, second = make_solver(), make_solver()
+    sol = first.solve(values)
+    assert first.submit(values).result() is sol  # cached
+    assert first.cache.get(solve_key(values), False) is sol
+    assert second.cache.get(solve_key(values), False) is None
+    assert second.solve(values) is not sol
 
 
 # --- solves in child processes (app/solve_process.py) ---------------------------------------
@@ -233,17 +267,18 @@ def _raise_pid(*args, **kwargs):
     raise _InChild(os.getpid())
 
 
-def _spin_file(t_end: float) -> str:
-    # Named by the horizon: a child has the fork server's environment, not the test's.
-    return f"/tmp/fie-test-spin-{t_end!r}"
+@dataclass(frozen=True)
+class _SpinForever:
+    """Stands in for a solve that never ends: records its process id in ``path``, then
+    computes (pickled by reference to this class, with its path)."""
 
+    path: str
 
-def _spin_forever(osc, stop, t_end, *args, **kwargs):
-    """Stands in for a solve that never ends: records its process id, then computes."""
-    with open(_spin_file(t_end), "w") as f:
-        f.write(str(os.getpid()))
-    while True:
-        pass
+    def __call__(self, *args, **kwargs):
+        with open(self.path, "w") as f:
+            f.write(str(os.getpid()))
+        while True:
+            pass
 
 
 def _slow_reference(*args, **kwargs):
@@ -254,19 +289,18 @@ def _slow_reference(*args, **kwargs):
     return core_simulate(*args, **kwargs)
 
 
-def test_a_run_s_measurement_keeps_to_the_run_s_budget(monkeypatch):
+def test_a_run_s_measurement_keeps_to_the_run_s_budget():
     """Defect: a numerical run's error was measured after it by an exact solve the core
     does not budget (0.6 s for scene 10's stop to t_end = 5000), so a run that finished
     within its budget answered late and the page called it too slow (a retry then got
     the cached answer at once). The measurement is now stopped at the run's deadline, and
     the readout says it was not made."""
     solve_process.warm_up(wait=True)
-    monkeypatch.setattr(solver_module, "simulate", _slow_reference)
-    monkeypatch.setattr(solver_module._WORKER, "isolated", True)  # as in the worker pool
-    values = _unique(dict(scene_values("10")), method="switch")
-    budget = 1.0
+    values = _values("10", method="switch")
     start = time.perf_counter()
-    sol = solver_module._solve(solver_module._key(values), False, budget)
+    # As in the integrating pool: the core called in a child process.
+    sol = compute(solve_key(values), False, budget=1.0,
+                  simulate=Caller(_slow_reference, isolated=True))
     took = time.perf_counter() - start
     # The reference would take 30 s: an answer well before that means the measurement was
     # stopped at the run's deadline (the code before waited for it: 31 s). No tighter bound:
@@ -277,52 +311,44 @@ def test_a_run_s_measurement_keeps_to_the_run_s_budget(monkeypatch):
     assert "not measured for this run" in dict(readout_rows(sol))["Solve"]
 
 
-_HORIZONS = itertools.count()
-
-
-def _where_solved(monkeypatch, scene: str, *, preview: bool = False) -> int:
-    monkeypatch.setattr(solver_module, "simulate", _raise_pid)
-    # A horizon of its own: a cached answer would not be solved anywhere.
-    values = _unique(dict(scene_values(scene)), method="exact",
-                     t_end=70.0 + next(_HORIZONS) / 1e3)
+def _where_solved(make_solver, scene: str, *, preview: bool = False) -> int:
+    solver = make_solver(simulate=_raise_pid)
     with pytest.raises(_InChild) as info:
-        solve(values, preview=preview, budget=30.0)
+        solver.solve(_values(scene, method="exact"), preview=preview, budget=30.0)
     return info.value.args[0]
 
 
-def test_a_full_integrating_solve_runs_in_a_child_process(monkeypatch):
+def test_a_full_integrating_solve_runs_in_a_child_process(make_solver):
     # It holds its own interpreter lock, not the server's: a long deformable-stop solve no
     # longer slows every other session's replies.
     solve_process.warm_up(wait=True)
     assert solve_process.running()
-    assert _where_solved(monkeypatch, "10") != os.getpid()
+    assert _where_solved(make_solver, "10") != os.getpid()
     # Closed-form solves (milliseconds) and previews (stopped by the core at a quarter of a
     # second) stay in the server's threads: a child would add ~30 ms to each.
-    assert _where_solved(monkeypatch, "5b") == os.getpid()
-    assert _where_solved(monkeypatch, "10", preview=True) == os.getpid()
+    assert _where_solved(make_solver, "5b") == os.getpid()
+    assert _where_solved(make_solver, "10", preview=True) == os.getpid()
 
 
-def test_child_processes_can_be_turned_off(monkeypatch):
+def test_child_processes_can_be_turned_off(make_solver, monkeypatch):
     solve_process.warm_up(wait=True)
     monkeypatch.setenv(solve_process.SWITCH, "off")
     assert not solve_process.running()
-    assert _where_solved(monkeypatch, "10") == os.getpid()
+    assert _where_solved(make_solver, "10") == os.getpid()
 
 
-def test_a_solve_nobody_waits_for_is_stopped(monkeypatch, session):
-    _abandon_a_spinning_solve(monkeypatch, session)
+def test_a_solve_nobody_waits_for_is_stopped(make_solver, session, tmp_path):
+    _abandon_a_spinning_solve(make_solver, tmp_path)
 
 
-def _abandon_a_spinning_solve(monkeypatch, session) -> None:
+def _abandon_a_spinning_solve(make_solver, tmp_path) -> None:
     """Request a solve that never ends, cancel it, check its process is stopped."""
     solve_process.warm_up(wait=True)
-    t_end = 64.0 + os.getpid() % 9973 / 1e5
-    pid_file = pathlib.Path(_spin_file(t_end))
-    pid_file.unlink(missing_ok=True)
-    monkeypatch.setattr(solver_module, "simulate", _spin_forever)
+    pid_file = tmp_path / "spinning"
     failed = []
-    runner = SolveRunner(failed.append)
-    runner.request(_unique(dict(scene_values("10")), t_end=t_end), pytest.fail)
+    runner = SolveRunner(failed.append,
+                         solver=make_solver(simulate=_SpinForever(str(pid_file))))
+    runner.request(_values("10"), pytest.fail)
     for _ in range(1000):  # the child starts (importing this module takes a moment)
         if pid_file.exists() and pid_file.read_text():
             break
@@ -336,7 +362,6 @@ def _abandon_a_spinning_solve(monkeypatch, session) -> None:
         time.sleep(0.01)
     assert not alive(pid), "the abandoned solve's process still runs"
     assert failed == []
-    pid_file.unlink()
 
 
 def _pid(*args, **kwargs) -> int:
@@ -361,10 +386,11 @@ def test_solves_reuse_a_waiting_worker_and_a_dead_one_is_replaced():
     assert again not in (first, os.getpid()) and alive(again)
 
 
-def test_an_abandoned_solve_s_worker_is_replaced_and_the_next_solve_answers(monkeypatch,
-                                                                             session):
+def test_an_abandoned_solve_s_worker_is_replaced_and_the_next_solve_answers(make_solver,
+                                                                             session,
+                                                                             tmp_path):
     """The worker of an abandoned solve is stopped; the next solve gets another."""
-    _abandon_a_spinning_solve(monkeypatch, session)
+    _abandon_a_spinning_solve(make_solver, tmp_path)
     assert solve_process.call(_pid) != os.getpid()
 
 

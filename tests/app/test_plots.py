@@ -16,7 +16,7 @@ from app.plots import (
     reference_columns,
 )
 from app.scenes import SCENES
-from app.solver import solve
+from app.solve.pool import solve
 from app.state import scene_values
 
 #: Scenes with a rigid stop (the impacts are jumps of the velocity at x = x_bar).

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from app.readout import readout_rows
-from app.solver import ACCURACY, solve
+from app.solve.pool import solve
+from app.solve.presets import ACCURACY
 from app.state import DIMENSIONLESS, ExplorerState, scene_values
 
 
@@ -156,7 +157,7 @@ def test_a_run_that_ends_at_the_limit_overlap_is_measured():
     reference, which ends there 1e-15 earlier: the run's last sample lay outside it, its
     error was "nan" (the page then quoted the preset's figure for a numerical method). The
     samples past the reference's end are compared with its last position."""
-    from app.solver import reference_error
+    from app.solve.measure import reference_error
     from core import simulate
 
     sol = solve(_deformable(LIMIT_OVERLAP_STOP), budget=120.0)

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.solver import MAP_CELLS, equivalent_rigid, map_ranges, regime_labels, regime_map
+from app.solve.regime_map import MAP_CELLS, map_ranges, regime_labels, regime_map
 from app.state import core_inputs, scene_values
-from core import theory
+from core import equivalent_rigid, theory
 
 
 def _words(values: dict) -> str:

@@ -18,7 +18,8 @@ from app.plots import (
     force_columns,
     phase_step,
 )
-from app.solver import ACCURACY, solve
+from app.solve.pool import solve
+from app.solve.presets import ACCURACY
 from app.state import DIMENSIONLESS, scene_values
 from core import SteadyKind, TransitionKind, simulate
 

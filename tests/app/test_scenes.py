@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from app.scenes import PLOTS, SCENES
-from app.solver import equivalent_rigid, solve
+from app.solve.pool import solve
 from app.state import core_inputs, scene_values
-from core import SteadyKind, TransitionKind, theory
+from core import SteadyKind, TransitionKind, equivalent_rigid, theory
 
 PAPER_FIGURES = ("2b", "3a", "3b", "4a", "4b", "5a", "5b", "5c", "5d", "6a", "6b",
                  "7a", "7b", "7c", "7d", "8a", "8b", "9a", "9b", "10", "11")

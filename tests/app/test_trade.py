@@ -1,8 +1,8 @@
-"""The trade-off table's verdict note (app.trade), without solving."""
+"""The trade-off table's verdict note (app.solve.trade), without solving."""
 
 from __future__ import annotations
 
-from app.trade import _rest_alike
+from app.solve.trade import rest_alike
 from core import HystereticStop, Oscillator, RigidStop
 from core.hysteretic_reduced import rest_swing_of
 from core.result import Steady, SteadyKind
@@ -26,8 +26,8 @@ def test_a_rest_whose_reference_swings_within_the_run_s_rule_is_the_same_verdict
     for rest are one verdict at the preset's accuracy; beyond it, or on a rigid stop, or
     against another label, they differ."""
     rest = Steady(SteadyKind.REST, t_reached=500.0)
-    assert _rest_alike(rest, _swinging(0.5), OSC, STOP, STANDARD)
-    assert not _rest_alike(rest, _swinging(2.0), OSC, STOP, STANDARD)
-    assert not _rest_alike(rest, _swinging(0.5), OSC, RigidStop(0.15, 0.5), STANDARD)
+    assert rest_alike(rest, _swinging(0.5), OSC, STOP, STANDARD)
+    assert not rest_alike(rest, _swinging(2.0), OSC, STOP, STANDARD)
+    assert not rest_alike(rest, _swinging(0.5), OSC, RigidStop(0.15, 0.5), STANDARD)
     periodic = Steady(SteadyKind.PERIODIC, period=1.0)
-    assert not _rest_alike(periodic, _swinging(0.5), OSC, STOP, STANDARD)
+    assert not rest_alike(periodic, _swinging(0.5), OSC, STOP, STANDARD)

@@ -3,7 +3,7 @@
 A solve with the horizon :data:`SLOW_T_END` first spends :data:`SLOW_S` of CPU time in
 Python (holding its process's interpreter lock, as long integrations do), then writes the
 file named by ``FIE_SLOW_DONE_FILE``. It is a module-level function so that the server's
-child processes (``app/solve_process.py``) receive it by reference.
+child processes (``app/solve/process.py``) receive it by reference.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ The server runs the explorer with one change (``slow_solve.py``): a solve with t
 interpreter's lock as long integrations do, like the stiff deformable-stop solves that take
 seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s). The slow
 session integrates (``event``), so its solve runs in a child process of the server
-(``app/solve_process.py``); the other session's scene is solved in closed form.
+(``app/solve/process.py``); the other session's scene is solved in closed form.
 """
 
 from __future__ import annotations
@@ -41,11 +41,11 @@ POLL_MS = 50
 
 SLOW_APP = f'''
 import runpy
-import app.solver as solver
+import app.solve.pool as pool
 import slow_solve
 
-solver.simulate = slow_solve.simulate
-solver.SOLVE_BUDGET_S = 600.0  # the slow session waits for its answer
+# the slow session waits for its answer
+pool.SOLVER = pool.Solver(simulate=slow_solve.simulate, budget_s=600.0)
 runpy.run_path({str(ROOT / "app" / "main.py")!r})
 '''
 

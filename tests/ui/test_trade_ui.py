@@ -48,7 +48,7 @@ def test_measure_the_trade_for_the_run_on_screen(browser, server, shots):
 
 PROBE_APP = f'''
 import runpy
-import app.trade as trade
+import app.solve.trade as trade
 import trade_probe
 
 trade.simulate = trade_probe.simulate

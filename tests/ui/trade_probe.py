@@ -4,7 +4,7 @@ Each call appends the id of the process it runs in to the file named by
 ``FIE_TRADE_PIDS``; the first exact solve with the horizon :data:`SLOW_T_END` (a
 measurement's reference) first sleeps :data:`SLOW_S`, so that the measurement still runs
 when the page is clicked again. A
-module-level function, so that the server's solver processes (``app/solve_process.py``)
+module-level function, so that the server's solver processes (``app/solve/process.py``)
 receive it by reference.
 """
 

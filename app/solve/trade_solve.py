@@ -1,6 +1,6 @@
-"""One solve of the trade measurement (:mod:`app.trade`) as a solver process runs it.
+"""One solve of the trade measurement (:mod:`app.solve.trade`) as a solver process runs it.
 
-A solver process (:mod:`app.solve_process`) runs :func:`sampled` and sends back only what
+A solver process (:mod:`app.solve.process`) runs :func:`sampled` and sends back only what
 the table needs: the positions at the compared times, the solve's wall time and the steady
 state it found. A whole :class:`core.Result` of scene 10 to ``t_end = 5000`` pickles to
 ~8 MB; its positions at 1000 times to 8 kB. Only :mod:`numpy` and :mod:`core` are imported

@@ -1,14 +1,14 @@
 """The speed/accuracy trade measured for the run on screen (on request, never per release).
 
 Each method (``exact``, ``event``, ``switch``) at each accuracy preset of
-:data:`app.solver.ACCURACY` solves the current state again; its wall time is measured now
+:data:`app.solve.presets.ACCURACY` solves the current state again; its wall time is measured now
 and its error is the largest distance of its positions from a reference solution at the same
 times, over the motion's amplitude. The reference is the exact method at tight tolerances:
 closed form for no stop or a rigid stop (rounding only), exact flight with the contact
 integrated at ``rtol`` 1e-12 for a deformable stop. The steady state each one finds is shown
 too: a method can change the verdict (the switch model at draft on scene 10).
 
-Every solve runs in a solver process (:mod:`app.solve_process`), as the page's own
+Every solve runs in a solver process (:mod:`app.solve.process`), as the page's own
 integrating solves do: measured in the server's threads, scene 10 to ``t_end = 5000`` held
 the server's interpreter lock for seconds, and repeated clicks slowed every other page's
 replies. A measurement has a budget (:data:`MEASURE_BUDGET_S`), a page runs one at a time
@@ -38,17 +38,12 @@ import numpy as np
 import panel as pn
 from panel.io.state import set_curdoc
 
-from app import solve_process
 from app.session_loop import from_any_thread
-from app.solver import (
-    ACCURACY,
-    SOLVE_MAX_STEPS,
-    position_error,
-    preset_options,
-    reference_options,
-)
+from app.solve import process as solve_process
+from app.solve.measure import position_error, reference_options
+from app.solve.presets import ACCURACY, SOLVE_MAX_STEPS, preset_options
+from app.solve.trade_solve import Sampled, sampled
 from app.state import ACCURACIES, core_inputs
-from app.trade_solve import Sampled, sampled
 from core import (
     HystereticStop,
     Status,
@@ -93,7 +88,7 @@ SENTENCES: Mapping[str, str] = {
 }
 
 #: One measuring thread per server: measurements queue rather than load the machine. It
-#: only waits: each solve runs in a solver process (:mod:`app.solve_process`), stopped at
+#: only waits: each solve runs in a solver process (:mod:`app.solve.process`), stopped at
 #: its deadline.
 _executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="fie-trade")
 _admitted = [0]  # measurements running or waiting
@@ -127,9 +122,9 @@ def measure(values: Mapping[str, Any], methods: tuple[str, ...] = METHODS,
     (default :data:`MEASURE_BUDGET_S`) and ``budget_s`` per solve (default
     :data:`SOLVE_BUDGET_S`); raises ``ValueError`` on bad input.
 
-    Each solve runs in a solver process (:mod:`app.solve_process`), stopped at its
+    Each solve runs in a solver process (:mod:`app.solve.process`), stopped at its
     deadline; the calling thread only waits. With ``stop`` set (the page closed) the
-    running solve is stopped and :class:`app.solve_process.Abandoned` raised. (With the
+    running solve is stopped and :class:`app.solve.process.Abandoned` raised. (With the
     processes turned off the solves run in the calling thread, where only the numerical
     methods stop at their budget, and the rest is checked between solves.)
 
@@ -191,14 +186,14 @@ def _method_rows(method: str, inputs: tuple, ref: Sampled, budget_s: float,
             break
         note = (f"verdict differs from the reference ({ref.verdict})"
                 if res.verdict != ref.verdict
-                and not _rest_alike(res.steady, ref.steady, inputs[0], inputs[1], kwargs)
+                and not rest_alike(res.steady, ref.steady, inputs[0], inputs[1], kwargs)
                 else "")
         rows.append(TradeRow(method, accuracy, res.seconds, position_error(res.x, ref.x),
                              res.verdict, note))
     return rows
 
 
-def _rest_alike(steady: Steady, ref: Steady, osc: Any, stop: Any,
+def rest_alike(steady: Steady, ref: Steady, osc: Any, stop: Any,
                 options: Mapping[str, Any]) -> bool:
     """A run at rest on a deformable stop whose tighter reference finds its loops still
     swinging within the run's own rule for rest (the reference's rule is tighter too): the
@@ -212,7 +207,7 @@ def _rest_alike(steady: Steady, ref: Steady, osc: Any, stop: Any,
 def _solve(inputs: tuple, method: str, options: dict[str, Any], within: float,
            stop: threading.Event | None) -> Sampled | None:
     """One solve in a solver process, ``None`` if it was stopped at ``within`` seconds;
-    :class:`app.solve_process.Abandoned` if ``stop`` was set."""
+    :class:`app.solve.process.Abandoned` if ``stop`` was set."""
     if stop is not None and stop.is_set():  # a solve in this thread is not stopped
         raise solve_process.Abandoned("the measurement was cancelled")
     deadline = solve_process.Deadline(within, stop)
@@ -246,7 +241,7 @@ class TradeRunner:
     :meth:`start` hands :func:`measure` to the measuring thread and returns; the rows come
     back on the session's event loop (:func:`app.session_loop.from_any_thread`) to
     ``on_done(values, rows)``, or the failure to ``on_failed(exc)``; a cancelled
-    measurement calls ``on_failed`` with :class:`app.solve_process.Abandoned`. Without a
+    measurement calls ``on_failed`` with :class:`app.solve.process.Abandoned`. Without a
     server session (scripts, tests) they are called in the measuring thread.
     """
 
@@ -296,7 +291,7 @@ class TradeRunner:
 
     def cancel(self) -> None:
         """Stop the running measurement (its solve's process is stopped, a waiting one is
-        not started); ``on_failed`` gets :class:`app.solve_process.Abandoned`."""
+        not started); ``on_failed`` gets :class:`app.solve.process.Abandoned`."""
         if not self.running:
             return
         self._stop.set()

@@ -27,6 +27,7 @@ import threading
 import time
 import types
 from collections.abc import Callable
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -52,7 +53,8 @@ class Deadline:
     (False, True)
     """
 
-    def __init__(self, seconds: float, also: threading.Event | None = None) -> None:
+    def __init__(self, seconds: float, also: threading.Event | Deadline | None = None
+                 ) -> None:
         self.at, self.also = time.monotonic() + seconds, also
 
     def is_set(self) -> bool:
@@ -61,6 +63,32 @@ class Deadline:
     def left(self) -> float:
         """Seconds until the deadline (negative past it)."""
         return self.at - time.monotonic()
+
+
+@dataclass(frozen=True)
+class Caller:
+    """Calls ``fn`` for one solve: in a child process (``isolated``, by :func:`call`,
+    abandoned when ``cancelled`` is set) or in the calling thread (where nothing stops it).
+
+    ``fn`` is called by reference in the child: a module-level function (tests pass a
+    probe in place of :func:`core.simulate`).
+
+    >>> Caller(max)(2, 3), Caller(max, isolated=False).until(1.0).cancelled.is_set()
+    (3, False)
+    """
+
+    fn: Callable[..., Any]
+    isolated: bool = False
+    cancelled: threading.Event | Deadline | None = None
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        if self.isolated:
+            return call(self.fn, *args, cancelled=self.cancelled, **kwargs)
+        return self.fn(*args, **kwargs)
+
+    def until(self, seconds: float) -> Caller:
+        """This caller, its calls also abandoned ``seconds`` from now."""
+        return replace(self, cancelled=Deadline(seconds, self.cancelled))
 
 
 def running() -> bool:
@@ -75,7 +103,7 @@ def enabled() -> bool:
 
 
 #: The project's root: a child imports ``core`` and ``app`` from there.
-PROJECT = str(Path(__file__).resolve().parent.parent)
+PROJECT = str(Path(__file__).resolve().parents[2])
 
 
 def _project_on_path() -> None:
@@ -238,7 +266,8 @@ def warm_up(wait: bool = False) -> None:
         threading.Thread(target=start, name="fie-warm-up", daemon=True).start()
 
 
-def call(fn: Callable[..., Any], *args: Any, cancelled: threading.Event | None = None,
+def call(fn: Callable[..., Any], *args: Any,
+         cancelled: threading.Event | Deadline | None = None,
          **kwargs: Any) -> Any:
     """``fn(*args, **kwargs)`` in a child process; this thread waits without the
     interpreter's lock.
