@@ -36,8 +36,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core import HystereticStop, Mode, Result, SteadyKind, TransitionKind, simulate
-from core.steady import SteadyCycle, first_cycle_end, steady_cycle
+from core import (
+    HystereticStop,
+    Mode,
+    Result,
+    SteadyCycle,
+    SteadyKind,
+    TransitionKind,
+    first_cycle_end,
+    simulate,
+    steady_cycle,
+)
 
 #: Largest time step [dimensionless time = radians of a slip arc] of the first pass over a
 #: piece of the phase path; the second pass subdivides where a chord is still too long.

@@ -37,8 +37,11 @@ from core.simulate import MAX_STEPS as MAX_STEPS
 from core.simulate import METHODS as METHODS
 from core.simulate import method_options as method_options
 from core.simulate import simulate as simulate
+from core.steady import SteadyCycle as SteadyCycle
+from core.steady import first_cycle_end as first_cycle_end
 from core.steady import pressed_on_stop as pressed_on_stop
 from core.steady import rest_force as rest_force
+from core.steady import steady_cycle as steady_cycle
 from core.stop_response import OverlapProgram as OverlapProgram
 from core.stop_response import equivalent_rigid as equivalent_rigid
 from core.stop_response import overlap_program as overlap_program
@@ -63,6 +66,7 @@ __all__ = [
     "RigidStop",
     "Status",
     "Steady",
+    "SteadyCycle",
     "SteadyKind",
     "Transition",
     "TransitionKind",
@@ -72,6 +76,7 @@ __all__ = [
     "effective_restitutions",
     "equivalent_rigid",
     "eta_bounds",
+    "first_cycle_end",
     "method_options",
     "overlap_program",
     "phi_compression",
@@ -81,6 +86,7 @@ __all__ = [
     "rest_force",
     "reverse",
     "simulate",
+    "steady_cycle",
     "sweep",
     "theory",
 ]
