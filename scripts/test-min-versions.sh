@@ -31,7 +31,7 @@ NAMES=$(echo "$PINS" | sed 's/==.*//' | paste -sd '|' -)
 grep -v -i -E "^($NAMES)==" constraints.txt > "$TOOLS_CONSTRAINTS"
 
 # shellcheck disable=SC2086  # word splitting of $PIP and $PINS is intended
-$PIP install --quiet -c "$TOOLS_CONSTRAINTS" $PINS packaging pytest pytest-timeout hypothesis mpmath
+$PIP install --quiet -c "$TOOLS_CONSTRAINTS" $PINS pytest pytest-timeout hypothesis mpmath
 # shellcheck disable=SC2086
 $PIP install --quiet --no-deps --editable .
 
