@@ -18,11 +18,12 @@ BokehJS call (``static/perf/``, ``static/a11y.js``, ``static/url_history.js``,
 server names in each script's address the patches of that script that apply
 (:func:`app.perf.page.page_scripts`), and the script applies only those; the repaint
 shortcuts also check their BokehJS version in the browser and take ``paint_shortcuts=off``
-in the page's address as a switch of their own. The explorer works fully
-without any patch (without ``browser-values`` a script's malformed value is still refused,
-but by Panel, with a traceback in the log, and a radio index of -1 picks the last option);
-``benchmarks/README.md`` has a paired measurement of what they buy, and the findings worth
-reporting upstream.
+in the page's address as a switch of their own. The explorer works without any patch
+(without ``browser-values`` a script's malformed value is still refused, but by Panel, with
+a traceback in the log, and a radio index of -1 picks the last option; without the page's,
+the sliders' handles have no accessible name, each change of the address is a history
+entry and a slide's PNG has the screen's pixel ratio); ``benchmarks/README.md`` has a
+paired measurement of what they buy, and the findings worth reporting upstream.
 """
 
 from __future__ import annotations
