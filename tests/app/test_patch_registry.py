@@ -181,3 +181,24 @@ def test_the_scanner_finds_what_it_is_for(tmp_path):
                   "Object.defineProperty(window, \"devicePixelRatio\", {});\n"
                   "// a.b = function () {} in a comment\n")
     assert js_overrides(js) == {"_update_title", "x", "pushState", "devicePixelRatio"}
+
+
+def test_each_patching_script_is_told_which_of_its_patches_apply(monkeypatch):
+    """The server writes into each patching script's address the names of its patches that
+    apply: all of them inside their windows, none with the switch off; other scripts keep
+    their address."""
+    import app.perf as perf
+    from app.main import JS_FILES
+    from app.perf.page import page_scripts
+
+    on = page_scripts(JS_FILES)
+    assert on["fie_a11y"] == "assets/a11y.js?apply=slider-handle-names"
+    assert on["fie_paint"] == "assets/perf/bokeh_paint.js?apply=paint-shortcuts"
+    assert on["fie_lazy_plots"] == JS_FILES["fie_lazy_plots"]
+    told = {name for url in on.values() if "?apply=" in url
+            for name in url.split("?apply=")[1].split(",")}
+    assert told == {name for name, patch in PATCHES.items() if patch.in_page}
+    monkeypatch.setenv(perf.SWITCH, "off")
+    off = page_scripts(JS_FILES)
+    assert off["fie_a11y"] == "assets/a11y.js?apply="
+    assert all(url.endswith("?apply=") for name, url in off.items() if "?" in on[name])
