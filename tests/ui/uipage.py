@@ -51,7 +51,7 @@ JS_WAITING = """margin => {
 
 
 #: JavaScript: the first element matching ``css`` under ``root``, shadow roots included (as
-#: Playwright's CSS locators pierce them).
+#: Playwright's CSS locators pierce them; here a selector matches within one root only).
 JS_DEEP_QUERY = """(root, css) => {
   function find(node) {
     const el = node.querySelector(css);
