@@ -191,6 +191,7 @@ def test_each_patching_script_is_told_which_of_its_patches_apply(monkeypatch):
     from app.main import JS_FILES
     from app.perf.page import page_scripts
 
+    monkeypatch.setenv(perf.SWITCH, "on")  # make test runs tests/app with it off too
     on = page_scripts(JS_FILES)
     assert on["fie_a11y"] == "assets/a11y.js?apply=slider-handle-names"
     assert on["fie_paint"] == "assets/perf/bokeh_paint.js?apply=paint-shortcuts"
