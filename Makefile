@@ -44,9 +44,9 @@ nginx:
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq nginx; \
 	  else echo "nginx missing: sudo apt-get install -y nginx"; exit 1; fi; }
 
-# The core and app tests on the lowest versions pyproject.toml allows, in a fresh venv
-# (scripts/test-min-versions.sh; needs python3 >= 3.11).
-test-min:
+# The core and app tests and one page in Chromium on the lowest versions pyproject.toml
+# allows, in a fresh venv (scripts/test-min-versions.sh; needs python3 >= 3.11).
+test-min: browser
 	PYTHON=$(PYTHON) scripts/test-min-versions.sh
 
 # Debian's buildah, podman and debootstrap build and mount the image; install them if missing.

@@ -23,6 +23,7 @@ from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
+from app.perf.page import page_scripts  # noqa: E402
 from app.perf.resources import load_each_bundle_once  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.protocol_refusals import quiet_refusals  # noqa: E402
@@ -57,7 +58,8 @@ DEVELOPMENT_CHECKS = {"BOKEH_VALIDATE_DOC": "false", "BOKEH_PERFORM_ERROR_DIAGNO
 
 def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
-    pn.extension(notifications=False, design="bootstrap", js_files=JS_FILES)
+    # The patching scripts' addresses name the patches that apply (app.perf.page).
+    pn.extension(notifications=False, design="bootstrap", js_files=page_scripts(JS_FILES))
     cache_immutable_defaults()  # before the page's models are built
     explorer = Explorer(lazy_plots=True)
     explorer.sync_url()

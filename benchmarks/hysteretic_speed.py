@@ -226,7 +226,7 @@ def main() -> None:
         cells = QUICK
     else:
         cells = list(itertools.product(K_C0, BETA, D))
-    print(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+    print(f"# {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, "
           f"{platform.node()}, {platform.processor() or platform.machine()}, "
           f"Python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}")
     print(f"# preset rtol {PRESET['rtol']:g} atol {PRESET['atol']:g} (stated error "

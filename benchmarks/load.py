@@ -469,7 +469,7 @@ class Session:
             wait = min(deadline - now, quiet) if have_data else deadline - now
             try:
                 await asyncio.wait_for(self.arrived.wait(), max(wait, 0.001))
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 pass
         if not self.arrivals:
             label = str(a.get("title") or a.get("name") or model_id)
@@ -511,7 +511,7 @@ class Session:
             self.clicks += 1
             try:
                 await asyncio.wait_for(done.wait(), self.args.measure_every)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 pass
 
     async def close(self) -> None:
@@ -593,7 +593,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
             peak = max(peak, server.rss())
             try:
                 await asyncio.wait_for(stop_sampling.wait(), 0.25)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 pass
 
     sampler = asyncio.ensure_future(sample())
@@ -633,7 +633,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     try:
         await asyncio.wait_for(movers, args.round_timeout)
         timed_out = False
-    except asyncio.TimeoutError:
+    except TimeoutError:
         timed_out = True
     moved.set()
     if clicker is not None:

@@ -64,7 +64,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cells", nargs="*", default=list(CELLS))
     args = parser.parse_args()
-    print(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+    print(f"# {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, "
           f"{platform.node()}, Python {platform.python_version()}, numpy {np.__version__}")
     print(f"{'k_c0,beta,D':>16} {'rest':>7} {'switch':>7}  t_end: error (stated)")
     for cell in args.cells:

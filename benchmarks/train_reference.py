@@ -94,7 +94,7 @@ def main() -> None:
     parser.add_argument("--pieces", type=int, default=8)
     parser.add_argument("--cells", nargs="*", default=list(CELLS))
     args = parser.parse_args()
-    print(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
+    print(f"# {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, "
           f"{platform.node()}, Python {platform.python_version()}, numpy {np.__version__}; "
           f"reference in {args.pieces} pieces, rtol {REFERENCE['rtol']:g}")
     print(f"{'k_c0,beta,D':>16} {'ms 1e4':>8} {'steady':>14} {'bound':>9} {'state':>9} "

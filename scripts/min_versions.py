@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import re
 import sys
-from pathlib import Path
-
 import tomllib
+from pathlib import Path
 
 LOWER = re.compile(r">=\s*([0-9][0-9A-Za-z.]*)")
 NAME = re.compile(r"^\s*([A-Za-z0-9][A-Za-z0-9._-]*)")

@@ -1,12 +1,15 @@
 #!/bin/sh
 # Run the core and app tests on the declared minimum versions of the runtime dependencies.
 #
-# Usage: scripts/test-min-versions.sh [PYTEST_ARGS...]   (default: tests/core tests/app)
+# Usage: scripts/test-min-versions.sh [PYTEST_ARGS...]
+#        (default: tests/core tests/app tests/ui/test_page_patches.py)
 #
 # Creates a fresh virtual environment (MIN_VENV, default $TMPDIR/friction-explorer-min-venv,
 # removed first), installs exactly the lower bounds of pyproject.toml's [project]
 # dependencies (scripts/min_versions.py: numpy==X, scipy==Y, ...), the test tools at the
-# versions in constraints.txt and the project itself without dependencies, then runs pytest.
+# versions in constraints.txt and the project itself without dependencies, then runs pytest:
+# the core and app tests (the notebook included) and one page in Chromium with the page's
+# patches active (Debian's chromium: `make browser`).
 # Dependencies of the dependencies (pandas, tornado, ...) are whatever pip resolves for those
 # floors. Needs python3 >= 3.11 (tomllib) with venv.
 set -eu
@@ -31,7 +34,8 @@ NAMES=$(echo "$PINS" | sed 's/==.*//' | paste -sd '|' -)
 grep -v -i -E "^($NAMES)==" constraints.txt > "$TOOLS_CONSTRAINTS"
 
 # shellcheck disable=SC2086  # word splitting of $PIP and $PINS is intended
-$PIP install --quiet -c "$TOOLS_CONSTRAINTS" $PINS packaging pytest pytest-timeout hypothesis mpmath radon
+$PIP install --quiet -c "$TOOLS_CONSTRAINTS" $PINS pytest pytest-timeout hypothesis mpmath radon \
+    playwright nbclient nbformat ipykernel
 # shellcheck disable=SC2086
 $PIP install --quiet --no-deps --editable .
 
@@ -54,6 +58,6 @@ if wrong:
 PYEOF
 
 if [ $# -eq 0 ]; then
-    set -- tests/core tests/app
+    set -- tests/core tests/app tests/ui/test_page_patches.py
 fi
 exec "$PY" -m pytest -q -p no:cacheprovider "$@"

@@ -9,10 +9,17 @@
  * name follows a change of label (e.g. the units of a length in SI mode).
  *
  * Written against BokehJS 3.9's AbstractSliderView (`_update_title`, `slider_el`); if they
- * are missing nothing is changed and the console says so.
+ * are missing nothing is changed and the console says so. A patch of app.perf.PATCHES
+ * (`slider-handle-names`): applied only where the server names it in this script's address
+ * (off with EXPLORER_PERF_PATCHES=off, or outside its Bokeh window).
  */
 (function () {
   "use strict";
+  // The patches of this script that the server applies (app.perf.page), named in the
+  // script's own address; none without the server's word.
+  const script = document.currentScript;
+  const APPLY = new Set(((script && new URL(script.src, window.location.href)
+    .searchParams.get("apply")) || "").split(",").filter(Boolean));
 
   function name(view) {
     const el = view.slider_el;
@@ -45,6 +52,12 @@
       name(this);
     };
     window.__fie_a11y = true;
+    (window.__fie_patches = window.__fie_patches || []).push("slider-handle-names");
+  }
+
+  if (!APPLY.has("slider-handle-names")) {
+    console.info("a11y.js: slider-handle-names not applied (app.perf): handles stay unnamed");
+    return;
   }
 
   (function wait() {

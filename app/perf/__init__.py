@@ -12,12 +12,18 @@ was written and tested for (:data:`PATCHES`), and is applied only
   the patch was left out), and
 * unless the environment variable ``EXPLORER_PERF_PATCHES`` is ``off`` (all of them).
 
-The page's JavaScript patches (``static/perf/``) check their BokehJS version in the browser,
-with ``paint_shortcuts=off`` in the page's address as their switch. The explorer works fully
-without any patch (without ``browser-values`` a script's malformed value is still refused,
-but by Panel, with a traceback in the log, and a radio index of -1 picks the last option);
-``benchmarks/README.md`` has a paired measurement of what they buy, and the findings worth
-reporting upstream.
+The page's scripts that override BokehJS internals or browser methods that Panel and
+BokehJS call (``static/perf/``, ``static/a11y.js``, ``static/url_history.js``,
+``static/present.js``) are in :data:`PATCHES` too, with the same window and switch: the
+server names in each script's address the patches of that script that apply
+(:func:`app.perf.page.page_scripts`), and the script applies only those; the repaint
+shortcuts also check their BokehJS version in the browser and take ``paint_shortcuts=off``
+in the page's address as a switch of their own. The explorer works without any patch
+(without ``browser-values`` a script's malformed value is still refused, but by Panel, with
+a traceback in the log, and a radio index of -1 picks the last option; without the page's,
+the sliders' handles have no accessible name, each change of the address is a history
+entry and a slide's PNG has the screen's pixel ratio); ``benchmarks/README.md`` has a
+paired measurement of what they buy, and the findings worth reporting upstream.
 """
 
 from __future__ import annotations
@@ -46,6 +52,15 @@ class Patch:
     low: str
     high: str
     what: str
+    #: Files that hold the patch (Python in app/perf/, scripts of the page in static/).
+    where: tuple[str, ...] = ()
+    #: The library internals it replaces or writes, as ``Owner.member``.
+    overrides: tuple[str, ...] = ()
+
+    @property
+    def in_page(self) -> bool:
+        """Whether the patch is a script of the page (``static/``)."""
+        return all(path.startswith("static/") for path in self.where) and bool(self.where)
 
     def in_window(self, installed: str | None = None) -> bool:
         """Whether ``installed`` (default: the installed version) is inside the window."""
@@ -61,32 +76,83 @@ def _installed(library: str) -> str:
 
 
 #: The patches, by name. Windows: the versions the patches were written and tested with.
+#: ``where``: the files that hold the patch; ``overrides``: each library internal it
+#: replaces or writes, as ``Owner.member`` (tests/app/test_patch_registry.py finds every
+#: such override in app/ and static/ and fails on one that no patch lists).
 PATCHES = {
     patch.name: patch for patch in (
         Patch("tcp-nodelay", "bokeh", "3.9", "3.10",
               "TCP_NODELAY on the session's websocket (found through the server's "
-              "connection objects)"),
+              "connection objects)",
+              ("app/perf/websocket.py",),
+              ("ServerSession._subscribed_connections", "ServerConnection._socket")),
         Patch("write-lock", "bokeh", "3.9", "3.10",
               "a release's update waits for the websocket's write lock instead of Panel's "
-              "10 ms retry"),
+              "10 ms retry",
+              ("app/perf/websocket.py",), ("WSHandler.write_lock",)),
         Patch("inline-arrays", "bokeh", "3.9", "3.10",
-              "a document update is one message of three frames (patch_doc.create)"),
+              "a document update is one message of three frames (patch_doc.create)",
+              ("app/perf/websocket.py",), ("patch_doc.create",)),
         Patch("immutable-defaults", "bokeh", "3.9", "3.10",
               "an unset property's immutable, unthemed default is computed once per model "
               "class, not on every read; a container default is copied from the class's; "
               "whether a default is per instance is asked once per class; a model without "
-              "a theme says so without an exception"),
+              "a theme says so without an exception",
+              ("app/perf/defaults.py",),
+              ("PropertyDescriptor._get_default", "PropertyDescriptor.has_unstable_default",
+               "HasProps.themed_values")),
         Patch("bootstrap-css-once", "panel", "1.9", "1.10",
               "the design's page-level CSS links carry Panel's version suffix, as the "
-              "shadow roots' copies do: one address, one download"),
+              "shadow roots' copies do: one address, one download",
+              ("app/perf/resources.py",), ("Design.resolve_resources",)),
         Patch("mathjax-on-demand", "panel", "1.9", "1.10",
-              "MathJax is loaded where Bokeh finds TeX, not for every HTML pane"),
+              "MathJax is loaded where Bokeh finds TeX, not for every HTML pane",
+              ("app/perf/resources.py",), ("panel.io.resources._panel_use_mathjax",)),
         Patch("slider-release", "panel", "1.9", "1.10",
-              "a slider's release is processed at once, not after the drag's debounce"),
+              "a slider's release is processed at once, not after the drag's debounce; the "
+              "model's read-only released value follows a value set on the server",
+              ("app/perf/slider.py",),
+              ("Syncable._priority_changes", "Syncable._server_change",
+               "Syncable._change_coroutine", "state._change_callbacks",
+               "Slider._property_values")),
         Patch("browser-values", "panel", "1.9", "1.10",
               "a value from the browser that a widget cannot hold (outside a slider's "
               "range, a select's options, a radio group's buttons) is refused at the "
-              "widget in one rate-limited WARNING line, and the browser set back"),
+              "widget in one rate-limited WARNING line, and the browser set back",
+              ("app/perf/browser_values.py",), ("Syncable._process_property_change",)),
+        # The page's scripts (static/): the server names in each script's address the
+        # patches of that script that apply (app.perf.page), the script applies only those.
+        Patch("paint-shortcuts", "bokeh", "3.9", "3.10",
+              "repaint shortcuts 1-9 of BokehJS's figures",
+              ("static/perf/bokeh_paint.js",),
+              ("InlineStyleSheet.prototype._update",
+               "VisualProperties.prototype._get_css_value",
+               "PlotView.prototype.base_font_size",
+               "GlyphRendererView.prototype.update_position",
+               "GlyphRendererView.prototype.update_data",
+               "GlyphRendererView.prototype._update_masked_indices",
+               "GlyphRendererView.prototype.set_visuals",
+               "MarkerView.prototype._mask_data",
+               "RangeManager.prototype.update_dataranges")),
+        Patch("release-hold", "bokeh", "3.9", "3.10",
+              "no repaint of a stale preview after a slider's release, an inert body style, "
+              "every release sent",
+              ("static/perf/release_hold.js",),
+              ("PlotView.prototype.paint", "PlotView.prototype.schedule_paint",
+               "AbstractSliderView.prototype._change", "document.body.style.cursor",
+               "document.body.style.userSelect", "document.body.style.webkitUserSelect")),
+        Patch("slider-handle-names", "bokeh", "3.9", "3.10",
+              "every slider's handle is named after its parameter (aria-label) whenever "
+              "BokehJS draws its title",
+              ("static/a11y.js",), ("AbstractSliderView.prototype._update_title",)),
+        Patch("address-in-place", "panel", "1.9", "1.10",
+              "a new address that differs only in its query replaces the history entry "
+              "instead of adding one (Panel's Location writes with history.pushState)",
+              ("static/url_history.js",), ("window.history.pushState",)),
+        Patch("slide-pixel-ratio", "bokeh", "3.9", "3.10",
+              "with slides=png in the address the page reports a device pixel ratio of at "
+              "least 3, so BokehJS draws and saves its canvases at that resolution",
+              ("static/present.js",), ("window.devicePixelRatio",)),
     )
 }
 

@@ -27,7 +27,13 @@ Left out after measuring: a serializer that looked up the document's references 
 
 from __future__ import annotations
 
+import ast
+import hashlib
 import importlib
+import inspect
+import logging
+import textwrap
+from functools import cache
 from typing import Any
 
 import panel as pn
@@ -35,6 +41,8 @@ from bokeh.core.serialization import Serializer
 from bokeh.document.json import PatchJson
 
 from app.perf import applies
+
+log = logging.getLogger(__name__)
 
 
 def _sockets(doc: Any) -> list[Any]:
@@ -85,6 +93,44 @@ async def writes_done(doc: Any) -> None:
 #: Bokeh's own ``patch_doc.create``, once :func:`send_arrays_inline` has replaced it.
 _bokeh_create: Any = None
 
+#: SHA-256 of the body of Bokeh 3.9's ``patch_doc.create`` (:func:`normalised_body`) that
+#: :func:`_patch_doc_inline` copies; a Bokeh whose body differs gets no patch.
+FORKED_FROM = "0fa626f6840e482801611efc13688261f949f82042f2c10fe1f5167118468864"
+#: What the copy changes in that body (:func:`normalised_body` text): the arrays are
+#: encoded inline, so the message has no buffers to add.
+FORK_EDITS = (
+    ("Serializer(references=doc.models.synced_references)",
+     "Serializer(references=doc.models.synced_references, deferred=False)"),
+    ("msg = cls(header, metadata, patch_json)\nmsg.add_buffers(*serializer.buffers)\n"
+     "return msg", "return cls(header, metadata, patch_json)"),
+)
+
+
+def normalised_body(function: Any) -> str:
+    """The statements of ``function``'s body as :func:`ast.unparse` writes them, without
+    its docstring: layout, comments and the signature's annotations do not count."""
+    tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    body = tree.body[0].body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+        body = body[1:]
+    return "\n".join(ast.unparse(statement) for statement in body)
+
+
+def _bokeh_patch_doc() -> Any:
+    # The package exports the class under the module's name: fetch the module itself.
+    return importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+
+
+@cache
+def fork_matches() -> bool:
+    """Whether the installed Bokeh's ``patch_doc.create`` is the one the copy was made from."""
+    original = _bokeh_create or _bokeh_patch_doc().__dict__["create"]
+    try:
+        body = normalised_body(original.__func__)
+    except (OSError, TypeError):  # no source installed
+        return False
+    return hashlib.sha256(body.encode()).hexdigest() == FORKED_FROM
+
 
 def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
     """Bokeh's ``patch_doc.create`` (3.9), with the arrays encoded into the content.
@@ -114,8 +160,11 @@ def send_arrays_inline() -> None:
     global _bokeh_create
     if not applies("inline-arrays"):
         return
-    # The package exports the class under the module's name: fetch the module itself.
-    patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+    if not fork_matches():
+        log.warning("perf patch 'inline-arrays' not applied: the installed Bokeh's "
+                    "patch_doc.create is not the one it copies")
+        return
+    patch_doc = _bokeh_patch_doc()
     if getattr(patch_doc.create, "__func__", None) is not _patch_doc_inline:
         _bokeh_create = patch_doc.__dict__["create"]
         patch_doc.create = classmethod(_patch_doc_inline)

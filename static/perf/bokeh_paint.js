@@ -70,10 +70,17 @@
  * page's address none is applied (nor those of release_hold.js): the UI tests compare the
  * figures both ways, pixel for pixel. Patches 3 and 6 were measured at about 0.5 ms per
  * paint each (benchmarks/README.md); they are kept because they remove work that BokehJS
- * repeats for every plot on every paint, which grows with the page.
+ * repeats for every plot on every paint, which grows with the page. A patch of
+ * app.perf.PATCHES (`paint-shortcuts`): applied only where the server names it in this
+ * script's address (off with EXPLORER_PERF_PATCHES=off).
  */
 (function () {
   "use strict";
+  // The patches of this script that the server applies (app.perf.page), named in the
+  // script's own address; none without the server's word.
+  const script = document.currentScript;
+  const APPLY = new Set(((script && new URL(script.src, window.location.href)
+    .searchParams.get("apply")) || "").split(",").filter(Boolean));
   const applied = (window.__fie_paint = []);
   //: BokehJS versions the patches were written for: [lowest, first one not covered).
   const VERSIONS = [[3, 9], [3, 10]];
@@ -223,9 +230,14 @@
       };
       applied.push("range-fit-paint");
     }
+    if (applied.length) (window.__fie_patches = window.__fie_patches || []).push("paint-shortcuts");
   }
 
   if (new URLSearchParams(window.location.search).get("paint_shortcuts") === "off") return;
+  if (!APPLY.has("paint-shortcuts")) {
+    console.info("bokeh_paint.js: paint-shortcuts not applied (app.perf)");
+    return;
+  }
 
   (function wait() {
     const B = window.Bokeh;

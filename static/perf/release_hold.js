@@ -33,10 +33,17 @@
  * Written for BokehJS 3.9: with another version, or with `paint_shortcuts=off` in the page's
  * address, nothing here is applied (the console says why) and the page paints every
  * update as it comes, restyles the page on a slider's press and release, and drops a
- * release at the value last released (see app/perf/slider.py).
+ * release at the value last released (see app/perf/slider.py). A patch of
+ * app.perf.PATCHES (`release-hold`): applied only where the server names it in this
+ * script's address (off with EXPLORER_PERF_PATCHES=off).
  */
 (function () {
   "use strict";
+  // The patches of this script that the server applies (app.perf.page), named in the
+  // script's own address; none without the server's word.
+  const script = document.currentScript;
+  const APPLY = new Set(((script && new URL(script.src, window.location.href)
+    .searchParams.get("apply")) || "").split(",").filter(Boolean));
   const HOLD_MS = 400;
   const hold = (window.__fie_hold = {
     active: false, held: new Set(), timer: null, released: Promise.resolve(), release: null,
@@ -115,21 +122,19 @@
     })(200);
   }
 
-  const INERT_BODY_STYLE = ["cursor", "userSelect", "webkitUserSelect"];
-
   function inertBodyStyle() {
     if (document.body == null) {
       document.addEventListener("DOMContentLoaded", inertBodyStyle, {once: true});
       return;
     }
-    for (const name of INERT_BODY_STYLE) {
-      try {
-        Object.defineProperty(document.body.style, name, {
-          configurable: true, get: () => "", set: () => {},
-        });
-      } catch (err) {
-        // An engine that refuses the property keeps the sliders' own behaviour.
-      }
+    const style = document.body.style;
+    const inert = {configurable: true, get: () => "", set: () => {}};
+    try {
+      Object.defineProperty(style, "cursor", inert);
+      Object.defineProperty(style, "userSelect", inert);
+      Object.defineProperty(style, "webkitUserSelect", inert);
+    } catch (err) {
+      // An engine that refuses the properties keeps the sliders' own behaviour.
     }
   }
 
@@ -156,6 +161,10 @@
   }
 
   if (new URLSearchParams(window.location.search).get("paint_shortcuts") === "off") return;
+  if (!APPLY.has("release-hold")) {
+    console.info("release_hold.js: release-hold not applied (app.perf)");
+    return;
+  }
 
   (function wait() {
     const B = window.Bokeh;
@@ -168,6 +177,7 @@
       inertBodyStyle();
       install(B);
       sendEveryRelease(B, 500);
+      (window.__fie_patches = window.__fie_patches || []).push("release-hold");
     } else {
       setTimeout(wait, 5);
     }

@@ -137,3 +137,40 @@ def test_the_windows_hold_the_installed_versions_and_no_others():
     for patch in perf.PATCHES.values():
         assert patch.in_window(patch.low)
         assert not patch.in_window(patch.high)
+
+
+def test_the_forked_create_is_bokehs_own_with_the_recorded_edits():
+    """``_patch_doc_inline`` is a copy of the installed Bokeh's ``patch_doc.create``: its
+    body hashes to the one recorded, and the recorded edits turn it into the copy. A Bokeh
+    release that changes ``create`` fails here (and the server leaves the patch out)."""
+    import hashlib
+
+    patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+    original = (connection._bokeh_create or patch_doc.__dict__["create"]).__func__
+    bokeh_body = connection.normalised_body(original)
+    assert hashlib.sha256(bokeh_body.encode()).hexdigest() == connection.FORKED_FROM, (
+        "Bokeh's patch_doc.create changed:\n" + bokeh_body)
+    edited = bokeh_body
+    for old, new in connection.FORK_EDITS:
+        assert edited.count(old) == 1, old
+        edited = edited.replace(old, new)
+    assert edited == connection.normalised_body(connection._patch_doc_inline)
+    assert connection.fork_matches()
+
+
+def test_a_changed_bokeh_create_leaves_the_copy_out(monkeypatch, caplog):
+    """Inside its window, the patch is still left out where Bokeh's body is not the one
+    copied."""
+    patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
+    bokeh_create = connection._bokeh_create or patch_doc.__dict__["create"]
+    monkeypatch.setattr(patch_doc, "create", bokeh_create)
+    monkeypatch.setattr(connection, "_bokeh_create", None)
+    monkeypatch.setattr(connection, "FORKED_FROM", "0" * 64)
+    connection.fork_matches.cache_clear()
+    try:
+        with caplog.at_level("WARNING", logger="app.perf.websocket"):
+            connection.send_arrays_inline()
+        assert patch_doc.__dict__["create"] is bokeh_create
+        assert "'inline-arrays' not applied" in caplog.text
+    finally:
+        connection.fork_matches.cache_clear()

@@ -9,10 +9,10 @@ internals the app patches, are capped at the minor series it was tested on.
 from __future__ import annotations
 
 import importlib.util
+import tomllib
 from importlib.metadata import version
 from pathlib import Path
 
-import tomllib
 from packaging.requirements import Requirement
 from packaging.version import Version
 
@@ -68,3 +68,43 @@ def test_patched_libraries_are_capped_at_the_tested_minor_series():
         pinned = _pins()[name]
         # The cap is the next minor release after the pinned (tested) one.
         assert Version(caps[0].version) == Version(f"{pinned.major}.{pinned.minor + 1}")
+
+
+#: Imported only where present, with a message naming it where missing
+#: (core/sweep/__main__.py writes .parquet with it).
+OPTIONAL_IMPORTS = {"pyarrow"}
+
+
+def _imported_distributions() -> dict[str, set[str]]:
+    """``{distribution: files}`` of every third-party module imported by core/ and app/."""
+    import ast
+    import sys
+    from importlib.metadata import packages_distributions
+
+    by_module = packages_distributions()
+    found: dict[str, set[str]] = {}
+    for package in ("core", "app"):
+        for path in (ROOT / package).rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if isinstance(node, ast.Import):
+                    names = [alias.name for alias in node.names]
+                elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                    names = [node.module]
+                else:
+                    continue
+                for name in names:
+                    top = name.split(".")[0]
+                    if top in sys.stdlib_module_names or top in ("core", "app", *OPTIONAL_IMPORTS):
+                        continue
+                    for dist in by_module.get(top, [top]):
+                        found.setdefault(dist.lower(), set()).add(str(path.relative_to(ROOT)))
+    return found
+
+
+def test_every_imported_distribution_is_declared():
+    """A module the code imports is a declared dependency (``packaging`` was imported by
+    app/perf and arrived only through bokeh's own requirements)."""
+    declared = {name.lower() for name in _requirements()}
+    missing = {dist: sorted(files) for dist, files in _imported_distributions().items()
+               if dist not in declared}
+    assert not missing, f"imported but not in pyproject.toml's dependencies: {missing}"

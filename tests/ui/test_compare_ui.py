@@ -36,17 +36,15 @@ def _pin(p: Page) -> None:
 
 
 def _wait_readout(p: Page, words: str, present: bool = True) -> str:
-    deadline = 300
-    for _ in range(deadline):
-        text = p.text(".fie-readout-pane")
-        if (words in text) == present:
-            p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
-            p.settle()
-            return text
-        p.page.wait_for_timeout(100)
-    alert = p.text(".fie-alert") if p.page.locator(".fie-alert").count() else ""
-    raise AssertionError(f"readout {'lacks' if present else 'still has'} {words!r}: {text}"
-                         f"\nalert: {alert or '(none)'}")
+    try:
+        text = p.wait_text(".fie-readout-pane", lambda text: (words in text) == present,
+                           f"readout {'lacks' if present else 'still has'} {words!r}")
+    except AssertionError as exc:
+        alert = p.text(".fie-alert") if p.page.locator(".fie-alert").count() else ""
+        raise AssertionError(f"{exc}\nalert: {alert or '(none)'}") from None
+    p.page.wait_for_function("() => Bokeh.documents[0].is_idle")
+    p.settle()
+    return text
 
 
 #: The comparison table's restitution row (a cell may hold "first / last").
@@ -161,8 +159,7 @@ def test_a_far_off_pin_is_not_clipped(browser, server, shots):
     p = Page(browser, server + "?scene=5a&pins=5a,us=3.0,xbar=2.0,v=0.3,tend=120.0")
     try:
         _wait_readout(p, "compared")
-        p.page.wait_for_timeout(500)  # the portrait's ranges are fitted after a paint
-        p.settle()
+        p.still()  # the portrait's ranges are fitted in a paint
         shown = p.page.evaluate(JS_GHOST_IN_VIEW, PIN_COLORS[0])
         assert set(shown) >= {"Phase portrait (x, x')", "Displacement x(t)",
                               "Velocity x'(t)"}, shown
@@ -190,8 +187,7 @@ def test_a_deformable_pin_does_not_flatten_rigid_impulses(browser, server, shots
     p = Page(browser, server + "?scene=7c&units=SI&pins=10")
     try:
         _wait_readout(p, "compared")
-        p.page.wait_for_timeout(300)
-        p.settle()
+        p.still()
         axis = p.page.evaluate(JS_FORCE_AXIS)
         assert axis["j"] <= axis["end"] < 2 * axis["j"], axis
         assert axis["title"].endswith(

@@ -3,9 +3,8 @@ readout, explained in a tooltip and kept in the permalink."""
 
 from __future__ import annotations
 
-import time
-
 import pytest
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from uipage import Page
 
 pytestmark = pytest.mark.ui
@@ -17,12 +16,12 @@ def _law_row(p: Page) -> str:
 
 
 def _wait_for_url(p: Page, part: str, timeout_s: float = 30.0) -> str:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if part in p.page.url:
-            return p.page.url
-        p.page.wait_for_timeout(50)
-    raise AssertionError(f"the address never had {part!r}: {p.page.url}")
+    try:
+        p.page.wait_for_function("part => location.href.includes(part)", arg=part,
+                                 timeout=timeout_s * 1000)
+    except PlaywrightTimeout:
+        raise AssertionError(f"the address never had {part!r}: {p.page.url}") from None
+    return p.page.url
 
 
 def test_contact_law_is_chosen_said_and_kept_in_the_link(browser, server, shots):

@@ -50,6 +50,17 @@ CASES = [
     ("scene=5a&tend=" + LONG, "tend", "characters"),
     ("scene=5a&mus=ünïcødé 😀 <i>x</i>", "mus", "ünïcødé 😀 <i>x</i>"),
 ]
+#: JavaScript: true once every image of the page (shadow roots included) has loaded or failed.
+JS_IMAGES_DONE = """() => {
+  function done(node) {
+    for (const el of node.querySelectorAll("*")) {
+      if (el.shadowRoot && !done(el.shadowRoot)) return false;
+      if (el.tagName === "IMG" && !el.complete) return false;
+    }
+    return true;
+  }
+  return done(document);
+}"""
 
 
 @pytest.mark.parametrize(("query", "key", "shown"), CASES,
@@ -69,7 +80,9 @@ def test_hostile_link_shows_text(browser, server, shots, query, key, shown):
         p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
         alert = p.page.locator(".fie-alert").first
         alert.wait_for(state="visible", timeout=30_000)
-        p.page.wait_for_timeout(300)  # an image's onerror fires once it failed to load
+        # An injected image's onerror fires once it failed to load: wait until every image
+        # of the page, shadow roots included, has loaded or failed.
+        p.page.wait_for_function(JS_IMAGES_DONE, timeout=30_000)
         p.settle()
         p.page.screenshot(path=shots / f"hostile-{key}.png")
         assert dialogs == []

@@ -6,6 +6,7 @@ the slider's arrow keys cross its range in about a hundred presses."""
 from __future__ import annotations
 
 import pytest
+from playwright.sync_api import expect
 from uipage import Page
 
 pytestmark = pytest.mark.ui
@@ -81,11 +82,8 @@ def test_refused_entry_is_said_and_stays_red(page, shots, name, text, said):
 
 
 def _wait_for_text(p: Page, css: str, text: str, timeout_s: float = 30.0) -> None:
-    for _ in range(int(timeout_s / 0.05)):
-        if text in p.text(css):
-            return
-        p.page.wait_for_timeout(50)
-    raise AssertionError(f"{css} never showed {text!r}: {p.text(css)!r}")
+    p.wait_text(css, lambda shown: text in shown, f"{css} never showed {text!r}",
+                timeout_s * 1000)
 
 
 def test_valid_entry_clears_the_refusal(page):
@@ -116,18 +114,13 @@ def test_coupled_bound_says_what_it_did(page, shots):
 
 
 def _wait_for_value(p: Page, name: str, text: str, timeout_s: float = 30.0) -> None:
-    box = p.page.locator(f".fie-w-{name} input").first
-    for _ in range(int(timeout_s / 0.05)):
-        if box.input_value() == text:
-            return
-        p.page.wait_for_timeout(50)
-    raise AssertionError(f"{name} never showed {text!r}: {box.input_value()!r}")
+    expect(p.page.locator(f".fie-w-{name} input").first).to_have_value(
+        text, timeout=timeout_s * 1000)
 
 
 def test_every_box_has_a_tooltip_with_its_range(page):
     icon = page.page.locator(".fie-w-restitution .bk-description").first
     icon.hover()
-    page.page.wait_for_timeout(300)
     tip = page.page.locator(".bk-tooltip-content", has_text="rebound speed").first
     tip.wait_for(state="visible", timeout=5_000)
     text = tip.inner_text()

@@ -33,7 +33,7 @@ def test_readout_rows_wrap_and_fit(browser, server, shots, scene, width):
     p = Page(browser, f"{server}?scene={scene}")
     try:
         p.page.set_viewport_size({"width": width, "height": 900})
-        p.page.wait_for_timeout(500)
+        p.still()  # the readout's rows wrap to the new width
         p.settle()
         p.page.screenshot(path=shots / f"readout-{scene}-{width}.png")
         info = p.page.locator(".fie-readout-pane").first.evaluate(JS_READOUT)

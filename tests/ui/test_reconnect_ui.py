@@ -15,7 +15,6 @@ from __future__ import annotations
 import contextlib
 import socket
 import threading
-import time
 from urllib.parse import parse_qs, urlsplit
 
 import pytest
@@ -36,15 +35,6 @@ def _query(url: str) -> dict[str, list[str]]:
     return parse_qs(urlsplit(url).query)
 
 
-def _wait(page, done, timeout_s: float, what: str) -> None:
-    # Playwright's wait, not time.sleep: the page's events (its address) arrive meanwhile.
-    deadline = time.monotonic() + timeout_s
-    while not done():
-        if time.monotonic() > deadline:
-            raise AssertionError(what)
-        page.wait_for_timeout(100)
-
-
 def test_restart_shows_banner_and_page_comes_back_in_its_state(browser, shots):
     port = free_port()
     log = SCREENSHOT_DIR.parent / "reconnect-serve.log"
@@ -56,8 +46,10 @@ def test_restart_shows_banner_and_page_comes_back_in_its_state(browser, shots):
             assert banner.count() == 1 and not banner.is_visible()  # the live region, idle
             url0 = p.page.url
             p.drag_slider("clearance", 30)
-            _wait(p.page, lambda: _query(p.page.url).get("xbar") != _query(url0).get("xbar"), 30,
-                  f"the address did not follow the slider: {url0} -> {p.page.url}")
+            # The address follows the slider.
+            p.page.wait_for_function(
+                "old => new URLSearchParams(location.search).get('xbar') !== old",
+                arg=(_query(url0).get("xbar") or [None])[0], timeout=30_000)
             p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
             moved_url = p.page.url
             moved_widget = p.text(".fie-w-clearance")
@@ -158,7 +150,11 @@ def test_a_network_drop_of_a_few_seconds_shows_the_banner_and_keeps_the_state(br
         p.page.evaluate(JS_MARK)
         link.cut()
         p.page.locator(BANNER).wait_for(state="visible", timeout=15_000)
-        p.page.wait_for_timeout(3000)  # a few seconds without network
+        # A few seconds without network: the page's polls of the server fail meanwhile
+        # (0.5, 1, 2 s apart: two failures are over a second of it).
+        for _ in range(2):
+            p.page.wait_for_event("requestfailed", timeout=15_000,
+                                  predicate=lambda r: r.url.endswith("/liveness"))
         assert p.page.evaluate(JS_MARKED)
         link.restore()
         p.page.wait_for_function(f"() => !({JS_MARKED.removeprefix('() => ')})",

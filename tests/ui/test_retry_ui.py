@@ -13,8 +13,6 @@ machine, the page calls it too slow first. Either way the offer must come; the r
 
 from __future__ import annotations
 
-import time
-
 import pytest
 from conftest import ROOT, SCREENSHOT_DIR, free_port, panel_server
 from uipage import Page
@@ -28,12 +26,6 @@ BUDGET_S = 0.25
 MAX_RETRIES = 2
 
 
-def _wait_until(done, timeout_s: float) -> None:
-    deadline = time.monotonic() + timeout_s
-    while not done():
-        if time.monotonic() > deadline:
-            raise AssertionError("the retry did not answer")
-        time.sleep(0.05)
 
 
 def _retry_offered(p: Page) -> bool:
@@ -69,10 +61,10 @@ def test_out_of_time_offers_retry_with_more_time(browser, tight_server, shots):
             assert phase.is_visible()
             # The retry runs (it solves afresh: more than the budget): its button says so, disabled,
             # until the answer hides it (done) or offers it again (still short of time).
-            p.page.locator(".fie-retry button", has_text="Solving (up to").first.wait_for(
-                state="visible", timeout=10_000)
+            solving = p.page.locator(".fie-retry button", has_text="Solving (up to").first
+            solving.wait_for(state="visible", timeout=10_000)
             assert not button.is_enabled()
-            _wait_until(lambda: not button.is_visible() or button.is_enabled(), 90.0)
+            solving.wait_for(state="hidden", timeout=90_000)
             p.settle()
             if not _retry_offered(p):
                 break

@@ -6,6 +6,7 @@ import io
 import time
 
 import numpy as np
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
 #: Milliseconds to wait for a page to be ready.
 PAGE_TIMEOUT_MS = 60_000
@@ -49,6 +50,59 @@ JS_WAITING = """margin => {
 }"""
 
 
+#: JavaScript: the first element matching ``css`` under ``root``, shadow roots included (as
+#: Playwright's CSS locators pierce them; here a selector matches within one root only).
+JS_DEEP_QUERY = """(root, css) => {
+  function find(node) {
+    const el = node.querySelector(css);
+    if (el) return el;
+    for (const host of node.querySelectorAll("*")) {
+      if (host.shadowRoot) {
+        const inner = find(host.shadowRoot);
+        if (inner) return inner;
+      }
+    }
+    return null;
+  }
+  return find(root);
+}"""
+#: JavaScript: resolves once the document is idle and neither any range of the figures
+#: (BokehJS fits data ranges in a paint) nor the box of any plot or of the readout has
+#: changed for ``frames`` animation frames in a row; false if that has not happened within
+#: ``ms`` milliseconds.
+JS_STILL = """({frames, ms}) => new Promise(resolve => {
+  const doc = Bokeh.documents[0];
+  const end = performance.now() + ms;
+  function boxes(node, out) {
+    for (const el of node.querySelectorAll("*")) {
+      if (el.shadowRoot) boxes(el.shadowRoot, out);
+      if (el.classList.contains("fie-plot") || el.classList.contains("fie-readout-pane")) {
+        const r = el.getBoundingClientRect();
+        out.push(`${r.x},${r.y},${r.width},${r.height}`);
+      }
+    }
+    return out;
+  }
+  function key() {
+    const ranges = [...doc.all_models]
+      .filter(m => m.type === "Range1d" || m.type === "DataRange1d")
+      .map(r => `${r.start},${r.end}`);
+    return ranges.concat(boxes(document, [])).join(";");
+  }
+  let last = null, still = 0;
+  (function tick() {
+    const now = doc.is_idle ? key() : null;
+    still = now !== null && now === last ? still + 1 : 0;
+    last = now;
+    if (still >= frames) resolve(true);
+    else if (performance.now() > end) resolve(false);
+    else requestAnimationFrame(tick);
+  })();
+})"""
+#: Animation frames without a change that :meth:`Page.still` waits for.
+STILL_FRAMES = 3
+
+
 class Page:
     """A page of the explorer with its console messages collected."""
 
@@ -67,15 +121,14 @@ class Page:
     def wait_plots(self, everywhere: bool = False) -> None:
         """Wait until no plot in view (within the page's 400 px margin) waits to be built;
         with ``everywhere``, scroll each waiting plot of the page into view first."""
-        deadline = time.monotonic() + PAGE_TIMEOUT_MS / 1000
-        while time.monotonic() < deadline:
-            if everywhere and self.page.evaluate(JS_WAITING, None):
-                self.page.locator(".fie-plot-pending").first.scroll_into_view_if_needed()
-            elif not self.page.evaluate(JS_WAITING, 400):
-                self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
-                return
-            self.page.wait_for_timeout(50)
-        raise AssertionError("plots still wait to be built")
+        while everywhere and (waiting := self.page.evaluate(JS_WAITING, None)):
+            self.page.locator(".fie-plot-pending").first.scroll_into_view_if_needed()
+            # The one scrolled into view is built (it loses its class).
+            self.page.wait_for_function(f"n => ({JS_WAITING})(null) < n", arg=waiting,
+                                        timeout=PAGE_TIMEOUT_MS)
+        self.page.wait_for_function(f"() => ({JS_WAITING})(400) === 0",
+                                    timeout=PAGE_TIMEOUT_MS)
+        self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
 
     def _console(self, msg) -> None:
         if msg.type == "error":
@@ -86,20 +139,44 @@ class Page:
         self.page.evaluate("() => new Promise(r => requestAnimationFrame(() => "
                            "requestAnimationFrame(r)))")
 
+    def still(self, frames: int = STILL_FRAMES) -> None:
+        """Wait until the page is idle and its figures' ranges and plots' boxes have stopped
+        changing (a data range is fitted in a paint, a layout settles as plots fill)."""
+        self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
+        assert self.page.evaluate(JS_STILL, {"frames": frames, "ms": PAGE_TIMEOUT_MS}), (
+            "the figures' ranges or the plots' boxes kept changing")
+
     def text(self, css: str) -> str:
         """Visible text of the first element matching ``css``, shadow DOM included."""
         return self.page.locator(css).first.evaluate(JS_DEEP_TEXT)
 
     def wait_text_change(self, css: str, old: str, timeout: float = 30_000) -> str:
         """Wait until the element's text differs from ``old`` (the server answered)."""
+        self.wait_text(css, lambda text: text != old, f"{css} did not change", timeout)
+        self.settle()
+        return self.text(css)
+
+    def wait_text(self, css: str, test, what: str, timeout: float = 30_000) -> str:
+        """Wait until ``test(text)`` holds for the deep text of the first element matching
+        ``css`` (checked each time the page's DOM changes, and every 100 ms); returns the
+        text. ``what`` is the message of the failure."""
         deadline = time.monotonic() + timeout / 1000
-        while time.monotonic() < deadline:
-            new = self.text(css)
-            if new != old:
-                self.settle()
-                return new
-            self.page.wait_for_timeout(25)
-        raise AssertionError(f"{css} did not change")
+        js = (f"([css, old]) => {{ const el = ({JS_DEEP_QUERY})(document, css); "
+              f"return el === null ? old : ({JS_DEEP_TEXT})(el); }}")
+        text = self.text(css)
+        while not test(text):
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise AssertionError(f"{what}: {text!r}")
+            # The browser waits for any other text; Python decides whether it passes.
+            try:
+                self.page.wait_for_function(f"args => ({js})(args) !== args[1]",
+                                            arg=[css, text], polling=100,
+                                            timeout=left * 1000)
+            except PlaywrightTimeout:
+                raise AssertionError(f"{what}: {text!r}") from None
+            text = self.text(css)
+        return text
 
     def pixels(self, css: str) -> np.ndarray:
         """RGB pixels of the first element matching ``css`` (its screenshot)."""
