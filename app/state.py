@@ -158,6 +158,37 @@ class ExplorerState(param.Parameterized):
         Spring stiffness k [N/m].""")
     show_all = param.Boolean(False, doc="Show every plot, not only the scene's.")
 
+    # --- what the page shows (set by the page, watched by its components) ------------------
+
+    solution = param.Parameter(None, doc="""
+        The full run on screen (an ``app.solver.Solution``), set once it is solved; every
+        view of it (plots, readout, comparison, tools) follows this event.""")
+    preview = param.Dict(None, allow_None=True, doc="""
+        Solve values a slider being dragged stands at (not committed), or None: the page
+        shows their draft while a drag lasts, and the full run again when it ends without
+        a new value.""")
+    pinned = param.Event(doc="""
+        The pinned runs changed (a pin came, went or was solved).""")
+    stale = param.Event(doc="""
+        A slider's release has arrived: a drag's draft not yet drawn is stale (the full
+        run of the release follows).""")
+    figure = param.Selector(default=DEFAULT_SCENE, objects=list(SCENES), doc="""
+        The paper's figure last loaded (the reset button returns to it).""")
+    present = param.Selector(default="", objects=["", "1", "4"], doc="""
+        Presentation layout: '' off, '1' one large plot, '4' a 2x2 grid.""")
+    slides = param.Selector(default="", objects=["", "svg", "png"], doc="""
+        Figures for slides: '' as on screen, or the format their save tool writes.""")
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        if self.scene in SCENES:
+            self.figure = self.scene
+
+    @param.depends("scene", watch=True)
+    def _follow_scene(self) -> None:
+        if self.scene in SCENES:
+            self.figure = self.scene
+
     # --- core inputs ---------------------------------------------------------------------
 
     def values(self) -> dict[str, Any]:
