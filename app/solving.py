@@ -48,7 +48,9 @@ class Solving(param.Parameterized):
         #: The budget [s] that the run on screen overran (None: it did not).
         self._ran_out: float | None = None
         self._runner = SolveRunner(self.failed, self._busy)
-        self.state.param.watch(lambda *events: self.solve(), list(SOLVE_PARAMS))
+        # After the state's other watchers (the controls show the values, the plots forget
+        # the last scene's transition kinds): a cached run is drawn before this returns.
+        self.state.param.watch(lambda *events: self.solve(), list(SOLVE_PARAMS), precedence=1)
 
     def solve(self, budget: float | None = None) -> None:
         """Solve the state (with ``budget`` [s], or its accuracy's); the picture stays until

@@ -811,3 +811,14 @@ def test_a_release_handled_after_the_slider_moved_on_does_not_pull_it_back(ex):
     _release(ex, "mu_s", second)
     assert ex.state.mu_s == second and ex.solution.values["mu_s"] == second
     assert slider.value == second and ex.sliders["mu_s"].input.value == f"{second:g}"
+
+
+def test_a_scene_loaded_over_another_keeps_none_of_its_transition_kinds(ex):
+    """The legend names the transition kinds the run shows. Loading scene 5b over 5a (whose
+    run has impacts from slip) drew 5b's answer before the plots forgot 5a's kinds when the
+    answer came at once (a cached run): 5b's legend named 5a's impacts too. The page opened
+    on 5b is the reference."""
+    fresh = Explorer(ExplorerState(scene="5b", **scene_values("5b")))
+    assert "</svg>impact</span>" in ex.plots.legends["phase"].object  # 5a's
+    ex.permalink.apply_query("scene=5b")
+    assert ex.plots.legends["phase"].object == fresh.plots.legends["phase"].object
