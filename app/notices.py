@@ -45,7 +45,8 @@ class Notices(pn.viewable.Viewer):
         self._on_retry: Callable[[], None] | None = None
         self._budget = 0.0
         self._column = pn.Column(self.alert, sizing_mode="stretch_width", margin=0)
-        self.state.param.watch(self._solution_shown, "solution")
+        # After the plots' draw (one message all the same: the page waits for its figures).
+        self.state.param.watch(self._solution_shown, "solution", precedence=1)
 
     def __panel__(self) -> pn.viewable.Viewable:
         return self._column

@@ -103,9 +103,9 @@ class PlotsHost(pn.viewable.Viewer):
         st.param.watch(self._state_changed, ["scene", "preview", "stale", *SOLVE_PARAMS,
                                              *VIEW_PARAMS])
         st.param.watch(lambda e: self.show_plots(), ["present", "slides"])
-        # Last of the solution's watchers: the page's figures hold their paints until
-        # ``arrived`` says the rest of the picture came.
-        st.param.watch(lambda e: self.draw(e.new), "solution", precedence=1)
+        # First of the solution's watchers (the readout and the others follow, in the same
+        # message): the figures are what the page waits for.
+        st.param.watch(self._draw, "solution")
 
     def __panel__(self) -> pn.viewable.Viewable:
         return pn.Column(self.arrived, self.in_view, self.plot_box,
@@ -213,8 +213,10 @@ class PlotsHost(pn.viewable.Viewer):
 
     # --- drawing ---------------------------------------------------------------------------
 
-    def draw(self, sol: Solution | None) -> None:
-        """Draw the full run ``sol`` in the visible plots (call under ``pn.io.hold``)."""
+    def _draw(self, event: param.parameterized.Event) -> None:
+        """Draw the full run on screen (the state's new ``solution``) in the visible plots
+        (under the ``pn.io.hold`` of whoever set it)."""
+        sol = event.new
         if sol is None:
             return
         self._draft, self._draft_shown = None, False

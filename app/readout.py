@@ -347,7 +347,8 @@ class Readout(pn.viewable.Viewer):
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
         self._reserved_for: str | None = None
-        self.state.param.watch(self._show, ["solution", "pinned"])
+        # After the plots' draw (one message all the same: the page waits for its figures).
+        self.state.param.watch(self._show, ["solution", "pinned"], precedence=1)
         self.state.param.watch(self._presented, "present")
 
     def __panel__(self) -> pn.viewable.Viewable:

@@ -62,7 +62,8 @@ class Studies(pn.viewable.Viewer):
         self._trade_values: Mapping[str, Any] | None = None
         #: The sweep card (app.bifurcation), built when first opened.
         self.sweeps: Any = None
-        self.state.param.watch(self._solution_shown, "solution")
+        # After the plots' draw (one message all the same: the page waits for its figures).
+        self.state.param.watch(self._solution_shown, "solution", precedence=1)
         self.state.param.watch(self._presented, "present")
 
     def __panel__(self) -> pn.viewable.Viewable:

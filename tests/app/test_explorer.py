@@ -618,7 +618,7 @@ def test_a_new_regime_map_follows_the_rest_of_the_picture(ex, monkeypatch):
     monkeypatch.setattr("app.plots_host.later", lambda fn, delay_ms: deferred.append(fn))
 
     def map_callbacks():
-        return [fn for fn in deferred if ".draw." in fn.__qualname__]
+        return [fn for fn in deferred if "._draw." in fn.__qualname__]
 
     old_image = ex.plots.sources["map"].data["image"]
     _release(ex, "mu_s", 0.337)
