@@ -136,7 +136,8 @@ PARTS: dict[str, tuple[str, ...]] = {
         "commit_si", "reset")},
     **{name: ("host",) for name in (
         "plots", "anim", "plot_panes", "plot_box", "map_legend", "arrived", "in_view",
-        "compare", "presentation", "visible_plots", "applicable_plots", "redraw")},
+        "compare", "presentation", "visible_plots", "applicable_plots", "redraw",
+        "draw_map", "map_tapped", "phase_tapped")},
     **{name: ("notices",) for name in ("alert", "retry")},
     **{name: ("readout_view",) for name in ("caption", "readout")},
     **{name: ("studies",) for name in ("measure", "open_sweeps", "trade", "sweeps",

@@ -165,7 +165,7 @@ class PlotsHost(pn.viewable.Viewer):
                 if map_data is not None:
                     self.show_map_legend(map_data["labels"])
         if "map" in new and map_data is None:
-            later(lambda: self._draw_map(sol), 0)
+            later(lambda: self.draw_map(sol), 0)
 
     def _build_plot(self, name: str) -> pn.viewable.Viewable:
         """The body of the pane of plot ``name``, its figures built now (with their links
@@ -238,7 +238,7 @@ class PlotsHost(pn.viewable.Viewer):
         if "map" in drawn and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
-            later(lambda: self._draw_map(sol), 0)
+            later(lambda: self.draw_map(sol), 0)
 
     def _draw_pins(self, sol: Solution) -> None:
         if self.compare.pins:
@@ -306,7 +306,7 @@ class PlotsHost(pn.viewable.Viewer):
         return self.plots.map_frame({**sol.values, "scene": self.state.scene,
                                      "units": self.state.units})
 
-    def _draw_map(self, sol: Solution) -> None:
+    def draw_map(self, sol: Solution) -> None:
         """Compute the regime map of ``sol`` and draw it, unless a newer solution came."""
         if sol is not self.state.solution:
             return
