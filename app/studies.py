@@ -108,7 +108,8 @@ class Studies(pn.viewable.Viewer):
     def _measure_ended(self) -> None:
         self.measure.disabled = False
         self.measure.label = MEASURE_LABEL
-        self.notices.hide(self._refusal)  # "already running": no longer so
+        if self._refusal is not None:
+            self.notices.hide(self._refusal)  # "already running": no longer so
 
     def _measured(self, values: Mapping[str, Any], rows: list) -> None:
         self._measure_ended()

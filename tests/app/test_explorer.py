@@ -822,3 +822,19 @@ def test_a_scene_loaded_over_another_keeps_none_of_its_transition_kinds(ex):
     assert "</svg>impact</span>" in ex.plots.legends["phase"].object  # 5a's
     ex.permalink.apply_query("scene=5b")
     assert ex.plots.legends["phase"].object == fresh.plots.legends["phase"].object
+
+
+def test_a_measurement_that_ends_leaves_the_alert_of_another_matter(ex):
+    """The end of a measurement hides the alert only if it says that a measurement was
+    refused; the page's components once hid whatever alert was shown (a link's refused
+    key here)."""
+    import time
+
+    ex.permalink.apply_query("zz=1")
+    assert ex.alert.visible and "unknown key 'zz'" in html.unescape(ex.alert.object)
+    ex.measure_trade()
+    deadline = time.monotonic() + 120.0  # a measurement ends within its 30 s budget
+    while ex.measure.disabled:
+        assert time.monotonic() < deadline, "the measurement did not end"
+        time.sleep(0.05)
+    assert ex.alert.visible
