@@ -51,6 +51,9 @@ class Solving(param.Parameterized):
         # After the state's other watchers (the controls show the values, the plots forget
         # the last scene's transition kinds): a cached run is drawn before this returns.
         self.state.param.watch(lambda *events: self.solve(), list(SOLVE_PARAMS), precedence=1)
+        # After the notices (which hide the last alert): a run cut short says so whenever
+        # it is shown, in the units it is shown in.
+        self.state.param.watch(self._shown, "solution", precedence=2)
 
     def solve(self, budget: float | None = None) -> None:
         """Solve the state (with ``budget`` [s], or its accuracy's); the picture stays until
@@ -81,7 +84,10 @@ class Solving(param.Parameterized):
         except Exception as exc:  # noqa: BLE001 - a drawing fault must not go unsaid
             log.error("drawing failed", exc_info=exc)
             self.notices.show(f"The picture could not be drawn: {type(exc).__name__}: {exc}")
-        if cut_short(sol):
+
+    def _shown(self, event: param.parameterized.Event) -> None:
+        sol = event.new
+        if sol is not None and cut_short(sol):
             self._say_cut_short(sol)
         else:
             self._offer_retry(None)

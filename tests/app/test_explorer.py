@@ -838,3 +838,23 @@ def test_a_measurement_that_ends_leaves_the_alert_of_another_matter(ex):
         assert time.monotonic() < deadline, "the measurement did not end"
         time.sleep(0.05)
     assert ex.alert.visible
+
+
+def test_a_run_cut_short_says_so_in_the_units_it_is_shown_in(ex):
+    """A run the core stopped at its budget says where it stopped, and offers more time.
+    Shown again in other units (SI here), the page hid that notice with the last alert and
+    did not say it again."""
+    from app.solver import cut_short, submit
+
+    # The switch model at "precise" over t_end = 5000: about 2 s (tests/ui/test_retry_ui.py),
+    # far more than 0.2 s.
+    values = {**scene_values("10"), "method": "switch", "accuracy": "precise", "t_end": 5000.0}
+    short = submit(values, budget=0.2).result(timeout=60)
+    assert cut_short(short)
+    ex.state.param.update(**values)  # the state the run is of (its own solve is replaced)
+    ex.state.solution = short
+    assert ex.alert.visible and "Solved only in part" in ex.alert.object
+    assert "t_end = 5000:" in ex.alert.object and ex.retry.visible
+    ex.state.units = "SI"  # omega = 10 rad/s: the horizon in seconds
+    assert ex.alert.visible and "Solved only in part" in ex.alert.object
+    assert "t_end = 500 s:" in ex.alert.object and ex.retry.visible
