@@ -71,6 +71,7 @@ class Permalink(pn.viewable.Viewer):
         self._timer: Deferred | None = None
 
     def __panel__(self) -> pn.viewable.Viewable:
+        # No view of its own: the address bar is the browser's.
         return pn.Column()
 
     # --- address -> state -----------------------------------------------------------------

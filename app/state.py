@@ -119,7 +119,10 @@ def si_scales(mass: float, stiffness: float) -> Scales:
 class ExplorerState(param.Parameterized):
     """All the user can set; defaults are the scene :data:`app.scenes.DEFAULT_SCENE`.
 
-    Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges.
+    Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges. The
+    page's components watch one state each (app.explorer): besides the user's values it
+    holds what the page shows (``solution``, a drag's ``preview``, the presentation) and
+    the events of what went stale (``stale``, ``pinned``).
     """
 
     scene = param.Selector(default=DEFAULT_SCENE, objects=[*SCENES, CUSTOM], doc="""
