@@ -1,7 +1,7 @@
 """Bifurcation diagrams and the regime map from simulation: :mod:`core.sweep` in the page.
 
 The view is built when the user first opens it (a new page holds none of its models). A
-sweep runs in the solver's worker pool (:func:`app.solver.executor_for`), one chunk of
+sweep runs in the solver's worker pool (:func:`app.solve.pool.executor_for`), one chunk of
 parameter values at a time: each chunk's answer is drawn on the session's event loop, and
 the next chunk is submitted only then, so a cancel (or a new sweep) stops the work after the
 chunk that is running. A sweep of more than :data:`DENSITY_SAMPLES` samples is drawn as a
@@ -341,7 +341,7 @@ def run_core(values: Mapping[str, Any], cancelled: threading.Event | None, fn: C
              *args: Any, **kwargs: Any) -> Any:
     """``fn(*args, **kwargs)``, a :mod:`core.sweep` function: here for the closed form
     (milliseconds) or without ``cancelled``; else in a child process
-    (:mod:`app.solve_process`), as the page's own integrating solves are, so that it holds
+    (:mod:`app.solve.process`), as the page's own integrating solves are, so that it holds
     neither the server's interpreter lock nor outlives a cancel. Only core objects cross
     to the child (it has :mod:`core` loaded; the page's modules would cost it a second)."""
     if cancelled is None or closed_form(values):
@@ -446,7 +446,7 @@ class SimMap:
 
 def map_cells(frame: tuple[float, float, float], cells: int) -> tuple[np.ndarray, np.ndarray]:
     """Cell centres ``(speeds, clearances)`` of a ``cells`` x ``cells`` map on ``frame``
-    (as :func:`app.solver.regime_map`)."""
+    (as :func:`app.solve.regime_map.regime_map`)."""
     v_hi, x_lo, x_hi = frame
     speeds = (np.arange(cells) + 0.5) * v_hi / cells
     clearances = x_lo + (np.arange(cells) + 0.5) * (x_hi - x_lo) / cells
@@ -570,7 +570,7 @@ class ChunkedSweep:
               target_s: float = CHUNK_SECONDS["closed"], budget_s: float | None = None
               ) -> None:
         """Compute ``work(task, chunk)`` over ``items`` (along the first axis), in the pool
-        that solves ``pool_values`` (:func:`app.solver.executor_for`), within ``budget_s``
+        that solves ``pool_values`` (:func:`app.solve.pool.executor_for`), within ``budget_s``
         seconds (``None``: no budget)."""
         self.cancel()
         with self._lock:

@@ -2,7 +2,7 @@
 
 A pin stores the run's *parameters* (scene and solve values, and the mass and stiffness of
 its SI units: :class:`PinSpec`), never its samples: it is solved again in the worker pool
-(:class:`app.solver.SolveRunner`), so a permalink that names the pins (:func:`encode_pins`,
+(:class:`app.solve.runner.SolveRunner`), so a permalink that names the pins (:func:`encode_pins`,
 :func:`decode_pins`) redraws them on load. Ghost renderers are added to a figure the first
 time a pin is drawn on it (:class:`Compare`); a page with no pin holds no model of this
 module. The ``*_columns``, label and table functions are pure and
@@ -23,14 +23,23 @@ import html
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from app.export import NAMED, SI_PARAMETERS
 from app.glyphs import add_glyph
-from app.links import allowed, parse_value, shown
-from app.perf.browser_values import say_refused
+from app.pins import (  # noqa: F401 - the pins' codec, used with them
+    ITEM_SEP,
+    MASS,
+    MAX_PINS,
+    PIN_SEP,
+    STIFFNESS,
+    URL_KEY,
+    PinSpec,
+    decode_pins,
+    encode_pins,
+)
 from app.plots import (
     FORCE_TITLE,
     MODE_NAMES,
@@ -41,31 +50,20 @@ from app.plots import (
     trajectory_columns,
 )
 from app.readout import restitution_first_last
-from app.scenes import CUSTOM, SCENES
 from app.solve.runner import SolveRunner
 from app.solve.solution import Solution
 from app.state import (
     DIMENSIONLESS,
-    SOLVE_PARAMS,
     URL_KEYS,
-    ExplorerState,
     Scales,
-    core_inputs,
     si_scales,
 )
-from app.state import scene_values as _scene_values
 from core import TransitionKind
 
-#: Pinned runs kept at most.
-MAX_PINS = 3
 #: Muted colours of the pins, in pin order: far from the modes' blue, orange and red.
 PIN_COLORS = ("#8e7cc3", "#5f9e96", "#a88b5a")
 #: How a ghost is drawn: thin, dashed, half transparent (the current run stays on top).
 GHOST_STYLE: Mapping[str, Any] = {"line_width": 1.5, "line_dash": "dashed", "line_alpha": 0.8}
-#: The permalink's key for the pins.
-URL_KEY = "pins"
-#: Separators of the pins' URL value: between pins, between a pin's items.
-PIN_SEP, ITEM_SEP = "|", ","
 #: Parameters named at most in a pin's label (the rest are summed up as "…").
 LABEL_ITEMS = 3
 #: Names of the parameters in a pin's label, as the page's boxes name them: parameter ->
@@ -83,9 +81,6 @@ LABEL_NAMES: Mapping[str, tuple[str, str]] = {
 #: product of a state value and its own unit's factor: equal runs may differ in the last
 #: bits).
 SAME_RTOL = 1e-9
-#: Mass m [kg] and stiffness k [N/m] of a pin whose permalink names none (the page's are
-#: passed in their place, :func:`decode_pins`).
-MASS, STIFFNESS = ExplorerState.param["mass"].default, ExplorerState.param["stiffness"].default
 #: Ghost sources and the figures that draw them: source -> (figure, x column, y column).
 GHOSTS: Mapping[str, tuple[tuple[str, str, str], ...]] = {
     "phase": (("phase", "x", "v"),),
@@ -110,123 +105,6 @@ R_INELASTIC_PRESET = 0.7
 
 def _f32(a: Any) -> np.ndarray:
     return np.asarray(a, dtype=np.float32)
-
-
-# --- permalink -----------------------------------------------------------------------------
-
-class PinSpec(NamedTuple):
-    """What a pin is: its scene, its solve values (the core's dimensionless ones) and the
-    mass m [kg] and stiffness k [N/m] of the page it was pinned on, which make it one
-    physical run: the SI page shows it in its own seconds, m/s and newtons."""
-
-    scene: str
-    values: dict[str, Any]
-    mass: float = MASS
-    stiffness: float = STIFFNESS
-
-
-def encode_pins(pins: Sequence[PinSpec], mass: float = MASS,
-                stiffness: float = STIFFNESS) -> str:
-    """The pins as the permalink's value: per pin its scene, then the values that differ
-    from that scene's (``key=value`` with the permalink's keys), then its mass ``m`` and
-    stiffness ``k`` where they differ from the page's (``mass``, ``stiffness``).
-
-    >>> from app.state import scene_values
-    >>> elastic = {**scene_values("7c"), "restitution": 1.0}
-    >>> encode_pins([PinSpec("7c", scene_values("7c")), PinSpec("7c", elastic, mass=4.0)])
-    '7c|7c,r=1.0,m=4.0'
-    """
-    parts = []
-    for pin in pins:
-        base = _scene_values(pin.scene) if pin.scene in SCENES else _defaults()
-        items = [pin.scene]
-        for name in SOLVE_PARAMS:
-            if name in ("accuracy", "method"):
-                continue  # a pin is solved with the page's accuracy and method
-            if pin.values[name] != base[name]:
-                items.append(f"{URL_KEYS[name]}={_text(pin.values[name])}")
-        for name, value, page in (("mass", pin.mass, mass),
-                                  ("stiffness", pin.stiffness, stiffness)):
-            if value != page:
-                items.append(f"{URL_KEYS[name]}={_text(float(value))}")
-        parts.append(ITEM_SEP.join(items))
-    return PIN_SEP.join(parts)
-
-
-def _text(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    return repr(value) if isinstance(value, float) else str(value)
-
-
-def _defaults() -> dict[str, Any]:
-    return {name: ExplorerState.param[name].default for name in SOLVE_PARAMS}
-
-
-def decode_pins(raw: str, accuracy: str = "standard", method: str = "auto",
-                mass: float = MASS, stiffness: float = STIFFNESS) -> list[PinSpec]:
-    """Read the permalink's pins back (:func:`encode_pins`); raises ``ValueError`` naming
-    the pin and the item it could not read, and what is allowed. Each value is read as the
-    address's are (:func:`app.links.parse_value`: a number is a finite decimal numeral, a
-    switch ``true`` or ``false``), and each key is given once. A pin that names no mass or
-    stiffness has the page's (``mass``, ``stiffness``: so did every pin of the links
-    written before pins kept their own).
-
-    >>> decode_pins("5b,r=0.5")[0].values["restitution"]
-    0.5
-    >>> decode_pins("5b,m=4", mass=2.0)[0][2:]
-    (4.0, 100.0)
-    >>> decode_pins("5b,r=2")
-    Traceback (most recent call last):
-    ...
-    ValueError: pin 1 ('5b,r=2'): r (restitution) must be a number in [0, 1]; got '2'
-    """
-    pins = []
-    for i, chunk in enumerate(p for p in str(raw).split(PIN_SEP) if p):
-        if len(pins) == MAX_PINS:
-            raise ValueError(f"at most {MAX_PINS} pins; the address names more")
-        where = f"pin {i + 1} ({shown(chunk)})"
-        scene, *items = chunk.split(ITEM_SEP)
-        if scene not in SCENES and scene != CUSTOM:
-            raise ValueError(f"{where}: scene must be one of {', '.join(SCENES)} or custom; "
-                             f"got {shown(scene)}")
-        values = _scene_values(scene) if scene in SCENES else _defaults()
-        values.update(accuracy=accuracy, method=method)
-        units = {"mass": float(mass), "stiffness": float(stiffness)}
-        for name, value in _pin_items(items, where).items():
-            if name in units:
-                units[name] = value
-            else:
-                values[name] = value
-        try:
-            core_inputs(values)
-        except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
-        pins.append(PinSpec(scene, values, units["mass"], units["stiffness"]))
-    return pins
-
-
-def _pin_items(items: Sequence[str], where: str) -> dict[str, Any]:
-    """The values a pin's ``key=value`` items set, by parameter; raises ``ValueError``
-    naming the pin (``where``) and the item."""
-    names = {key: name for name, key in URL_KEYS.items()}
-    out: dict[str, Any] = {}
-    for item in items:
-        key, _, text = item.partition("=")
-        name = names.get(key)
-        if name not in (*SOLVE_PARAMS, "mass", "stiffness") or name in ("accuracy", "method"):
-            raise ValueError(f"{where}: unknown parameter {shown(key)}")
-        if name in out:
-            raise ValueError(f"{where}: {key} ({name}) must be given once")
-        p = ExplorerState.param[name]
-        try:
-            value = parse_value(p, text)
-            ExplorerState(**{name: value})
-        except Exception:  # noqa: BLE001 - any refusal is said in one message
-            raise ValueError(f"{where}: {key} ({name}) must be {allowed(p)}; "
-                             f"got {shown(text)}") from None
-        out[name] = value
-    return out
 
 
 # --- what a pin shows ----------------------------------------------------------------------
@@ -651,6 +529,14 @@ class Compare:
                 elif self._renderers[key].glyph.line_color != color:
                     self._renderers[key].glyph.line_color = color
 
+    def ghost_source(self, slot: int, name: str) -> Any:
+        """The source of pin slot ``slot``'s ghost ``name`` (a key of :data:`GHOSTS`)."""
+        return self._sources[slot][name]
+
+    def ghost_renderer(self, slot: int, figure: str) -> Any:
+        """The renderer of pin slot ``slot``'s ghost on ``figure`` (None if not drawn)."""
+        return self._renderers.get((slot, figure))
+
     @property
     def renderer_count(self) -> int:
         """Ghost renderers built so far (none on a page never pinned)."""
@@ -673,116 +559,3 @@ def _under_current(renderers: list, ghost: Any, sources: Mapping[str, Any]) -> l
         if id(getattr(r, "data_source", None)) in current:
             return [*rest[:i], ghost, *rest[i:]]
     return [*rest, ghost]
-
-
-class CompareMenu:
-    """One split button: its main part pins the run on screen; its menu unpins, loads the
-    paper's preset comparisons and switches the presentation mode
-    (:class:`app.presentation.Presentation`). One Bokeh model whatever it offers.
-
-    Parameters
-    ----------
-    explorer : Explorer
-        The page it acts on (its state, pins, plots and error line).
-    """
-
-    def __init__(self, explorer: Any) -> None:
-        import panel as pn
-
-        from app.presentation import Presentation
-
-        self.explorer = explorer
-        self.presentation = Presentation(explorer)
-        self.button = pn.widgets.MenuButton(
-            label=PIN_LABEL, split=True, items=self._items(), width=290, color="default",
-            css_classes=["fie-compare-menu"])
-        self.button.on_click(self._clicked)
-
-    def _items(self) -> list[tuple[str, str]]:
-        ex = self.explorer
-        items = [(f"Unpin {i + 1}: {label}", f"unpin:{i}")
-                 for i, label in enumerate(ex.compare.labels(ex.state.values()))]
-        if items:
-            items.append(("Unpin all", "unpin:all"))
-        items += [(f"Compare {label}", f"preset:{i}") for i, label in enumerate(PRESETS)]
-        items += self.presentation.menu_items()
-        return items
-
-    def refresh(self) -> None:
-        """The menu's entries for the current pins."""
-        items = self._items()
-        if items != self.button.items:
-            self.button.items = items
-
-    def _clicked(self, event: Any) -> None:
-        value = event.new
-        ex = self.explorer
-        if value not in (PIN_LABEL, None) and value not in dict(self.button.items).values():
-            # Not an entry of the menu (a script's click): nothing to do, one quiet line.
-            say_refused(f"refused from the browser: menu entry {value!r:.60}")
-            return
-        if value == PIN_LABEL or value is None:
-            ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
-                           ex.state.stiffness)
-        elif value.startswith("unpin:"):
-            which = value.split(":")[1]
-            ex.compare.unpin(None if which == "all" else int(which))
-        elif value.startswith("preset:"):
-            self.preset(list(PRESETS)[int(value.split(":")[1])])
-        elif value.startswith("present:"):
-            self.presentation.set_mode(value.split(":")[1])
-        elif value.startswith("slides:"):
-            self.presentation.set_slides(value.split(":")[1])
-        self.refresh()
-
-    def preset(self, label: str) -> None:
-        """Load a preset comparison: one scene loaded, the other pinned (only it)."""
-        ex = self.explorer
-        pair = PRESETS[label]
-        acc = {"accuracy": ex.state.accuracy, "method": ex.state.method}
-        units = (ex.state.mass, ex.state.stiffness)
-        if pair is not None:
-            loaded, pinned = pair
-            ex.state.load_scene(loaded)
-            ex.compare.set_pins([PinSpec(pinned, _scene_values(pinned, **acc), *units)])
-            return
-        values = ex.state.values()
-        if values["stop_type"] != "rigid":
-            ex._show_error("r = 1 vs r < 1 compares rigid stops: pick a scene with a rigid "
-                           f"stop (this one has stop type {values['stop_type']!r})")
-            return
-        r = values["restitution"]
-        other = R_INELASTIC_PRESET if r == 1.0 else 1.0
-        ex.compare.set_pins([PinSpec(ex.state.scene, {**values, "restitution": other},
-                                     *units)])
-
-    # --- permalink -------------------------------------------------------------------------
-
-    def apply_query(self, query: Mapping[str, str]) -> list[str]:
-        """Pins and presentation mode from the address's text values; returns what was
-        refused, in words."""
-        ex = self.explorer
-        refused = []
-        raw = query.get(URL_KEY)
-        if raw:
-            try:
-                pins = decode_pins(raw, ex.state.accuracy, ex.state.method,
-                                   ex.state.mass, ex.state.stiffness)
-            except ValueError as exc:
-                refused.append(f"{URL_KEY}: the pinned runs could not be restored: {exc}")
-            else:
-                ex.compare.set_pins(pins)
-        refused += self.presentation.apply_query(query)
-        self.refresh()
-        return refused
-
-    def query(self, current: Mapping[str, Any]) -> dict[str, str]:
-        """What the address says of the pins and the presentation (keys only written when
-        used, or to clear a value the address holds)."""
-        ex = self.explorer
-        out: dict[str, str] = {}
-        if ex.compare.pins or URL_KEY in current:
-            out[URL_KEY] = encode_pins([p.spec for p in ex.compare.pins], ex.state.mass,
-                                       ex.state.stiffness)
-        out.update(self.presentation.query(current))
-        return out

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from app.plots import MODE_NAMES
+from app.scenes import SCENES
 from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
@@ -216,3 +217,50 @@ def _overlap(sol: Solution, x: np.ndarray) -> np.ndarray:
 def _rewound(buf: io.StringIO) -> io.StringIO:
     buf.seek(0)
     return buf
+
+
+class Downloads:
+    """The page's two download buttons: the run on screen as CSV files named after it
+    (the state's ``solution``; the widgets are built with the page, the files on demand).
+
+    Parameters
+    ----------
+    state : ExplorerState
+        The page's state.
+    width : int
+        The buttons' width [px].
+    """
+
+    def __init__(self, state: Any, width: int) -> None:
+        import panel as pn  # the functions above stand without a page
+
+        self.state = state
+        self.trajectory = pn.widgets.FileDownload(
+            callback=self.trajectory_file, filename="trajectory.csv",
+            label="Download trajectory (CSV)", color="default", width=width,
+            css_classes=["fie-download"])
+        self.transitions = pn.widgets.FileDownload(
+            callback=self.transitions_file, filename="transitions.csv",
+            label="Download transitions (CSV)", color="default", width=width,
+            css_classes=["fie-download-transitions"])
+
+    def trajectory_file(self) -> io.StringIO | None:
+        """The trajectory file; its name (set before the transfer) names the run."""
+        sol = self.state.solution
+        if sol is None:
+            return None
+        self.trajectory.filename = self._name("trajectory")
+        return trajectory_csv(sol, self.state.scales())
+
+    def transitions_file(self) -> io.StringIO | None:
+        """One row per transition (impacts with speeds before and after, impulses)."""
+        sol = self.state.solution
+        if sol is None:
+            return None
+        self.transitions.filename = self._name("transitions")
+        return transitions_csv(sol, self.state.scales())
+
+    def _name(self, what: str) -> str:
+        st = self.state
+        scene = st.scene if st.scene in SCENES else f"custom-from-{st.figure}"
+        return file_name(st.solution.values, scene, what, st.scales())

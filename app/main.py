@@ -36,7 +36,7 @@ ASSETS = "assets"
 #: in the page's address turns them off), no history entry per change of the address,
 #: a name on every slider's handle for screen readers (``static/a11y.js``), the
 #: presentation mode's page classes (app.presentation), and the report of the waiting
-#: plots in view (``static/lazy_plots.js``, app.explorer's lazy plots).
+#: plots in view (``static/lazy_plots.js``, app.plots_host's lazy plots).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
             "fie_url_history": f"{ASSETS}/url_history.js",

@@ -5,7 +5,7 @@ with the set (a figure built later receives the current data); an update
 replaces each source's ``.data`` in one assignment (the caller batches them with
 ``panel.io.hold``), so a change of the parameters sends one message with only new numbers.
 Arrays are float32 and sampled for the screen from the exact motion (:mod:`app.sampling`).
-The ``*_columns`` functions are pure: they turn a :class:`~app.solver.Solution` into the
+The ``*_columns`` functions are pure: they turn a :class:`~app.solve.solution.Solution` into the
 columns of one source and are tested without a browser.
 """
 
@@ -1119,7 +1119,7 @@ class PlotSet:
 
     def map_frame(self, values: Mapping[str, Any]) -> tuple[float, float, float]:
         """Axes ``(v_hi, x_lo, x_hi)`` of the regime map, stable for a scene: computed
-        (:func:`app.solver.map_ranges`) when what the map's axes depend on besides the
+        (:func:`app.solve.regime_map.map_ranges`) when what the map's axes depend on besides the
         point changes (scene, stop type, friction, units), kept when the point moves (a
         tap, a slider) or the start moves, and widened only to keep the point in view."""
         key = tuple(values.get(name) for name in MAP_FRAME_KEYS)

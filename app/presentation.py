@@ -81,23 +81,34 @@ NORMAL_AXIS_COLOR, NORMAL_GRID_COLOR = "black", "#e5e5e5"
 
 
 class Presentation:
-    """The presentation mode of one page.
+    """The presentation mode of one page: its layout and slide format are the state's
+    (``present``, ``slides``); this styles the figures for them.
 
     Parameters
     ----------
-    explorer : Explorer
-        The page (its plots, panes and address).
+    state : ExplorerState
+        The page's state.
+    host : app.plots_host.PlotsHost
+        The page's plots (their figures and panes, and which the state shows).
     """
 
-    def __init__(self, explorer: Any) -> None:
-        self.explorer = explorer
-        self.mode = ""
-        #: Figures styled for the current mode, and each glyph's own line width.
+    def __init__(self, state: Any, host: Any) -> None:
+        self.state = state
+        self.host = host
+        #: Figures styled for :attr:`_styled_mode`, and each glyph's own line width.
         self._styled: set[str] = set()
+        self._styled_mode = ""
         self._widths: dict[str, float] = {}
-        #: Slide format ("" none), and each figure's caption line once made.
-        self.slides = ""
+        #: Each figure's caption line once made.
         self._captions: dict[str, Title] = {}
+
+    @property
+    def mode(self) -> str:
+        return self.state.present
+
+    @property
+    def slides(self) -> str:
+        return self.state.slides
 
     @property
     def on(self) -> bool:
@@ -117,30 +128,11 @@ class Presentation:
 
     def set_slides(self, fmt: str) -> None:
         """Figures for slides in format ``fmt`` (a key of :data:`SLIDES`, ``""``: off)."""
-        fmt = fmt if fmt in SLIDES else ""
-        if fmt == self.slides:
-            return
-        backend_changed = (fmt == "svg") != (self.slides == "svg")
-        self.slides = fmt
-        self.restyle()
-        if backend_changed and self.explorer.location is not None:
-            # BokehJS picks a figure's drawing backend when it makes its view: the page
-            # loads its own permalink again (pins, presentation and all).
-            self.explorer.location.reload = True
-            self.explorer._write_url()
-            return
-        self.explorer._url_changed()
+        self.state.slides = fmt if fmt in SLIDES else ""
 
     def set_mode(self, mode: str) -> None:
         """Switch to ``mode`` (a key of :data:`MODES`, or ``""`` to leave)."""
-        mode = mode if mode in MODES else ""
-        if mode == self.mode:
-            return
-        self.mode = mode
-        self._styled = set()
-        ex = self.explorer
-        ex._show_plots(ex.visible_plots())
-        ex._url_changed()
+        self.state.present = mode if mode in MODES else ""
 
     def shown(self, visible: tuple[str, ...]) -> tuple[str, ...]:
         """The plot panes the layout shows of the ``visible`` ones."""
@@ -185,10 +177,10 @@ class Presentation:
 
     def caption(self) -> str:
         """The caption line: the scene and the parameters of the run on screen."""
-        ex = self.explorer
-        values = ex.state.values()
-        scene = ex.state.scene
-        head = f"Fig. {scene}" if scene in SCENES else f"custom parameters (from Fig. {ex.figure})"
+        values = self.state.values()
+        scene = self.state.scene
+        head = (f"Fig. {scene}" if scene in SCENES
+                else f"custom parameters (from Fig. {self.state.figure})")
         stop = values["stop_type"]
         items = [f"{symbol} = {values[name]:.4g}" for name, symbol in CAPTION_PARAMS[stop]]
         if values["x0"] or values["v0"]:
@@ -200,13 +192,13 @@ class Presentation:
 
     def _slides(self) -> None:
         """Caption lines, file names and drawing backend of the built figures."""
-        ex = self.explorer
-        figs = ex.plots.figures
+        figs = self.host.plots.figures
         if not self.slides and not self._captions:
             return
         text = self.caption() if self.slides else ""
         backend = "svg" if self.slides == "svg" else "canvas"
-        scene = ex.state.scene if ex.state.scene in SCENES else f"custom-from-{ex.figure}"
+        st = self.state
+        scene = st.scene if st.scene in SCENES else f"custom-from-{st.figure}"
         for name, fig in figs.items():
             title = self._captions.get(name)
             if title is None and self.slides:
@@ -226,35 +218,35 @@ class Presentation:
 
     def restyle(self) -> None:
         """Style the built figures and panes for the mode (only those not yet styled)."""
-        ex = self.explorer
-        plots = ex.plots
+        plots = self.host.plots
         figs = plots.figures
+        if self._styled_mode != self.mode:
+            self._styled, self._styled_mode = set(), self.mode
         for name in set(figs) - self._styled:
             self._style_figure(figs[name])
             self._styled.add(name)
-        ticker = plots.shared.ticker
-        if ticker.desired_num_ticks != TICKS[self.mode if self.on else ""]:
-            ticker.desired_num_ticks = TICKS[self.mode if self.on else ""]
-        if plots.point_labels is not None:
-            labels = plots.point_labels
-            text, size = ("paper", self._font("points")) if self.on else (
-                "name", f"{LABEL_FONT_PX}px")
-            if labels.text != text or labels.text_font_size != size:
-                # The browser places the labels again for the font (plots.PLACE_LABELS_JS).
-                labels.update(text=text, text_font_size=size, text_font_style=(
-                    "bold" if self.on else "normal"))
+        ticks = TICKS[self.mode if self.on else ""]
+        if plots.shared.ticker.desired_num_ticks != ticks:
+            plots.shared.ticker.desired_num_ticks = ticks
+        self._style_labels(plots.point_labels)
         for div in plots.legends.values():
             size = self._font("legend") if self.on else "12px"
             if div.styles.get("font-size") != size:
                 div.styles = {**div.styles, "font-size": size, "line-height": (
                     f"{int(size[:-2]) + 8}px" if self.on else "20px")}
-        # The readout (and the comparison table in it) gives its room to the plots.
-        if ex.readout.visible == self.on:
-            ex.readout.visible = not self.on
-        if self.on and ex.trade.visible:
-            ex.trade.visible = False
         self._slides()
         self._layout()
+
+    def _style_labels(self, labels: Any) -> None:
+        """The theory's point names: the paper's, bold and large, when presenting."""
+        if labels is None:
+            return
+        text, size = ("paper", self._font("points")) if self.on else (
+            "name", f"{LABEL_FONT_PX}px")
+        if labels.text != text or labels.text_font_size != size:
+            # The browser places the labels again for the font (plots.PLACE_LABELS_JS).
+            labels.update(text=text, text_font_size=size,
+                          text_font_style="bold" if self.on else "normal")
 
     def _font(self, what: str) -> str:
         return FONTS[self.mode][what]
@@ -262,36 +254,45 @@ class Presentation:
     def _style_figure(self, fig: Any) -> None:
         on = self.on
         fig.title.text_font_size = self._font("title") if on else TITLE_FONT
+        axis_style = self._axis_style()
         for axis in (*fig.left, *fig.right, *fig.above, *fig.below):
-            if not hasattr(axis, "axis_label_text_font_size"):
-                continue
-            axis.update(
-                axis_label_text_font_size=self._font("axis") if on else AXIS_LABEL_FONT,
-                major_label_text_font_size=self._font("tick") if on else TICK_LABEL_FONT,
-                axis_line_width=2 if on else 1, major_tick_line_width=2 if on else 1,
-                axis_line_color=AXIS_COLOR if on else NORMAL_AXIS_COLOR,
-                axis_label_text_color=AXIS_COLOR if on else "#444444",
-                major_label_text_color=AXIS_COLOR if on else "#444444")
+            if hasattr(axis, "axis_label_text_font_size"):
+                axis.update(**axis_style)
         for grid in fig.grid:
             grid.grid_line_color = GRID_COLOR if on else NORMAL_GRID_COLOR
         for r in fig.renderers:
-            if not isinstance(r, GlyphRenderer) or not hasattr(r.glyph, "line_width"):
-                continue
-            width = r.glyph.line_width
-            if not isinstance(width, (int, float)):
-                continue
-            base = self._widths.setdefault(r.glyph.id, float(width))
-            new = base * LINE_SCALE if on else base
-            if width != new:
-                r.glyph.line_width = new
+            self._style_line(r)
+
+    def _axis_style(self) -> dict[str, Any]:
+        """The axes' fonts, lines and colours for the mode."""
+        if not self.on:
+            return {"axis_label_text_font_size": AXIS_LABEL_FONT,
+                    "major_label_text_font_size": TICK_LABEL_FONT, "axis_line_width": 1,
+                    "major_tick_line_width": 1, "axis_line_color": NORMAL_AXIS_COLOR,
+                    "axis_label_text_color": "#444444", "major_label_text_color": "#444444"}
+        return {"axis_label_text_font_size": self._font("axis"),
+                "major_label_text_font_size": self._font("tick"), "axis_line_width": 2,
+                "major_tick_line_width": 2, "axis_line_color": AXIS_COLOR,
+                "axis_label_text_color": AXIS_COLOR, "major_label_text_color": AXIS_COLOR}
+
+    def _style_line(self, r: Any) -> None:
+        """A glyph's line :data:`LINE_SCALE` times its own width when presenting."""
+        if not isinstance(r, GlyphRenderer) or not hasattr(r.glyph, "line_width"):
+            return
+        width = r.glyph.line_width
+        if not isinstance(width, (int, float)):
+            return
+        base = self._widths.setdefault(r.glyph.id, float(width))
+        new = base * LINE_SCALE if self.on else base
+        if width != new:
+            r.glyph.line_width = new
 
     def _layout(self) -> None:
         """Plot panes that fill the screen: heights from the window's (CSS), the figures
         stretched to them; the usual responsive grid otherwise."""
-        ex = self.explorer
-        shown = self.shown(ex.visible_plots())
+        shown = self.shown(self.host.visible_plots())
         rows = 1 if self.mode == "1" else 2
-        for name, pane in ex.plot_panes.items():
+        for name, pane in self.host.plot_panes.items():
             if name not in shown or not pane.objects:
                 continue
             if self.on:
@@ -309,7 +310,7 @@ class Presentation:
 
     def _stretch(self, name: str, pane: Any, sizing: str, max_width: int | None) -> None:
         """Let the pane's Bokeh layout and figures follow its size."""
-        plots = self.explorer.plots
+        plots = self.host.plots
         body = pane.objects[0]
         if hasattr(body, "sizing_mode") and body.sizing_mode != sizing:
             body.sizing_mode = sizing

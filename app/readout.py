@@ -8,13 +8,18 @@ from __future__ import annotations
 
 import html
 import math
+from typing import Any
 
 import numpy as np
+import panel as pn
+import param
 
+from app.scenes import CUSTOM, SCENES
 from app.solve.measure import integrates, reference_name
 from app.solve.presets import ACCURACY
 from app.solve.solution import Solution
-from app.state import DIMENSIONLESS, Scales
+from app.state import DIMENSIONLESS, ExplorerState, Scales
+from app.widgets import set_changed
 from core import (
     HystereticStop,
     Mode,
@@ -34,6 +39,12 @@ CONTACT_LAW_TEXT = {
 
 #: Significant digits of the numbers shown.
 DIGITS = 4
+#: The house stylesheet (panes render in shadow DOMs: each that uses its classes links it).
+STYLESHEET = "assets/explorer.css"
+#: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
+READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
+#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
+READOUT_SPARE_LINES = 1
 
 
 def _num(x: float, unit: str = "") -> str:
@@ -64,98 +75,110 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     >>> rows["Belt"].startswith("slow")
     True
     """
-    rows: list[tuple[str, str]] = []
-    th, res = sol.theory, sol.result
-    vel_unit = " m/s" if scales.si else ""
-    len_unit = " m" if scales.si else ""
     if sol.program is not None:
-        stop = sol.stop
-        rows.append(("Scene", "the stop alone, driven by a prescribed overlap (Fig. 2b)"))
-        stiffness = (f"k_c0 = {_num(stop.k_c0 * scales.force)} N/m, "
-                     f"k_e0 = {_num(stop.k_e0 * scales.force)} N/m" if scales.si else
-                     f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}")
-        rows.append(("Stop", f"{stiffness}, "
-                             f"D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
-                             f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"))
-        rows.append(("Contact law", CONTACT_LAW_TEXT[stop.law]))
-        area = float(np.trapezoid(sol.program.force, sol.program.overlap))
-        rows.append(("Energy lost", f"{_num(area * scales.energy)}"
-                                    f"{' J' if scales.si else ' (per unit k)'} "
-                                    "over the program (loop area)"))
-        return rows
-    if th is not None:
-        equivalent = (" (the theory of the equivalent rigid stop, r_eq = sqrt(k_e0/k_c0), "
-                      "Eq. 16)" if isinstance(sol.stop, HystereticStop) else "")
-        rows.append(("Regime", th.regime.description + equivalent))
-        v = sol.osc.v
-        belt = "fast" if th.fast else "slow"
-        rel = ">" if th.fast else "<="
-        if scales.si:
-            # The regime's relations (x_max = a + v*, ...) are the paper's, in its time
-            # omega tau, where a speed is a length: v = v_dr / omega.
-            rows.append(("Belt", f"{belt}: v_dr = {_num(v * scales.velocity, vel_unit)} "
-                                 f"{rel} v*_dr = "
-                                 f"{_num(th.critical_speed * scales.velocity, vel_unit)} "
-                                 "(critical speed, Eq. 25); in the Regime row's relations "
-                                 f"v = v_dr/omega = {_num(v)} m and v* = "
-                                 f"{_num(th.critical_speed)} m (the paper's time "
-                                 "t = omega tau)"))
-        else:
-            rows.append(("Belt", f"{belt}: v = {_num(v)} {rel} "
-                                 f"v* = {_num(th.critical_speed)} (critical speed, Eq. 25)"))
-        rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
-        if sol.stop is not None and th.restitution < 1.0 and not th.fast:
-            rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
-                               f"r = {_ratio(th.restitution)})"))
-    if res is not None:
-        rows.append(("x_max simulated", _num(res.x_max, len_unit)))
-        rows += _steady_rows(sol, scales)
-        measured = sol.restitution_measured
-        if len(measured):
-            r_eq = _ratio(th.restitution) if th is not None else "—"
-            first, last = restitution_first_last(sol)
-            total = contact_count(res, len(measured))
-            # A run that ends on the stop has a last contact without a rebound yet: the
-            # restitutions are those of the contacts that ended.
-            on_stop = len(res.mode) > 0 and int(res.mode[-1]) == int(Mode.CONTACT)
-            ended = total - 1 if on_stop else total
-            spread = (f"{_ratio(first)} at the first contact, {_ratio(last)} at the "
-                      f"last of {ended}" if ended > 1
-                      else f"{_ratio(first)} (one contact)")
-            if on_stop:
-                spread += (f"{' that ended' if ended > 1 else ''}; contact {total} has not "
-                           "ended (the mass stays on the stop)")
-            rows.append(("Restitution", f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
-                         "holds only for beta * overlap / D >> 1"))
-        if isinstance(sol.stop, HystereticStop):
-            rows.append(("Contact law", CONTACT_LAW_TEXT[sol.stop.law]))
-        if res.status is not Status.SUCCESS:
-            rows.append(("Status", res.status.message))
-        if res.truncated:
-            rows.append(("Transitions", f"{res.n_transitions} ({len(res.transitions)} "
-                                        "stored: the first ones, then only a reduced "
-                                        "model's start, rest or a failed stop)"))
+        return _program_rows(sol, scales)
+    rows = _theory_rows(sol, scales) if sol.theory is not None else []
+    if sol.result is not None:
+        rows += _run_rows(sol, scales)
     rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; "
                           f"accuracy {accuracy_text(sol, scales)}"))
     return rows
+
+
+def _program_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
+    """The stop alone, driven by the overlap program of Fig. 2b."""
+    stop = sol.stop
+    len_unit = " m" if scales.si else ""
+    stiffness = (f"k_c0 = {_num(stop.k_c0 * scales.force)} N/m, "
+                 f"k_e0 = {_num(stop.k_e0 * scales.force)} N/m" if scales.si else
+                 f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}")
+    area = float(np.trapezoid(sol.program.force, sol.program.overlap))
+    return [
+        ("Scene", "the stop alone, driven by a prescribed overlap (Fig. 2b)"),
+        ("Stop", f"{stiffness}, D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
+                 f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"),
+        ("Contact law", CONTACT_LAW_TEXT[stop.law]),
+        ("Energy lost", f"{_num(area * scales.energy)}{' J' if scales.si else ' (per unit k)'} "
+                        "over the program (loop area)"),
+    ]
+
+
+def _theory_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
+    """The paper's closed forms: the regime, the belt against the critical speed, x_max
+    without impact, x* (Eqs. 25, 35)."""
+    th = sol.theory
+    vel_unit = " m/s" if scales.si else ""
+    len_unit = " m" if scales.si else ""
+    equivalent = (" (the theory of the equivalent rigid stop, r_eq = sqrt(k_e0/k_c0), "
+                  "Eq. 16)" if isinstance(sol.stop, HystereticStop) else "")
+    rows = [("Regime", th.regime.description + equivalent)]
+    v = sol.osc.v
+    belt = "fast" if th.fast else "slow"
+    rel = ">" if th.fast else "<="
+    if scales.si:
+        # The regime's relations (x_max = a + v*, ...) are the paper's, in its time
+        # omega tau, where a speed is a length: v = v_dr / omega.
+        rows.append(("Belt", f"{belt}: v_dr = {_num(v * scales.velocity, vel_unit)} "
+                             f"{rel} v*_dr = "
+                             f"{_num(th.critical_speed * scales.velocity, vel_unit)} "
+                             "(critical speed, Eq. 25); in the Regime row's relations "
+                             f"v = v_dr/omega = {_num(v)} m and v* = "
+                             f"{_num(th.critical_speed)} m (the paper's time "
+                             "t = omega tau)"))
+    else:
+        rows.append(("Belt", f"{belt}: v = {_num(v)} {rel} "
+                             f"v* = {_num(th.critical_speed)} (critical speed, Eq. 25)"))
+    rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
+    if sol.stop is not None and th.restitution < 1.0 and not th.fast:
+        rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
+                           f"r = {_ratio(th.restitution)})"))
+    return rows
+
+
+def _run_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
+    """What the run found: x_max, the steady state, the restitutions, its status."""
+    res = sol.result
+    rows = [("x_max simulated", _num(res.x_max, " m" if scales.si else ""))]
+    rows += _steady_rows(sol, scales)
+    if len(sol.restitution_measured):
+        rows.append(("Restitution", _restitution_text(sol)))
+    if isinstance(sol.stop, HystereticStop):
+        rows.append(("Contact law", CONTACT_LAW_TEXT[sol.stop.law]))
+    if res.status is not Status.SUCCESS:
+        rows.append(("Status", res.status.message))
+    if res.truncated:
+        rows.append(("Transitions", f"{res.n_transitions} ({len(res.transitions)} "
+                                    "stored: the first ones, then only a reduced "
+                                    "model's start, rest or a failed stop)"))
+    return rows
+
+
+def _restitution_text(sol: Solution) -> str:
+    """A deformable stop's measured restitutions, first and last, against Eq. 16's."""
+    res, th = sol.result, sol.theory
+    r_eq = _ratio(th.restitution) if th is not None else "—"
+    first, last = restitution_first_last(sol)
+    total = contact_count(res, len(sol.restitution_measured))
+    # A run that ends on the stop has a last contact without a rebound yet: the
+    # restitutions are those of the contacts that ended.
+    on_stop = len(res.mode) > 0 and int(res.mode[-1]) == int(Mode.CONTACT)
+    ended = total - 1 if on_stop else total
+    spread = (f"{_ratio(first)} at the first contact, {_ratio(last)} at the "
+              f"last of {ended}" if ended > 1 else f"{_ratio(first)} (one contact)")
+    if on_stop:
+        spread += (f"{' that ended' if ended > 1 else ''}; contact {total} has not "
+                   "ended (the mass stays on the stop)")
+    return (f"{spread}; Eq. 16's r_eq = sqrt(k_e0/k_c0) = {r_eq} "
+            "holds only for beta * overlap / D >> 1")
 
 
 def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     """The rows of the steady state found: the run's, the force on a rigid stop that holds
     the mass, the transition sequence, and where they differ, the exact method's verdict
     over the same span and the theory's."""
-    rows: list[tuple[str, str]] = []
-    th, res = sol.theory, sol.result
-    vel_unit = " m/s" if scales.si else ""
-    time_unit = " s" if scales.si else ""
-    len_unit = " m" if scales.si else ""
-    steady = res.steady.describe(scales.time, time_unit, scales.velocity, vel_unit, len_unit)
-    rest_error = res.info.get("rest_time_error")
-    if res.steady.kind is SteadyKind.REST and rest_error is not None:
-        # A modelled rest's time is known to its stated bound, not to six digits.
-        steady = (f"rest at the stop (from t = {_num(res.steady.t_reached * scales.time)}"
-                  f" ± {_num(rest_error * scales.time, time_unit)}, by a reduced model)")
-    rows.append(("Steady state found", steady))
+    res = sol.result
+    units = _units(scales)
+    rows: list[tuple[str, str]] = [("Steady state found", _steady_text(sol, scales))]
     pressed = np.asarray(res.mode) == int(Mode.CONTACT)
     if sol.values["stop_type"] == "rigid" and pressed.any():
         force = float(np.asarray(res.contact_force)[pressed][-1]) * scales.force
@@ -168,16 +191,39 @@ def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     if ref is not None and ref.kind is not res.steady.kind and not _at_rest_alike(sol, ref):
         # A method can change the verdict: said beside it, not left to the trade table.
         rows.append(("The exact method finds",
-                     f"{ref.describe(scales.time, time_unit, scales.velocity, vel_unit, len_unit)}"
-                     f" (over the same span; the {sol.method} method finds the steady "
-                     "state above)"))
-    if th is not None and th.regime.expected_steady != res.steady.kind.value:
-        rigid = "the equivalent rigid stop" if isinstance(sol.stop, HystereticStop) else (
-            "this stop")
-        rows.append(("Theory expects", f"{th.regime.expected_steady} (the paper's "
-                                       f"closed forms for {rigid}, which reach it from "
-                                       "the natural path, Sec. 4.5)"))
-    return rows
+                     f"{ref.describe(*units)} (over the same span; the {sol.method} method "
+                     "finds the steady state above)"))
+    return rows + _theory_expects(sol)
+
+
+def _units(scales: Scales) -> tuple[float, str, float, str, str]:
+    """The arguments of :meth:`core.Steady.describe` for ``scales``."""
+    si = scales.si
+    return (scales.time, " s" if si else "", scales.velocity, " m/s" if si else "",
+            " m" if si else "")
+
+
+def _steady_text(sol: Solution, scales: Scales) -> str:
+    """The steady state the run found; a modelled rest's time with its stated bound."""
+    res = sol.result
+    rest_error = res.info.get("rest_time_error")
+    if res.steady.kind is SteadyKind.REST and rest_error is not None:
+        # A modelled rest's time is known to its stated bound, not to six digits.
+        time_unit = " s" if scales.si else ""
+        return (f"rest at the stop (from t = {_num(res.steady.t_reached * scales.time)}"
+                f" ± {_num(rest_error * scales.time, time_unit)}, by a reduced model)")
+    return res.steady.describe(*_units(scales))
+
+
+def _theory_expects(sol: Solution) -> list[tuple[str, str]]:
+    """The theory's steady state, where it is not the one the run found."""
+    th = sol.theory
+    if th is None or th.regime.expected_steady == sol.result.steady.kind.value:
+        return []
+    rigid = ("the equivalent rigid stop" if isinstance(sol.stop, HystereticStop)
+             else "this stop")
+    return [("Theory expects", f"{th.regime.expected_steady} (the paper's closed forms for "
+                               f"{rigid}, which reach it from the natural path, Sec. 4.5)")]
 
 
 def _at_rest_alike(sol: Solution, ref: Steady) -> bool:
@@ -237,7 +283,7 @@ def accuracy_text(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     """What the run's accuracy is, as far as it is known: rounding for a closed form, else
     the error measured for this run against the exact solution, or that it was not
     measured and why. No preset's figure is quoted in its place: none holds on random
-    scenes (:data:`app.solver.ACCURACY`). Where a reduced model took over, when (in the
+    scenes (:data:`app.solve.presets.ACCURACY`). Where a reduced model took over, when (in the
     page's units): its error is in the measured one."""
     if not integrates(sol.method, sol.stop):
         return "closed form, rounding only"
@@ -276,3 +322,71 @@ def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
     body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
     return f'<table class="fie-readout">{body}</table>'
+
+
+class Readout(pn.viewable.Viewer):
+    """The scene's title and caption, and the readout of the run on screen with the
+    comparison of the pinned runs (hidden in the presentation mode, whose plots take its
+    room).
+
+    Parameters
+    ----------
+    compare : app.compare.Compare
+        The page's pinned runs (their table follows the readout).
+    """
+
+    state = param.ClassSelector(class_=ExplorerState, constant=True)
+
+    def __init__(self, compare: Any, **params: Any) -> None:
+        super().__init__(**params)
+        self.compare = compare
+        self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
+                                    css_classes=["fie-caption"], stylesheets=[STYLESHEET])
+        # Sized to its content, its rows wrapped, never cut; the space it reserves grows
+        # with its rows within a scene and is set again only by a new scene: a readout
+        # that grew or shrank on a release made BokehJS lay out every figure again (about
+        # 60 ms before the new picture showed).
+        self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
+                                    css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+        self._reserved_for: str | None = None
+        # After the plots' draw (one message all the same: the page waits for its figures).
+        self.state.param.watch(self._show, ["solution", "pinned"], precedence=1)
+        self.state.param.watch(self._presented, "present")
+
+    def __panel__(self) -> pn.viewable.Viewable:
+        return pn.Column(self.caption, self.readout, sizing_mode="stretch_width", margin=0)
+
+    def _show(self, *events: param.parameterized.Event) -> None:
+        sol = self.state.solution
+        if sol is None:
+            return
+        scales = self.state.scales()
+        text = readout_html(sol, scales) + self.compare.table(sol, scales)
+        self.readout.object = text
+        self._reserve(text.count("<tr>"))
+        self.caption.object = caption_html(self.state.scene)
+
+    def _reserve(self, rows: int) -> None:
+        """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows
+        grow the room; a new scene sets it afresh."""
+        height = (rows + READOUT_SPARE_LINES) * READOUT_ROW_PX + READOUT_PAD_PX
+        scene = self.state.scene
+        if scene != self._reserved_for and scene != CUSTOM:
+            self._reserved_for = scene
+        elif self.readout.min_height is not None and height <= self.readout.min_height:
+            return
+        set_changed(self.readout, min_height=height)
+
+    def _presented(self, event: param.parameterized.Event) -> None:
+        # The readout (and the comparison table in it) gives its room to the plots.
+        set_changed(self.readout, visible=not event.new)
+
+
+def caption_html(scene: str) -> str:
+    """The scene's title and what to look at, or a word on custom values."""
+    info = SCENES.get(scene)
+    if info is None:
+        return ("<div class='fie-title'>Custom parameters</div><div>Pick a scene to "
+                "return to one of the paper's figures.</div>")
+    return (f"<div class='fie-title'>{html.escape(info.title)}</div>"
+            f"<div class='fie-look'>{html.escape(info.caption)}</div>")

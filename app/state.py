@@ -31,7 +31,7 @@ from core import HystereticStop, Oscillator, RigidStop, check_range, check_start
 STOP_TYPES = ("none", "rigid", "hysteretic")
 #: Unit systems offered in the page.
 UNITS = ("dimensionless", "SI")
-#: Accuracy presets; their method settings live in :data:`app.solver.ACCURACY`.
+#: Accuracy presets; their method settings live in :data:`app.solve.presets.ACCURACY`.
 ACCURACIES = ("draft", "standard", "precise")
 #: Methods: ``auto`` picks the exact solver where it applies (no stop, rigid stop).
 METHODS = ("auto", "exact", "event", "switch")
@@ -119,7 +119,10 @@ def si_scales(mass: float, stiffness: float) -> Scales:
 class ExplorerState(param.Parameterized):
     """All the user can set; defaults are the scene :data:`app.scenes.DEFAULT_SCENE`.
 
-    Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges.
+    Bounds are hard limits of the typed entry; soft bounds are the sliders' ranges. The
+    page's components watch one state each (app.explorer): besides the user's values it
+    holds what the page shows (``solution``, a drag's ``preview``, the presentation) and
+    the events of what went stale (``stale``, ``pinned``).
     """
 
     scene = param.Selector(default=DEFAULT_SCENE, objects=[*SCENES, CUSTOM], doc="""
@@ -158,10 +161,41 @@ class ExplorerState(param.Parameterized):
         Spring stiffness k [N/m].""")
     show_all = param.Boolean(False, doc="Show every plot, not only the scene's.")
 
+    # --- what the page shows (set by the page, watched by its components) ------------------
+
+    solution = param.Parameter(None, doc="""
+        The full run on screen (an ``app.solve.solution.Solution``), set once it is solved; every
+        view of it (plots, readout, comparison, tools) follows this event.""")
+    preview = param.Dict(None, allow_None=True, doc="""
+        Solve values a slider being dragged stands at (not committed), or None: the page
+        shows their draft while a drag lasts, and the full run again when it ends without
+        a new value.""")
+    pinned = param.Event(doc="""
+        The pinned runs changed (a pin came, went or was solved).""")
+    stale = param.Event(doc="""
+        A slider's release has arrived: a drag's draft not yet drawn is stale (the full
+        run of the release follows).""")
+    figure = param.Selector(default=DEFAULT_SCENE, objects=list(SCENES), doc="""
+        The paper's figure last loaded (the reset button returns to it).""")
+    present = param.Selector(default="", objects=["", "1", "4"], doc="""
+        Presentation layout: '' off, '1' one large plot, '4' a 2x2 grid.""")
+    slides = param.Selector(default="", objects=["", "svg", "png"], doc="""
+        Figures for slides: '' as on screen, or the format their save tool writes.""")
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        if self.scene in SCENES:
+            self.figure = self.scene
+
+    @param.depends("scene", watch=True)
+    def _follow_scene(self) -> None:
+        if self.scene in SCENES:
+            self.figure = self.scene
+
     # --- core inputs ---------------------------------------------------------------------
 
     def values(self) -> dict[str, Any]:
-        """The solve parameters as a plain dict (what :mod:`app.solver` keys its cache on)."""
+        """The solve parameters as a plain dict (what :mod:`app.solve` keys its cache on)."""
         return {name: getattr(self, name) for name in SOLVE_PARAMS}
 
     def core_inputs(self, **overrides: Any):

@@ -185,7 +185,7 @@ def test_with_the_solver_processes_off_a_cancelled_measurement_makes_no_further_
 
 
 def test_the_server_refuses_measurements_past_its_queue(monkeypatch, probe_file):
-    """One measuring thread per server: past :data:`app.trade.MEASURE_QUEUE` waiting, the
+    """One measuring thread per server: past :data:`app.solve.trade.MEASURE_QUEUE` waiting, the
     next page's measurement is refused at once instead of queueing."""
     solve_process.warm_up(wait=True)
     monkeypatch.setattr(trade, "simulate", _SlowExact(str(probe_file)))

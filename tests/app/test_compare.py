@@ -92,7 +92,7 @@ def test_in_si_units_a_pin_is_labelled_in_si_units():
         ex.state.param.update(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
         ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
                        ex.state.stiffness)
-        ex._commit({"belt_speed": 0.3})
+        ex.controls.commit({"belt_speed": 0.3})
         v_dr = f"v_dr {ex.compare.pins[0].values['belt_speed'] * 5.0:.4g} m/s"
         assert v_dr == "v_dr 0.5 m/s"
         assert f"pinned 5a: {v_dr}" in ex.plots.legends["phase"].object
@@ -139,13 +139,12 @@ def test_presets_load_one_scene_and_pin_the_other():
 def test_a_menu_entry_the_menu_does_not_hold_is_refused_quietly(caplog):
     """A script's click on an entry the menu does not hold (``preset:99``, ``unpin:x``)
     failed in the handler with an ERROR and a traceback (an IndexError, a ValueError)."""
-    from types import SimpleNamespace
 
     ex, doc = _page()
     before = ex.state.values()
     with set_curdoc(doc), caplog.at_level("WARNING"):
         for item in ("preset:99", "unpin:x", "unpin:7", "present:<b>"):
-            ex.menu._clicked(SimpleNamespace(new=item))
+            ex.menu.choose(item)
     assert ex.state.values() == before and not ex.compare.pins
     assert not ex.menu.presentation.on
     assert [r for r in caplog.records if r.levelno >= 40] == []
@@ -168,13 +167,13 @@ def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
         ex.state.load_scene("5a")
         figs = ex.plots.figures
         ex.compare.pin("5a", {**scene_values("5a"), **FAR_PIN}, 1.0, 100.0)
-        traj = ex.compare._sources[0]["traj"].data
+        traj = ex.compare.ghost_source(0, "traj").data
         for fig, column in (("time_x", "x"), ("time_v", "v")):
             assert _covers(figs[fig].y_range, traj[column]), fig
         assert _covers(figs["time_x"].x_range, traj["t"])  # the pin's longer horizon
         # The portrait's equal-aspect ranges are fitted in the browser to the renderers
         # they list: the ghost is one of them.
-        ghost = ex.compare._renderers[(0, "phase")]
+        ghost = ex.compare.ghost_renderer(0, "phase")
         assert ghost in figs["phase"].x_range.renderers
         assert ghost in figs["phase"].y_range.renderers
         ex.compare.unpin()
@@ -184,7 +183,7 @@ def test_a_far_off_pin_widens_every_axis_and_its_unpinning_narrows_them():
 
 
 def _force_ghost(ex) -> dict:
-    return ex.compare._sources[0]["force"].data
+    return ex.compare.ghost_source(0, "force").data
 
 
 def _query(ex, doc, **query) -> None:
@@ -204,7 +203,7 @@ def test_a_pin_of_another_force_quantity_is_not_drawn_on_the_force_axis():
     with set_curdoc(doc):
         assert "force" in ex.plots.figures
         assert len(_force_ghost(ex)["t"]) == 0
-        assert len(ex.compare._sources[0]["traj"].data["t"]) > 100  # drawn elsewhere
+        assert len(ex.compare.ghost_source(0, "traj").data["t"]) > 100  # drawn elsewhere
         note = "10: contact force, not comparable with impulses: not drawn"
         assert ex.compare.force_note == note
         assert ex.plots.figures["force"].title.text == f"Contact force\n{note}"
@@ -246,14 +245,14 @@ def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
     with set_curdoc(doc):
         pinned = summary(ex.compare.pins[0].solution, ex.state.scales())["period"]
         assert pinned == "0.5597 s"
-        t_end = max(ex.compare._sources[0]["traj"].data["t"])
-        ex._commit_si({"m": 4.0})
+        t_end = max(ex.compare.ghost_source(0, "traj").data["t"])
+        ex.controls.commit_si({"m": 4.0})
         assert ex.state.mass == 4.0
         text = ex.readout.object
         assert "5a: m 1 kg" in text and "v_dr" not in text.split("compared")[1]
         assert f"<td>{pinned}</td>" in text  # the pin's own period, in its own seconds
         # Its ghost keeps its own time axis (seconds with its own omega).
-        assert max(ex.compare._sources[0]["traj"].data["t"]) == pytest.approx(t_end)
+        assert max(ex.compare.ghost_source(0, "traj").data["t"]) == pytest.approx(t_end)
         # The permalink names the pin's mass, the page's is 4 kg.
         assert ex.menu.query({})["pins"] == "5a,m=1.0"
         back = decode_pins("5a,m=1.0", mass=4.0)[0]
@@ -271,7 +270,7 @@ def test_a_pin_keeps_its_stiffness_in_newtons():
     _query(ex, doc, units="SI", pins="10")
     with set_curdoc(doc):
         before = float(np.nanmax(_force_ghost(ex)["f"]))
-        ex._commit_si({"k": 400.0})
+        ex.controls.commit_si({"k": 400.0})
         assert float(np.nanmax(_force_ghost(ex)["f"])) == pytest.approx(before, rel=1e-6)
         assert "10: k 100 N/m" in ex.readout.object
 

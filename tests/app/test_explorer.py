@@ -47,6 +47,13 @@ def _same(a, b) -> bool:
     return True
 
 
+def _theory(ex: Explorer) -> list:
+    """The phase portrait's renderers of the theory (limit cycle, gamma0, points)."""
+    theory = {id(ex.plots.sources[n]) for n in ("gamma0", "cycle", "removed", "points")}
+    return [r for r in ex.plots.figures["phase"].renderers
+            if id(getattr(r, "data_source", None)) in theory]
+
+
 def _traj(ex: Explorer) -> dict:
     return {k: np.array(v) for k, v in ex.plots.sources["traj"].data.items()}
 
@@ -113,7 +120,7 @@ def test_typed_entry_commits_and_widens_the_slider(ex):
 
 def test_drag_previews_without_committing(ex):
     before = _traj(ex)["x"]
-    theory = ex.plots._theory_renderers
+    theory = _theory(ex)
     ex.sliders["belt_speed"].slider.value = 0.15
     assert ex.state.belt_speed == 0.1  # not committed
     assert not np.array_equal(_traj(ex)["x"], before)  # a preview was drawn
@@ -126,26 +133,18 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
     """A drag's preview is drawn a moment after it is solved. A release read from the
     browser before that moment, even if Panel has not processed it yet, makes the preview
     stale: drawing it would only delay the release's full picture."""
-    from bokeh.document import Document
-
     deferred = []
-    ex._later = lambda fn, delay_ms: deferred.append(fn)
+    monkeypatch.setattr("app.plots_host.later", lambda fn, delay_ms: deferred.append(fn))
     slider = ex.sliders["belt_speed"].slider
     before = _traj(ex)
     slider.value = 0.15  # a drag step: the preview is solved, its drawing deferred
     [draw_preview] = deferred
-    # The release as Panel receives it from the browser; its processing waits for a later
-    # turn of the event loop.
-    pending = []
-    monkeypatch.setattr(slider, "_change_event", pending.append)
-    slider._server_change(Document(), "ref", None, "value_throttled", 0.1, 0.15)
+    # The release as it arrives from the browser (app.perf.slider calls the slider's
+    # ``on_release`` then), before Panel processes it.
+    slider.on_release()
     draw_preview()  # the preview's moment comes first: it is not drawn
-    # (Without app.perf.slider the release is not seen before Panel processes it, and the
-    # preview is drawn.)
-    unchanged = all(_same(col, before[key]) for key, col in _traj(ex).items())
-    assert unchanged == applies("slider-release")
-    monkeypatch.undo()
-    slider._change_event(pending[0])  # the release's turn: committed, full picture
+    assert all(_same(col, before[key]) for key, col in _traj(ex).items())
+    _release(ex, "belt_speed", 0.15)  # the release's turn: committed, full picture
     assert ex.state.belt_speed == 0.15 and ex.solution.values["belt_speed"] == 0.15
     # Without a release in between, a deferred preview is drawn.
     full = _traj(ex)
@@ -154,7 +153,7 @@ def test_a_pending_preview_is_dropped_once_the_release_has_arrived(ex, monkeypat
     [draw_preview] = deferred
     draw_preview()
     assert not np.array_equal(_traj(ex)["x"], full["x"])
-    assert not ex.plots._theory_renderers[0].visible  # a preview is shown
+    assert not _theory(ex)[0].visible  # a preview is shown
 
 
 def test_a_release_where_the_slider_was_last_released_commits_after_a_typed_value(ex):
@@ -245,13 +244,13 @@ def test_a_slider_message_joins_its_widget_when_first_needed(ex):
 
 def test_tap_in_the_phase_plane_sets_the_start(ex):
     fig = ex.plots.figures["phase"]
-    ex._on_phase_tap(Tap(fig, x=-0.2, y=0.05))
+    ex.host.phase_tapped(Tap(fig, x=-0.2, y=0.05))
     assert (ex.state.x0, ex.state.v0) == (-0.2, 0.05)
     assert ex.plots.sources["start"].data["x"] == [-0.2]
 
 
 def test_tap_on_the_map_moves_belt_speed_and_clearance(ex):
-    ex._on_map_tap(Tap(ex.plots.figures["map"], x=0.3, y=0.25))
+    ex.host.map_tapped(Tap(ex.plots.figures["map"], x=0.3, y=0.25))
     assert (ex.state.belt_speed, ex.state.clearance) == (0.3, 0.25)
     assert ex.sliders["belt_speed"].value == 0.3
     assert ex.plots.sources["here"].data == {"v": [0.3], "x": [0.25]}
@@ -264,8 +263,8 @@ def test_a_tap_no_user_can_make_is_refused_quietly(ex, caplog, x, y):
     with an ERROR and a traceback (the state's bounds, ``float('a')``)."""
     before = ex.state.values()
     with caplog.at_level("WARNING"):
-        ex._on_phase_tap(Tap(ex.plots.figures["phase"], x=x, y=y))
-        ex._on_map_tap(Tap(ex.plots.figures["map"], x=x, y=y))
+        ex.host.phase_tapped(Tap(ex.plots.figures["phase"], x=x, y=y))
+        ex.host.map_tapped(Tap(ex.plots.figures["map"], x=x, y=y))
     assert ex.state.values() == before
     assert [r for r in caplog.records if r.levelno >= 40] == []
 
@@ -338,13 +337,14 @@ def test_si_stop_stiffnesses_are_in_newtons_per_metre_and_keep_their_order(ex):
 
 
 def test_csv_export(ex):
-    text = ex._csv().getvalue().splitlines()
+    text = ex.downloads.trajectory_file().getvalue().splitlines()
     assert text[0].startswith("#") and text[1].startswith("# overlap")
     assert text[2] == ("t [1/omega],x [length],xdot [length],mode,"
                        "contact_force [phi/k: length],overlap [length]")
     assert len(text) == 3 + len(ex.solution.result.t)
     assert text[3].split(",")[3] in ("slip", "stick", "contact")
-    assert ex.download.filename.startswith("fie_5a_trajectory_stop-rigid_v-0.1_xbar-0.32")
+    assert ex.downloads.trajectory.filename.startswith(
+        "fie_5a_trajectory_stop-rigid_v-0.1_xbar-0.32")
 
 
 def test_a_csv_header_keeps_apart_the_values_the_stop_does_not_use(ex):
@@ -353,12 +353,13 @@ def test_a_csv_header_keeps_apart_the_values_the_stop_does_not_use(ex):
     page). It now says which values this stop does not use; a rigid stop's file lists its
     restitution and keeps the deformable stop's values apart."""
     ex.scene_select.value = "10"
-    head = ex._csv().getvalue().splitlines()[0]
+    head = ex.downloads.trajectory_file().getvalue().splitlines()[0]
     used, _, kept = head.partition("; kept by the page, not used with this stop: ")
     assert "restitution" not in used and kept == "restitution=1.0"
     assert "k_c0=400.0" in used and "beta_e=300.0" in used
     ex.scene_select.value = "7c"
-    used, _, kept = ex._csv().getvalue().splitlines()[0].partition("; kept by the page")
+    head = ex.downloads.trajectory_file().getvalue().splitlines()[0]
+    used, _, kept = head.partition("; kept by the page")
     assert "restitution=0.3" in used and "k_c0=" not in used and "k_c0=" in kept
 
 
@@ -367,7 +368,7 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
     ex.scene_select.value = "7c"
     ex.units.value = "SI"
-    lines = ex._transitions_csv().getvalue().splitlines()
+    lines = ex.downloads.transitions_file().getvalue().splitlines()
     assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
     rows = [line.split(",") for line in lines[3:] if not line.startswith("#")]
     impacts = [r for r in rows if r[1] == "impact"]
@@ -389,13 +390,13 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     assert f"v_dr={ex.state.belt_speed * omega!r} m/s" in head
     assert f"t_end={ex.state.t_end / omega!r} s" in head
     assert f"the core's dimensionless values: belt_speed={ex.state.belt_speed}" in head
-    name = ex.download_transitions.filename
+    name = ex.downloads.transitions.filename
     assert name.startswith("fie_7c_transitions_SI_m-1_k-100_stop-rigid_v_dr-")
     assert f"_t_end-{ex.state.t_end / omega:.6g}.csv" in name
     assert re.fullmatch(r"[A-Za-z0-9._-]+", name)
-    ex._commit({"belt_speed": 0.123})  # custom values: named after the figure they left
-    ex._transitions_csv()
-    assert ex.download_transitions.filename.startswith("fie_custom-from-7c_transitions")
+    ex.controls.commit({"belt_speed": 0.123})  # custom values: named after the figure they left
+    ex.downloads.transitions_file()
+    assert ex.downloads.transitions.filename.startswith("fie_custom-from-7c_transitions")
 
 
 def test_overlap_program_scene(ex):
@@ -407,9 +408,10 @@ def test_overlap_program_scene(ex):
 
 
 @pytest.mark.parametrize("module", ["app.scenes", "app.state", "app.solve.pool", "app.plots",
-                                    "app.readout", "app.export", "app.explorer",
+                                    "app.readout", "app.export", "app.commit_rules",
                                     "app.widgets", "app.solve.trade", "app.compare",
-                                    "app.bifurcation", "app.glyphs", "app.sampling"])
+                                    "app.bifurcation", "app.glyphs", "app.sampling", "app.pins",
+                                    "app.control_specs", "app.plot_choice"])
 def test_docstring_examples(module):
     result = doctest.testmod(importlib.import_module(module))
     assert result.failed == 0 and result.attempted > 0
@@ -488,7 +490,7 @@ def test_an_si_permalink_holds_and_reads_the_values_the_boxes_show(monkeypatch):
     assert phys["k_c0"] == pytest.approx(5000.0, rel=1e-12)
     assert phys["v0"] == pytest.approx(0.25, rel=1e-12)
     assert ex.state.belt_speed == pytest.approx(0.1, rel=1e-12)
-    ex._write_url()
+    ex.permalink.write_url()
     written = loc.query_params
     assert float(written["v"]) == 0.5 and float(written["tend"]) == 12.0
     assert float(written["kc0"]) == 5000.0
@@ -513,13 +515,13 @@ def test_a_link_that_changes_a_scene_s_values_opens_custom_values(monkeypatch, u
     ex = Explorer()
     ex.sync_url()
     assert ex.state.belt_speed == 0.5 and ex.state.scene == CUSTOM
-    assert ex.figure == "4a" and not ex.alert.visible
+    assert ex.state.figure == "4a" and not ex.alert.visible
     # The page's own address of scene 7c (in SI: 12-digit m/s, s and N/m) keeps 7c.
     own = Explorer(ExplorerState(scene="7c", units=units, mass=3.0, stiffness=70.0,
                                  **scene_values("7c")))
     loc = Location(search="?scene=7c")
     monkeypatch.setattr(pn.state, "_location", loc)
-    own._write_url()
+    own.permalink.write_url()
     monkeypatch.setattr(pn.state, "_location", Location(search="?" + "&".join(
         f"{key}={value}" for key, value in loc.query_params.items())))
     again = Explorer()
@@ -546,7 +548,7 @@ def test_the_method_and_accuracy_keep_the_scene(monkeypatch):
     first.accuracy.value = "draft"
     first.scene_select.value = "10"
     assert first.state.scene == "10" and first.state.values() == ex.state.values()
-    ex._commit({"belt_speed": ex.state.belt_speed * 1.1})
+    ex.controls.commit({"belt_speed": ex.state.belt_speed * 1.1})
     assert ex.state.scene == CUSTOM
     monkeypatch.setattr(pn.state, "_location",
                         Location(search="?scene=10&method=event&acc=draft"))
@@ -606,16 +608,16 @@ def test_regime_map_of_a_hysteretic_scene(ex):
     assert "inelastic" in ex.map_legend.object
 
 
-def test_a_new_regime_map_follows_the_rest_of_the_picture(ex):
+def test_a_new_regime_map_follows_the_rest_of_the_picture(ex, monkeypatch):
     """A change of friction needs a new map: the trajectory is drawn first and the
     map in a later callback of the session's loop; a map already computed comes at once."""
     from app.solve.regime_map import regime_map
 
     deferred = []
-    ex._later = lambda fn, delay_ms: deferred.append(fn)
+    monkeypatch.setattr("app.plots_host.later", lambda fn, delay_ms: deferred.append(fn))
 
     def map_callbacks():
-        return [fn for fn in deferred if "_draw." in fn.__qualname__]
+        return [fn for fn in deferred if "._draw." in fn.__qualname__]
 
     old_image = ex.plots.sources["map"].data["image"]
     _release(ex, "mu_s", 0.337)
@@ -645,9 +647,9 @@ def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
     assert ex.state.values() == before and not ex.alert.visible
     assert w.invalid and w.input.value == text and html.escape(said) in w.message.object
     assert "fie-invalid" in w.input.css_classes
-    ex._commit({"x0": -0.01})  # another change leaves the refused entry in its box
+    ex.controls.commit({"x0": -0.01})  # another change leaves the refused entry in its box
     assert w.invalid and w.input.value == text
-    ex._reset()
+    ex.controls.reset()
     assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
 
 
@@ -693,7 +695,7 @@ def test_coupled_bound_note_and_program_toggle(ex):
     ex.sliders["mu_s"].input.value = "0.1"
     assert ex.state.mu_k == 0.1
     assert "mu_k lowered from 0.2 to 0.1 to stay ≤ mu_s" in ex.sliders["mu_k"].message.object
-    ex._commit({"belt_speed": 0.11})  # the note is about the last change only
+    ex.controls.commit({"belt_speed": 0.11})  # the note is about the last change only
     assert not ex.sliders["mu_k"].message.visible
     ex.scene_select.value = "2b"
     assert ex.program.visible and ex.program.value and ex.state.program
@@ -702,7 +704,7 @@ def test_coupled_bound_note_and_program_toggle(ex):
     ex.stop_type.value = "hysteretic"
     assert ex.program.visible and not ex.program.value
     assert "phase" in ex.visible_plots()
-    assert ex.reset.label == "Reset to Fig. 2b"
+    assert ex.controls.reset_button.label == "Reset to Fig. 2b"
 
 
 def _periodic_switch(*args, method, **kwargs):
@@ -808,3 +810,51 @@ def test_a_release_handled_after_the_slider_moved_on_does_not_pull_it_back(ex):
     _release(ex, "mu_s", second)
     assert ex.state.mu_s == second and ex.solution.values["mu_s"] == second
     assert slider.value == second and ex.sliders["mu_s"].input.value == f"{second:g}"
+
+
+def test_a_scene_loaded_over_another_keeps_none_of_its_transition_kinds(ex):
+    """The legend names the transition kinds the run shows. Loading scene 5b over 5a (whose
+    run has impacts from slip) drew 5b's answer before the plots forgot 5a's kinds when the
+    answer came at once (a cached run): 5b's legend named 5a's impacts too. The page opened
+    on 5b is the reference."""
+    fresh = Explorer(ExplorerState(scene="5b", **scene_values("5b")))
+    assert "</svg>impact</span>" in ex.plots.legends["phase"].object  # 5a's
+    ex.permalink.apply_query("scene=5b")
+    assert ex.plots.legends["phase"].object == fresh.plots.legends["phase"].object
+
+
+def test_a_measurement_that_ends_leaves_the_alert_of_another_matter(ex):
+    """The end of a measurement hides the alert only if it says that a measurement was
+    refused; the page's components once hid whatever alert was shown (a link's refused
+    key here)."""
+    import time
+
+    ex.permalink.apply_query("zz=1")
+    assert ex.alert.visible and "unknown key 'zz'" in html.unescape(ex.alert.object)
+    ex.measure_trade()
+    deadline = time.monotonic() + 120.0  # a measurement ends within its 30 s budget
+    while ex.measure.disabled:
+        assert time.monotonic() < deadline, "the measurement did not end"
+        time.sleep(0.05)
+    assert ex.alert.visible
+
+
+def test_a_run_cut_short_says_so_in_the_units_it_is_shown_in(ex):
+    """A run the core stopped at its budget says where it stopped, and offers more time.
+    Shown again in other units (SI here), the page hid that notice with the last alert and
+    did not say it again."""
+    from app.solve.pool import SOLVER
+    from app.solve.solution import cut_short
+
+    # The switch model at "precise" over t_end = 5000: about 2 s (tests/ui/test_retry_ui.py),
+    # far more than 0.2 s.
+    values = {**scene_values("10"), "method": "switch", "accuracy": "precise", "t_end": 5000.0}
+    short = SOLVER.submit(values, budget=0.2).result(timeout=60)
+    assert cut_short(short)
+    ex.state.param.update(**values)  # the state the run is of (its own solve is replaced)
+    ex.state.solution = short
+    assert ex.alert.visible and "Solved only in part" in ex.alert.object
+    assert "t_end = 5000:" in ex.alert.object and ex.retry.visible
+    ex.state.units = "SI"  # omega = 10 rad/s: the horizon in seconds
+    assert ex.alert.visible and "Solved only in part" in ex.alert.object
+    assert "t_end = 500 s:" in ex.alert.object and ex.retry.visible

@@ -122,7 +122,7 @@ def _deformable(stop: dict, **extra) -> dict:
 
 def _independent_error(sol) -> float:
     """The run's largest distance from the exact method at rtol 1e-12 at its samples, over
-    the reference's amplitude, computed here (app.solver's measure, not called)."""
+    the reference's amplitude, computed here (app.solve.measure, not called)."""
     from core import simulate
 
     res = sol.result

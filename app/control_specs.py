@@ -1,0 +1,138 @@
+"""What the page's controls say and how they are bound: each slider's label, step and
+tooltip, the SI boxes and the state values they convert to, the groups that join the page
+when first shown, and the constraints between values.
+
+Pure tables and texts (no widget is made here): :mod:`app.controls` builds the widgets from
+them, :mod:`app.commit_rules` applies the constraints.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from app.scenes import DEFAULT_SCENE, SCENES
+from app.solve.presets import ACCURACY
+from app.state import ACCURACIES, SI_NAMES
+
+#: Slider label and step of each numeric state parameter.
+SLIDERS: Mapping[str, tuple[str, float]] = {
+    "belt_speed": ("belt speed v", 0.001),
+    "clearance": ("clearance x_bar", 0.001),
+    "restitution": ("restitution r", 0.01),
+    "mu_s": ("static friction mu_s", 0.005),
+    "mu_k": ("kinetic friction mu_k", 0.005),
+    "u_s": ("static deflection u_s = F_N/k", 0.01),
+    "k_c0": ("compression stiffness k_c0/k", 1.0),
+    "k_e0": ("expansion stiffness k_e0/k", 1.0),
+    "limit_overlap": ("limit overlap D", 0.0005),
+    "beta_c": ("beta_c (towards compression)", 0.5),
+    "beta_e": ("beta_e (towards expansion)", 0.5),
+    "x0": ("initial displacement x0", 0.005),
+    "v0": ("initial velocity x'0", 0.005),
+    "t_end": ("horizon t_end", 1.0),
+    "mass": ("mass m (kg)", 0.01),
+    "stiffness": ("stiffness k (N/m)", 1.0),
+}
+#: What each symbol means (the box's tooltip; the allowed range is added to it).
+TOOLTIPS: Mapping[str, str] = {
+    "belt_speed": "Belt speed v = v_dr / omega (a length in these units).",
+    "clearance": "Stop position x_bar, measured from the unstretched spring.",
+    "restitution": "Newton's coefficient r: rebound speed over impact speed.",
+    "mu_s": "Static friction coefficient; b = mu_s u_s is the stick limit.",
+    "mu_k": "Kinetic friction coefficient (at most mu_s); a = mu_k u_s is the slip centre.",
+    "u_s": "Static deflection u_s = F_N / k: the spring stretch the normal force makes.",
+    "k_c0": "Slope of the compression envelope at zero overlap, over k (Eq. 11).",
+    "k_e0": "Slope of the expansion envelope at zero overlap, over k (at most k_c0; "
+            "Eq. 11).",
+    "limit_overlap": "Limit overlap D: both envelopes grow without bound as the overlap "
+                     "nears D, so the stop cannot be pushed past it (Eq. 11).",
+    "beta_c": "How fast a reloading curve approaches the compression envelope, per D "
+              "(at most beta_e; Eq. 13).",
+    "beta_e": "How fast an unloading curve approaches the expansion envelope, per D (Eq. 13).",
+    "x0": "Initial displacement of the mass.",
+    "v0": "Initial velocity of the mass.",
+    "t_end": "Length of the simulated run (dimensionless time t = omega tau).",
+    "mass": "Mass m of the oscillator.",
+    "stiffness": "Stiffness k of the spring.",
+    "normal_force": "Normal force F_N pressing the mass on the belt.",
+    "belt_speed_si": "Belt speed v_dr.",
+    "v0_si": "Initial velocity of the mass.",
+    "t_end_si": "Length of the simulated run in seconds.",
+    "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
+    "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
+}
+#: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
+CONTACT_LAW_TIPS: Mapping[str, str] = {
+    "paper": "the paper's reading of Eqs. 12-13, which reproduces Fig. 2b; each reversal "
+             "restarts the exponential from the reversal point. Not passive: some closed "
+             "overlap programs give back more energy than they took",
+    "passive": "the same envelopes and exponential, but loading inside the band retraces "
+               "the unloading curve (elastic inside the band, loss on the envelope): no "
+               "closed overlap program returns energy",
+}
+#: What each method models (the method selector's tooltip).
+METHOD_TIPS: Mapping[str, str] = {
+    "auto": "exact where it applies",
+    "exact": "closed-form slip arcs and stick segments, Newton impacts; a deformable stop's "
+             "contact integrated",
+    "event": "solve_ivp on the non-smooth model, stopping at each stick, slip and contact "
+             "event",
+    "switch": "the paper's switch model: a stick band of width eta, integrated by RKF 4(5)",
+}
+#: SI widgets derived from the state through ExplorerState.physical / from_physical:
+#: name -> (label, step, key of ExplorerState.physical()).
+SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
+    "normal_force": ("normal force F_N (N)", 0.1, "normal_force"),
+    "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
+    "v0_si": ("initial velocity x'0 (m/s)", 0.001, "v0"),
+    "t_end_si": ("horizon t_end (s)", 0.01, "t_end"),
+    "k_c0_si": ("compression stiffness k_c0 (N/m)", 1.0, "k_c0"),
+    "k_e0_si": ("expansion stiffness k_e0 (N/m)", 1.0, "k_e0"),
+}
+#: The state value each SI value converts to (its bounds, in SI, are the SI box's).
+SI_STATE_NAME: Mapping[str, str] = {si: name for name, (si, _) in SI_NAMES.items()}
+#: SI sliders that stand for a dimensionless one in SI mode, and the factor that converts
+#: its slider range, a power of an SI value: x'0 [m/s] = omega x'0, t_end [s] =
+#: t_end / omega, k_c0 [N/m] = k (k_c0 / k).
+SI_TWINS: Mapping[str, tuple[str, str, int]] = {
+    "v0_si": ("v0", "omega", 1), "t_end_si": ("t_end", "omega", -1),
+    "k_c0_si": ("k_c0", "k", 1), "k_e0_si": ("k_e0", "k", 1),
+}
+#: Sliders of a length: their label gains "(m)" in SI mode.
+LENGTH_SLIDERS = ("clearance", "limit_overlap", "x0")
+#: Sliders in groups that join the page when first shown (:class:`~app.widgets.ShownLater`):
+#: the deformable stop's, the SI set's and the SI twins of the start and horizon. A new
+#: page makes their widgets only then.
+HYSTERETIC_SLIDERS = ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")
+SI_BOX_SLIDERS = ("mass", "stiffness", "normal_force", "belt_speed_si")
+SI_START_SLIDERS = ("v0_si", "t_end_si")
+SHOWN_LATER = frozenset(HYSTERETIC_SLIDERS + SI_BOX_SLIDERS + SI_START_SLIDERS)
+#: Constraints kept by the widgets: the first may not exceed the second.
+CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
+#: Smallest mu_s the slider allows (a zero-width mu_k slider cannot be drawn).
+MU_S_MIN = 0.005
+#: Width of the sidebar widgets [px].
+WIDGET_WIDTH = 290
+#: Soft range of the SI sliders, as multiples of their current value.
+SI_SOFT_SPAN = 3.0
+#: The figure the reset button returns to when the page opens on custom values.
+DEFAULT_FIGURE = DEFAULT_SCENE
+
+
+def reset_label(scene: str) -> str:
+    """The reset button's label, naming the figure it returns to.
+
+    >>> reset_label("7c")
+    'Reset to Fig. 7c'
+    """
+    return f"Reset to Fig. {scene}" if scene in SCENES else f"Reset to Fig. {DEFAULT_FIGURE}"
+
+
+def accuracy_tip() -> str:
+    """The accuracy presets in one tooltip, from :data:`app.solve.presets.ACCURACY`."""
+    parts = [f"{name}: rtol {ACCURACY[name]['rtol']:g}, switch band eta "
+             f"{ACCURACY[name]['eta']:g}, {ACCURACY[name]['n_samples']} samples"
+             for name in ACCURACIES]
+    return ("; ".join(parts) + ". The exact method on no stop or a rigid stop is closed form "
+            "at every preset: only the smoothness of the curves changes. No preset promises "
+            "an error: a full run that integrates has its error measured (the Solve row).")
