@@ -28,6 +28,7 @@ from app.animation import ANIM_SIZE, Animation
 from app.compare import URL_KEY as PINS_KEY
 from app.compare import Compare, CompareMenu
 from app.export import file_name, trajectory_csv, transitions_csv
+from app.lessons.mount import LESSON_KEYS, LessonsMount  # lessons hook
 from app.perf.browser_values import say_refused
 from app.plots import MAP_PALETTE, MAP_SIZE, PHASE_SIZE, PLOT_WIDTHS, SMALL_SIZE, TIME_SIZE, PlotSet
 from app.readout import readout_html
@@ -206,7 +207,7 @@ READOUT_SPARE_LINES = 1
 #: pinned runs, the presentation mode and slide format, and the switch of the browser-side
 #: paint shortcuts (static/perf/).
 OTHER_URL_KEYS = frozenset({PINS_KEY, presentation.URL_KEY, presentation.SLIDES_KEY,
-                            "paint_shortcuts"})
+                            "paint_shortcuts", *LESSON_KEYS})
 
 
 class Explorer(pn.viewable.Viewer):
@@ -326,6 +327,7 @@ class Explorer(pn.viewable.Viewer):
         self.state.param.watch(self._on_scene_label, ["scene"])
         self._sync_widgets()
         self._update()
+        self.lessons = LessonsMount(self)  # lessons hook: built when first opened
 
     # --- building ------------------------------------------------------------------------
 
@@ -530,15 +532,17 @@ class Explorer(pn.viewable.Viewer):
             w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
             pn.pane.HTML("<b>Solver</b>", margin=(8, 10, 0, 10)), self.accuracy, self.method,
             self.measure, self.open_sweeps, self.show_all, self.download,
-            self.download_transitions, self.menu.button,
+            self.download_transitions, self.menu.button, self.lessons.button,
         ]
 
     def main(self) -> list[Any]:
         """The alert, the caption, the readout and the plots."""
         self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                                     css_classes=["fie-plots"])
-        return [self.alert, self.caption, self.readout, self.arrived, self.in_view,
-                self._plot_box]
+        # lessons hook: the lesson above the page, which hides these while it asks
+        self.lessons.hide_while_asking(self.caption, self.readout, self._plot_box)
+        return [self.alert, self.lessons.panel, self.caption, self.readout, self.arrived,
+                self.in_view, self._plot_box]
 
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""
@@ -571,8 +575,22 @@ class Explorer(pn.viewable.Viewer):
         errors += self.menu.apply_query(texts)
         if errors or unknown:
             self._url_error(errors, unknown)
+        self.lessons.open_address(loc)  # lessons hook: ?lesson=NAME&step=K
         self.state.param.watch(self._url_changed, list(URL_KEYS))
         pn.state.onload(self._write_url)
+
+    # --- lessons hook: the page driven by a permalink query (app.lessons.driver) --------
+
+    def apply_query(self, query: str) -> list[str]:
+        """Load the state of permalink ``query`` as :meth:`sync_url` reads the address;
+        return the page's messages for what it refused (empty: all applied)."""
+        texts, repeated = links.once(links.query_pairs(query))
+        if texts.get("scene") in SCENES and texts["scene"] != self.state.scene:
+            self.state.load_scene(texts["scene"])
+        errors, unknown = self._apply_query(texts, repeated)
+        errors += self.menu.apply_query(texts)
+        return errors + ([links.unknown_message(unknown, URL_KEYS.values())] if unknown
+                         else [])
 
     def _apply_query(self, texts: Mapping[str, str],
                      repeated: Mapping[str, Sequence[str]]) -> tuple[list[str], list[str]]:
