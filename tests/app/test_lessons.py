@@ -235,3 +235,29 @@ def test_the_page_refuses_a_broken_lesson_naming_file_step_and_problem(tmp_path)
     assert ("unknown lesson 'nope' (lessons: broken, torn)"
             in html.unescape(message.object))
 
+
+def test_a_page_with_a_lesson_loads_mathjax_from_its_own_server(monkeypatch):
+    """The page loads MathJax only where a pane turns math on (app.perf.resources): a
+    lesson's panes do, and the bundle is Bokeh's own, served by the page's server."""
+    import panel.io.resources as panel_resources
+    from bokeh.document import Document
+    from bokeh.resources import Resources
+    from panel.io.state import set_curdoc
+
+    from app import perf
+    from app.perf import resources
+
+    monkeypatch.setenv(perf.SWITCH, "on")
+    resources.mathjax_on_demand()
+    bundles = {}
+    for search in ("?scene=7c", "?lesson=paper&step=4"):
+        doc = Document()
+        with set_curdoc(doc):
+            page = Explorer()
+            page.sync_url(Location(search=search))
+            doc.add_root(page.main_panel().get_root(doc))
+            bundle = panel_resources.bundle_resources(doc.roots, Resources(mode="server"))
+        bundles[search] = [str(f) for f in bundle.js_files if "mathjax" in str(f)]
+    assert bundles["?scene=7c"] == []
+    [mathjax] = bundles["?lesson=paper&step=4"]
+    assert mathjax.startswith("static/js/bokeh-mathjax")  # the server's own, no CDN
