@@ -42,8 +42,9 @@ CSS = """
 .fie-lesson-item { margin: 2px 0; }
 .fie-lesson-display { display: block; text-align: center; margin: 0.4em 0; }
 """
-#: The style sheet that hides a pane of the page while a question waits for its answer.
-HIDDEN_CSS = ":host { display: none !important; }"
+#: The style that hides a pane of the page while a question waits for its answer (a pane's
+#: style sheets, once shown, are not sent again when they change: Panel 1.9's HTML pane).
+HIDDEN_STYLE = {"display": "none"}
 #: The box around the player.
 BOX_STYLES = {"border": "1px solid #c9d3e0", "border-radius": "6px", "background": "#f7f9fc",
               "padding": "4px 10px"}
@@ -296,14 +297,14 @@ class LessonPlayer:
 
     def hide_while_asking(self) -> None:
         """Hide the panes of :attr:`hidden` while a question waits for its answer: by a
-        style sheet of their own, as their ``visible`` belongs to the page (the
-        presentation mode hides the readout)."""
+        style of their own (``display: none``), as their ``visible`` belongs to the page
+        (the presentation mode hides the readout)."""
         for pane in self.hidden:
-            sheets = [sheet for sheet in pane.stylesheets if sheet != HIDDEN_CSS]
-            if self.question.waiting:
-                sheets.append(HIDDEN_CSS)
-            if sheets != pane.stylesheets:
-                pane.stylesheets = sheets
+            # An empty display gives the pane back its own (the browser drops the style;
+            # a style left out of the dict would stay as it was).
+            display = HIDDEN_STYLE["display"] if self.question.waiting else ""
+            if pane.styles.get("display", "") != display:
+                pane.styles = {**pane.styles, "display": display}
 
     def _answered(self) -> None:
         q = self.question.question

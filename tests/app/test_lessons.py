@@ -17,7 +17,7 @@ from app.lessons.check import check_folder
 from app.lessons.driver import step_query, with_lesson
 from app.lessons.format import LessonError, lesson_files, parse_lesson, read_lesson
 from app.lessons.mount import LESSONS_DIR
-from app.lessons.player import HIDDEN_CSS
+from app.lessons.player import HIDDEN_STYLE
 from app.lessons.text import lesson_html
 from app.scenes import SCENES
 from app.state import URL_KEYS
@@ -194,7 +194,7 @@ def test_back_to_this_step_restores_the_state_after_the_student_moved(lesson_pag
 
 
 def _shown(panes) -> list[bool]:
-    return [HIDDEN_CSS not in pane.stylesheets for pane in panes]
+    return [pane.styles.get("display") != HIDDEN_STYLE["display"] for pane in panes]
 
 
 def test_a_question_hides_the_answer_until_it_is_answered(lesson_page):
