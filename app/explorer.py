@@ -541,7 +541,7 @@ class Explorer(pn.viewable.Viewer):
                                     css_classes=["fie-plots"])
         # lessons hook: the lesson above the page, which hides these while it asks
         self.lessons.hide_while_asking(self.caption, self.readout, self._plot_box)
-        return [self.alert, self.lessons.panel, self.caption, self.readout, self.arrived,
+        return [self.alert, *self.lessons.panels, self.caption, self.readout, self.arrived,
                 self.in_view, self._plot_box]
 
     def main_panel(self) -> pn.Column:

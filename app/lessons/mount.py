@@ -1,7 +1,8 @@
-"""Where the lessons join the page: a button in the sidebar and an empty place above the
-plots, which the lesson player (:mod:`app.lessons.player`) fills when it is first needed:
-when the address names a lesson (``?lesson=NAME&step=K``) or the button is pressed. A page
-opened without either carries one button and one empty column more, nothing else.
+"""Where the lessons join the page: a button in the sidebar, and above the plots the lesson
+player (:mod:`app.lessons.player`), built only when the address names a lesson
+(``?lesson=NAME&step=K``, or ``?lesson=`` for the list). The button opens the page's own
+address with ``lesson=`` added. A page opened without a lesson carries the button and its
+script, nothing else.
 """
 
 from __future__ import annotations
@@ -70,26 +71,27 @@ class LessonsMount:
         self.folder = folder
         #: What the page hides while a step asks its question (:meth:`hide_while_asking`).
         self.hidden: list[Any] = []
-        self.button = pn.widgets.Button(label="Lessons", width=BUTTON_WIDTH,
-                                        css_classes=["fie-open-lessons"],
-                                        description="Guided steps through the paper's story")
+        # (No tooltip: a description is one model more on every page.)
+        self.button = pn.widgets.Button(label="Lessons: the paper step by step",
+                                        width=BUTTON_WIDTH, css_classes=["fie-open-lessons"])
         # The lessons open on the page's own address with ``lesson=`` added (the page keeps
         # its state in its address): the page that comes loads the mathematics' typesetter,
         # which a page without a lesson does not (app.perf.resources).
         self.button.js_on_click(code=OPEN_LIST_JS)
-        #: The player's place above the plots (empty until a lesson is opened).
-        self.panel = pn.Column(visible=False, sizing_mode="stretch_width", margin=0,
-                               css_classes=["fie-lessons"])
         self.location: Any = None
         #: The player (app.lessons.player.LessonPlayer), built when first needed.
         self.player: Any = None
+
+    @property
+    def panels(self) -> list[Any]:
+        """What the page shows above its plots: the player, if a lesson is open (the
+        address is read before the page is laid out; the button opens a new page)."""
+        return [] if self.player is None else [self.player.layout]
 
     def _player(self) -> Any:
         if self.player is None:
             from app.lessons.player import LessonPlayer  # only a page that opens one
             self.player = LessonPlayer(self.driver, self.folder, self.location, self.hidden)
-            self.panel.objects = [self.player.layout]
-        self.panel.visible = True
         return self.player
 
     def hide_while_asking(self, *panes: Any) -> None:

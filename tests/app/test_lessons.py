@@ -156,7 +156,7 @@ def test_with_lesson_keeps_the_other_keys():
 def test_a_page_without_a_lesson_builds_no_player():
     page = Explorer()
     page.sync_url(Location(search="?scene=7c"))
-    assert page.lessons.player is None and page.lessons.panel.objects == []
+    assert page.lessons.player is None and page.lessons.panels == []
     assert "fie-open-lessons" in page.lessons.button.css_classes
 
 
