@@ -155,7 +155,7 @@ class LessonPlayer:
         self.keys.param.watch(lambda event: self.go(self.index - 1), "back")
         self.keys.param.watch(lambda event: self.go(self.index + 1), "forward")
         self.step_view = pn.Column(
-            self.title, self.text, self.look, self.question.layout,
+            self.title, self.question.layout, self.text, self.look,
             pn.Row(self.back, self.next, self.restore, self.link, self.keys, margin=0),
             sizing_mode="stretch_width", margin=0, visible=False,
             css_classes=["fie-lesson-step"])
@@ -253,7 +253,6 @@ class LessonPlayer:
         self.title.object = f'<div class="fie-lesson-title">{plain_math(step.title)}</div>'
         self.text.object = f'<div class="fie-lesson-text">{lesson_html(step.text)}</div>'
         self.look.object = self._look_html(step)
-        self.look.visible = bool(step.highlight or step.plots)
         link = step_link(lesson.name, index + 1)
         self.link.object = (f'<a href="{html.escape(link)}" title="A link to this step">'
                             "Link to this step</a>")
@@ -286,9 +285,11 @@ class LessonPlayer:
     def _look_html(self, step: Step) -> str:
         names = [f"the {PLOT_TITLES[p].lower()}" for p in step.plots]
         plots = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
-        where = f" in {plots}" if plots else ""
-        what = plain_math(step.highlight) if step.highlight else "the plots"
-        return f'<div class="fie-lesson-look"><b>Look at</b> {what}{where}.</div>'
+        if step.highlight:
+            what = plain_math(step.highlight) + (f" (in {plots})" if plots else "")
+        else:
+            what = plots
+        return f'<div class="fie-lesson-look"><b>Look at</b> {what}.</div>'
 
     def _ask(self, question: Question | None) -> None:
         """Ask ``question`` with the panes of :attr:`hidden` hidden (``None``: show them)."""
@@ -299,6 +300,11 @@ class LessonPlayer:
         """Hide the panes of :attr:`hidden` while a question waits for its answer: by a
         style of their own (``display: none``), as their ``visible`` belongs to the page
         (the presentation mode hides the readout)."""
+        # A question step's text and pointers say the answer: shown with it.
+        step = self.lesson.steps[self.index] if self.lesson is not None else None
+        self.text.visible = not self.question.waiting
+        self.look.visible = (not self.question.waiting and step is not None
+                             and bool(step.highlight or step.plots))
         for pane in self.hidden:
             # An empty display gives the pane back its own (the browser drops the style;
             # a style left out of the dict would stay as it was).

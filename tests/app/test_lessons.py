@@ -203,11 +203,12 @@ def test_a_question_hides_the_answer_until_it_is_answered(lesson_page):
     assert len(hidden) == 3 and _shown(hidden) == [True] * 3
     player.go(2)  # "A faster belt": multiple choice
     assert _shown(hidden) == [False] * 3
+    assert not player.text.visible and not player.look.visible  # they say the answer
     player.question.check.clicks += 1  # no choice made: still hidden
     assert _shown(hidden) == [False] * 3
     player.question.choices.value = player.question.choices.options[0]
     player.question.check.clicks += 1
-    assert _shown(hidden) == [True] * 3
+    assert _shown(hidden) == [True] * 3 and player.text.visible and player.look.visible
     assert "Not quite" in player.question.answer.object
     player.go(7)  # the guess: drag x_bar into the grazing band
     assert _shown(hidden) == [False] * 3
