@@ -82,7 +82,9 @@ class QuestionView:
         self.layout.visible = question is not None
         if question is None:
             return
-        self.ask.object = f"<b>Predict, then see.</b> {plain_math(question.ask)}"
+        self.ask.object = (f"<b>Predict, then see.</b> {plain_math(question.ask)}"
+                           '<br><span class="fie-lesson-head">The plots, the caption and the '
+                           "readout come with the answer.</span>")
         self.choices.options = list(question.choices)
         self.choices.value = None
         self.choices.visible = bool(question.choices)
