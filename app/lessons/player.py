@@ -224,10 +224,10 @@ class LessonPlayer:
             number = parse_number(text)
         except ValueError:
             number = 0
-        if number != int(number) or not 1 <= number <= n:
+        ok = number == int(number) and 1 <= number <= n
+        self.go(int(number) - 1 if ok else 0, apply_state=apply_state)
+        if not ok:  # said after the step shown, which clears the messages before it
             self._say(f"{STEP_KEY} must be a whole number in [1, {n}]; got {text!r}")
-            number = 1
-        self.go(int(number) - 1, apply_state=apply_state)
 
     def open(self, name: str, number: int, apply_state: bool = True) -> None:
         """Open step ``number`` (1-based) of lesson ``name``."""

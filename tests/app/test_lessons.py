@@ -262,3 +262,16 @@ def test_a_page_with_a_lesson_loads_mathjax_from_its_own_server(monkeypatch):
     assert bundles["?scene=7c"] == []
     [mathjax] = bundles["?lesson=paper&step=4"]
     assert mathjax.startswith("static/js/bokeh-mathjax")  # the server's own, no CDN
+
+
+@pytest.mark.parametrize("text", ["99", "0", "2.5", "two"])
+def test_a_step_out_of_the_lesson_is_refused_in_the_page_and_the_first_step_shown(text):
+    """The refusal was written, then cleared by the step shown after it."""
+    page = Explorer()
+    page.sync_url(Location(search=f"?lesson=paper&step={text}"))
+    player = page.lessons.player
+    n = len(player.lesson.steps)
+    assert player.index == 0 and page.state.scene == "3a"
+    assert player.message.visible
+    assert (f"step must be a whole number in [1, {n}]; got '{text}'"
+            in html.unescape(player.message.object))
