@@ -24,6 +24,9 @@ N = len(LESSON.steps)
 #: most a picture drawn again from the same state may differ (antialiasing of the same
 #: curves: none expected, a little allowed).
 MIN_CHANGE, SAME = 0.5, 0.05
+#: JavaScript: a new page (after the lessons button opened one) is ready.
+JS_READY_AGAIN = """() => window.Bokeh && Bokeh.documents.length > 0 &&
+  Bokeh.documents[0].is_idle === true"""
 #: JavaScript: the number of typeset formulas in the lesson's text (in its shadow root).
 JS_FORMULAS = """() => {
   let n = 0;
@@ -138,3 +141,23 @@ def test_a_slider_moved_mid_step_changes_the_plots_and_back_to_this_step_restore
     p.settle()
     assert _scene_label(p) == SCENES["5a"].title
     assert np.abs(p.pixels(".fie-plot-phase") - before).mean() < SAME
+
+
+def test_the_lessons_button_lists_the_lessons_on_the_page_s_own_state(browser, server):
+    p = Page(browser, f"{server}?scene=7c&r=0.5")
+    try:
+        p.page.wait_for_function("() => location.search.includes('tend=')",
+                                 timeout=PAGE_TIMEOUT_MS)  # the page wrote its state
+        p.page.locator(".fie-open-lessons button").click()
+        p.page.wait_for_function("() => location.search.includes('lesson=')",
+                                 timeout=PAGE_TIMEOUT_MS)
+        p.page.wait_for_function(JS_READY_AGAIN, timeout=PAGE_TIMEOUT_MS)
+        p.page.locator(".fie-lesson-list").first.wait_for(state="visible")
+        assert LESSON.title in p.text(".fie-lesson-list")
+        params = urllib.parse.parse_qs(urllib.parse.urlsplit(p.page.url).query)
+        assert params["r"] == ["0.5"] and params["scene"] == ["custom"]
+        assert p.page.locator(".fie-w-restitution input").first.input_value() == "0.5"
+        p.page.locator(".fie-lesson-start-paper button").click()
+        _wait_step(p, 1)
+    finally:
+        p.close()
