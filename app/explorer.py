@@ -22,6 +22,7 @@ from app.compare_menu import CompareMenu
 from app.control_specs import SHOWN_LATER, SLIDERS, WIDGET_WIDTH  # noqa: F401 - the page's
 from app.controls import Controls
 from app.export import Downloads
+from app.lessons.mount import LessonsMount
 from app.notices import Notices
 from app.permalink import URL_DELAY_MS, Permalink  # noqa: F401 - the page's timing
 from app.plots_host import FIRST_PLOTS, PlotsHost  # noqa: F401 - the page's lazy plots
@@ -63,6 +64,7 @@ class Explorer(pn.viewable.Viewer):
         self.studies = Studies(self.host, self.controls.commit, self.notices, state=st)
         self.downloads = Downloads(st, WIDGET_WIDTH)
         self.solving.param.watch(lambda event: self.host.show_busy(event.new), "busy")
+        self.lessons = LessonsMount(self.permalink)
         self.solving.solve()
 
     # --- layout ----------------------------------------------------------------------------
@@ -71,12 +73,15 @@ class Explorer(pn.viewable.Viewer):
         """The controls, top to bottom."""
         return [*self.controls.sidebar(), self.studies.measure, self.studies.open_sweeps,
                 self.controls.show_all, self.downloads.trajectory, self.downloads.transitions,
-                self.menu.button]
+                self.menu.button, self.lessons.button]
 
     def main(self) -> list[Any]:
-        """The notices, the caption, the readout and the plots."""
-        host = self.host
-        return [self.notices, self.readout_view.caption, self.readout_view.readout,
+        """The notices, the lesson (if one is open), the caption, the readout and the
+        plots."""
+        host, readout = self.host, self.readout_view
+        # A step that asks a question hides what would give its answer away.
+        self.lessons.hide_while_asking(readout.caption, readout.readout, host.plot_box)
+        return [self.notices, *self.lessons.panels, readout.caption, readout.readout,
                 host.arrived, host.in_view, host.plot_box]
 
     def main_panel(self) -> pn.Column:
@@ -89,9 +94,9 @@ class Explorer(pn.viewable.Viewer):
     # --- the page's address and life -------------------------------------------------------
 
     def sync_url(self, location: Any = None) -> None:
-        """Load the page from its address and keep the address in step
-        (:meth:`app.permalink.Permalink.sync_url`)."""
-        self.permalink.sync_url(location)
+        """Load the page from its address, open the lesson step it names, and keep the
+        address in step (:meth:`app.permalink.Permalink.sync_url`)."""
+        self.permalink.sync_url(location, then=self.lessons.open_address)
 
     @property
     def location(self) -> Any:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import math
 import urllib.parse
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import panel as pn
@@ -26,6 +26,7 @@ from app import links, presentation
 from app.commit_rules import differs
 from app.compare import URL_KEY as PINS_KEY
 from app.deferred import Deferred, later
+from app.lessons.driver import LESSON_KEYS
 from app.scenes import CUSTOM, SCENES
 from app.state import (
     URL_KEYS,
@@ -41,9 +42,9 @@ from app.state import (
 URL_DELAY_MS = 400
 #: Query keys the page reads besides the state's (:data:`URL_KEYS`, by key or by name): the
 #: pinned runs, the presentation mode and slide format, and the switch of the browser-side
-#: paint shortcuts (static/perf/).
+#: paint shortcuts (static/perf/), and the lesson step (app.lessons).
 OTHER_URL_KEYS = frozenset({PINS_KEY, presentation.URL_KEY, presentation.SLIDES_KEY,
-                            "paint_shortcuts"})
+                            "paint_shortcuts", *LESSON_KEYS})
 #: A state value by its permalink key or its own name.
 NAMES: Mapping[str, str] = {**{name: name for name in URL_KEYS},
                             **{key: name for name, key in URL_KEYS.items()}}
@@ -76,13 +77,18 @@ class Permalink(pn.viewable.Viewer):
 
     # --- address -> state -----------------------------------------------------------------
 
-    def sync_url(self, location: Location | None = None) -> None:
+    def sync_url(self, location: Location | None = None,
+                 then: Callable[[Location], None] | None = None) -> None:
         """Load the page from the address of ``location`` (default: the session's,
-        :func:`app.links.session_location`), then keep the address in step."""
+        :func:`app.links.session_location`), call ``then`` with it (what else the address
+        opens, such as a lesson step, over the state it gave), then keep the address in
+        step."""
         self.location = loc = location if location is not None else links.session_location()
         if loc is None:
             return
         self.apply_query(loc.search)
+        if then is not None:
+            then(loc)
         self.state.param.watch(self.url_changed, [*URL_KEYS, "pinned", "present"])
         self.state.param.watch(self._slides_changed, "slides")
         pn.state.onload(self.write_url)

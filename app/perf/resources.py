@@ -12,7 +12,9 @@ nothing:
 * **MathJax** (``bokeh-mathjax.min.js``, 1.8 MB, 0.62 MB gzipped). Bokeh loads it when a
   model holds TeX (``bokeh.embed.bundle._use_mathjax``); Panel adds it whenever the page
   has any HTML pane, in case its text holds TeX (``_panel_use_mathjax``). The explorer's
-  panes hold no TeX, so :func:`mathjax_on_demand` leaves Bokeh's own test to decide.
+  panes hold no TeX and leave their math off (Panel's default for an HTML pane), so
+  :func:`mathjax_on_demand` loads it only for a page with a pane that turns math on (a
+  lesson's, app.lessons) and otherwise leaves Bokeh's own test to decide.
 
 Both are applied only where :mod:`app.perf` says so (names ``bootstrap-css-once``,
 ``mathjax-on-demand``); ``tests/app/test_perf_resources.py`` checks the page's resource list
@@ -63,8 +65,17 @@ def version_design_css() -> None:
         Design.resolve_resources = _resolve_versioned
 
 
-def _no_tex_in_panes(roots) -> bool:
-    return False
+def _math_in_panes(roots) -> bool:
+    """Whether a Panel HTML model under ``roots`` has its math on (``disable_math=False``).
+
+    The models are read from the roots' document, which lists them already (walking the
+    roots' references would visit the whole page once more)."""
+    from panel.models.markup import HTML as PanelHTML
+
+    roots = list(roots)
+    doc = roots[0].document if roots else None
+    models = doc.models if doc is not None else {m for r in roots for m in r.references()}
+    return any(isinstance(m, PanelHTML) and not m.disable_math for m in models)
 
 
 def mathjax_on_demand() -> None:
@@ -75,9 +86,9 @@ def mathjax_on_demand() -> None:
         return
     import panel.io.resources as resources
 
-    if resources._panel_use_mathjax is not _no_tex_in_panes:
+    if resources._panel_use_mathjax is not _math_in_panes:
         _panel_use_mathjax = resources._panel_use_mathjax
-        resources._panel_use_mathjax = _no_tex_in_panes
+        resources._panel_use_mathjax = _math_in_panes
 
 
 def load_each_bundle_once() -> None:
