@@ -3,7 +3,7 @@
 ``figure.line(...)`` and the other glyph methods of ``bokeh.plotting`` build three glyph
 models per renderer (the glyph, a non-selection copy and a muted copy); the explorer has no
 selection tools and no muting legend, so the copies were thrown away at once
-(:meth:`app.plots.SharedModels.lighten` sets them to ``"auto"``, derived in the browser).
+(:meth:`app.plots.sources.SharedModels.lighten` sets them to ``"auto"``, derived in the browser).
 Building them cost a new session's page ~1 ms per renderer (26 renderers on the default
 page). :func:`add_glyph` makes the same renderer from the public models, with the same visual
 defaults as the glyph methods (colour ``#1f77b4``, alpha 1, black text and hatch) and the

@@ -8,13 +8,7 @@ import numpy as np
 import pytest
 
 from app import sampling
-from app.plots import (
-    LABEL_ABOVE_PX,
-    LABEL_BELOW_PX,
-    _sample_bounds,
-    phase_step,
-    reference_columns,
-)
+from app.plots import phase_step, sample_bounds
 from app.scenes import SCENES
 from app.solver import solve
 from app.state import scene_values
@@ -41,7 +35,7 @@ def test_phase_trajectory_jumps_at_the_stop_and_joins_only_neighbours(key, previ
     res = sol.result
     evaluate, _ = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0,
                                      sol.method)
-    step = phase_step(*_sample_bounds(sol))
+    step = phase_step(*sample_bounds(sol))
     path = sampling.phase_path(res, evaluate, sampling.draw_horizon(res, sol.t_end, step),
                                step)
     t, x, v = path.t, path.x, path.v
@@ -93,7 +87,7 @@ def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
     from app.explorer import Explorer
 
     ex = Explorer()
-    ex._commit({"units": units})
+    ex.units.value = units
     fig = ex.plots.figures["phase"]
     assert fig.match_aspect
     assert isinstance(fig.x_range, DataRange1d) and isinstance(fig.y_range, DataRange1d)
@@ -112,7 +106,8 @@ def test_the_browser_places_the_point_labels_on_every_change_of_the_frame():
     """The server cannot tell which labels leave the frame or run into each other (it does
     not know the frame's pixel size): one ``CustomJS`` places them again whenever the
     frame, the ranges, the labels' font or anything the portrait draws changes (but the
-    animation's moving marker); the server sends the corner it prefers (``side``)."""
+    animation's moving marker). The server decides nothing of a label's place: it sends
+    the points, their names and the slip arcs' centre, every label unplaced."""
     from bokeh.models import CustomJS
 
     from app.explorer import Explorer
@@ -134,8 +129,10 @@ def test_the_browser_places_the_point_labels_on_every_change_of_the_frame():
     for model, attr in watched:
         assert place in model.js_property_callbacks.get(f"change:{attr}", []), (model, attr)
     data = labels.source.data
-    assert data["side"] and data["side"] == [
-        f"{a} {b}" for a, b in zip(data["align"], data["baseline"], strict=True)]
+    assert data["name"] and "side" not in data
+    assert set(data["align"]) == {"center"} and set(data["baseline"]) == {"middle"}
+    assert set(data["dx"]) == set(data["dy"]) == {0}
+    assert data["centre"] == [ex.solution.osc.a] * len(data["x"])
 
 
 def test_legends_are_html_and_list_only_what_is_drawn():
@@ -201,7 +198,7 @@ def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
     x = np.asarray(ex.plots.sources["traj"].data["x"], float)
     span = x.max() - x.min()
     clearance = round(float(x.max() + beyond * span), 4)
-    ex._commit({"clearance": clearance})
+    ex.state.param.update(clearance=clearance)
     assert ex.error is None
     x = np.asarray(ex.plots.sources["traj"].data["x"], float)
     assert x.max() < clearance  # no impact: the motion does not reach the stop
@@ -263,29 +260,14 @@ def test_tick_labels_of_the_loop_overlaps_are_decimals(key):
     assert all(tick > 10.0 ** a.formatter.power_limit_low for a in axes)
 
 
-@pytest.mark.parametrize("key", ["5b", "7b"])
-def test_the_two_ends_of_the_stick_line_label_away_from_each_other(key):
-    # The stick starts left of the stop and ends at it, both at x' = v: "stick start" is
-    # written rightwards and the stop's label leftwards, so the stop's goes below its point.
-    pts = reference_columns(solve(scene_values(key)))["points"]
-    by_name = dict(zip(pts["name"], zip(pts["align"], pts["dy"], strict=True), strict=True))
-    stop_label = next(name for name in by_name if name.startswith("stick end"))
-    assert by_name["stick start"] == ("left", LABEL_ABOVE_PX)
-    assert by_name[stop_label] == ("right", LABEL_BELOW_PX)
-    assert all(dy == LABEL_ABOVE_PX for name, (_, dy) in by_name.items() if name != stop_label)
-
-
 def test_the_regime_map_keeps_its_axes_for_a_scene():
     """A tap on the map or a new start point does not reframe it (a tap near its right
     edge used to widen the belt speed axis, a new x0 moved the clearance axis); without a
     stop it has no clearance axis; its legend says what its words mean."""
-    from bokeh.events import Tap
-
     from app.explorer import Explorer
 
     ex = Explorer()
     ex.scene_select.value = "5b"
-    ex._draw_map(ex.solution)
     fig = ex.plots.figures["map"]
 
     def axes():
@@ -293,17 +275,17 @@ def test_the_regime_map_keeps_its_axes_for_a_scene():
 
     before = axes()
     x0, x1, y0, y1 = before
-    ex._on_map_tap(Tap(fig, x=x0 + 0.95 * (x1 - x0), y=y0 + 0.9 * (y1 - y0)))
-    ex._draw_map(ex.solution)
+    # Where a tap near the right edge moves the point (app.explorer: rounded values).
+    ex.state.param.update(belt_speed=round(x0 + 0.95 * (x1 - x0), 4),
+                          clearance=round(y0 + 0.9 * (y1 - y0), 4))
+    assert ex.solution.values["belt_speed"] == round(x0 + 0.95 * (x1 - x0), 4)
     assert axes() == before
-    ex._commit({"x0": -0.1})
-    ex._draw_map(ex.solution)
+    ex.state.param.update(x0=-0.1)
     assert axes() == before
     legend = ex.map_legend.object
     assert "critical speed" in legend and "case a / b / c" in legend
     assert fig.yaxis[0].visible
-    ex._commit({"stop_type": "none"})
-    ex._draw_map(ex.solution)
+    ex.stop_type.value = "none"
     assert not fig.yaxis[0].visible
 
 
@@ -335,8 +317,19 @@ def test_theory_points_only_where_the_motion_can_have_them(start, sticks):
 
     ex = Explorer()
     ex.scene_select.value = "3a"
-    ex._commit({"x0": start[0], "v0": start[1]})
+    ex.state.param.update(x0=start[0], v0=start[1])
     assert ex.solution.theory.points  # the theory has its stick points either way
     names = ex.plots.sources["points"].data["name"]
     assert bool(len(ex.plots.sources["path_stick"].data["x"])) is sticks
     assert bool([n for n in names if "stick" in n]) is sticks
+
+
+@pytest.mark.parametrize("module", ["columns", "labels", "legends", "ranges", "sources",
+                                    "style", "figures", "plot_set"])
+def test_docstring_examples_of_the_plot_modules(module):
+    """The examples of each module of :mod:`app.plots` hold (those with none pass)."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"app.plots.{module}"))
+    assert result.failed == 0
