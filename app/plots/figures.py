@@ -29,7 +29,14 @@ from bokeh.plotting import figure
 from app.glyphs import add_glyph
 from app.plots.columns import FORCE_TITLE, IMPULSES, force_quantity
 from app.plots.labels import place_labels
-from app.plots.legends import legend_html, legend_pane, swatch
+from app.plots.legends import (
+    LEGEND_LINE_PX,
+    LEGEND_MARGIN_PX,
+    band_entries,
+    legend_html,
+    legend_pane,
+    swatch,
+)
 from app.plots.ranges import PHASE_X_PADDING
 from app.plots.style import (
     AXIS_LABEL_FONT,
@@ -144,9 +151,12 @@ def build_phase(s: Sources) -> Built:
 
 
 def build_time(s: Sources) -> Built:
-    """The time histories x(t) and x'(t) on one time axis, over bands of the modes."""
-    fig_x = new_figure("Displacement x(t)", TIME_SIZE, y_axis_label="x")
-    fig_v = new_figure("Velocity x'(t)", TIME_SIZE, x_axis_label="t", y_axis_label="x'",
+    """The time histories x(t) and x'(t) on one time axis, over bands of the modes, and
+    the bands' legend below them; the two figures and the legend are ``2 * TIME_SIZE``
+    high together (the height the page keeps for the plot until it is built)."""
+    size = (TIME_SIZE[0], TIME_SIZE[1] - (LEGEND_LINE_PX + LEGEND_MARGIN_PX) // 2)
+    fig_x = new_figure("Displacement x(t)", size, y_axis_label="x")
+    fig_v = new_figure("Velocity x'(t)", size, x_axis_label="t", y_axis_label="x'",
                        x_range=fig_x.x_range)
     for fig, col in ((fig_x, "x"), (fig_v, "v")):
         add_glyph(fig, "quad", left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
@@ -159,7 +169,8 @@ def build_time(s: Sources) -> Built:
     fig_x.add_layout(spans["stop_t"])
     fig_v.add_layout(spans["belt_t"])
     return Built(column(fig_x, fig_v, sizing_mode="stretch_width"),
-                 {"time_x": fig_x, "time_v": fig_v}, spans=spans)
+                 {"time_x": fig_x, "time_v": fig_v}, spans=spans,
+                 legend=legend_pane(legend_html(band_entries()), lines=1))
 
 
 def build_force(s: Sources) -> Built:

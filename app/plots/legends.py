@@ -9,12 +9,14 @@ from typing import Any
 import panel as pn
 
 from app.plots.style import (
+    BAND_COLORS,
     MODE_NAMES,
     PHASE_LABELS,
     PHASE_STYLE,
     TRANSITION_LABELS,
     TRANSITION_STYLE,
 )
+from core import Mode
 
 #: An entry of an HTML legend: its label, its swatch (inline SVG) and its explanation.
 Entry = tuple[str, str, str]
@@ -60,16 +62,43 @@ def legend_html(entries: list[Entry]) -> str:
 #: Lines of an HTML legend's height kept free (20 px each): entries that come and go
 #: with the state do not move the plots below on every release.
 LEGEND_LINES = 3
+#: Height [px] of a legend's line, and the legend's margin below it.
+LEGEND_LINE_PX, LEGEND_MARGIN_PX = 20, 4
 
 
-def legend_pane(text: str = "") -> pn.pane.HTML:
-    """An HTML legend below a figure. A Panel HTML pane, not a Bokeh ``Div``: BokehJS
-    answers any change of a ``Div`` by laying out the whole page again, which resizes and
-    repaints every figure (28-48 ms in Chromium on each release whose legend changed, e.g.
-    the count of a cycle's repeats); the pane only replaces its inner HTML."""
-    return pn.pane.HTML(text, sizing_mode="stretch_width", margin=(0, 10, 4, 50),
-                        min_height=20 * LEGEND_LINES,
-                        styles={"font-size": "12px", "line-height": "20px"})
+def legend_pane(text: str = "", lines: int = LEGEND_LINES) -> pn.pane.HTML:
+    """An HTML legend below a figure, ``lines`` high at least. A Panel HTML pane, not a
+    Bokeh ``Div``: BokehJS answers any change of a ``Div`` by laying out the whole page
+    again, which resizes and repaints every figure (28-48 ms in Chromium on each release
+    whose legend changed, e.g. the count of a cycle's repeats); the pane only replaces its
+    inner HTML."""
+    return pn.pane.HTML(text, sizing_mode="stretch_width",
+                        margin=(0, 10, LEGEND_MARGIN_PX, 50),
+                        min_height=LEGEND_LINE_PX * lines,
+                        styles={"font-size": "12px", "line-height": f"{LEGEND_LINE_PX}px"})
+
+
+#: What each mode band behind the time histories means (tooltips): a rigid stop holds
+#: the mass at rest in contact (docs/physics.md, "Rest at the stop"), the belt at rest
+#: in stick.
+BAND_NOTES: Mapping[int, tuple[str, str]] = {
+    int(Mode.SLIP): ("slip", "the mass slides on the belt (Eq. 7)"),
+    int(Mode.STICK): ("stick / rest on the belt", "the mass moves with the belt (x' = v)"),
+    int(Mode.CONTACT): ("contact / rest on the stop",
+                        "the mass touches the stop: a deformable stop's contact, or rest "
+                        "pressed on a rigid stop"),
+}
+
+
+def band_entries() -> list[Entry]:
+    """Entries of the mode bands behind the time histories, in :data:`BAND_COLORS`.
+
+    >>> [label for label, _, _ in band_entries()]
+    ['slip', 'stick / rest on the belt', 'contact / rest on the stop']
+    """
+    return [(label, swatch("square", fill_color=BAND_COLORS[m], line_color="#999999",
+                           line_width=1), note)
+            for m, (label, note) in BAND_NOTES.items()]
 
 
 def phase_entries(data: Mapping[str, Mapping[str, Any]], kinds: Iterable[str]) -> list[Entry]:

@@ -333,3 +333,21 @@ def test_docstring_examples_of_the_plot_modules(module):
 
     result = doctest.testmod(importlib.import_module(f"app.plots.{module}"))
     assert result.failed == 0
+
+
+def test_the_mode_bands_behind_the_time_histories_have_a_legend():
+    """The coloured bands behind x(t) and x'(t) were explained nowhere: a legend below
+    them names each band's mode in its colour, and the figures and the legend keep the
+    height the page reserves for the plot before it is built (two ``TIME_SIZE``)."""
+    from app.plots import BAND_COLORS, MODE_NAMES, TIME_SIZE, PlotSet
+
+    plots = PlotSet()
+    view = plots.view("time")
+    legend = plots.legends["time"]
+    assert legend in view.objects
+    for mode, color in BAND_COLORS.items():
+        assert f'fill="{color}"' in legend.object
+        assert MODE_NAMES[mode] in legend.object
+    figs = (plots.figures["time_x"], plots.figures["time_v"])
+    legend_height = legend.min_height + legend.margin[2]
+    assert sum(f.height for f in figs) + legend_height == 2 * TIME_SIZE[1]
