@@ -16,7 +16,7 @@ from app.plots.colour_vision import CVD_MATRICES, min_difference
 
 def main() -> None:
     palettes = {
-        "regime map (12)": list(MAP_PALETTE),
+        f"regime map ({len(MAP_PALETTE)})": list(MAP_PALETTE),
         "regime map, first 6": list(MAP_PALETTE[:6]),
         "mode bands (3)": list(BAND_COLORS.values()),
         f"steady states ({len(LABEL_COLORS)})": list(LABEL_COLORS.values()),

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-#: Steady-state labels' colours in the diagram and in the simulated map.
+#: Steady-state labels' colours in the diagram and in the simulated map: from Paul Tol's
+#: "muted" scheme (SRON, 2021), apart to protanopes and deuteranopes too
+#: (:data:`app.plots.style.MIN_CLASS_DIFFERENCE`); cells that did not settle are grey.
 LABEL_COLORS: Mapping[str, str] = {
-    "periodic": "#1f5fbf", "grazing": "#e07b00", "rest": "#2ca02c", "equilibrium": "#6a3d9a",
-    "pure_slip": "#c8102e", "contact_train": "#8c564b", "none": "#7f7f7f",
-    "oscillation": "#17becf",
+    "periodic": "#117733", "grazing": "#ddcc77", "rest": "#882255", "equilibrium": "#aa4499",
+    "pure_slip": "#cc6677", "contact_train": "#999933", "none": "#dddddd",
+    "oscillation": "#88ccee",
 }
 #: Colour and opacity of the cells where simulation and theory disagree.
 DISAGREE_RGBA = (200, 16, 46, 220)

@@ -462,7 +462,11 @@ def missing_note(data: Points, spec: SweepSpec) -> str:
 
 def legend_text() -> str:
     """What the diagram's colours and lines mean (the status line of a finished sweep)."""
-    colours = ", ".join(f"<span style='color:{c}'>{k}</span>" for k, c in LABEL_COLORS.items())
+    # Swatches, not coloured words: the pale colours are not read as text on white.
+    colours = ", ".join(
+        f"<span style='white-space:nowrap'><i style='display:inline-block;width:10px;"
+        f"height:10px;background:{c};margin-right:3px'></i>{k}</span>"
+        for k, c in LABEL_COLORS.items())
     return (f"Colours: {colours}. <span style='color:{CURRENT_COLOR}'>Red line</span>: the "
             "explorer's value; dashed: the theory's boundaries (each labelled with the regime "
             "that follows it), dotted: a, b, the stop.")

@@ -16,11 +16,14 @@ MODE_COLORS: Mapping[int, str] = {
 #: Names of the modes, for legends and the CSV.
 MODE_NAMES: Mapping[int, str] = {int(Mode.SLIP): "slip", int(Mode.STICK): "stick",
                                  int(Mode.CONTACT): "contact"}
-#: Light tints of the mode colours for the bands behind the time histories.
+#: Light tints for the bands behind the time histories (blue, amber, mauve): apart also
+#: to protanopes and deuteranopes (:data:`MIN_CLASS_DIFFERENCE`), light enough under the
+#: black trajectory; contact is the darkest (a red tint beside the amber one read as one
+#: band to a deuteranope).
 BAND_COLORS: Mapping[int, str] = {
-    int(Mode.SLIP): "#dbe6f6",
+    int(Mode.SLIP): "#ccd8ff",
     int(Mode.STICK): "#fbe7cc",
-    int(Mode.CONTACT): "#f6d2d8",
+    int(Mode.CONTACT): "#cfb5bb",
 }
 #: Marker and colour of each transition kind in the phase portrait.
 TRANSITION_STYLE: Mapping[str, tuple[str, str]] = {
@@ -42,12 +45,21 @@ TRANSITION_LABELS: Mapping[str, str] = {
     TransitionKind.SIGN_CHANGE.value: "sign change",
     TransitionKind.CONTACT.value: "contact start",
 }
-#: Colours of the regime map's categories (cycled); no two alike (a lavender and a grey
-#: read as one regime in the legend of Fig. 7c's map).
+#: Colours of the regime map's categories (cycled; the paper's scenes have 9 at most):
+#: Paul Tol's "light" scheme (SRON, 2021), made for maps to be read by colour-blind
+#: viewers, no two alike to them (:data:`MIN_CLASS_DIFFERENCE`; the blues, greens and
+#: reds of the former palette read as one regime to a deuteranope).
 MAP_PALETTE = (
-    "#c6dbef", "#fdd0a2", "#c7e9c0", "#dadaeb", "#fcbba1", "#ffffb3", "#9ecae1", "#fdae6b",
-    "#a1d99b", "#bcbddc", "#fc9272", "#e5d8bd",
+    "#77aadd", "#eedd88", "#44bb99", "#ffaabb", "#99ddff", "#bbcc33", "#ee8866", "#aaaa00",
+    "#dddddd",
 )
+#: Least CIEDE2000 difference between two classes of a palette to normal, protanope and
+#: deuteranope vision (app.plots.colour_vision): patches that differ by 5 or more are
+#: told apart at a glance; 7 leaves room for a screen's rendering.
+MIN_CLASS_DIFFERENCE = 7.0
+#: And a dichromat keeps this fraction of the least difference normal vision sees at
+#: least: the palette does not rest on a red-green contrast.
+CVD_KEPT_FRACTION = 0.75
 #: Colour of the force that holds the mass on a rigid stop (and of its axis).
 REST_COLOR = "#6a3d9a"
 #: Colours of the energy terms.

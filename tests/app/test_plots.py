@@ -351,3 +351,27 @@ def test_the_mode_bands_behind_the_time_histories_have_a_legend():
     figs = (plots.figures["time_x"], plots.figures["time_v"])
     legend_height = legend.min_height + legend.margin[2]
     assert sum(f.height for f in figs) + legend_height == 2 * TIME_SIZE[1]
+
+
+@pytest.mark.parametrize("palette", ["map", "bands", "steady states"])
+def test_palettes_stay_apart_to_red_green_colour_blind_viewers(palette):
+    """The regime map's blues, greens and reds read as one class to a deuteranope (least
+    CIEDE2000 difference 0.9), the bands' amber and red tints came to less than half as
+    far apart as to normal vision: every two classes of the map, the mode bands and the
+    simulated steady states now differ by at least
+    :data:`app.plots.style.MIN_CLASS_DIFFERENCE` to normal, protanope and deuteranope
+    vision (Machado et al. 2009), and a dichromat keeps
+    :data:`app.plots.style.CVD_KEPT_FRACTION` of the normal separation."""
+    from app.bifurcation import LABEL_COLORS
+    from app.plots import BAND_COLORS, MAP_PALETTE
+    from app.plots.colour_vision import CVD_MATRICES, min_difference
+    from app.plots.style import CVD_KEPT_FRACTION, MIN_CLASS_DIFFERENCE
+
+    colours = {"map": MAP_PALETTE, "bands": tuple(BAND_COLORS.values()),
+               "steady states": tuple(LABEL_COLORS.values())}[palette]
+    assert len(set(colours)) == len(colours)
+    normal = min_difference(colours, "normal")
+    for vision in CVD_MATRICES:
+        least = min_difference(colours, vision)
+        assert least >= MIN_CLASS_DIFFERENCE, vision
+        assert least >= CVD_KEPT_FRACTION * normal, vision
