@@ -15,11 +15,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from bokeh.models import GlyphRenderer, Image, Line, Quad, Scatter, Segment
+from bokeh.models import GlyphRenderer, Image, Line, MultiLine, Quad, Scatter, Segment
 
 #: Glyph methods the explorer uses: the glyph class and its positional arguments.
 GLYPHS: Mapping[str, tuple[type, tuple[str, ...]]] = {
     "line": (Line, ("x", "y")),
+    "multi_line": (MultiLine, ("xs", "ys")),
     "scatter": (Scatter, ("x", "y")),
     "segment": (Segment, ("x0", "y0", "x1", "y1")),
     "quad": (Quad, ("left", "right", "top", "bottom")),

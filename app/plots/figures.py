@@ -61,6 +61,8 @@ from app.state import Scales
 
 #: Half height of the mode bands: far outside any data, kept out of the auto range.
 BAND_EXTENT = 1e6
+#: The theory's boundaries over the regime map: thin, dark, dashed (over any class colour).
+BOUNDARY_STYLE = {"line_color": "#333333", "line_width": 1.5, "line_dash": "dashed"}
 
 Sources = Mapping[str, ColumnDataSource]
 
@@ -238,6 +240,12 @@ def build_map(s: Sources) -> Built:
     mapper = LinearColorMapper(palette=list(MAP_PALETTE), low=-0.5, high=len(MAP_PALETTE) - 0.5)
     add_glyph(fig, "image", image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
               color_mapper=mapper)
+    # The theory's boundaries (app.plots.map_boundaries), named at their ends.
+    add_glyph(fig, "multi_line", "xs", "ys", source=s["bounds"], **BOUNDARY_STYLE)
+    fig.add_layout(LabelSet(x="lx", y="ly", text="text", source=s["bounds"], x_offset=3,
+                            y_offset=-3, text_baseline="top", text_font_size="11px",
+                            text_color=BOUNDARY_STYLE["line_color"],
+                            background_fill_color="#ffffff", background_fill_alpha=0.7))
     # Overlay level: moving the marker repaints only the overlay canvas, not the image.
     add_glyph(fig, "scatter", "v", "x", source=s["here"], marker="circle_cross", size=14,
               fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")

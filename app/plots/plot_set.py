@@ -32,6 +32,7 @@ from app.plots.columns import (
 from app.plots.figures import BUILDERS, set_axis_labels
 from app.plots.labels import applicable_points
 from app.plots.legends import legend_html, phase_entries
+from app.plots.map_boundaries import boundary_columns
 from app.plots.ranges import RANGE_PADDING, set_range, stop_in_view
 from app.plots.sources import EMPTY, SharedModels, assign
 from app.plots.style import ENERGY_COLORS, MAP_PALETTE, MODE_NAMES
@@ -370,6 +371,8 @@ class PlotSet:
             codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
             self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
                                         "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
+            assign(self.sources["bounds"], boundary_columns(
+                sol.values, (data["v_hi"], x_lo, x_hi), scales.velocity))
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)

@@ -25,6 +25,7 @@ from bokeh.models import (
 )
 
 from app.plots.labels import POINT_COLUMNS
+from app.plots.map_boundaries import BOUNDARY_COLUMNS
 from app.plots.style import ENERGY_COLORS, MODE_NAMES, TICK_POWER_LIMIT_LOW
 
 
@@ -109,4 +110,5 @@ EMPTY: Mapping[str, Mapping[str, list]] = {
     "energy": {"t": [], **{n: [] for n in ENERGY_COLORS}},
     "map": {"image": [], "x": [], "y": [], "dw": [], "dh": []},
     "here": {"v": [], "x": []},
+    "bounds": {k: [] for k in BOUNDARY_COLUMNS},
 }

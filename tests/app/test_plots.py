@@ -375,3 +375,68 @@ def test_palettes_stay_apart_to_red_green_colour_blind_viewers(palette):
         least = min_difference(colours, vision)
         assert least >= MIN_CLASS_DIFFERENCE, vision
         assert least >= CVD_KEPT_FRACTION * normal, vision
+
+
+#: Step [relative to the frame's span] across a boundary: far above rounding, far below
+#: the smallest region of the scenes' maps.
+ACROSS = 1e-7
+
+
+@pytest.mark.parametrize("key", ["5a", "5b", "7c", "6b", "10", "3a"])
+def test_the_map_s_boundary_lines_separate_the_theory_s_regimes(key):
+    """The closed forms drawn over the regime map (v*, the impactless x_max, b, x*) lie
+    where the theory's own classification of the grid (core.theory.classify_grid, a
+    decision tree) changes: just either side of each drawn point, the word the line names
+    differs (slow/fast, impact/none, case a/b/c)."""
+    from app.plots.map_boundaries import boundary_lines
+    from app.solver import equivalent_rigid, map_ranges
+    from app.state import core_inputs
+    from core import theory
+
+    values = scene_values(key)
+    frame = map_ranges(values)
+    osc, stop, x0, v0, _ = core_inputs({**values, "t_end": 1.0, "program": False})
+    rigid = equivalent_rigid(stop)
+    dv, dx = ACROSS * frame[0], ACROSS * (frame[2] - frame[1])
+    vc = theory.critical_speed(osc, x0, v0)
+    lines = boundary_lines(values, frame)
+    assert [text for _, _, text in lines][:1] == ["v*"]
+
+    def grid(speeds, clearances):
+        return theory.classify_grid(osc, rigid, np.asarray(speeds), np.asarray(clearances),
+                                    x0, v0)
+
+    checked = 0
+    for vs, xs, text in lines:
+        if text == "v*":
+            g = grid([vc - dv, vc + dv], [0.5 * (frame[1] + frame[2])])
+            assert g.belt[0].tolist() == ["slow", "fast"]
+            continue
+        for v, x in zip(vs, xs, strict=True):
+            if not (np.isfinite(x) and v > dv and abs(v - vc) > 10 * dv):
+                continue
+            g = grid([v], [x - dx, x + dx])
+            field = g.impactless if text.startswith("x_max") else g.case
+            assert field[0, 0] != field[1, 0], (text, v, x)
+            checked += 1
+    assert checked > 0 or stop is None  # without a stop, only v*
+
+
+def test_the_regime_map_draws_the_theory_s_boundaries_in_the_page_s_units():
+    """The map shows v*, the impactless x_max, b and x* as lines (at belt speeds in m/s in
+    SI units), each named; without a stop only v* remains."""
+    from app.explorer import Explorer
+    from core import theory
+
+    ex = Explorer()
+    ex.scene_select.value = "5b"
+    bounds = ex.plots.sources["bounds"].data
+    assert set(bounds["text"]) == {"v*", "x_max (no impact above)", "b", "x*"}
+    ex.units.value = "SI"
+    bounds = ex.plots.sources["bounds"].data
+    sol, omega = ex.solution, ex.state.scales().velocity
+    vc = theory.critical_speed(sol.osc, sol.x0, sol.v0)
+    v_star = bounds["xs"][bounds["text"].index("v*")]
+    assert v_star == pytest.approx([vc * omega] * 2, rel=1e-12)
+    ex.stop_type.value = "none"
+    assert ex.plots.sources["bounds"].data["text"] == ["v*"]
