@@ -7,6 +7,8 @@
 - :mod:`app.plots.sources`: the sources, the models the figures share, writing a source;
 - :mod:`app.plots.ranges`: axis ranges computed on the server;
 - :mod:`app.plots.figures`: building each figure;
+- :mod:`app.plots.map_boundaries`: the theory's boundaries over the regime map;
+- :mod:`app.plots.colour_vision`: how far apart the palettes' colours look, colour-blind too;
 - :mod:`app.plots.plot_set`: :class:`PlotSet`, the figures of one session, updated in place.
 
 A figure is built when first shown:

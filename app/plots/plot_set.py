@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import panel as pn
 from bokeh.core.properties import validate
-from bokeh.models import ColumnDataSource, Label, LabelSet, LinearAxis, Span
+from bokeh.models import ColumnDataSource, LabelSet, LinearAxis, Span
 
 from app.plots.columns import (
     band_columns,
@@ -72,7 +72,6 @@ class PlotSet:
         self.sources: dict[str, ColumnDataSource] = {
             name: self.shared.source(cols) for name, cols in EMPTY.items()}
         self.spans: dict[str, Span] = {}
-        self.labels: dict[str, Label] = {}
         self.figures: dict[str, Any] = {}
         self.legends: dict[str, pn.pane.HTML] = {}
         self.panes: dict[str, Any] = {}

@@ -325,7 +325,8 @@ def test_theory_points_only_where_the_motion_can_have_them(start, sticks):
 
 
 @pytest.mark.parametrize("module", ["columns", "labels", "legends", "ranges", "sources",
-                                    "style", "figures", "plot_set"])
+                                    "style", "figures", "plot_set", "map_boundaries",
+                                    "colour_vision"])
 def test_docstring_examples_of_the_plot_modules(module):
     """The examples of each module of :mod:`app.plots` hold (those with none pass)."""
     import doctest
