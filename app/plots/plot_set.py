@@ -34,7 +34,7 @@ from app.plots.labels import applicable_points
 from app.plots.legends import legend_html, phase_entries
 from app.plots.map_boundaries import boundary_columns
 from app.plots.ranges import RANGE_PADDING, set_range, stop_in_view
-from app.plots.sources import EMPTY, SharedModels, assign
+from app.plots.sources import SharedModels, SourceData, Sources, assign
 from app.plots.style import ENERGY_COLORS, MAP_PALETTE, MODE_NAMES
 from app.scenes import CUSTOM, PLOTS
 from app.solver import Solution, map_ranges
@@ -69,8 +69,7 @@ class PlotSet:
 
     def __init__(self) -> None:
         self.shared = SharedModels()
-        self.sources: dict[str, ColumnDataSource] = {
-            name: self.shared.source(cols) for name, cols in EMPTY.items()}
+        self.sources: dict[str, ColumnDataSource] = Sources(self.shared)
         self.spans: dict[str, Span] = {}
         self.figures: dict[str, Any] = {}
         self.legends: dict[str, pn.pane.HTML] = {}
@@ -191,8 +190,7 @@ class PlotSet:
     def refresh_legend(self) -> None:
         """Write the phase portrait's legend again (its entries changed, not its data)."""
         if "phase" in self.legends:
-            data = {name: src.data for name, src in self.sources.items()}
-            text = legend_html(phase_entries(data, self._kinds_shown)
+            text = legend_html(phase_entries(SourceData(self.sources), self._kinds_shown)
                                + list(self.more_legend()))
             if self.legends["phase"].object != text:
                 self.legends["phase"].object = text
@@ -310,7 +308,7 @@ class PlotSet:
         ``pn.io.hold``): computed on the server and sent with the data, so the browser
         paints each figure once, instead of computing ``DataRange1d`` bounds and echoing
         them back, which costs further messages and repaints."""
-        d = {name: src.data for name, src in self.sources.items()}
+        d = SourceData(self.sources)
         f = self.figures
         plots = set(plots) & self.built
         more = self.more_extents() if plots & {"time", "force", "loop"} else {}

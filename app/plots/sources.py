@@ -86,6 +86,29 @@ class SharedModels:
                 r.view.filter = self.filter
 
 
+class Sources(dict):
+    """The page's sources by name (:data:`EMPTY`), each made when first asked for: a page
+    holds only those of the figures it builds (making one costs a new page ~0.6 ms)."""
+
+    def __init__(self, shared: SharedModels) -> None:
+        super().__init__()
+        self.shared = shared
+
+    def __missing__(self, name: str) -> ColumnDataSource:
+        source = self[name] = self.shared.source(EMPTY[name])
+        return source
+
+
+class SourceData:
+    """The current ``.data`` of each of the ``sources``, by name (made if need be)."""
+
+    def __init__(self, sources: Mapping[str, ColumnDataSource]) -> None:
+        self.sources = sources
+
+    def __getitem__(self, name: str) -> Mapping[str, Any]:
+        return self.sources[name].data
+
+
 #: The sources of a page by name, with their columns (empty).
 EMPTY: Mapping[str, Mapping[str, list]] = {
     "traj": {k: [] for k in ("t", "x", "v", "mode")},
