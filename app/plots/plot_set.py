@@ -115,9 +115,12 @@ class PlotSet:
             self._theory_renderers += built.theory
             if built.legend is not None:
                 self.legends[name] = built.legend
-            self.point_labels = built.point_labels or self.point_labels
-            self.rest_axis = built.rest_axis or self.rest_axis
-            self.map_mapper = built.map_mapper or self.map_mapper
+            if built.point_labels is not None:
+                self.point_labels = built.point_labels
+            if built.rest_axis is not None:
+                self.rest_axis = built.rest_axis
+            if built.map_mapper is not None:
+                self.map_mapper = built.map_mapper
             self.panes[name] = built.layout
             self._dirty.add(name)
         return self.panes[name]
