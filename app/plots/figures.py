@@ -18,6 +18,7 @@ from bokeh.models import (
     ColumnDataSource,
     DataRange1d,
     Grid,
+    Label,
     LabelSet,
     LinearAxis,
     LinearColorMapper,
@@ -37,6 +38,7 @@ from app.plots.legends import (
     legend_pane,
     swatch,
 )
+from app.plots.map_boundaries import LABEL_CORNERS
 from app.plots.ranges import PHASE_X_PADDING
 from app.plots.style import (
     AXIS_LABEL_FONT,
@@ -81,6 +83,8 @@ class Built:
     point_labels: LabelSet | None = None
     rest_axis: LinearAxis | None = None
     map_mapper: LinearColorMapper | None = None
+    #: The regime map's boundary labels by name.
+    map_labels: dict[str, Label] = field(default_factory=dict)
 
 
 def new_figure(title: str, size: tuple[int, int], **kw) -> Any:
@@ -240,17 +244,20 @@ def build_map(s: Sources) -> Built:
     mapper = LinearColorMapper(palette=list(MAP_PALETTE), low=-0.5, high=len(MAP_PALETTE) - 0.5)
     add_glyph(fig, "image", image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
               color_mapper=mapper)
-    # The theory's boundaries (app.plots.map_boundaries), named at their ends.
+    # The theory's boundaries (app.plots.map_boundaries), each named at its end by a label
+    # of its own (placed where it stays in the frame: map_boundaries.LABEL_CORNERS).
     add_glyph(fig, "multi_line", "xs", "ys", source=s["bounds"], **BOUNDARY_STYLE)
-    fig.add_layout(LabelSet(x="lx", y="ly", text="text", source=s["bounds"], x_offset=3,
-                            y_offset=-3, text_baseline="top", text_font_size="11px",
-                            text_color=BOUNDARY_STYLE["line_color"],
-                            background_fill_color="#ffffff", background_fill_alpha=0.7))
+    labels = {name: Label(x=0.0, y=0.0, text=name, visible=False, text_font_size="11px",
+                          text_color=BOUNDARY_STYLE["line_color"],
+                          background_fill_color="#ffffff", background_fill_alpha=0.7)
+              for name in LABEL_CORNERS}
+    for label in labels.values():
+        fig.add_layout(label)
     # Overlay level: moving the marker repaints only the overlay canvas, not the image.
     add_glyph(fig, "scatter", "v", "x", source=s["here"], marker="circle_cross", size=14,
               fill_color="#ffffff", line_color="#000000", line_width=2, level="overlay")
     fig.center = [r for r in fig.center if not isinstance(r, Grid)]  # a map: no grid
-    return Built(fig, {"map": fig}, map_mapper=mapper)
+    return Built(fig, {"map": fig}, map_mapper=mapper, map_labels=labels)
 
 
 #: The builder of each plot this package builds.

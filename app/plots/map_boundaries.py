@@ -23,8 +23,19 @@ from core import theory
 #: Belt speeds at which the curved boundaries are sampled across the map.
 BOUNDARY_SAMPLES = 241
 #: Columns of the boundaries' source: a line each (``xs``, ``ys``, NaN between pieces), and
-#: its label at ``(lx, ly)``.
-BOUNDARY_COLUMNS = ("xs", "ys", "text", "lx", "ly")
+#: its label at ``(lx, ly)``, anchored there by its corner ``align``, ``baseline`` and off
+#: it by ``dx``, ``dy`` [px].
+BOUNDARY_COLUMNS = ("xs", "ys", "text", "lx", "ly", "align", "baseline", "dx", "dy")
+#: Where a line's label goes, at the line's last point in view: the corner of the label
+#: there, so that it stays in the frame (the vertical v* ends at the top; the others end
+#: at the right edge or at v*) and the labels of b and x* (which end together at v*) lie
+#: on opposite sides of their lines.
+LABEL_CORNERS: dict[str, tuple[str, str]] = {
+    "v*": ("left", "top"), "x_max (no impact above)": ("right", "top"),
+    "b": ("right", "bottom"), "x*": ("right", "top"),
+}
+#: Distance [px] of a label's corner from its line's end, sideways and up or down.
+LABEL_GAP_PX = 3
 
 
 def _line(v: np.ndarray, x: np.ndarray, text: str) -> tuple[list, list, str] | None:
@@ -91,9 +102,14 @@ def boundary_columns(values: Mapping[str, Any], frame: tuple[float, float, float
         if not inside.any():
             continue
         last = int(np.flatnonzero(inside)[-1])
+        align, baseline = LABEL_CORNERS[text]
         cols["xs"].append(vs.tolist())
         cols["ys"].append(xs.tolist())
         cols["text"].append(text)
         cols["lx"].append(float(vs[last]))
         cols["ly"].append(float(xs[last]))
+        cols["align"].append(align)
+        cols["baseline"].append(baseline)
+        cols["dx"].append(LABEL_GAP_PX if align == "left" else -LABEL_GAP_PX)
+        cols["dy"].append(LABEL_GAP_PX if baseline == "bottom" else -LABEL_GAP_PX)
     return cols

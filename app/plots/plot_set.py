@@ -78,6 +78,8 @@ class PlotSet:
         self.rest_axis: LinearAxis | None = None
         self.point_labels: LabelSet | None = None
         self.map_mapper = None
+        #: The regime map's boundary labels by name (:mod:`app.plots.map_boundaries`).
+        self.map_labels: dict[str, Any] = {}
         self._last: Solution | None = None
         self._scales: Scales | None = None
         self._kinds_stop: str | None = None
@@ -121,6 +123,7 @@ class PlotSet:
                 self.rest_axis = built.rest_axis
             if built.map_mapper is not None:
                 self.map_mapper = built.map_mapper
+            self.map_labels.update(built.map_labels)
             self.panes[name] = built.layout
             self._dirty.add(name)
         return self.panes[name]
@@ -371,8 +374,8 @@ class PlotSet:
             codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
             self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
                                         "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
-            assign(self.sources["bounds"], boundary_columns(
-                sol.values, (data["v_hi"], x_lo, x_hi), scales.velocity))
+            self._set_boundaries(boundary_columns(sol.values, (data["v_hi"], x_lo, x_hi),
+                                                  scales.velocity))
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)
@@ -382,3 +385,16 @@ class PlotSet:
             fig.yaxis[0].visible = has_stop
         clearance = sol.values["clearance"]
         assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
+
+    def _set_boundaries(self, cols: Mapping[str, list]) -> None:
+        """Draw the regime map's boundary lines and name each at its end."""
+        assign(self.sources["bounds"], cols)
+        at = {text: i for i, text in enumerate(cols["text"])}
+        for name, label in self.map_labels.items():
+            i = at.get(name)
+            if i is None:
+                label.visible = False
+                continue
+            label.update(x=cols["lx"][i], y=cols["ly"][i], x_offset=cols["dx"][i],
+                         y_offset=cols["dy"][i], text_align=cols["align"][i],
+                         text_baseline=cols["baseline"][i], visible=True)

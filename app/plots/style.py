@@ -16,14 +16,15 @@ MODE_COLORS: Mapping[int, str] = {
 #: Names of the modes, for legends and the CSV.
 MODE_NAMES: Mapping[int, str] = {int(Mode.SLIP): "slip", int(Mode.STICK): "stick",
                                  int(Mode.CONTACT): "contact"}
-#: Light tints for the bands behind the time histories (blue, amber, mauve): apart also
+#: Light tints for the bands behind the time histories (aqua, amber, taupe): apart also
 #: to protanopes and deuteranopes (:data:`MIN_CLASS_DIFFERENCE`), light enough under the
 #: black trajectory; contact is the darkest (a red tint beside the amber one read as one
-#: band to a deuteranope).
+#: band to a protanope). No tint, darkened on the black curve's anti-aliased edge, comes
+#: near the pinned runs' violet (app.compare), whose pixels the comparison is told by.
 BAND_COLORS: Mapping[int, str] = {
-    int(Mode.SLIP): "#ccd8ff",
+    int(Mode.SLIP): "#b0f6ff",
     int(Mode.STICK): "#fbe7cc",
-    int(Mode.CONTACT): "#cfb5bb",
+    int(Mode.CONTACT): "#dabdaf",
 }
 #: Marker and colour of each transition kind in the phase portrait.
 TRANSITION_STYLE: Mapping[str, tuple[str, str]] = {

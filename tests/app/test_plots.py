@@ -433,6 +433,8 @@ def test_the_regime_map_draws_the_theory_s_boundaries_in_the_page_s_units():
     ex.scene_select.value = "5b"
     bounds = ex.plots.sources["bounds"].data
     assert set(bounds["text"]) == {"v*", "x_max (no impact above)", "b", "x*"}
+    assert {n for n, label in ex.plots.map_labels.items() if label.visible} == \
+        set(bounds["text"])
     ex.units.value = "SI"
     bounds = ex.plots.sources["bounds"].data
     sol, omega = ex.solution, ex.state.scales().velocity
@@ -441,3 +443,4 @@ def test_the_regime_map_draws_the_theory_s_boundaries_in_the_page_s_units():
     assert v_star == pytest.approx([vc * omega] * 2, rel=1e-12)
     ex.stop_type.value = "none"
     assert ex.plots.sources["bounds"].data["text"] == ["v*"]
+    assert [n for n, label in ex.plots.map_labels.items() if label.visible] == ["v*"]
