@@ -31,8 +31,6 @@ from app.glyphs import add_glyph
 from app.plots.columns import FORCE_TITLE, IMPULSES, force_quantity
 from app.plots.labels import place_labels
 from app.plots.legends import (
-    LEGEND_LINE_PX,
-    LEGEND_MARGIN_PX,
     band_entries,
     legend_html,
     legend_pane,
@@ -42,6 +40,7 @@ from app.plots.map_boundaries import LABEL_CORNERS
 from app.plots.ranges import PHASE_X_PADDING
 from app.plots.style import (
     AXIS_LABEL_FONT,
+    BAND_LEGEND_PX,
     ENERGY_COLORS,
     LABEL_FONT_PX,
     MAP_PALETTE,
@@ -160,7 +159,7 @@ def build_time(s: Sources) -> Built:
     """The time histories x(t) and x'(t) on one time axis, over bands of the modes, and
     the bands' legend below them; the two figures and the legend are ``2 * TIME_SIZE``
     high together (the height the page keeps for the plot until it is built)."""
-    size = (TIME_SIZE[0], TIME_SIZE[1] - (LEGEND_LINE_PX + LEGEND_MARGIN_PX) // 2)
+    size = (TIME_SIZE[0], TIME_SIZE[1] - BAND_LEGEND_PX // 2)
     fig_x = new_figure("Displacement x(t)", size, y_axis_label="x")
     fig_v = new_figure("Velocity x'(t)", size, x_axis_label="t", y_axis_label="x'",
                        x_range=fig_x.x_range)

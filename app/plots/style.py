@@ -16,15 +16,15 @@ MODE_COLORS: Mapping[int, str] = {
 #: Names of the modes, for legends and the CSV.
 MODE_NAMES: Mapping[int, str] = {int(Mode.SLIP): "slip", int(Mode.STICK): "stick",
                                  int(Mode.CONTACT): "contact"}
-#: Light tints for the bands behind the time histories (aqua, amber, taupe): apart also
-#: to protanopes and deuteranopes (:data:`MIN_CLASS_DIFFERENCE`), light enough under the
-#: black trajectory; contact is the darkest (a red tint beside the amber one read as one
-#: band to a protanope). No tint, darkened on the black curve's anti-aliased edge, comes
-#: near the pinned runs' violet (app.compare), whose pixels the comparison is told by.
+#: Light tints of the mode colours for the bands behind the time histories: apart also to
+#: protanopes and deuteranopes (:data:`MIN_CLASS_DIFFERENCE`), light enough under the
+#: black trajectory. Contact is a darker, greyer rose (a light pink beside the amber stick
+#: read as one band to a protanope); no tint, darkened on the black curve's anti-aliased
+#: edge, comes near the pinned runs' violet (app.compare).
 BAND_COLORS: Mapping[int, str] = {
-    int(Mode.SLIP): "#b0f6ff",
+    int(Mode.SLIP): "#dbe6f6",
     int(Mode.STICK): "#fbe7cc",
-    int(Mode.CONTACT): "#dabdaf",
+    int(Mode.CONTACT): "#d3b8b8",
 }
 #: Marker and colour of each transition kind in the phase portrait.
 TRANSITION_STYLE: Mapping[str, tuple[str, str]] = {
@@ -68,9 +68,13 @@ ENERGY_COLORS: Mapping[str, str] = {
     "mechanical": "#000000", "belt_input": "#2ca02c", "friction_heat": "#1f5fbf",
     "stop_loss": "#c8102e", "stop_stored": "#9467bd",
 }
-#: Heights of the figures [px]; their widths follow the page (:data:`PLOT_WIDTHS`).
+#: Height [px] of the mode bands' legend below the time histories (a 20 px line and its
+#: 4 px margin).
+BAND_LEGEND_PX = 24
+#: Heights of the figures [px]; their widths follow the page (:data:`PLOT_WIDTHS`). Each
+#: time history's is its share of the plot's pane: a 230 px figure and half the legend.
 PHASE_SIZE = (540, 500)
-TIME_SIZE = (540, 230)
+TIME_SIZE = (540, 230 + BAND_LEGEND_PX // 2)
 SMALL_SIZE = (540, 300)
 MAP_SIZE = (540, 380)
 #: Narrowest and widest plot [px]: two columns side by side from ~1100 px of page, one
