@@ -3,7 +3,7 @@
 ``figure.line(...)`` and the other glyph methods of ``bokeh.plotting`` build three glyph
 models per renderer (the glyph, a non-selection copy and a muted copy); the explorer has no
 selection tools and no muting legend, so the copies were thrown away at once
-(:meth:`app.plots.SharedModels.lighten` sets them to ``"auto"``, derived in the browser).
+(:meth:`app.plots.sources.SharedModels.lighten` sets them to ``"auto"``, derived in the browser).
 Building them cost a new session's page ~1 ms per renderer (26 renderers on the default
 page). :func:`add_glyph` makes the same renderer from the public models, with the same visual
 defaults as the glyph methods (colour ``#1f77b4``, alpha 1, black text and hatch) and the
@@ -15,11 +15,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from bokeh.models import GlyphRenderer, Image, Line, Quad, Scatter, Segment
+from bokeh.models import GlyphRenderer, Image, Line, MultiLine, Quad, Scatter, Segment
 
 #: Glyph methods the explorer uses: the glyph class and its positional arguments.
 GLYPHS: Mapping[str, tuple[type, tuple[str, ...]]] = {
     "line": (Line, ("x", "y")),
+    "multi_line": (MultiLine, ("xs", "ys")),
     "scatter": (Scatter, ("x", "y")),
     "segment": (Segment, ("x0", "y0", "x1", "y1")),
     "quad": (Quad, ("left", "right", "top", "bottom")),

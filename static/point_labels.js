@@ -1,11 +1,14 @@
 /* Places the phase portrait's theory point labels on the frame the browser lays out.
  *
- * The body of a `CustomJS` callback (app.plots, `_place_labels`), run when the frame's size,
- * the ranges, the label font or the drawn data change; not a script of the page. Arguments:
- * `labels` (the LabelSet), `fig` (its figure), `stop` (the stop line, a Span).
+ * The body of a `CustomJS` callback (app.plots.labels, `place_labels`), run when the frame's
+ * size, the ranges, the label font, the stop or the drawn data change; not a script of the
+ * page. Arguments: `labels` (the LabelSet), `fig` (its figure), `stop` (the stop line, a
+ * Span). The label source has the points (`x`, `v`), their text and `centre`, the
+ * displacement of the slip arcs' centre (a, 0); this is the one place where a label's
+ * position is decided.
  *
- * Each label is tried at positions around its marker: its corners first (the one the server
- * prefers, away from the curves: column `side`, "<align> <baseline>"), then its sides, above and
+ * Each label is tried at positions around its marker: its corners first (the one facing away
+ * from the curves through the point first: `preferredCorner`), then its sides, above and
  * below, then the same twice and three times as far. A position costs much when its box
  * leaves the frame or touches another label, a marker or the stop line, a little for each
  * curve that crosses it, and less for being farther; the labels take the positions that
@@ -173,13 +176,39 @@ function place() {
     return true;
   }
 
+  // The corner each label tries first, away from the curves through its point:
+  // - a point on the stick line (off the stop) is labelled above it, written rightwards,
+  //   unless it lies beyond the centre (the slip arc leaves its end down to the right);
+  // - a point on the stop is labelled left of it (the stop is the motion's right edge), on
+  //   the side of the slip arc through it that faces away from the arc: the arc about
+  //   (centre, 0) leaves the stop leftwards towards the x axis when the stop lies short of
+  //   the centre and away from it beyond, so the label goes above a point of the upper half
+  //   beyond the centre (P_CSl of Fig. 5a) and below one short of it; below its point too
+  //   when a label on the same level, to its left, is written towards it (the two ends of a
+  //   short stick line ran into each other);
+  // - the limit point on the x axis (P_lim) is labelled above it, on the side away from the
+  //   circle's centre (Fig. 6b: left of the stop; Fig. 7c: right of it).
+  // Points whose velocities differ by less than LEVEL of the largest are on one level.
+  const LEVEL = 0.03;
+  const stopX = stop.visible ? stop.location : Infinity;
+  const tiny = 1e-9 * Math.max(1, isFinite(stopX) ? Math.abs(stopX) : 1);
+  const vmax = data.v.reduce((m, v) => (isFinite(v) ? Math.max(m, Math.abs(v)) : m), 0);
+  const onStop = data.x.map((x) => x >= stopX - tiny);
+  function preferredCorner(i) {  // [h, v]: 1 rightwards or above, -1 leftwards or below
+    const x = data.x[i], v = data.v[i], c = data.centre[i];
+    if (!onStop[i]) return x > c ? [-1, -1] : [1, 1];
+    if (Math.abs(v) <= tiny * Math.max(1, vmax)) return [x > c + tiny ? 1 : -1, 1];
+    const facing = data.x.some((xo, j) => !onStop[j] && xo < x
+                                          && Math.abs(data.v[j] - v) <= LEVEL * vmax);
+    return [-1, !facing && v * (x - c) <= 0 ? 1 : -1];
+  }
+
   // Candidate positions of each label and what each costs before the other labels are known.
   const cands = [];
   for (let i = 0; i < n; i++) {
     const x = sx(data.x[i]), y = sy(data.v[i]);
     const w = widths[i];
-    const [align0, baseline0] = `${data.side[i]}`.split(" ");
-    const h0 = align0 === "right" ? -1 : 1, v0 = baseline0 === "top" ? -1 : 1;
+    const [h0, v0] = preferredCorner(i);
     const list = [];
     const corners = [[h0, v0], [-h0, v0], [h0, -v0], [-h0, -v0]];
     const sides = [[h0, 0], [-h0, 0], [0, v0], [0, -v0]];

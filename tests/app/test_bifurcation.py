@@ -1,4 +1,4 @@
-"""The sweep card (app/bifurcation.py): its data, its chunks, its tap, the simulated map."""
+"""The sweep card (app.bifurcation): its data, its chunks, its tap, the simulated map."""
 
 from __future__ import annotations
 
@@ -83,12 +83,23 @@ def test_a_sweep_without_cancel_covers_every_value_once():
 
 
 def test_a_new_sweep_drops_the_old_one_s_answers():
-    got = []
-    job = ChunkedSweep(lambda task, chunk, cancelled: task, lambda d, t, part: got.append(part),
-                       lambda exc: pytest.fail(str(exc)))
-    job._token = 5  # an older sweep's chunk carries an older token: its answer is dropped
-    job.start("new", np.arange(4.0), 4, scene_values("5a"))
-    assert got == ["new"]
+    """A sweep started while another runs: the old one's further chunks are neither
+    computed nor delivered."""
+    got, work = [], []
+
+    def on_chunk(done, total, part):
+        got.append(part)
+        if part == "old":  # a new sweep starts while the old one has chunks to go
+            job.start("new", np.arange(4.0), 4, scene_values("5a"))
+
+    def compute(task, chunk, cancelled):
+        work.append(task)
+        return task
+
+    job = ChunkedSweep(compute, on_chunk, lambda exc: pytest.fail(str(exc)))
+    job.start("old", np.arange(8.0), 4, scene_values("5a"))
+    assert got == ["old", "new"] and work == ["old", "new"]
+    assert not job.running
 
 
 def test_a_sweep_s_chunks_reach_the_session_on_its_event_loop(monkeypatch):
@@ -106,7 +117,7 @@ def test_a_sweep_s_chunks_reach_the_session_on_its_event_loop(monkeypatch):
     doc = Doc()
     monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: doc))
     # (Panel's set_curdoc would set the property replaced here.)
-    monkeypatch.setattr("app.bifurcation.set_curdoc", lambda d: contextlib.nullcontext())
+    monkeypatch.setattr("app.bifurcation.chunks.set_curdoc", lambda d: contextlib.nullcontext())
     job = ChunkedSweep(lambda task, chunk, cancelled: chunk, lambda d, t, part: seen.append(part),
                        lambda exc: pytest.fail(str(exc)))
 
@@ -125,7 +136,7 @@ def test_a_sweep_s_chunks_reach_the_session_on_its_event_loop(monkeypatch):
 
 def _opened(scene: str = "5a") -> Explorer:
     ex = Explorer(ExplorerState(scene=scene, **scene_values(scene)))
-    ex._open_sweeps()
+    ex.open_sweeps.clicks += 1
     return ex
 
 
@@ -175,10 +186,10 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
     assert view.current.location == pytest.approx(ex.state.belt_speed * omega, rel=1e-15)
     # The simulated layer covers the map's own image, whose axis is in m/s.
     map_image = ex.plots.sources["map"].data
-    assert view._dis_source.data["dw"] == pytest.approx(map_image["dw"], rel=1e-15)
+    assert view.layers.sources["disagree"].data["dw"] == pytest.approx(map_image["dw"], rel=1e-15)
     # A tap at a point in m/s loads the dimensionless value swept there.
     swept = view.data.swept
-    view._on_tap(SimpleNamespace(x=swept[300] * omega, y=0.0))
+    view.tap(swept[300] * omega)
     assert ex.state.belt_speed == swept[300]
     # A sweep started from the boxes in m/s sweeps the same dimensionless range.
     view.start()
@@ -188,7 +199,8 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
     ex.state.units = "dimensionless"
     assert fig.xaxis[0].axis_label == "belt speed v (dimensionless units)"
     np.testing.assert_allclose(view.source.data["x"], view.data.x, rtol=1e-15)
-    assert view._dis_source.data["dw"] == pytest.approx(ex.plots.sources["map"].data["dw"])
+    assert view.layers.sources["disagree"].data["dw"] == pytest.approx(
+        ex.plots.sources["map"].data["dw"])
 
 
 def test_in_si_units_a_period_is_in_seconds_and_a_static_deflection_a_normal_force():
@@ -215,7 +227,7 @@ def test_a_tap_loads_the_nearest_swept_value_into_the_explorer():
     view = ex.sweeps
     swept = view.data.swept
     target = swept[417] + 0.3 * (swept[418] - swept[417])  # nearer 417 than 418
-    view._on_tap(SimpleNamespace(x=target, y=0.0))
+    view.tap(target)
     assert ex.state.belt_speed == swept[417]
     assert ex.sliders["belt_speed"].value == swept[417]
     assert ex.solution.values["belt_speed"] == swept[417]  # the main plots re-solved
@@ -276,11 +288,11 @@ def test_the_simulated_map_of_a_rigid_stop_agrees_with_the_theory():
     assert not sim.disagree.any()
     assert (sim.labels == "periodic").sum() > 1000
     assert "map" in ex.plots.figures
-    assert view._map_renderers[1].visible and not view._map_renderers[0].visible
+    assert view.layers.renderers[1].visible and not view.layers.renderers[0].visible
     assert "simulated: disagreement in red" in ex.plots.figures["map"].title.text
     assert "fie-map-covered" not in ex.map_legend.object  # the red cells only mark
     view.disagree_layer.value = False
-    assert not any(r.visible for r in view._map_renderers)
+    assert not any(r.visible for r in view.layers.renderers)
     assert ex.plots.figures["map"].title.text == "Regime map (tap to move there)"
 
 
@@ -291,7 +303,7 @@ def test_the_map_legend_says_when_the_simulated_layer_covers_the_theory():
     view = ex.sweeps
     theory_names = ex.map_legend.object
     view.sim_layer.value = True
-    assert view._map_renderers[0].visible
+    assert view.layers.renderers[0].visible
     assert "The simulated steady states cover the map" in ex.map_legend.object
     assert theory_names.split("fie-legend'>")[1] in ex.map_legend.object
     view.sim_layer.value = False
@@ -302,18 +314,18 @@ def test_every_steady_label_has_its_own_colour_and_missing_samples_are_said():
     """contact_train (a deformable stop's train of contacts) was drawn black, unnamed in
     the legend; a clearance sweep of scene 11 drew 3 force peaks for 60 clearances
     without saying why the others had none."""
-    from app.bifurcation import LABEL_COLORS, Points, SweepSpec, _legend, _no_samples
+    from app.bifurcation import LABEL_COLORS, Points, SweepSpec, legend_text, missing_note
     from core.sweep import LABELS
 
     assert set(LABELS) <= set(LABEL_COLORS)
     assert len(set(LABEL_COLORS.values())) == len(LABEL_COLORS)
-    assert "contact_train" in _legend()
+    assert "contact_train" in legend_text()
     spec = SweepSpec(scene_values("11"), "clearance", 0.1, 0.3, 4, "force_peak")
     labels = np.array(["rest", "periodic", "periodic", "rest"], dtype=object)
     data = Points(np.array([0.2, 0.2, 0.3]), np.array([1.0, 2.0, 1.5]),
                   labels[[1, 1, 2]], np.array([0.1, 0.2, 0.3, 0.4]), labels)
-    assert "2 of 4 values have no sample" in _no_samples(data, spec)
-    assert _no_samples(Points(data.x, data.y, data.label, np.array([0.2, 0.3]),
+    assert "2 of 4 values have no sample" in missing_note(data, spec)
+    assert missing_note(Points(data.x, data.y, data.label, np.array([0.2, 0.3]),
                               labels[1:3]), spec) == ""
 
 
@@ -336,3 +348,14 @@ def test_an_oscillation_on_the_stop_is_not_a_disagreement_where_theory_expects_r
     # a label the theory does not expect still disagrees
     other = np.where(expected == "rest", "periodic", expected).astype(object)
     assert compare_map(values, frame, other).disagree[(expected == "rest").T].all()
+
+
+@pytest.mark.parametrize("module", ["spec", "theory_lines", "sim_map", "chunks", "style",
+                                    "map_layers", "view"])
+def test_docstring_examples_of_the_sweep_modules(module):
+    """The examples of each module of :mod:`app.bifurcation` hold (those with none pass)."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"app.bifurcation.{module}"))
+    assert result.failed == 0

@@ -256,7 +256,7 @@ def test_a_solver_keeps_its_answers_in_its_own_cache(make_solver):
     assert second.solve(values) is not sol
 
 
-# --- solves in child processes (app/solve_process.py) ---------------------------------------
+# --- solves in child processes (app/solve/process.py) ---------------------------------------
 
 class _InChild(RuntimeError):
     """Raised by the probes below with the id of the process they ran in."""

@@ -8,13 +8,7 @@ import numpy as np
 import pytest
 
 from app import sampling
-from app.plots import (
-    LABEL_ABOVE_PX,
-    LABEL_BELOW_PX,
-    _sample_bounds,
-    phase_step,
-    reference_columns,
-)
+from app.plots import phase_step, sample_bounds
 from app.scenes import SCENES
 from app.solve.pool import solve
 from app.state import scene_values
@@ -41,7 +35,7 @@ def test_phase_trajectory_jumps_at_the_stop_and_joins_only_neighbours(key, previ
     res = sol.result
     evaluate, _ = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0,
                                      sol.method)
-    step = phase_step(*_sample_bounds(sol))
+    step = phase_step(*sample_bounds(sol))
     path = sampling.phase_path(res, evaluate, sampling.draw_horizon(res, sol.t_end, step),
                                step)
     t, x, v = path.t, path.x, path.v
@@ -93,7 +87,7 @@ def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
     from app.explorer import Explorer
 
     ex = Explorer()
-    ex._commit({"units": units})
+    ex.units.value = units
     fig = ex.plots.figures["phase"]
     assert fig.match_aspect
     assert isinstance(fig.x_range, DataRange1d) and isinstance(fig.y_range, DataRange1d)
@@ -112,7 +106,8 @@ def test_the_browser_places_the_point_labels_on_every_change_of_the_frame():
     """The server cannot tell which labels leave the frame or run into each other (it does
     not know the frame's pixel size): one ``CustomJS`` places them again whenever the
     frame, the ranges, the labels' font or anything the portrait draws changes (but the
-    animation's moving marker); the server sends the corner it prefers (``side``)."""
+    animation's moving marker). The server decides nothing of a label's place: it sends
+    the points, their names and the slip arcs' centre, every label unplaced."""
     from bokeh.models import CustomJS
 
     from app.explorer import Explorer
@@ -134,8 +129,10 @@ def test_the_browser_places_the_point_labels_on_every_change_of_the_frame():
     for model, attr in watched:
         assert place in model.js_property_callbacks.get(f"change:{attr}", []), (model, attr)
     data = labels.source.data
-    assert data["side"] and data["side"] == [
-        f"{a} {b}" for a, b in zip(data["align"], data["baseline"], strict=True)]
+    assert data["name"] and "side" not in data
+    assert set(data["align"]) == {"center"} and set(data["baseline"]) == {"middle"}
+    assert set(data["dx"]) == set(data["dy"]) == {0}
+    assert data["centre"] == [ex.solution.osc.a] * len(data["x"])
 
 
 def test_legends_are_html_and_list_only_what_is_drawn():
@@ -201,7 +198,7 @@ def test_a_stop_the_motion_misses_is_shown_when_near(beyond, shown):
     x = np.asarray(ex.plots.sources["traj"].data["x"], float)
     span = x.max() - x.min()
     clearance = round(float(x.max() + beyond * span), 4)
-    ex._commit({"clearance": clearance})
+    ex.state.param.update(clearance=clearance)
     assert ex.error is None
     x = np.asarray(ex.plots.sources["traj"].data["x"], float)
     assert x.max() < clearance  # no impact: the motion does not reach the stop
@@ -263,29 +260,14 @@ def test_tick_labels_of_the_loop_overlaps_are_decimals(key):
     assert all(tick > 10.0 ** a.formatter.power_limit_low for a in axes)
 
 
-@pytest.mark.parametrize("key", ["5b", "7b"])
-def test_the_two_ends_of_the_stick_line_label_away_from_each_other(key):
-    # The stick starts left of the stop and ends at it, both at x' = v: "stick start" is
-    # written rightwards and the stop's label leftwards, so the stop's goes below its point.
-    pts = reference_columns(solve(scene_values(key)))["points"]
-    by_name = dict(zip(pts["name"], zip(pts["align"], pts["dy"], strict=True), strict=True))
-    stop_label = next(name for name in by_name if name.startswith("stick end"))
-    assert by_name["stick start"] == ("left", LABEL_ABOVE_PX)
-    assert by_name[stop_label] == ("right", LABEL_BELOW_PX)
-    assert all(dy == LABEL_ABOVE_PX for name, (_, dy) in by_name.items() if name != stop_label)
-
-
 def test_the_regime_map_keeps_its_axes_for_a_scene():
     """A tap on the map or a new start point does not reframe it (a tap near its right
     edge used to widen the belt speed axis, a new x0 moved the clearance axis); without a
     stop it has no clearance axis; its legend says what its words mean."""
-    from bokeh.events import Tap
-
     from app.explorer import Explorer
 
     ex = Explorer()
     ex.scene_select.value = "5b"
-    ex._draw_map(ex.solution)
     fig = ex.plots.figures["map"]
 
     def axes():
@@ -293,17 +275,17 @@ def test_the_regime_map_keeps_its_axes_for_a_scene():
 
     before = axes()
     x0, x1, y0, y1 = before
-    ex._on_map_tap(Tap(fig, x=x0 + 0.95 * (x1 - x0), y=y0 + 0.9 * (y1 - y0)))
-    ex._draw_map(ex.solution)
+    # Where a tap near the right edge moves the point (app.explorer: rounded values).
+    ex.state.param.update(belt_speed=round(x0 + 0.95 * (x1 - x0), 4),
+                          clearance=round(y0 + 0.9 * (y1 - y0), 4))
+    assert ex.solution.values["belt_speed"] == round(x0 + 0.95 * (x1 - x0), 4)
     assert axes() == before
-    ex._commit({"x0": -0.1})
-    ex._draw_map(ex.solution)
+    ex.state.param.update(x0=-0.1)
     assert axes() == before
     legend = ex.map_legend.object
     assert "critical speed" in legend and "case a / b / c" in legend
     assert fig.yaxis[0].visible
-    ex._commit({"stop_type": "none"})
-    ex._draw_map(ex.solution)
+    ex.stop_type.value = "none"
     assert not fig.yaxis[0].visible
 
 
@@ -335,8 +317,130 @@ def test_theory_points_only_where_the_motion_can_have_them(start, sticks):
 
     ex = Explorer()
     ex.scene_select.value = "3a"
-    ex._commit({"x0": start[0], "v0": start[1]})
+    ex.state.param.update(x0=start[0], v0=start[1])
     assert ex.solution.theory.points  # the theory has its stick points either way
     names = ex.plots.sources["points"].data["name"]
     assert bool(len(ex.plots.sources["path_stick"].data["x"])) is sticks
     assert bool([n for n in names if "stick" in n]) is sticks
+
+
+@pytest.mark.parametrize("module", ["columns", "labels", "legends", "ranges", "sources",
+                                    "style", "figures", "plot_set", "map_boundaries",
+                                    "colour_vision"])
+def test_docstring_examples_of_the_plot_modules(module):
+    """The examples of each module of :mod:`app.plots` hold (those with none pass)."""
+    import doctest
+    import importlib
+
+    result = doctest.testmod(importlib.import_module(f"app.plots.{module}"))
+    assert result.failed == 0
+
+
+def test_the_mode_bands_behind_the_time_histories_have_a_legend():
+    """The coloured bands behind x(t) and x'(t) were explained nowhere: a legend below
+    them names each band's mode in its colour, and the figures and the legend keep the
+    height the page reserves for the plot before it is built (two ``TIME_SIZE``)."""
+    from app.plots import BAND_COLORS, MODE_NAMES, TIME_SIZE, PlotSet
+
+    plots = PlotSet()
+    view = plots.view("time")
+    legend = plots.legends["time"]
+    assert legend in view.objects
+    for mode, color in BAND_COLORS.items():
+        assert f'fill="{color}"' in legend.object
+        assert MODE_NAMES[mode] in legend.object
+    figs = (plots.figures["time_x"], plots.figures["time_v"])
+    legend_height = legend.min_height + legend.margin[2]
+    assert sum(f.height for f in figs) + legend_height == 2 * TIME_SIZE[1]
+
+
+@pytest.mark.parametrize("palette", ["map", "bands", "steady states"])
+def test_palettes_stay_apart_to_red_green_colour_blind_viewers(palette):
+    """The regime map's blues, greens and reds read as one class to a deuteranope (least
+    CIEDE2000 difference 0.9), the bands' amber and red tints came to less than half as
+    far apart as to normal vision: every two classes of the map, the mode bands and the
+    simulated steady states now differ by at least
+    :data:`app.plots.style.MIN_CLASS_DIFFERENCE` to normal, protanope and deuteranope
+    vision (Machado et al. 2009), and a dichromat keeps
+    :data:`app.plots.style.CVD_KEPT_FRACTION` of the normal separation."""
+    from app.bifurcation import LABEL_COLORS
+    from app.plots import BAND_COLORS, MAP_PALETTE
+    from app.plots.colour_vision import CVD_MATRICES, min_difference
+    from app.plots.style import CVD_KEPT_FRACTION, MIN_CLASS_DIFFERENCE
+
+    colours = {"map": MAP_PALETTE, "bands": tuple(BAND_COLORS.values()),
+               "steady states": tuple(LABEL_COLORS.values())}[palette]
+    assert len(set(colours)) == len(colours)
+    normal = min_difference(colours, "normal")
+    for vision in CVD_MATRICES:
+        least = min_difference(colours, vision)
+        assert least >= MIN_CLASS_DIFFERENCE, vision
+        assert least >= CVD_KEPT_FRACTION * normal, vision
+
+
+#: Step [relative to the frame's span] across a boundary: far above rounding, far below
+#: the smallest region of the scenes' maps.
+ACROSS = 1e-7
+
+
+@pytest.mark.parametrize("key", ["5a", "5b", "7c", "6b", "10", "3a"])
+def test_the_map_s_boundary_lines_separate_the_theory_s_regimes(key):
+    """The closed forms drawn over the regime map (v*, the impactless x_max, b, x*) lie
+    where the theory's own classification of the grid (core.theory.classify_grid, a
+    decision tree) changes: just either side of each drawn point, the word the line names
+    differs (slow/fast, impact/none, case a/b/c)."""
+    from app.plots.map_boundaries import boundary_lines
+    from app.solve.regime_map import map_ranges
+    from app.state import core_inputs
+    from core import equivalent_rigid, theory
+
+    values = scene_values(key)
+    frame = map_ranges(values)
+    osc, stop, x0, v0, _ = core_inputs({**values, "t_end": 1.0, "program": False})
+    rigid = equivalent_rigid(stop)
+    dv, dx = ACROSS * frame[0], ACROSS * (frame[2] - frame[1])
+    vc = theory.critical_speed(osc, x0, v0)
+    lines = boundary_lines(values, frame)
+    assert [text for _, _, text in lines][:1] == ["v*"]
+
+    def grid(speeds, clearances):
+        return theory.classify_grid(osc, rigid, np.asarray(speeds), np.asarray(clearances),
+                                    x0, v0)
+
+    checked = 0
+    for vs, xs, text in lines:
+        if text == "v*":
+            g = grid([vc - dv, vc + dv], [0.5 * (frame[1] + frame[2])])
+            assert g.belt[0].tolist() == ["slow", "fast"]
+            continue
+        for v, x in zip(vs, xs, strict=True):
+            if not (np.isfinite(x) and v > dv and abs(v - vc) > 10 * dv):
+                continue
+            g = grid([v], [x - dx, x + dx])
+            field = g.impactless if text.startswith("x_max") else g.case
+            assert field[0, 0] != field[1, 0], (text, v, x)
+            checked += 1
+    assert checked > 0 or stop is None  # without a stop, only v*
+
+
+def test_the_regime_map_draws_the_theory_s_boundaries_in_the_page_s_units():
+    """The map shows v*, the impactless x_max, b and x* as lines (at belt speeds in m/s in
+    SI units), each named; without a stop only v* remains."""
+    from app.explorer import Explorer
+    from core import theory
+
+    ex = Explorer()
+    ex.scene_select.value = "5b"
+    bounds = ex.plots.sources["bounds"].data
+    assert set(bounds["text"]) == {"v*", "x_max (no impact above)", "b", "x*"}
+    assert {n for n, label in ex.plots.map_labels.items() if label.visible} == \
+        set(bounds["text"])
+    ex.units.value = "SI"
+    bounds = ex.plots.sources["bounds"].data
+    sol, omega = ex.solution, ex.state.scales().velocity
+    vc = theory.critical_speed(sol.osc, sol.x0, sol.v0)
+    v_star = bounds["xs"][bounds["text"].index("v*")]
+    assert v_star == pytest.approx([vc * omega] * 2, rel=1e-12)
+    ex.stop_type.value = "none"
+    assert ex.plots.sources["bounds"].data["text"] == ["v*"]
+    assert [n for n, label in ex.plots.map_labels.items() if label.visible] == ["v*"]
