@@ -438,7 +438,7 @@ class Compare:
         where a pin is drawn. A pin whose contact-force plot shows another quantity than
         the ``current`` run's (:func:`app.plots.force_quantity`: impulses, a force) is not
         drawn there; the plot says so."""
-        from app.plots import _assign  # one rule for "assign only what changed"
+        from app.plots import assign  # one rule for "assign only what changed"
 
         self._scales = scales
         notes = []
@@ -457,7 +457,7 @@ class Compare:
                 continue
             sources = self._slot_sources(slot)
             for name, source in sources.items():
-                _assign(source, cols[name] if cols is not None
+                assign(source, cols[name] if cols is not None
                         else {k: [] for k in source.data})
             self._extents[slot] = ghost_extents(cols) if cols is not None else {}
             if pin is not None:

@@ -33,7 +33,7 @@ HORIZONS = (None, 1000.0, 5000.0)
 def _times(fn, repeats: int) -> tuple[float, float]:
     out = []
     for _ in range(repeats):
-        plots._DRAWING_CACHE.clear()  # a release draws a new solution
+        plots.DRAWING_CACHE.clear()  # a release draws a new solution
         t0 = time.perf_counter()
         fn()
         out.append(time.perf_counter() - t0)

@@ -19,10 +19,10 @@ A figure is built when first shown:
 """
 
 from app.plots.columns import (
-    _DRAWING_CACHE,
     CHORD_PX,
     CIRCLE_VERTICES,
     CONTACT_FORCE,
+    DRAWING_CACHE,
     EMPTY_SPAN,
     FORCE_TITLE,
     HISTORY_COLUMNS,
@@ -85,10 +85,6 @@ from app.plots.style import (
     TRANSITION_STYLE,
 )
 
-#: Names kept for the modules that import them from here.
-_assign = assign
-_sample_bounds = sample_bounds
-
 __all__ = [
     "AXIS_LABEL_FONT", "BAND_COLORS", "BAND_EXTENT", "BUILT_HERE", "Built", "CHORD_PX",
     "CIRCLE_VERTICES", "CONTACT_FORCE", "EMPTY_SPAN", "ENERGY_COLORS", "FORCE_TITLE",
@@ -99,7 +95,7 @@ __all__ = [
     "PLACE_LABELS_JS", "PLOT_WIDTHS", "PRESENT_LABEL_FONT_PX", "PROGRAM_FORCE", "PlotSet",
     "RANGE_PADDING", "REST_COLOR", "SMALL_SIZE", "STOP_VIEW_REACH", "SharedModels",
     "TICK_LABEL_FONT", "TICK_POWER_LIMIT_LOW", "TIME_SIZE", "TITLE_FONT", "TOOLS",
-    "TRANSITION_LABELS", "TRANSITION_STYLE", "_DRAWING_CACHE", "_assign", "_sample_bounds",
+    "TRANSITION_LABELS", "TRANSITION_STYLE", "DRAWING_CACHE",
     "assign", "band_columns", "data_bounds", "energy_columns", "force_columns",
     "force_quantity", "friction_columns", "legend_html", "legend_pane", "loop_columns",
     "phase_columns", "phase_entries", "phase_step", "reference_columns", "removed_circle",

@@ -60,7 +60,7 @@ def _drawing(sol: Solution):
     """The solution as a function of time (:func:`app.sampling.evaluator`), cached on
     the solution (one evaluator serves the phase portrait and the time histories)."""
     res = sol.result
-    cache = _DRAWING_CACHE
+    cache = DRAWING_CACHE
     key = id(sol)
     hit = cache.get(key)
     if hit is not None and hit[0] is sol:
@@ -71,7 +71,7 @@ def _drawing(sol: Solution):
     return value
 
 
-_DRAWING_CACHE: dict[int, tuple[Solution, Any]] = {}
+DRAWING_CACHE: dict[int, tuple[Solution, Any]] = {}
 
 
 def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]

@@ -157,18 +157,6 @@ def test_legends_are_html_and_list_only_what_is_drawn():
     assert ">stick<" in text and "impact" in text
 
 
-def test_a_preview_overtaken_by_a_release_is_not_drawn():
-    from app.explorer import Explorer
-
-    ex = Explorer()
-    full = np.asarray(ex.plots.sources["traj"].data["x"]).copy()
-    sol = solve({**ex.state.values(), "clearance": 0.25}, preview=True)
-    ex._draw_preview(sol, ex._commits - 1)  # solved before the latest commit
-    np.testing.assert_array_equal(ex.plots.sources["traj"].data["x"], full)
-    ex._draw_preview(sol, ex._commits)
-    assert not np.array_equal(ex.plots.sources["traj"].data["x"], full)
-
-
 def test_legend_lists_the_transition_kinds_of_the_scene():
     from app.explorer import Explorer
     from app.plots import TRANSITION_LABELS, TRANSITION_STYLE

@@ -13,10 +13,10 @@ from app.plots import (
     MODE_NAMES,
     PHASE_FRAME_MAX,
     PlotSet,
-    _sample_bounds,
     band_columns,
     force_columns,
     phase_step,
+    sample_bounds,
 )
 from app.solve.pool import solve
 from app.solve.presets import ACCURACY
@@ -61,7 +61,7 @@ def test_phase_portrait_has_no_long_chords_at_a_long_horizon(key):
     the ranges the figure shows."""
     plots = _drawn(key)
     fig = plots.figures["phase"]
-    sol = plots._last
+    sol = plots.last
     # The browser fits the ranges to what the ranged renderers hold, padded, at equal
     # aspect (match_aspect): pixels per unit are the smaller of the two axes' ratios.
     xs, vs = [], []
@@ -124,7 +124,7 @@ def test_time_history_envelope_matches_the_exact_extremes(key):
     evaluate, exact = sampling.evaluator(sol.result, sol.osc, sol.stop, sol.t_end, sol.x0,
                                          sol.v0, sol.method)
     h = sampling.history(sol.result, evaluate, sol.t_end, exact, columns,
-                         phase_step(*_sample_bounds(sol)))
+                         phase_step(*sample_bounds(sol)))
     t, x, v = h.t, h.x, h.v
     np.testing.assert_array_equal(traj["x"], x.astype(np.float32))
     np.testing.assert_array_equal(traj["t"], t.astype(np.float32))  # dimensionless
@@ -189,7 +189,7 @@ def test_every_stick_interval_keeps_a_band_and_every_impact_a_stem():
     and each stored impact is drawn (the force plot kept only the last 400)."""
     sol = _long("5a")
     plots = _drawn("5a")
-    bands = band_columns(plots._bands)
+    bands = band_columns(plots.bands)
     stick = np.array([c == "#fbe7cc" for c in bands["color"]])
     left = np.asarray(bands["left"], float)[stick]
     right = np.asarray(bands["right"], float)[stick]
@@ -355,7 +355,7 @@ def test_a_path_from_the_results_own_samples_is_the_same_curve_for_fewer_evaluat
     evaluate, exact = sampling.evaluator(res, sol.osc, sol.stop, sol.t_end, sol.x0, sol.v0,
                                          sol.method)
     assert not exact
-    step = phase_step(*_sample_bounds(sol))
+    step = phase_step(*sample_bounds(sol))
     t_draw = sampling.draw_horizon(res, sol.t_end, step)
     counted = {}
     paths = {}
