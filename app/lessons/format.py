@@ -186,33 +186,45 @@ def _question(file: str, number: int, fields: dict[str, str]) -> Question | None
     parts = ("ask", "choices", "guess", "correct", "reason")
     if not any(key in fields for key in parts):
         return None
-
-    def refuse(problem: str) -> LessonError:
-        return LessonError(file, number, problem)
-
     for key in ("ask", "correct", "reason"):
         if not fields.get(key):
-            raise refuse(f"a question needs the field {key!r} (ask, choices or guess, "
-                         "correct, reason)")
+            raise LessonError(file, number, f"a question needs the field {key!r} (ask, "
+                              "choices or guess, correct, reason)")
     if ("choices" in fields) == ("guess" in fields):
-        raise refuse("a question has either 'choices' or 'guess', not both or neither")
-    ask, reason, correct = fields["ask"], fields["reason"], fields["correct"]
-    if "choices" in fields:
-        choices = tuple(line.removeprefix("- ").strip() for line in
-                        fields["choices"].splitlines() if line.strip())
-        if len(choices) < 2 or not all(line.strip().startswith("- ") for line in
-                                       fields["choices"].splitlines() if line.strip()):
-            raise refuse("choices: give two or more, one a line, each '  - text'")
-        if not correct.isdigit() or not 1 <= int(correct) <= len(choices):
-            raise refuse(f"correct must be the number of a choice, 1 to {len(choices)}; "
+        raise LessonError(file, number,
+                          "a question has either 'choices' or 'guess', not both or neither")
+    try:
+        if "choices" in fields:
+            return _choice_question(fields)
+        return _guess_question(fields)
+    except ValueError as exc:
+        raise LessonError(file, number, str(exc)) from None
+
+
+def _choice_question(fields: dict[str, str]) -> Question:
+    """A multiple-choice question; ValueError names what is wrong."""
+    correct = fields["correct"]
+    lines = [line.strip() for line in fields["choices"].splitlines() if line.strip()]
+    choices = tuple(line.removeprefix("- ").strip() for line in lines)
+    if len(choices) < 2 or not all(line.startswith("- ") for line in lines):
+        raise ValueError("choices: give two or more, one a line, each '  - text'")
+    if not correct.isdigit() or not 1 <= int(correct) <= len(choices):
+        raise ValueError(f"correct must be the number of a choice, 1 to {len(choices)}; "
                          f"got {correct!r}")
-        return Question(ask, reason, choices=choices, correct=int(correct))
+    return Question(fields["ask"], fields["reason"], choices=choices, correct=int(correct))
+
+
+def _guess_question(fields: dict[str, str]) -> Question:
+    """A question answered by dragging a slider to a range; ValueError names what is
+    wrong."""
+    correct = fields["correct"]
     match = RANGE.match(correct)
     try:
         low, high = (float(x) for x in match.groups()) if match else (None, None)
     except ValueError:
         low = high = None
     if low is None or not low <= high:
-        raise refuse(f"correct must be a range 'LOW to HIGH' with LOW <= HIGH; "
-                     f"got {correct!r}")
-    return Question(ask, reason, guess=fields["guess"], low=low, high=high)
+        raise ValueError(f"correct must be a range 'LOW to HIGH' with LOW <= HIGH; "
+                         f"got {correct!r}")
+    return Question(fields["ask"], fields["reason"], guess=fields["guess"], low=low,
+                    high=high)
