@@ -71,6 +71,8 @@ from app.state import (
     si_range,
     si_units,
 )
+from app.teach.glossary import tooltip as glossary_tooltip  # teach
+from app.teach.view import Teach  # teach
 from app.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
 from app.widgets import (
     Checkbox,
@@ -133,6 +135,8 @@ TOOLTIPS: Mapping[str, str] = {
     "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
     "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
 }
+# teach: each symbol's tooltip links to the glossary (app.teach.glossary)
+TOOLTIPS = {name: glossary_tooltip(name, text) for name, text in TOOLTIPS.items()}
 #: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
 CONTACT_LAW_TIPS: Mapping[str, str] = {
     "paper": "the paper's reading of Eqs. 12-13, which reproduces Fig. 2b; each reversal "
@@ -264,6 +268,8 @@ class Explorer(pn.viewable.Viewer):
                                   css_classes=["fie-alert"], stylesheets=[STYLESHEET])
         self.caption = pn.pane.HTML("", sizing_mode="stretch_width",
                                     css_classes=["fie-caption"], stylesheets=[STYLESHEET])
+        # teach: the scene's story and the model card, built when first opened (app.teach)
+        self.teach = Teach(self.state)
         # Sized to its content, its rows wrapped, never cut; the space it reserves grows
         # with its rows within a scene and is set again only by a new scene: a readout
         # that grew or shrank on a release made BokehJS lay out every figure again (about
@@ -403,7 +409,7 @@ class Explorer(pn.viewable.Viewer):
             label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
             width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
             description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
-                        + " (docs/contact-law.md).")
+                        + ".")
         for widget, pname in ((self.stop_type, "stop_type"), (self.units, "units"),
                               (self.accuracy, "accuracy"), (self.method, "method"),
                               (self.show_all, "show_all"), (self.program, "program"),
@@ -537,8 +543,8 @@ class Explorer(pn.viewable.Viewer):
         """The alert, the caption, the readout and the plots."""
         self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                                     css_classes=["fie-plots"])
-        return [self.alert, self.caption, self.readout, self.arrived, self.in_view,
-                self._plot_box]
+        return [self.alert, self.caption, *self.teach.cards, self.readout, self.arrived,
+                self.in_view, self._plot_box]  # teach: *self.teach.cards
 
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""
