@@ -209,7 +209,7 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "4a", "Fig. 4a: elastic impact, fast belt, a < x_bar < 2a",
+        "4a", "Fig. 4a: elastic impact, fast belt, a < x̄ < 2a",
         "Look for the impacts at (x̄, ±√(x̄(2a − x̄))): the vertical jumps of the phase "
         "portrait, once per turn of the slip circle; no stick.",
         {"belt_speed": V_FAST, "clearance": 0.3, "restitution": 1.0},
@@ -218,7 +218,7 @@ _SCENE_LIST = (
         {"belt": "fast", "impact": "elastic"},
     ),
     _scene(
-        "4b", "Fig. 4b: elastic impact, fast belt, x_bar < a",
+        "4b", "Fig. 4b: elastic impact, fast belt, x̄ < a",
         "Look for the short slip arc left of the stop between two impacts, and the "
         "impulses coming quickly.",
         {"belt_speed": V_FAST, "clearance": 0.1, "restitution": 1.0},
@@ -256,7 +256,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "elastic", "case": "c"},
     ),
     _scene(
-        "5d", "Fig. 5d: elastic impact, slow belt, case c with x_bar < 2a - b",
+        "5d", "Fig. 5d: elastic impact, slow belt, case c with x̄ < 2a − b",
         "Look for the whole steady loop left of the stick segment's start 2a − b.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.05, "restitution": 1.0},
         RIGID_PLOTS,
@@ -264,7 +264,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "elastic", "case": "c"},
     ),
     _scene(
-        "6a", "Fig. 6a: inelastic impact, fast belt, a < x_bar < 2a",
+        "6a", "Fig. 6a: inelastic impact, fast belt, a < x̄ < 2a",
         "Look for the impulses shrinking by the factor r at each impact (rʰ decay) and "
         "the motion closing in on the slip circle that touches the stop.",
         {"belt_speed": V_FAST, "clearance": 0.3, "restitution": 0.7},
@@ -273,7 +273,7 @@ _SCENE_LIST = (
         {"belt": "fast", "impact": "inelastic"},
     ),
     _scene(
-        "6b", "Fig. 6b: inelastic impact, fast belt, x_bar < a",
+        "6b", "Fig. 6b: inelastic impact, fast belt, x̄ < a",
         "Look for the bounces getting shorter and weaker until they end at a finite time; "
         "then the mass rests pressed on the stop.",
         {"belt_speed": V_FAST, "clearance": 0.1, "restitution": 0.7},
@@ -302,7 +302,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "b"},
     ),
     _scene(
-        "7c", "Fig. 7c: inelastic impact, slow belt, case c with x_bar > a",
+        "7c", "Fig. 7c: inelastic impact, slow belt, case c with x̄ > a",
         "Look for the impacts shrinking as rʰ and the loops of the phase portrait closing "
         "in on the circle that grazes the stop; no stick.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.24, "restitution": R_INELASTIC},
@@ -312,7 +312,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "c"},
     ),
     _scene(
-        "7d", "Fig. 7d: inelastic impact, slow belt, case c with x_bar < a",
+        "7d", "Fig. 7d: inelastic impact, slow belt, case c with x̄ < a",
         "Look for the bounces accumulating at the stop and the mass resting there, held "
         "by the force k (a − x̄).",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.15, "restitution": R_INELASTIC},
@@ -322,7 +322,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "c"},
     ),
     _scene(
-        "8a", "Fig. 8a: elastic impact, slow belt, start away from rest, x_bar >= x_max",
+        "8a", "Fig. 8a: elastic impact, slow belt, start away from rest, x̄ ≥ x_max",
         "Look for the impacts of the transient only; the steady loop is the impactless "
         "limit cycle of Fig. 3a, clear of the stop.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.36, "restitution": 1.0,
@@ -333,7 +333,7 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "8b", "Fig. 8b: elastic impact, slow belt, start away from rest, x_bar < x_max",
+        "8b", "Fig. 8b: elastic impact, slow belt, start away from rest, x̄ < x_max",
         "Look for a different transient ending on the same loop as Fig. 5b: stick into "
         "the stop, rebound at −v.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.25, "restitution": 1.0,
@@ -344,7 +344,7 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "elastic"},
     ),
     _scene(
-        "9a", "Fig. 9a: inelastic impact, slow belt, start away from rest, x_bar >= x_max",
+        "9a", "Fig. 9a: inelastic impact, slow belt, start away from rest, x̄ ≥ x_max",
         "Look for inelastic impacts in the transient only, then the impactless limit "
         "cycle.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.34, "restitution": R_INELASTIC,
@@ -355,7 +355,7 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "9b", "Fig. 9b: inelastic impact, slow belt, start away from rest, x_bar < x_max",
+        "9b", "Fig. 9b: inelastic impact, slow belt, start away from rest, x̄ < x_max",
         "Look for a different transient ending on the same loop as Fig. 7b (stick into "
         "the stop, rebound at −r v).",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.285, "restitution": R_INELASTIC,
@@ -366,8 +366,8 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic"},
     ),
     _scene(
-        "10", "Fig. 10: hysteretic stop, slow belt, a < x_bar <= x*",
-        "Look for compare with Fig. 7c: the contact force dying down through a train of "
+        "10", "Fig. 10: hysteretic stop, slow belt, a < x̄ ≤ x*",
+        "Look for what differs from Fig. 7c: the contact force dying down through a train of "
         "contacts and detachments, and the hysteresis loops getting smaller. Unlike a "
         "rigid stop's r, smaller contacts lose less (see the readout's restitution): the "
         "impact speeds level off.",
@@ -377,8 +377,8 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "11", "Fig. 11: hysteretic stop, slow belt, x_bar <= a",
-        "Look for compare with Fig. 7d: the contact force settling just below k (a − x̄) "
+        "11", "Fig. 11: hysteretic stop, slow belt, x̄ ≤ a",
+        "Look for what differs from Fig. 7d: the contact force settling just below k (a − x̄) "
         "while the loops on the stop die out, the mass at rest inside the stop. The "
         "readout says whether they have by the end of the run.",
         {**_HYST, "belt_speed": V_SLOW_INELASTIC, "clearance": 0.15, "t_end": 80.0},

@@ -47,10 +47,10 @@ def mechanism_svg() -> str:
 <rect x="30" y="130" width="480" height="16" fill="{_BELT}"/>
 <circle cx="38" cy="138" r="11" fill="#ccc" stroke="#555"/>
 <circle cx="502" cy="138" r="11" fill="#ccc" stroke="#555"/>
-<line x1="330" y1="166" x2="390" y2="166" stroke="#333" stroke-width="2"
+<line x1="46" y1="168" x2="96" y2="168" stroke="#333" stroke-width="2"
  marker-end="url(#fie-arr)"/>
-<text x="396" y="171" {text}>v<tspan font-size="12" dy="4">dr</tspan></text>
-<text x="120" y="167" font-family="sans-serif" font-size="13">belt, friction
+<text x="100" y="173" {text}>v<tspan font-size="12" dy="4">dr</tspan></text>
+<text x="150" y="173" font-family="sans-serif" font-size="13">belt, friction
  <tspan {text}>μ</tspan><tspan font-size="10" dy="4">s</tspan><tspan dy="-4">,</tspan>
  <tspan {text}>μ</tspan><tspan font-size="10" dy="4">k</tspan></text>
 <rect x="440" y="40" width="14" height="88" fill="{_STOP}"/>
@@ -58,10 +58,9 @@ def mechanism_svg() -> str:
 <line x1="304" y1="200" x2="304" y2="130" stroke="#777" stroke-dasharray="3,3"/>
 <line x1="304" y1="190" x2="438" y2="190" stroke="#333" stroke-width="1.5"
  marker-start="url(#fie-arr)" marker-end="url(#fie-arr)"/>
-<text x="366" y="186" {text}>x&#772;</text>
-<text x="96" y="206" font-family="sans-serif" font-size="12">x = 0: spring unstretched</text>
-<line x1="244" y1="202" x2="298" y2="202" stroke="#777" stroke-width="1"
- marker-end="url(#fie-arr)"/>
+<text x="366" y="184" {text}>x&#772;</text>
+<text x="296" y="206" text-anchor="end" font-family="sans-serif" font-size="12">mass at
+ x = 0: spring unstretched</text>
 </svg>"""
 
 
@@ -100,8 +99,8 @@ which grow without bound as \(\delta\) nears the limit overlap \(D\). After the 
 at \((\delta_r, \varphi_r)\), the force moves exponentially towards the envelope of the new
 direction:
 $$\text{unloading: } \varphi = \varphi_E + (\varphi_r - \varphi_E(\delta_r))\,
-e^{-\beta_e(\delta_r - \delta)/D}, \qquad
-\text{reloading: } \varphi = \varphi_C - (\varphi_C(\delta_r) - \varphi_r)\,
+e^{-\beta_e(\delta_r - \delta)/D},$$
+$$\text{reloading: } \varphi = \varphi_C - (\varphi_C(\delta_r) - \varphi_r)\,
 e^{-\beta_c(\delta - \delta_r)/D}.$$
 The area of a loop of \(\varphi\) against \(\delta\) is the energy the stop takes. A stiff stop
 with a sharp turn (large \(\beta\)) acts like a rigid stop with
