@@ -549,6 +549,7 @@ class Explorer(pn.viewable.Viewer):
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""
         self._main = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        self.teach.attach(self._main)  # teach: the texts open below their buttons
         return self._main
 
     def __panel__(self) -> pn.viewable.Viewable:

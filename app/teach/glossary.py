@@ -132,14 +132,15 @@ AXIS_SYMBOLS = MappingProxyType({
 })
 
 
-#: Name of the model card's Bokeh model (the glossary link opens it by that name).
-MODEL_CARD = "fie-model-card"
-#: A link in a tooltip that opens the model card, whose glossary lists every symbol
-#: (BokehJS's public ``Document.get_model_by_name``; the card loads its content when opened).
+#: Class of the button that opens the model card (the glossary link finds it by that class).
+MODEL_TOGGLE = "fie-model-toggle"
+#: A link in a tooltip that presses the model card's button, whose text holds the glossary
+#: (found among BokehJS's ``Document.all_models`` by its class).
 GLOSSARY_LINK = (
     "<a href=\"#\" class=\"fie-glossary-link\" onclick=\"const d = window.Bokeh && "
-    f"Bokeh.documents[0]; const m = d && d.get_model_by_name('{MODEL_CARD}'); "
-    "if (m) {{ m.collapsed = false; }} return false;\">{label}</a>")
+    "Bokeh.documents[0]; const m = d && [...d.all_models].find(x => (x.css_classes || "
+    f"[]).includes('{MODEL_TOGGLE}')); if (m) {{{{ m.active = true; }}}} return false;\">"
+    "{label}</a>")
 
 
 def tooltip(name: str, text: str) -> str:

@@ -1,12 +1,12 @@
-"""The model card and the scene's story on the page, each a collapsed card whose content is
-built the first time it is opened.
+"""The model card and the scene's story on the page: two buttons, each opening its text
+below it, built the first time it is opened.
 
-A new page carries only the two closed cards and one hidden box (its cost to open stays
-flat; ``benchmarks/page_models.py``). Opening a card asks the browser to load Bokeh's own
-MathJax bundle from this server (the page does not load it with itself: 0.6 MB gzipped, no
-use to a student who never opens a card) and to say when it is ready (:data:`LOAD_MATH_JS`);
-the content is then sent as Bokeh ``Div`` text with TeX, which BokehJS typesets with that
-bundle (SVG: no font files, no other host).
+A new page carries only the two buttons (its cost to open stays near flat;
+``benchmarks/page_models.py``). Opening one asks the browser to load Bokeh's own MathJax
+bundle from this server (the page does not load it with itself: 0.6 MB gzipped, no use to a
+student who never opens one) and to say, in a hidden box sent with the first text, when it
+is ready (:data:`LOAD_MATH_JS`); the text is then sent as HTML with TeX, which BokehJS
+typesets with that bundle (SVG: no font files, no other host).
 """
 
 from __future__ import annotations
@@ -16,53 +16,64 @@ from typing import Any
 
 import panel as pn
 import param
-from bokeh.models import Div, ImportedStyleSheet
 
 from app.teach.equations import model_html
-from app.teach.glossary import MODEL_CARD
 from app.teach.stories import STORIES, custom_quantities, custom_story
 
-#: Stylesheet of the cards' text (in the Divs' shadow roots).
+#: Stylesheet of the texts (in the panes' shadow roots).
 STYLESHEET = "assets/explorer.css"
 #: What the hidden box says once the browser has tried to load MathJax.
 MATH_STATES = ("loaded", "failed")
-#: Shown in an open card until the browser has MathJax (a fraction of a second).
+#: Class of the hidden box (the browser finds it by this class).
+MATH_BOX = "fie-teach-math"
+#: Shown in an opened text until the browser has MathJax (a fraction of a second).
 WAITING = "<p class='fie-teach-wait'>Typesetting the equations&hellip;</p>"
+#: Marks of a closed and an open button.
+CLOSED, OPENED = "\u25b8", "\u25be"
+#: How long the browser looks for the hidden box once MathJax is loaded [ms].
+BOX_WAIT_MS = 20_000
 
-#: Run in the browser when a card is opened or closed (``source``: the card, ``math``: the
-#: hidden box). BokehJS typesets TeX with a MathJax module of its bundle ``bokeh-mathjax``,
-#: which its provider looks for once, when the page's first text pane is drawn; this page
-#: does not load that bundle with itself, so the provider failed then. Here the bundle is
-#: loaded from the address Bokeh's own script came from (this server), the provider asked
-#: again, and the box set to "loaded" (or "failed": the texts are sent anyway, as TeX).
+#: Run in the browser when a button is pressed (``source``: the button). BokehJS typesets
+#: TeX with a MathJax module of its bundle ``bokeh-mathjax``, which its provider looks for
+#: once, when the page's first text pane is drawn; this page does not load that bundle with
+#: itself, so the provider failed then. Here the bundle is loaded from the address Bokeh's
+#: own script came from (this server), the provider asked again, and the hidden box set to
+#: "loaded" (or "failed": the texts are sent anyway, as TeX).
 LOAD_MATH_JS = r"""
-if (source.collapsed) { return; }
-const done = (status) => { if (math.value !== status) { math.value = status; } };
+if (!source.active) { return; }
 let provider = null;
 try { provider = window.Bokeh.require("models/text/providers").default_provider; }
 catch (e) { provider = null; }
-if (provider == null || typeof provider.fetch !== "function") { done("failed"); return; }
-if (provider.MathJax != null) { done("loaded"); return; }
 if (window.__fie_mathjax == null) {
   window.__fie_mathjax = new Promise((resolve) => {
+    if (provider == null || typeof provider.fetch !== "function") { resolve(false); return; }
+    if (provider.MathJax != null) { resolve(true); return; }
     const own = Array.from(document.scripts).map((s) => s.src)
       .find((u) => /\/bokeh(\.min)?\.js(\?|$)/.test(u));
     if (own == null) { resolve(false); return; }
     const script = document.createElement("script");
     script.src = own.replace(/\/bokeh(\.min)?\.js(\?.*)?$/,
                              (m, min) => "/bokeh-mathjax" + (min || "") + ".js");
-    script.onload = () => resolve(true);
+    script.onload = () => {
+      provider.status = "not_started";
+      provider.fetch().then(() => resolve(provider.MathJax != null), () => resolve(false));
+    };
     script.onerror = () => resolve(false);
     document.head.appendChild(script);
-  }).then(async (ok) => {
-    if (!ok) { return false; }
-    provider.status = "not_started";
-    await provider.fetch();
-    return provider.MathJax != null;
   });
 }
-window.__fie_mathjax.then((ok) => done(ok ? "loaded" : "failed"));
-"""
+const doc = source.document;
+window.__fie_mathjax.then((ok) => {
+  const status = ok ? "loaded" : "failed";
+  const until = Date.now() + BOX_WAIT_MS;
+  const tell = () => {
+    const box = [...doc.all_models].find((m) => (m.css_classes || []).includes(MATH_BOX));
+    if (box != null) { if (box.value !== status) { box.value = status; } }
+    else if (Date.now() < until) { setTimeout(tell, 50); }
+  };
+  tell();
+});
+""".replace("BOX_WAIT_MS", str(BOX_WAIT_MS)).replace("MATH_BOX", repr(MATH_BOX))
 
 
 def story_html(scene: str, values: dict[str, Any] | None = None) -> str:
@@ -92,40 +103,42 @@ def _custom(values: dict[str, Any]) -> str:
     return head + custom_story(regime, custom_quantities(osc, rigid, x0, v0))
 
 
-class _LazyCard:
-    """A collapsed card whose Div is made, and filled by ``text()``, once it is opened and
-    the browser has answered about MathJax."""
+class _Opened:
+    """A button whose text is put below it, and filled by ``text()``, once it is pressed
+    and the browser has answered about MathJax."""
 
-    def __init__(self, title: str, css: str, math: pn.widgets.TextInput, text,
-                 name: str | None = None) -> None:
-        self._math, self._text = math, text
-        self.div: Div | None = None
-        self.card = pn.Card(title=title, collapsed=True, sizing_mode="stretch_width",
-                            **({"name": name} if name else {}),
-                            css_classes=["fie-teach-card", css], margin=(2, 10),
-                            stylesheets=[STYLESHEET])
-        self.card.jscallback(collapsed=LOAD_MATH_JS, args={"math": math})
-        self.card.param.watch(self._opened, "collapsed")
+    def __init__(self, title: str, key: str, teach: Teach, text) -> None:
+        self._title, self._key, self._teach, self._text = title, key, teach, text
+        self.pane: pn.pane.HTML | None = None
+        self.toggle = pn.widgets.Toggle(
+            label=f"{CLOSED} {title}", value=False, color="light", margin=(2, 10),
+            sizing_mode="stretch_width", css_classes=["fie-teach-toggle", f"fie-{key}-toggle"],
+            stylesheets=[STYLESHEET])
+        self.toggle.jscallback(value=LOAD_MATH_JS)
+        self.toggle.param.watch(self._pressed, "value")
 
-    def _opened(self, event: param.parameterized.Event) -> None:
-        if event.new or self.div is not None:
-            return
-        self.div = Div(text=WAITING, sizing_mode="stretch_width",
-                       stylesheets=[ImportedStyleSheet(url=STYLESHEET)],
-                       css_classes=["fie-teach-text"])
-        self.card.objects = [pn.pane.Bokeh(self.div, sizing_mode="stretch_width")]
-        self.refresh()
+    def _pressed(self, event: param.parameterized.Event) -> None:
+        self.toggle.label = f"{OPENED if event.new else CLOSED} {self._title}"
+        if self.pane is None and event.new:
+            self.pane = pn.pane.HTML(WAITING, disable_math=False, sizing_mode="stretch_width",
+                                     css_classes=["fie-teach-text", f"fie-{self._key}-text"],
+                                     margin=(0, 14, 6, 14),
+                                     stylesheets=[STYLESHEET])
+            self._teach.show_below(self.toggle, self.pane)
+            self.refresh()
+        elif self.pane is not None:
+            self.pane.visible = event.new
 
     def refresh(self) -> None:
-        """Send the text again (a new scene), if the card was opened and MathJax tried."""
-        if self.div is not None and self._math.value in MATH_STATES:
+        """Send the text again (a new scene), if it was opened and MathJax tried."""
+        if self.pane is not None and self._teach.math.value in MATH_STATES:
             text = self._text()
-            if self.div.text != text:
-                self.div.text = text
+            if self.pane.object != text:
+                self.pane.object = text
 
 
 class Teach:
-    """The two cards of a session: the scene's story and the model.
+    """The two buttons of a session, the scene's story and the model, and their texts.
 
     Parameters
     ----------
@@ -136,13 +149,15 @@ class Teach:
 
     def __init__(self, state: Any) -> None:
         self.state = state
-        #: Where the browser says whether it has MathJax ("loaded" or "failed").
+        #: The column the buttons are in (:meth:`attach`); the texts go below them.
+        self.host: Any = None
+        #: Where the browser says whether it has MathJax ("loaded" or "failed"); put on
+        #: the page with the first text.
         self.math = pn.widgets.TextInput(value="", visible=False, margin=0,
-                                         css_classes=["fie-teach-math"])
-        self.story = _LazyCard("What this figure shows", "fie-story-card", self.math,
-                               lambda: story_html(state.scene, state.values()))
-        self.model = _LazyCard("The model: equations and symbols", "fie-model-card",
-                               self.math, model_html, name=MODEL_CARD)
+                                         css_classes=[MATH_BOX])
+        self.story = _Opened("What this figure shows", "story", self,
+                             lambda: story_html(state.scene, state.values()))
+        self.model = _Opened("The model: equations and symbols", "model", self, model_html)
         self.math.param.watch(self._refresh, "value")
         state.param.watch(self._refresh, ["scene", "belt_speed", "clearance",
                                           "restitution", "mu_s", "mu_k", "u_s", "x0", "v0",
@@ -154,5 +169,17 @@ class Teach:
 
     @property
     def cards(self) -> list[Any]:
-        """What the page shows: the story, the model, and the hidden box."""
-        return [self.story.card, self.model.card, self.math]
+        """What the page shows at first: the two buttons."""
+        return [self.story.toggle, self.model.toggle]
+
+    def attach(self, host: Any) -> None:
+        """Put the texts in ``host``, the column the buttons are in."""
+        self.host = host
+
+    def show_below(self, toggle: Any, pane: Any) -> None:
+        """Put ``pane`` right below ``toggle`` (and the hidden box with the first one)."""
+        objects = list(self.host.objects)
+        objects.insert(objects.index(toggle) + 1, pane)
+        if self.math not in objects:
+            objects.append(self.math)
+        self.host.objects = objects

@@ -13,7 +13,6 @@ import param
 import pytest
 from bokeh.document import Document
 from bokeh.embed.util import contains_tex_string
-from bokeh.models import Div
 from panel.io.state import set_curdoc
 
 from app.explorer import SLIDERS, Explorer
@@ -93,10 +92,11 @@ def test_the_glossary_holds_every_symbol_of_the_sliders_and_axes():
     assert all(f"id='fie-gl-{k}'" in table for k in GLOSSARY)
 
 
-def test_a_tooltip_opens_the_glossary_by_the_model_card_s_name():
+def test_a_tooltip_presses_the_model_card_s_button():
     tip = glossary.tooltip("clearance", "Stop position.")
     assert tip.startswith("Stop position. ") and "fie-glossary-link" in tip
-    assert f"get_model_by_name('{glossary.MODEL_CARD}')" in tip
+    assert f"includes('{glossary.MODEL_TOGGLE}')" in tip and "m.active = true" in tip
+    assert glossary.MODEL_TOGGLE in Explorer().teach.model.toggle.css_classes
     assert glossary.tooltip("normal_force", "Normal force.") == "Normal force."
 
 
@@ -160,12 +160,13 @@ def page():
         yield template, doc
 
 
-def test_a_new_page_carries_no_card_content_and_no_tex(page):
+def test_a_new_page_carries_the_two_buttons_and_no_text_or_tex(page):
     template, doc = page
     teach = template.explorer.teach
-    assert teach.story.div is None and teach.model.div is None
-    assert not teach.story.card.objects and not teach.model.card.objects
-    assert not [m for m in doc.models if isinstance(m, Div) and contains_tex_string(m.text)]
+    assert teach.story.pane is None and teach.model.pane is None
+    assert teach.math not in template.explorer.main_panel().objects
+    assert not [m for m in doc.models if hasattr(m, "text") and isinstance(m.text, str)
+                and contains_tex_string(m.text)]
     assert len(doc.models) <= 350
 
 
@@ -175,8 +176,8 @@ def test_no_text_of_the_page_names_a_repository_file_in_any_scene(page):
     template, doc = page
     ex = template.explorer
     with set_curdoc(doc):
-        ex.teach.story.card.collapsed = False
-        ex.teach.model.card.collapsed = False
+        ex.teach.story.toggle.value = True
+        ex.teach.model.toggle.value = True
         ex.teach.math.value = "loaded"
         for key in [*SCENES, CUSTOM]:
             if key == CUSTOM:
@@ -190,22 +191,28 @@ def test_no_text_of_the_page_names_a_repository_file_in_any_scene(page):
             bad = [s for s in _strings(doc) if REPOSITORY_PATH.search(s)]
             assert not bad, (key, [REPOSITORY_PATH.search(s).group() for s in bad])
         assert ex.state.scene == CUSTOM
-        assert "Custom parameters" in ex.teach.story.div.text
+        assert "Custom parameters" in ex.teach.story.pane.object
 
 
-def test_a_card_is_built_when_opened_and_filled_once_mathjax_answered():
+def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered():
     ex = Explorer()
-    teach = ex.teach
-    assert teach.story.div is None
-    teach.story.card.collapsed = False
-    assert teach.story.div.text == WAITING  # the browser has not answered yet
-    assert teach.model.div is None          # the other card stays unbuilt
-    teach.math.value = "failed"             # no MathJax: the text is sent as TeX
-    assert teach.story.div.text == story_html(ex.state.scene)
+    main, teach = ex.main_panel(), ex.teach
+    assert teach.story.pane is None
+    teach.story.toggle.value = True
+    objects = main.objects
+    # Right below its button, with the hidden box the browser answers in.
+    assert objects[objects.index(teach.story.toggle) + 1] is teach.story.pane
+    assert teach.math in objects
+    assert teach.story.pane.object == WAITING  # the browser has not answered yet
+    assert teach.model.pane is None            # the other text stays unbuilt
+    teach.math.value = "failed"                # no MathJax: the text is sent as TeX
+    assert teach.story.pane.object == story_html(ex.state.scene)
     ex.scene_select.value = "7c"
-    assert teach.story.div.text == story_html("7c")
-    teach.model.card.collapsed = False
-    assert teach.model.div.text == equations.model_html()
+    assert teach.story.pane.object == story_html("7c")
+    teach.model.toggle.value = True
+    assert teach.model.pane.object == equations.model_html()
+    teach.story.toggle.value = False           # closed: hidden, kept
+    assert not teach.story.pane.visible and teach.story.toggle.label.startswith("▸")
 
 
 @pytest.mark.parametrize("module", [glossary, stories, equations, view])
