@@ -543,8 +543,8 @@ class Explorer(pn.viewable.Viewer):
         """The alert, the caption, the readout and the plots."""
         self._plot_box = pn.FlexBox(*self.plot_panes.values(), sizing_mode="stretch_width",
                                     css_classes=["fie-plots"])
-        return [self.alert, self.caption, *self.teach.cards, self.readout, self.arrived,
-                self.in_view, self._plot_box]  # teach: *self.teach.cards
+        return [self.alert, self.caption, *self.teach.buttons, self.readout, self.arrived,
+                self.in_view, self._plot_box]  # teach: *self.teach.buttons
 
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column, which later notices join."""

@@ -17,8 +17,11 @@ from typing import Any
 import panel as pn
 import param
 
+from app.solver import equivalent_rigid
+from app.state import core_inputs
 from app.teach.equations import model_html
 from app.teach.stories import STORIES, custom_quantities, custom_story
+from core import theory
 
 #: Stylesheet of the texts (in the panes' shadow roots).
 STYLESHEET = "assets/explorer.css"
@@ -78,19 +81,16 @@ window.__fie_mathjax.then((ok) => {
 
 def story_html(scene: str, values: dict[str, Any] | None = None) -> str:
     """The story of ``scene`` (HTML with TeX); for a state that is no scene, the regime the
-    theory predicts for ``values`` (the state's solve values) and why."""
+    theory predicts for ``values`` (the state's solve values, needed then) and why."""
     if scene in STORIES:
         story = STORIES[scene]
-        return (f"<div class='fie-story'><p>{story.shows}</p>$${story.formula}$$"
-                "</div>")
-    return f"<div class='fie-story'><p>{_custom(values or {})}</p></div>"
+        return f"<div class='fie-story'><p>{story.shows}</p>$${story.formula}$$</div>"
+    if values is None:
+        raise TypeError(f"story_html: a state that is no scene ({scene!r}) needs its values")
+    return f"<div class='fie-story'><p>{_custom(values)}</p></div>"
 
 
 def _custom(values: dict[str, Any]) -> str:
-    from app.solver import equivalent_rigid
-    from app.state import core_inputs
-    from core import theory
-
     try:
         osc, stop, x0, v0, _ = core_inputs(values)
         rigid = equivalent_rigid(stop)
@@ -168,7 +168,7 @@ class Teach:
         self.model.refresh()
 
     @property
-    def cards(self) -> list[Any]:
+    def buttons(self) -> list[Any]:
         """What the page shows at first: the two buttons."""
         return [self.story.toggle, self.model.toggle]
 

@@ -218,3 +218,8 @@ def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered():
 @pytest.mark.parametrize("module", [glossary, stories, equations, view])
 def test_doctests(module):
     assert doctest.testmod(module).failed == 0
+
+
+def test_a_custom_story_without_values_is_refused():
+    with pytest.raises(TypeError, match="needs its values"):
+        story_html(CUSTOM)
