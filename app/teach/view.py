@@ -131,7 +131,7 @@ class _Opened:
 
     def refresh(self) -> None:
         """Send the text again (a new scene), if it was opened and MathJax tried."""
-        if self.pane is not None and self._teach.math.value in MATH_STATES:
+        if self.pane is not None and self._teach.math_answered():
             text = self._text()
             if self.pane.object != text:
                 self.pane.object = text
@@ -151,14 +151,12 @@ class Teach:
         self.state = state
         #: The column the buttons are in (:meth:`attach`); the texts go below them.
         self.host: Any = None
-        #: Where the browser says whether it has MathJax ("loaded" or "failed"); put on
-        #: the page with the first text.
-        self.math = pn.widgets.TextInput(value="", visible=False, margin=0,
-                                         css_classes=[MATH_BOX])
+        #: Where the browser says whether it has MathJax ("loaded" or "failed"): made and
+        #: put on the page with the first text.
+        self.math: pn.widgets.TextInput | None = None
         self.story = _Opened("What this figure shows", "story", self,
                              lambda: story_html(state.scene, state.values()))
         self.model = _Opened("The model: equations and symbols", "model", self, model_html)
-        self.math.param.watch(self._refresh, "value")
         state.param.watch(self._refresh, ["scene", "belt_speed", "clearance",
                                           "restitution", "mu_s", "mu_k", "u_s", "x0", "v0",
                                           "stop_type", "k_c0", "k_e0"])
@@ -176,10 +174,17 @@ class Teach:
         """Put the texts in ``host``, the column the buttons are in."""
         self.host = host
 
+    def math_answered(self) -> bool:
+        """Whether the browser has said if it has MathJax."""
+        return self.math is not None and self.math.value in MATH_STATES
+
     def show_below(self, toggle: Any, pane: Any) -> None:
         """Put ``pane`` right below ``toggle`` (and the hidden box with the first one)."""
         objects = list(self.host.objects)
         objects.insert(objects.index(toggle) + 1, pane)
-        if self.math not in objects:
+        if self.math is None:
+            self.math = pn.widgets.TextInput(value="", visible=False, margin=0,
+                                             css_classes=[MATH_BOX])
+            self.math.param.watch(self._refresh, "value")
             objects.append(self.math)
         self.host.objects = objects
