@@ -36,46 +36,49 @@ CLOSED, OPENED = "\u25b8", "\u25be"
 #: How long the browser looks for the hidden box once MathJax is loaded [ms].
 BOX_WAIT_MS = 20_000
 
-#: Run in the browser when a button is pressed (``source``: the button). BokehJS typesets
-#: TeX with a MathJax module of its bundle ``bokeh-mathjax``, which its provider looks for
-#: once, when the page's first text pane is drawn; this page does not load that bundle with
-#: itself, so the provider failed then. Here the bundle is loaded from the address Bokeh's
-#: own script came from (this server), the provider asked again, and the hidden box set to
-#: "loaded" (or "failed": the texts are sent anyway, as TeX).
+#: Run in the browser with the first text shown (a script in it; Panel's HTML pane runs
+#: the scripts of its text). BokehJS typesets TeX with a MathJax module of its bundle
+#: ``bokeh-mathjax``, which its provider looks for once, when the page's first text pane is
+#: drawn; this page does not load that bundle with itself, so the provider failed then. Here
+#: the bundle is loaded from the address Bokeh's own script came from (this server), the
+#: provider asked again, and the hidden box set to "loaded" (or "failed": the texts are sent
+#: anyway, as TeX). A JavaScript callback on the buttons would do the same, but any such
+#: link makes Panel look through the whole page for linked models each time a page opens.
 LOAD_MATH_JS = r"""
-if (!source.active) { return; }
-let provider = null;
-try { provider = window.Bokeh.require("models/text/providers").default_provider; }
-catch (e) { provider = null; }
-if (window.__fie_mathjax == null) {
-  window.__fie_mathjax = new Promise((resolve) => {
-    if (provider == null || typeof provider.fetch !== "function") { resolve(false); return; }
-    if (provider.MathJax != null) { resolve(true); return; }
-    const own = Array.from(document.scripts).map((s) => s.src)
-      .find((u) => /\/bokeh(\.min)?\.js(\?|$)/.test(u));
-    if (own == null) { resolve(false); return; }
-    const script = document.createElement("script");
-    script.src = own.replace(/\/bokeh(\.min)?\.js(\?.*)?$/,
-                             (m, min) => "/bokeh-mathjax" + (min || "") + ".js");
-    script.onload = () => {
-      provider.status = "not_started";
-      provider.fetch().then(() => resolve(provider.MathJax != null), () => resolve(false));
+(function () {
+  let provider = null;
+  try { provider = window.Bokeh.require("models/text/providers").default_provider; }
+  catch (e) { provider = null; }
+  if (window.__fie_mathjax == null) {
+    window.__fie_mathjax = new Promise((resolve) => {
+      if (provider == null || typeof provider.fetch !== "function") { resolve(false); return; }
+      if (provider.MathJax != null) { resolve(true); return; }
+      const own = Array.from(document.scripts).map((s) => s.src)
+        .find((u) => /\/bokeh(\.min)?\.js(\?|$)/.test(u));
+      if (own == null) { resolve(false); return; }
+      const script = document.createElement("script");
+      script.src = own.replace(/\/bokeh(\.min)?\.js(\?.*)?$/,
+                               (m, min) => "/bokeh-mathjax" + (min || "") + ".js");
+      script.onload = () => {
+        provider.status = "not_started";
+        provider.fetch().then(() => resolve(provider.MathJax != null), () => resolve(false));
+      };
+      script.onerror = () => resolve(false);
+      document.head.appendChild(script);
+    });
+  }
+  window.__fie_mathjax.then((ok) => {
+    const status = ok ? "loaded" : "failed";
+    const until = Date.now() + BOX_WAIT_MS;
+    const tell = () => {
+      const doc = window.Bokeh.documents[0];
+      const box = [...doc.all_models].find((m) => (m.css_classes || []).includes(MATH_BOX));
+      if (box != null) { if (box.value !== status) { box.value = status; } }
+      else if (Date.now() < until) { setTimeout(tell, 50); }
     };
-    script.onerror = () => resolve(false);
-    document.head.appendChild(script);
+    tell();
   });
-}
-const doc = source.document;
-window.__fie_mathjax.then((ok) => {
-  const status = ok ? "loaded" : "failed";
-  const until = Date.now() + BOX_WAIT_MS;
-  const tell = () => {
-    const box = [...doc.all_models].find((m) => (m.css_classes || []).includes(MATH_BOX));
-    if (box != null) { if (box.value !== status) { box.value = status; } }
-    else if (Date.now() < until) { setTimeout(tell, 50); }
-  };
-  tell();
-});
+})();
 """.replace("BOX_WAIT_MS", str(BOX_WAIT_MS)).replace("MATH_BOX", repr(MATH_BOX))
 
 
@@ -114,13 +117,13 @@ class _Opened:
             label=f"{CLOSED} {title}", value=False, color="light", margin=(2, 10),
             sizing_mode="stretch_width", css_classes=["fie-teach-toggle", f"fie-{key}-toggle"],
             stylesheets=[STYLESHEET])
-        self.toggle.jscallback(value=LOAD_MATH_JS)
         self.toggle.param.watch(self._pressed, "value")
 
     def _pressed(self, event: param.parameterized.Event) -> None:
         self.toggle.label = f"{OPENED if event.new else CLOSED} {self._title}"
         if self.pane is None and event.new:
-            self.pane = pn.pane.HTML(WAITING, disable_math=False, sizing_mode="stretch_width",
+            self.pane = pn.pane.HTML(f"{WAITING}<script>{LOAD_MATH_JS}</script>",
+                                     disable_math=False, sizing_mode="stretch_width",
                                      css_classes=["fie-teach-text", f"fie-{self._key}-text"],
                                      margin=(0, 14, 6, 14),
                                      stylesheets=[STYLESHEET])
