@@ -132,15 +132,15 @@ AXIS_SYMBOLS = MappingProxyType({
 })
 
 
-#: Class of the button that opens the model card (the glossary link finds it by that class).
-MODEL_TOGGLE = "fie-model-toggle"
-#: A link in a tooltip that presses the model card's button, whose text holds the glossary
-#: (found among BokehJS's ``Document.all_models`` by its class).
+#: Class of the buttons of the story and the model (the glossary link finds them by it).
+TEACH_BUTTONS = "fie-teach-buttons"
+#: A link in a tooltip that presses the model card's button (the second), whose text holds
+#: the glossary (the buttons found among BokehJS's ``Document.all_models`` by their class).
 GLOSSARY_LINK = (
     "<a href=\"#\" class=\"fie-glossary-link\" onclick=\"const d = window.Bokeh && "
     "Bokeh.documents[0]; const m = d && [...d.all_models].find(x => (x.css_classes || "
-    f"[]).includes('{MODEL_TOGGLE}')); if (m) {{{{ m.active = true; }}}} return false;\">"
-    "{label}</a>")
+    f"[]).includes('{TEACH_BUTTONS}')); if (m && !m.active.includes(1)) {{{{ m.active = "
+    "[...m.active, 1]; }} return false;\">{label}</a>")
 
 
 def tooltip(name: str, text: str) -> str:

@@ -1,7 +1,7 @@
-"""The model card and the scene's story on the page: two buttons, each opening its text
-below it, built the first time it is opened.
+"""The model card and the scene's story on the page: two buttons of one widget, each
+opening its text below them, built the first time it is opened.
 
-A new page carries only the two buttons (its cost to open stays near flat;
+A new page carries only the buttons (its cost to open stays near flat;
 ``benchmarks/page_models.py``). Opening one asks the browser to load Bokeh's own MathJax
 bundle from this server (the page does not load it with itself: 0.6 MB gzipped, no use to a
 student who never opens one) and to say, in a hidden box sent with the first text, when it
@@ -20,6 +20,7 @@ import param
 from app.solver import equivalent_rigid
 from app.state import core_inputs
 from app.teach.equations import model_html
+from app.teach.glossary import TEACH_BUTTONS
 from app.teach.stories import STORIES, custom_quantities, custom_story
 from core import theory
 
@@ -31,8 +32,6 @@ MATH_STATES = ("loaded", "failed")
 MATH_BOX = "fie-teach-math"
 #: Shown in an opened text until the browser has MathJax (a fraction of a second).
 WAITING = "<p class='fie-teach-wait'>Typesetting the equations&hellip;</p>"
-#: Marks of a closed and an open button.
-CLOSED, OPENED = "\u25b8", "\u25be"
 #: How long the browser looks for the hidden box once MathJax is loaded [ms].
 BOX_WAIT_MS = 20_000
 
@@ -106,31 +105,25 @@ def _custom(values: dict[str, Any]) -> str:
     return head + custom_story(regime, custom_quantities(osc, rigid, x0, v0))
 
 
-class _Opened:
-    """A button whose text is put below it, and filled by ``text()``, once it is pressed
+class _Text:
+    """A text put below the buttons, and filled by ``text()``, once its button is pressed
     and the browser has answered about MathJax."""
 
-    def __init__(self, title: str, key: str, teach: Teach, text) -> None:
-        self._title, self._key, self._teach, self._text = title, key, teach, text
+    def __init__(self, key: str, teach: Teach, text) -> None:
+        self.key, self._teach, self._text = key, teach, text
         self.pane: pn.pane.HTML | None = None
-        self.toggle = pn.widgets.Toggle(
-            label=f"{CLOSED} {title}", value=False, color="light", margin=(2, 10),
-            sizing_mode="stretch_width", css_classes=["fie-teach-toggle", f"fie-{key}-toggle"],
-            stylesheets=[STYLESHEET])
-        self.toggle.param.watch(self._pressed, "value")
 
-    def _pressed(self, event: param.parameterized.Event) -> None:
-        self.toggle.label = f"{OPENED if event.new else CLOSED} {self._title}"
-        if self.pane is None and event.new:
+    def show(self, on: bool) -> None:
+        """Show the text (made the first time) or hide it."""
+        if self.pane is None and on:
             self.pane = pn.pane.HTML(f"{WAITING}<script>{LOAD_MATH_JS}</script>",
                                      disable_math=False, sizing_mode="stretch_width",
-                                     css_classes=["fie-teach-text", f"fie-{self._key}-text"],
-                                     margin=(0, 14, 6, 14),
-                                     stylesheets=[STYLESHEET])
-            self._teach.show_below(self.toggle, self.pane)
+                                     css_classes=["fie-teach-text", f"fie-{self.key}-text"],
+                                     margin=(0, 14, 6, 14), stylesheets=[STYLESHEET])
+            self._teach.show_below(self.pane)
             self.refresh()
         elif self.pane is not None:
-            self.pane.visible = event.new
+            self.pane.visible = on
 
     def refresh(self) -> None:
         """Send the text again (a new scene), if it was opened and MathJax tried."""
@@ -141,7 +134,7 @@ class _Opened:
 
 
 class Teach:
-    """The two buttons of a session, the scene's story and the model, and their texts.
+    """The buttons of a session's story and model, and their texts.
 
     Parameters
     ----------
@@ -157,12 +150,22 @@ class Teach:
         #: Where the browser says whether it has MathJax ("loaded" or "failed"): made and
         #: put on the page with the first text.
         self.math: pn.widgets.TextInput | None = None
-        self.story = _Opened("What this figure shows", "story", self,
-                             lambda: story_html(state.scene, state.values()))
-        self.model = _Opened("The model: equations and symbols", "model", self, model_html)
+        self.story = _Text("story", self, lambda: story_html(state.scene, state.values()))
+        self.model = _Text("model", self, model_html)
+        # One widget for both (each widget is ~3 ms of a page's open).
+        self.group = pn.widgets.CheckButtonGroup(
+            options={"What this figure shows": "story",
+                     "The model: equations and symbols": "model"},
+            value=[], color="light", margin=(2, 10), css_classes=[TEACH_BUTTONS],
+            stylesheets=[STYLESHEET])
+        self.group.param.watch(self._pressed, "value")
         state.param.watch(self._refresh, ["scene", "belt_speed", "clearance",
                                           "restitution", "mu_s", "mu_k", "u_s", "x0", "v0",
                                           "stop_type", "k_c0", "k_e0"])
+
+    def _pressed(self, event: param.parameterized.Event) -> None:
+        for text in (self.story, self.model):
+            text.show(text.key in event.new)
 
     def _refresh(self, *events: param.parameterized.Event) -> None:
         self.story.refresh()
@@ -170,8 +173,8 @@ class Teach:
 
     @property
     def buttons(self) -> list[Any]:
-        """What the page shows at first: the two buttons."""
-        return [self.story.toggle, self.model.toggle]
+        """What the page shows at first: the buttons."""
+        return [self.group]
 
     def attach(self, host: Any) -> None:
         """Put the texts in ``host``, the column the buttons are in."""
@@ -181,10 +184,14 @@ class Teach:
         """Whether the browser has said if it has MathJax."""
         return self.math is not None and self.math.value in MATH_STATES
 
-    def show_below(self, toggle: Any, pane: Any) -> None:
-        """Put ``pane`` right below ``toggle`` (and the hidden box with the first one)."""
+    def show_below(self, pane: Any) -> None:
+        """Put ``pane`` below the buttons, the story above the model (and the hidden box
+        with the first text)."""
         objects = list(self.host.objects)
-        objects.insert(objects.index(toggle) + 1, pane)
+        at = objects.index(self.group) + 1
+        if pane is self.model.pane and self.story.pane in objects:
+            at += 1
+        objects.insert(at, pane)
         if self.math is None:
             self.math = pn.widgets.TextInput(value="", visible=False, margin=0,
                                              css_classes=[MATH_BOX])

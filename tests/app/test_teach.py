@@ -95,8 +95,10 @@ def test_the_glossary_holds_every_symbol_of_the_sliders_and_axes():
 def test_a_tooltip_presses_the_model_card_s_button():
     tip = glossary.tooltip("clearance", "Stop position.")
     assert tip.startswith("Stop position. ") and "fie-glossary-link" in tip
-    assert f"includes('{glossary.MODEL_TOGGLE}')" in tip and "m.active = true" in tip
-    assert glossary.MODEL_TOGGLE in Explorer().teach.model.toggle.css_classes
+    assert f"includes('{glossary.TEACH_BUTTONS}')" in tip and "[...m.active, 1]" in tip
+    group = Explorer().teach.group
+    assert glossary.TEACH_BUTTONS in group.css_classes
+    assert list(group.options.values())[1] == "model"  # the second button, as the link says
     assert glossary.tooltip("normal_force", "Normal force.") == "Normal force."
 
 
@@ -176,8 +178,7 @@ def test_no_text_of_the_page_names_a_repository_file_in_any_scene(page):
     template, doc = page
     ex = template.explorer
     with set_curdoc(doc):
-        ex.teach.story.toggle.value = True
-        ex.teach.model.toggle.value = True
+        ex.teach.group.value = ["story", "model"]
         ex.teach.math.value = "loaded"
         for key in [*SCENES, CUSTOM]:
             if key == CUSTOM:
@@ -198,10 +199,10 @@ def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered():
     ex = Explorer()
     main, teach = ex.main_panel(), ex.teach
     assert teach.story.pane is None
-    teach.story.toggle.value = True
+    teach.group.value = ["story"]
     objects = main.objects
-    # Right below its button, with the hidden box the browser answers in.
-    assert objects[objects.index(teach.story.toggle) + 1] is teach.story.pane
+    # Right below the buttons, with the hidden box the browser answers in.
+    assert objects[objects.index(teach.group) + 1] is teach.story.pane
     assert teach.math in objects
     # The browser has not answered yet: the text waits, with the script that loads MathJax.
     assert teach.story.pane.object.startswith(WAITING) and "<script>" in teach.story.pane.object
@@ -210,10 +211,12 @@ def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered():
     assert teach.story.pane.object == story_html(ex.state.scene)
     ex.scene_select.value = "7c"
     assert teach.story.pane.object == story_html("7c")
-    teach.model.toggle.value = True
+    teach.group.value = ["model", "story"]
     assert teach.model.pane.object == equations.model_html()
-    teach.story.toggle.value = False           # closed: hidden, kept
-    assert not teach.story.pane.visible and teach.story.toggle.label.startswith("▸")
+    objects = main.objects
+    assert objects[objects.index(teach.story.pane) + 1] is teach.model.pane
+    teach.group.value = ["model"]             # closed: hidden, kept
+    assert not teach.story.pane.visible and teach.model.pane.visible
 
 
 @pytest.mark.parametrize("module", [glossary, stories, equations, view])

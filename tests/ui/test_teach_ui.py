@@ -87,7 +87,8 @@ class OfflinePage:
 
     def open_card(self, key: str) -> None:
         """Press the button of ``key`` ("story", "model") and wait for its typeset text."""
-        self.page.locator(f".fie-{key}-toggle button").first.click()
+        label = {"story": "What this figure shows", "model": "The model"}[key]
+        self.page.locator(".fie-teach-buttons button", has_text=label).first.click()
         self.page.wait_for_function(f"cls => ({JS_MATH})(cls) > 0", arg=f"fie-{key}-text",
                                     timeout=PAGE_TIMEOUT_MS)
 
@@ -97,6 +98,10 @@ class OfflinePage:
         self.page.wait_for_function(
             f"([cls, words]) => ({JS_TEXT_OF})(cls).includes(words)",
             arg=["fie-story-text", _opening(key)], timeout=PAGE_TIMEOUT_MS)
+        # and for its solve: the caption names the figure once the run is drawn.
+        self.page.wait_for_function(
+            f"([cls, words]) => ({JS_TEXT_OF})(cls).includes(words)",
+            arg=["fie-caption", f"Fig. {key}:"], timeout=PAGE_TIMEOUT_MS)
         self.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
 
     def close(self) -> None:
@@ -169,7 +174,8 @@ def test_screenshots_of_the_model_card_and_two_stories(browser, server, shots, s
         p.page.screenshot(path=shots / f"teach-story-7b-{name}.png")
         p.select_scene("10")
         p.page.screenshot(path=shots / f"teach-story-10-{name}.png")
-        p.page.locator(".fie-story-toggle button").first.click()  # closed again
+        p.page.locator(".fie-teach-buttons button",
+                       has_text="What this figure shows").first.click()  # closed again
         p.open_card("model")
         p.page.screenshot(path=shots / f"teach-model-{name}.png")
         assert p.blocked == [] and p.errors == []
