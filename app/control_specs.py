@@ -13,6 +13,7 @@ from collections.abc import Mapping
 from app.scenes import DEFAULT_SCENE, SCENES
 from app.solve.presets import ACCURACY
 from app.state import ACCURACIES, SI_NAMES
+from app.teach.glossary import tooltip as glossary_tooltip
 
 #: Slider label and step of each numeric state parameter.
 SLIDERS: Mapping[str, tuple[str, float]] = {
@@ -61,7 +62,10 @@ TOOLTIPS: Mapping[str, str] = {
     "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
     "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
 }
-#: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md).
+# Each symbol's tooltip links to its line of the model card's glossary.
+TOOLTIPS = {name: glossary_tooltip(name, text) for name, text in TOOLTIPS.items()}
+#: What each reading of the contact law means (the selector's tooltip; docs/contact-law.md
+#: explains both; the page says it in these words).
 CONTACT_LAW_TIPS: Mapping[str, str] = {
     "paper": "the paper's reading of Eqs. 12-13, which reproduces Fig. 2b; each reversal "
              "restarts the exponential from the reversal point. Not passive: some closed "

@@ -160,7 +160,7 @@ class Controls(pn.viewable.Viewer):
             label="Contact law", options=list(CONTACT_LAWS), value=st.contact_law,
             width=WIDGET_WIDTH, css_classes=["fie-contact-law"],
             description="; ".join(f"{k}: {v}" for k, v in CONTACT_LAW_TIPS.items())
-                        + " (docs/contact-law.md).")
+                        + ".")
         for name in CHOICES:
             getattr(self, name).param.watch(lambda e, n=name: self._chosen(n, e.new), "value")
         # Groups shown only in some states join the page when first shown (their sliders'

@@ -30,6 +30,7 @@ from app.readout import READOUT_SPARE_LINES, Readout  # noqa: F401 - the readout
 from app.solving import Solving
 from app.state import ExplorerState
 from app.studies import Studies
+from app.teach.view import Teach
 
 
 class Explorer(pn.viewable.Viewer):
@@ -63,6 +64,8 @@ class Explorer(pn.viewable.Viewer):
         self.permalink = Permalink(self.notices, self.menu, state=st)
         self.studies = Studies(self.host, self.controls.commit, self.notices, state=st)
         self.downloads = Downloads(st, WIDGET_WIDTH)
+        # The scene's story and the model card, built when first opened.
+        self.teach = Teach(st)
         self.solving.param.watch(lambda event: self.host.show_busy(event.new), "busy")
         self.lessons = LessonsMount(self.permalink)
         self.solving.solve()
@@ -81,12 +84,15 @@ class Explorer(pn.viewable.Viewer):
         host, readout = self.host, self.readout_view
         # A step that asks a question hides what would give its answer away.
         self.lessons.hide_while_asking(readout.caption, readout.readout, host.plot_box)
-        return [self.notices, *self.lessons.panels, readout.caption, readout.readout,
-                host.arrived, host.in_view, host.plot_box]
+        return [self.notices, *self.lessons.panels, readout.caption, *self.teach.buttons,
+                readout.readout, host.arrived, host.in_view, host.plot_box]
 
     def main_panel(self) -> pn.Column:
-        """The main area (:meth:`main`) in one column."""
-        return pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        """The main area (:meth:`main`) in one column; the story and the model card open
+        in it below their buttons."""
+        column = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        self.teach.attach(column)
+        return column
 
     def __panel__(self) -> pn.viewable.Viewable:
         return pn.Row(pn.Column(*self.sidebar(), width=WIDGET_WIDTH + 30), self.main_panel())

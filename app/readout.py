@@ -33,7 +33,7 @@ from core import (
 #: What the page says of each reading of the contact law (docs/contact-law.md).
 CONTACT_LAW_TEXT = {
     "paper": "the paper's reading of Eqs. 12-13 (reproduces Fig. 2b); not passive: some "
-             "closed overlap programs return energy (docs/contact-law.md)",
+             "closed overlap programs return energy",
     "passive": "the passive reading of Eqs. 12-13: no closed overlap program returns energy",
 }
 

@@ -177,10 +177,9 @@ _HYST = {
 _SCENE_LIST = (
     _scene(
         "2b", "Fig. 2b: cyclic behaviour of the hysteretic stop",
-        "A sinusoidal overlap program of decreasing amplitude with the paper's k_c0 = 2 k_e0 "
-        "and beta = 5: each unloading, kept under the compression envelope, mostly follows "
-        "it and the loop is thin; raise beta_e (to 50, say) to see it head for the expansion "
-        "envelope. The loop area is the energy lost.",
+        "Look for the thin loops of force against overlap in the hysteresis plot: their "
+        "area is the energy the stop takes. Raise β_e (to 50, say) and the unloading "
+        "heads for the lower envelope.",
         {"stop_type": "hysteretic", "program": True, "belt_speed": V_SLOW_INELASTIC,
          "clearance": 0.24, "k_c0": 400.0, "k_e0": 200.0, "limit_overlap": 0.02,
          "beta_c": 5.0, "beta_e": 5.0},
@@ -191,8 +190,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "3a", "Fig. 3a: impactless motion, limit curves",
-        "No stop, slow belt: from a start outside Gamma_0 the motion is drawn to the limit "
-        "cycle, a stick segment at x' = v from 2a - b to b closed by a slip arc.",
+        "Look for the orange stick segment on the line x′ = v, from 2a − b to b, closed "
+        "by one slip arc about (a, 0): the limit cycle every start is drawn to.",
         {"stop_type": "none", "belt_speed": V_SLOW_ELASTIC, "x0": 0.45, "v0": 0.25,
          "clearance": 0.5},
         IMPACTLESS_PLOTS,
@@ -201,8 +200,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "3b", "Fig. 3b: impactless motion, transient slip modes",
-        "No stop, a start far on the left: slip arcs about (+a, 0) and (-a, 0) alternate at "
-        "each sign change of the relative velocity before the first stick.",
+        "Look for the slip arcs changing their centre between (+a, 0) and (−a, 0) each "
+        "time the velocity passes the belt speed, before the first stick.",
         {"stop_type": "none", "belt_speed": V_SLOW_ELASTIC, "x0": -1.0, "v0": 0.0,
          "clearance": 0.5, "t_end": 40.0},
         IMPACTLESS_PLOTS,
@@ -210,18 +209,18 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "4a", "Fig. 4a: elastic impact, fast belt, a < x_bar < 2a",
-        "Pure slip about (a, 0) cut by the stop: impacts at (x_bar, +/-sqrt(x_bar(2a - "
-        "x_bar))) (Eq. A.1), period 2 arccos(1 - x_bar/a).",
+        "4a", "Fig. 4a: elastic impact, fast belt, a < x̄ < 2a",
+        "Look for the impacts at (x̄, ±√(x̄(2a − x̄))): the vertical jumps of the phase "
+        "portrait, once per turn of the slip circle; no stick.",
         {"belt_speed": V_FAST, "clearance": 0.3, "restitution": 1.0},
         RIGID_PLOTS,
         [FAST, ELASTIC, ("a < x_bar < 2a", lambda s: _a(s) < _xb(s) < 2 * _a(s))],
         {"belt": "fast", "impact": "elastic"},
     ),
     _scene(
-        "4b", "Fig. 4b: elastic impact, fast belt, x_bar < a",
-        "A clearance left of the circle's centre: the slip arc between impacts is short and "
-        "stays left of the stop.",
+        "4b", "Fig. 4b: elastic impact, fast belt, x̄ < a",
+        "Look for the short slip arc left of the stop between two impacts, and the "
+        "impulses coming quickly.",
         {"belt_speed": V_FAST, "clearance": 0.1, "restitution": 1.0},
         RIGID_PLOTS,
         [FAST, ELASTIC, ("0 < x_bar < a", lambda s: 0 < _xb(s) < _a(s))],
@@ -229,8 +228,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "5a", "Fig. 5a: elastic impact, slow belt, case a",
-        "b <= x_bar < x_max: stick to b, slip arc up to the stop, impact, slip back to the "
-        "stick line (Eq. A.2); one stick, two slips, one impact per period.",
+        "Look for one stick segment up to b, one slip arc to the stop, one impact and the "
+        "slip back to the stick line: one of each per period.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.32, "restitution": 1.0},
         RIGID_PLOTS,
         [SLOW, ELASTIC, ("case a: b <= x_bar < x_max (Eq. 31)",
@@ -239,8 +238,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "5b", "Fig. 5b: elastic impact, slow belt, case b",
-        "a <= x_bar < b: the stick segment runs into the stop (stick -> contact), the mass "
-        "rebounds at -v and slips back to the stick line (Eqs. A.3-A.4).",
+        "Look for the stick segment running straight into the stop, and the rebound at "
+        "−v.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.25, "restitution": 1.0},
         RIGID_PLOTS,
         [SLOW, ELASTIC, ("case b: a <= x_bar < b (Eq. 32)", lambda s: _a(s) <= _xb(s) < _b(s))],
@@ -248,8 +247,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "5c", "Fig. 5c: elastic impact, slow belt, case c",
-        "2a - b <= x_bar < a: after the transient the motion is one impact and one slip arc "
-        "about (a, 0) from (x_bar, -v) back to (x_bar, v); no stick.",
+        "Look for no stick after the transient: the phase portrait jumps from (x̄, v) to "
+        "(x̄, −v) and returns on one slip arc.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.15, "restitution": 1.0},
         RIGID_PLOTS,
         [SLOW, ELASTIC, ("case c: x_bar < a (Eq. 33)", lambda s: _xb(s) < _a(s)),
@@ -257,27 +256,26 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "elastic", "case": "c"},
     ),
     _scene(
-        "5d", "Fig. 5d: elastic impact, slow belt, case c with x_bar < 2a - b",
-        "A clearance left of the stick segment's start: the steady response lies entirely "
-        "outside the impactless limit cycle.",
+        "5d", "Fig. 5d: elastic impact, slow belt, case c with x̄ < 2a − b",
+        "Look for the whole steady loop left of the stick segment's start 2a − b.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.05, "restitution": 1.0},
         RIGID_PLOTS,
         [SLOW, ELASTIC, ("x_bar < 2a - b (Fig. 5d)", lambda s: _xb(s) < 2 * _a(s) - _b(s))],
         {"belt": "slow", "impact": "elastic", "case": "c"},
     ),
     _scene(
-        "6a", "Fig. 6a: inelastic impact, fast belt, a < x_bar < 2a",
-        "Impact speeds fall as r^h (Eqs. A.5-A.6): the motion tends to the pure slip circle "
-        "about (a, 0) that grazes the stop.",
+        "6a", "Fig. 6a: inelastic impact, fast belt, a < x̄ < 2a",
+        "Look for the impulses shrinking by the factor r at each impact (rʰ decay) and "
+        "the motion closing in on the slip circle that touches the stop.",
         {"belt_speed": V_FAST, "clearance": 0.3, "restitution": 0.7},
         RIGID_PLOTS,
         [FAST, INELASTIC, ("a < x_bar < 2a", lambda s: _a(s) < _xb(s) < 2 * _a(s))],
         {"belt": "fast", "impact": "inelastic"},
     ),
     _scene(
-        "6b", "Fig. 6b: inelastic impact, fast belt, x_bar < a",
-        "The grazing circle degenerates to the point (x_bar, 0): impacts accumulate in finite "
-        "time and the mass rests pressed on the stop.",
+        "6b", "Fig. 6b: inelastic impact, fast belt, x̄ < a",
+        "Look for the bounces getting shorter and weaker until they end at a finite time; "
+        "then the mass rests pressed on the stop.",
         {"belt_speed": V_FAST, "clearance": 0.1, "restitution": 0.7},
         RIGID_PLOTS,
         [FAST, INELASTIC, ("0 < x_bar < a", lambda s: 0 < _xb(s) < _a(s))],
@@ -285,8 +283,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "7a", "Fig. 7a: inelastic impact, slow belt, case a",
-        "b <= x_bar < x_max: stick, slip to the stop, impact at reduced speed (Eqs. "
-        "A.7-A.8), slip back to the stick line at P_s (Eq. A.9); periodic.",
+        "Look for the stick to b, the slip to the stop, the rebound at a reduced speed "
+        "and the slip back to the stick line, repeating.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.31, "restitution": R_INELASTIC},
         RIGID_PLOTS,
         [SLOW, INELASTIC, ("case a: b <= x_bar < x_max (Eq. 34)",
@@ -295,8 +293,8 @@ _SCENE_LIST = (
     ),
     _scene(
         "7b", "Fig. 7b: inelastic impact, slow belt, case b",
-        "x* <= x_bar < b: stick into the stop, rebound at -r v, slip back to the stick line "
-        "(Eqs. A.10-A.11); the steady stick keeps supplying the energy the impact takes.",
+        "Look for the stick segment running into the stop and the rebound at −r v, which "
+        "still reaches the stick line.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.285, "restitution": R_INELASTIC},
         RIGID_PLOTS,
         [SLOW, INELASTIC, ("case b: x* <= x_bar < b (Eqs. 35-36)",
@@ -304,9 +302,9 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "b"},
     ),
     _scene(
-        "7c", "Fig. 7c: inelastic impact, slow belt, case c with x_bar > a",
-        "a < x_bar < x*: impact speeds fall as r^h (Eq. A.12) and the motion grazes the stop "
-        "on the slip circle about (a, 0).",
+        "7c", "Fig. 7c: inelastic impact, slow belt, case c with x̄ > a",
+        "Look for the impacts shrinking as rʰ and the loops of the phase portrait closing "
+        "in on the circle that grazes the stop; no stick.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.24, "restitution": R_INELASTIC},
         RIGID_PLOTS,
         [SLOW, INELASTIC, ("case c: x_bar < x* (Eq. 37)", lambda s: _xb(s) < _xs(s)),
@@ -314,9 +312,9 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "c"},
     ),
     _scene(
-        "7d", "Fig. 7d: inelastic impact, slow belt, case c with x_bar < a",
-        "The grazing circle degenerates to the point (x_bar, 0): the mass ends at rest, "
-        "pressed on the stop by the belt.",
+        "7d", "Fig. 7d: inelastic impact, slow belt, case c with x̄ < a",
+        "Look for the bounces accumulating at the stop and the mass resting there, held "
+        "by the force k (a − x̄).",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.15, "restitution": R_INELASTIC},
         RIGID_PLOTS,
         [SLOW, INELASTIC, ("case c: x_bar < x* (Eq. 37)", lambda s: _xb(s) < _xs(s)),
@@ -324,9 +322,9 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic", "case": "c"},
     ),
     _scene(
-        "8a", "Fig. 8a: elastic impact, slow belt, start away from rest, x_bar >= x_max",
-        "A start far from rest may hit the stop in the transient, but the steady state is "
-        "the impactless limit cycle of Fig. 3a.",
+        "8a", "Fig. 8a: elastic impact, slow belt, start away from rest, x̄ ≥ x_max",
+        "Look for the impacts of the transient only; the steady loop is the impactless "
+        "limit cycle of Fig. 3a, clear of the stop.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.36, "restitution": 1.0,
          "x0": -0.6, "v0": 0.6},
         RIGID_PLOTS,
@@ -335,9 +333,9 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "8b", "Fig. 8b: elastic impact, slow belt, start away from rest, x_bar < x_max",
-        "A different transient, the same steady state as Fig. 5b: the initial conditions do "
-        "not change where the motion settles.",
+        "8b", "Fig. 8b: elastic impact, slow belt, start away from rest, x̄ < x_max",
+        "Look for a different transient ending on the same loop as Fig. 5b: stick into "
+        "the stop, rebound at −v.",
         {"belt_speed": V_SLOW_ELASTIC, "clearance": 0.25, "restitution": 1.0,
          "x0": -0.4, "v0": -0.3},
         RIGID_PLOTS,
@@ -346,9 +344,9 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "elastic"},
     ),
     _scene(
-        "9a", "Fig. 9a: inelastic impact, slow belt, start away from rest, x_bar >= x_max",
-        "Inelastic impacts in the transient only: the motion settles on the impactless "
-        "limit cycle.",
+        "9a", "Fig. 9a: inelastic impact, slow belt, start away from rest, x̄ ≥ x_max",
+        "Look for inelastic impacts in the transient only, then the impactless limit "
+        "cycle.",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.34, "restitution": R_INELASTIC,
          "x0": -0.6, "v0": 0.6},
         RIGID_PLOTS,
@@ -357,9 +355,9 @@ _SCENE_LIST = (
         {"belt": "slow"},
     ),
     _scene(
-        "9b", "Fig. 9b: inelastic impact, slow belt, start away from rest, x_bar < x_max",
-        "A different transient, the same steady state as Fig. 7b (stick into the stop, "
-        "rebound at -r v).",
+        "9b", "Fig. 9b: inelastic impact, slow belt, start away from rest, x̄ < x_max",
+        "Look for a different transient ending on the same loop as Fig. 7b (stick into "
+        "the stop, rebound at −r v).",
         {"belt_speed": V_SLOW_INELASTIC, "clearance": 0.285, "restitution": R_INELASTIC,
          "x0": -0.4, "v0": -0.3},
         RIGID_PLOTS,
@@ -368,22 +366,21 @@ _SCENE_LIST = (
         {"belt": "slow", "impact": "inelastic"},
     ),
     _scene(
-        "10", "Fig. 10: hysteretic stop, slow belt, a < x_bar <= x*",
-        "Compare with Fig. 7c: the contact force dies down through a sequence of contacts and "
-        "detachments, and the motion tends to graze the stop. Unlike a rigid stop's r, each "
-        "smaller contact dissipates less (see the readout's restitution), and the slowest are "
-        "elastic: the impacts tend to a small speed, not to zero.",
+        "10", "Fig. 10: hysteretic stop, slow belt, a < x̄ ≤ x*",
+        "Look for what differs from Fig. 7c: the contact force dying down through a train of "
+        "contacts and detachments, and the hysteresis loops getting smaller. Unlike a "
+        "rigid stop's r, smaller contacts lose less (see the readout's restitution): the "
+        "impact speeds level off.",
         {**_HYST, "belt_speed": V_SLOW_INELASTIC, "clearance": 0.24, "t_end": 80.0},
         HYSTERETIC_PLOTS,
         [SLOW, ("a < x_bar <= x* (x* with r_eq, Eq. 16)", lambda s: _a(s) < _xb(s) <= _xs(s))],
         {"belt": "slow"},
     ),
     _scene(
-        "11", "Fig. 11: hysteretic stop, slow belt, x_bar <= a",
-        "Compare with Fig. 7d: the mass stays pressed on the stop and the contact force "
-        "tends to k (a - x), a little below k (a - x_bar): the loops on the stop die out "
-        "and the mass comes to rest inside the stop. The readout says whether they have "
-        "within the accuracy by the end of the run, or how far they still swing.",
+        "11", "Fig. 11: hysteretic stop, slow belt, x̄ ≤ a",
+        "Look for what differs from Fig. 7d: the contact force settling just below k (a − x̄) "
+        "while the loops on the stop die out, the mass at rest inside the stop. The "
+        "readout says whether they have by the end of the run.",
         {**_HYST, "belt_speed": V_SLOW_INELASTIC, "clearance": 0.15, "t_end": 80.0},
         HYSTERETIC_PLOTS,
         [SLOW, ("x_bar <= a", lambda s: _xb(s) <= _a(s))],

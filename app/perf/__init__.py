@@ -120,6 +120,12 @@ PATCHES = {
               "range, a select's options, a radio group's buttons) is refused at the "
               "widget in one rate-limited WARNING line, and the browser set back",
               ("app/perf/browser_values.py",), ("Syncable._process_property_change",)),
+        Patch("mathjax-after-load", "bokeh", "3.9", "3.10",
+              "a text with TeX opened after the page loaded (the model card, a story) "
+              "loads Bokeh's own MathJax bundle from this server then and asks BokehJS's "
+              "MathJax provider again (it looked once, when the page's first HTML pane was "
+              "drawn); without it such a text waits for MathJax loaded with every page",
+              ("app/teach/view.py",), ("default_provider.fetch",)),
         # The page's scripts (static/): the server names in each script's address the
         # patches of that script that apply (app.perf.page), the script applies only those.
         Patch("paint-shortcuts", "bokeh", "3.9", "3.10",

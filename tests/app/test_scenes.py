@@ -102,5 +102,5 @@ def test_fig2b_caption_holds_a_thin_loop_that_opens_with_beta_e():
         program = solve(scene_values("2b", beta_e=beta_e)).program
         return float(np.trapezoid(program.force, program.overlap))
 
-    assert "raise beta_e" in SCENES["2b"].caption
+    assert "Raise β_e (to 50" in SCENES["2b"].caption
     assert area(50.0) > 5.0 * area(5.0) > 0.0
