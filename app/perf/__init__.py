@@ -171,7 +171,7 @@ def applies(name: str) -> bool:
         return False
     if not _in_window(patch):
         say_once(f"perf patch {name!r} not applied: it was written for {patch.library} "
-             f">={patch.low},<{patch.high}; {_installed(patch.library)} is installed")
+                 f">={patch.low},<{patch.high}; {_installed(patch.library)} is installed")
         return False
     return True
 
