@@ -56,7 +56,7 @@ def session_ended(session_context: Any) -> None:
     """Count an ended session; schedule the collection of the ended sessions once enough
     have ended, or none is left (one per burst of ends)."""
     _pending["ended"] += 1
-    live = _live_sessions(session_context)
+    live = live_sessions(session_context)
     if live and _pending["ended"] < max(COLLECT_AFTER_ENDS, live // 4):
         return  # kept, frozen, until the next collection
     try:
@@ -79,7 +79,26 @@ def collect_ended_sessions() -> None:
     gc.freeze()
 
 
-def _live_sessions(session_context: Any) -> int | None:
+def ended_since_collection() -> int:
+    """Sessions ended since the last collection of ended sessions."""
+    return _pending["ended"]
+
+
+def collection_scheduled() -> bool:
+    """Whether a collection of ended sessions is scheduled on the event loop."""
+    return _pending["handle"] is not None
+
+
+def cancel_collection() -> None:
+    """Cancel the scheduled collection, if any, and count ended sessions afresh (their
+    cycles stay frozen until a later collection)."""
+    if _pending["handle"] is not None:
+        _pending["handle"].cancel()
+    _pending["handle"] = None
+    _pending["ended"] = 0
+
+
+def live_sessions(session_context: Any) -> int | None:
     """Sessions still open in this process (Bokeh's ``ServerContext.sessions``; the ended
     one is no longer listed), or None where unknown (a script, a test)."""
     try:

@@ -173,11 +173,11 @@ def applies(name: str) -> bool:
     Says once in the log why a patch is left out."""
     patch = PATCHES[name]
     if not enabled():
-        _say(f"perf patch {name!r} not applied: {SWITCH} is off")
+        say_once(f"perf patch {name!r} not applied: {SWITCH} is off")
         return False
     if not _in_window(patch):
-        _say(f"perf patch {name!r} not applied: it was written for {patch.library} "
-             f">={patch.low},<{patch.high}; {_installed(patch.library)} is installed")
+        say_once(f"perf patch {name!r} not applied: it was written for {patch.library} "
+                 f">={patch.low},<{patch.high}; {_installed(patch.library)} is installed")
         return False
     return True
 
@@ -188,7 +188,9 @@ def _in_window(patch: Patch) -> bool:
 
 
 @cache
-def _say(message: str) -> None:
+def say_once(message: str) -> None:
+    """Log ``message`` as a WARNING the first time only (``say_once.cache_clear()`` forgets
+    what was said)."""
     log.warning(message)
 
 

@@ -64,6 +64,13 @@ def say_refused(message: str) -> None:
     _said.warning(message)
 
 
+def restart_rate_limit() -> None:
+    """Say the next refused value at once, as after the server's start (those not said
+    since the last line are no longer counted)."""
+    global _said
+    _said = _Limited()
+
+
 def _short(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= SHOWN_CHARS else text[:SHOWN_CHARS] + "…"

@@ -33,6 +33,8 @@ Applied only where :mod:`app.perf` says so (name ``immutable-defaults``).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Any
 
 from bokeh.core.has_props import HasProps
@@ -46,11 +48,11 @@ from bokeh.core.property.wrappers import (
 from app.perf import applies
 
 #: Bokeh's own ``PropertyDescriptor._get_default``, once the patch has replaced it.
-_bokeh_get_default: Any = None
-
-#: Bokeh's own ``PropertyDescriptor.has_unstable_default`` and ``HasProps.themed_values``.
-_bokeh_has_unstable_default: Any = None
-_bokeh_themed_values: Any = None
+BOKEH_GET_DEFAULT: Any = None
+#: Bokeh's own ``PropertyDescriptor.has_unstable_default``, once the patch has replaced it.
+BOKEH_HAS_UNSTABLE_DEFAULT: Any = None
+#: Bokeh's own ``HasProps.themed_values``, once the patch has replaced it.
+BOKEH_THEMED_VALUES: Any = None
 
 #: ``(descriptor, class) -> (value,)`` of each immutable, unthemed default read so far.
 _DEFAULTS: dict[tuple[PropertyDescriptor, type], tuple[Any]] = {}
@@ -82,11 +84,11 @@ def _container(value: Any) -> tuple[type, Any] | None:
     return type(value), copy(value)
 
 
-def _get_default(self: PropertyDescriptor, obj: Any) -> Any:
+def get_default(self: PropertyDescriptor, obj: Any) -> Any:
     """Bokeh's ``_get_default`` (3.9), with immutable unthemed defaults kept per class and
     container defaults copied from the class's."""
     if obj.__dict__.get("__themed_values__") is not None:
-        return _bokeh_get_default(self, obj)
+        return BOKEH_GET_DEFAULT(self, obj)
     key = (self, obj.__class__)
     kept = _DEFAULTS.get(key)
     if kept is not None:
@@ -102,7 +104,7 @@ def _get_default(self: PropertyDescriptor, obj: Any) -> Any:
         value._register_owner(obj, self)
         own[name] = value
         return value
-    value = _bokeh_get_default(self, obj)
+    value = BOKEH_GET_DEFAULT(self, obj)
     if self.has_unstable_default(obj):
         container = _container(value)
         if container is not None:
@@ -112,33 +114,51 @@ def _get_default(self: PropertyDescriptor, obj: Any) -> Any:
     return value
 
 
-def _has_unstable_default(self: PropertyDescriptor, obj: Any) -> bool:
+def has_unstable_default(self: PropertyDescriptor, obj: Any) -> bool:
     """Bokeh's ``has_unstable_default`` (3.9), answered once per (property, class): it
     reads the property and the class's overridden defaults only."""
     key = (self, obj.__class__)
     unstable = _UNSTABLE.get(key)
     if unstable is None:
-        unstable = _UNSTABLE[key] = _bokeh_has_unstable_default(self, obj)
+        unstable = _UNSTABLE[key] = BOKEH_HAS_UNSTABLE_DEFAULT(self, obj)
     return unstable
 
 
-def _themed_values(self: HasProps) -> dict[str, Any] | None:
+def themed_values(self: HasProps) -> dict[str, Any] | None:
     """Bokeh's ``themed_values`` (3.9): the theme's values set on the instance, or None."""
     return self.__dict__.get("__themed_values__")
+
+
+def kept_defaults() -> Mapping[tuple[PropertyDescriptor, type], tuple[Any]]:
+    """``(descriptor, class) -> (value,)`` of each immutable default kept so far (read-only)."""
+    return MappingProxyType(_DEFAULTS)
+
+
+def kept_containers() -> Mapping[tuple[PropertyDescriptor, type], tuple[type, Any]]:
+    """``(descriptor, class) -> (container type, items)`` of each container default kept
+    so far (read-only)."""
+    return MappingProxyType(_CONTAINERS)
+
+
+def forget_kept() -> None:
+    """Forget every default and answer kept so far: the next reads compute them again."""
+    _DEFAULTS.clear()
+    _CONTAINERS.clear()
+    _UNSTABLE.clear()
 
 
 def cache_immutable_defaults() -> None:
     """Keep each immutable, unthemed property default per class (see the module's
     docstring); idempotent. Nothing is changed where the patch does not apply."""
-    global _bokeh_get_default, _bokeh_has_unstable_default, _bokeh_themed_values
+    global BOKEH_GET_DEFAULT, BOKEH_HAS_UNSTABLE_DEFAULT, BOKEH_THEMED_VALUES
     if not applies("immutable-defaults"):
         return
-    if PropertyDescriptor._get_default is not _get_default:
-        _bokeh_get_default = PropertyDescriptor._get_default
-        PropertyDescriptor._get_default = _get_default
-    if PropertyDescriptor.has_unstable_default is not _has_unstable_default:
-        _bokeh_has_unstable_default = PropertyDescriptor.has_unstable_default
-        PropertyDescriptor.has_unstable_default = _has_unstable_default
-    if HasProps.themed_values is not _themed_values:
-        _bokeh_themed_values = HasProps.themed_values
-        HasProps.themed_values = _themed_values
+    if PropertyDescriptor._get_default is not get_default:
+        BOKEH_GET_DEFAULT = PropertyDescriptor._get_default
+        PropertyDescriptor._get_default = get_default
+    if PropertyDescriptor.has_unstable_default is not has_unstable_default:
+        BOKEH_HAS_UNSTABLE_DEFAULT = PropertyDescriptor.has_unstable_default
+        PropertyDescriptor.has_unstable_default = has_unstable_default
+    if HasProps.themed_values is not themed_values:
+        BOKEH_THEMED_VALUES = HasProps.themed_values
+        HasProps.themed_values = themed_values

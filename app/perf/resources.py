@@ -27,14 +27,17 @@ from typing import Any
 
 from app.perf import applies
 
-#: Panel's own functions, kept when patched.
-_design_resolve: Any = None
-_panel_use_mathjax: Any = None
+#: Panel's own ``Design.resolve_resources``, once :func:`version_design_css` has replaced it.
+PANEL_DESIGN_RESOLVE: Any = None
+#: Panel's own ``panel.io.resources._panel_use_mathjax``, once :func:`mathjax_on_demand` has
+#: replaced it.
+PANEL_USE_MATHJAX: Any = None
 
 
-def _versioned(url: Any, dist: str, suffix: str) -> Any:
-    # A file of Panel's own distribution without a query: the address its shadow-root copy
-    # has (patch_stylesheet adds the same suffix to those).
+def versioned_css(url: Any, dist: str, suffix: str) -> Any:
+    """``url`` with ``suffix`` where it is a CSS file of ``dist`` without a query (the
+    address Panel's ``patch_stylesheet`` gives the file's shadow-root copies), else
+    ``url`` unchanged."""
     if isinstance(url, str) and dist in url and "?" not in url and url.endswith(".css"):
         return url + suffix
     return url
@@ -43,25 +46,25 @@ def _versioned(url: Any, dist: str, suffix: str) -> Any:
 def _resolve_versioned(self, *args, **kwargs):
     from panel.io.resources import JS_VERSION
 
-    resources = _design_resolve(self, *args, **kwargs)
+    resources = PANEL_DESIGN_RESOLVE(self, *args, **kwargs)
     css = resources.get("css")
     if isinstance(css, dict):
         suffix = f"?v={JS_VERSION}"
         for name, url in css.items():
-            css[name] = _versioned(url, "extensions/panel/", suffix)
+            css[name] = versioned_css(url, "extensions/panel/", suffix)
     return resources
 
 
 def version_design_css() -> None:
     """Give the design's page-level CSS links Panel's version suffix (see the module's
     docstring); idempotent."""
-    global _design_resolve
+    global PANEL_DESIGN_RESOLVE
     if not applies("bootstrap-css-once"):
         return
     from panel.theme.base import Design
 
     if Design.__dict__["resolve_resources"] is not _resolve_versioned:
-        _design_resolve = Design.__dict__["resolve_resources"]
+        PANEL_DESIGN_RESOLVE = Design.__dict__["resolve_resources"]
         Design.resolve_resources = _resolve_versioned
 
 
@@ -81,13 +84,13 @@ def _math_in_panes(roots) -> bool:
 def mathjax_on_demand() -> None:
     """Load MathJax only where Bokeh finds a model that needs it (see the module's
     docstring); idempotent."""
-    global _panel_use_mathjax
+    global PANEL_USE_MATHJAX
     if not applies("mathjax-on-demand"):
         return
     import panel.io.resources as resources
 
     if resources._panel_use_mathjax is not _math_in_panes:
-        _panel_use_mathjax = resources._panel_use_mathjax
+        PANEL_USE_MATHJAX = resources._panel_use_mathjax
         resources._panel_use_mathjax = _math_in_panes
 
 

@@ -91,10 +91,10 @@ async def writes_done(doc: Any) -> None:
 
 
 #: Bokeh's own ``patch_doc.create``, once :func:`send_arrays_inline` has replaced it.
-_bokeh_create: Any = None
+BOKEH_CREATE: Any = None
 
 #: SHA-256 of the body of Bokeh 3.9's ``patch_doc.create`` (:func:`normalised_body`) that
-#: :func:`_patch_doc_inline` copies; a Bokeh whose body differs gets no patch.
+#: :func:`patch_doc_inline` copies; a Bokeh whose body differs gets no patch.
 FORKED_FROM = "0fa626f6840e482801611efc13688261f949f82042f2c10fe1f5167118468864"
 #: What the copy changes in that body (:func:`normalised_body` text): the arrays are
 #: encoded inline, so the message has no buffers to add.
@@ -124,7 +124,7 @@ def _bokeh_patch_doc() -> Any:
 @cache
 def fork_matches() -> bool:
     """Whether the installed Bokeh's ``patch_doc.create`` is the one the copy was made from."""
-    original = _bokeh_create or _bokeh_patch_doc().__dict__["create"]
+    original = BOKEH_CREATE or _bokeh_patch_doc().__dict__["create"]
     try:
         body = normalised_body(original.__func__)
     except (OSError, TypeError):  # no source installed
@@ -132,7 +132,7 @@ def fork_matches() -> bool:
     return hashlib.sha256(body.encode()).hexdigest() == FORKED_FROM
 
 
-def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
+def patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
     """Bokeh's ``patch_doc.create`` (3.9), with the arrays encoded into the content.
 
     The message is three frames (header, metadata, content) whatever the number of arrays.
@@ -157,7 +157,7 @@ def _patch_doc_inline(cls, events: list[Any], **metadata: Any) -> Any:
 def send_arrays_inline() -> None:
     """Make every document update of this server one message of three frames (see the
     module's docstring); idempotent. Nothing is changed where the patch does not apply."""
-    global _bokeh_create
+    global BOKEH_CREATE
     if not applies("inline-arrays"):
         return
     if not fork_matches():
@@ -165,6 +165,6 @@ def send_arrays_inline() -> None:
                     "patch_doc.create is not the one it copies")
         return
     patch_doc = _bokeh_patch_doc()
-    if getattr(patch_doc.create, "__func__", None) is not _patch_doc_inline:
-        _bokeh_create = patch_doc.__dict__["create"]
-        patch_doc.create = classmethod(_patch_doc_inline)
+    if getattr(patch_doc.create, "__func__", None) is not patch_doc_inline:
+        BOKEH_CREATE = patch_doc.__dict__["create"]
+        patch_doc.create = classmethod(patch_doc_inline)

@@ -253,7 +253,7 @@ def test_a_page_with_a_lesson_loads_mathjax_from_its_own_server(monkeypatch):
     # patches off too).
     monkeypatch.setattr(panel_resources, "_panel_use_mathjax",
                         panel_resources._panel_use_mathjax)
-    monkeypatch.setattr(resources, "_panel_use_mathjax", resources._panel_use_mathjax)
+    monkeypatch.setattr(resources, "PANEL_USE_MATHJAX", resources.PANEL_USE_MATHJAX)
     resources.mathjax_on_demand()
     bundles = {}
     for search in ("?scene=7c", "?lesson=paper&step=4"):

@@ -93,7 +93,7 @@ def test_a_huge_value_is_named_and_left_out_of_the_address(monkeypatch):
     assert "tend (t_end) must be a number in [0.1, 5000]; got '999" in shown
     assert "(4400 characters)" in shown and "present must be one of" in shown
     assert ex.state.scene == "7c" and ex.state.t_end == scene_values("7c")["t_end"]
-    ex._write_url()
+    ex.permalink.write_url()
     assert huge not in loc.search and "tend=60.0" in loc.search and "present=0" in loc.search
 
 
@@ -128,8 +128,8 @@ def test_the_refusal_stays_until_the_page_shows_other_values(monkeypatch):
     drawing hid the alert: the refusal flashed and was gone. It stays while the picture is
     of the values the page opened with."""
     ex = _open("?scene=7c&tend=true", monkeypatch)
-    ex._draw(ex.solution)  # the first solution, drawn after the address was read
+    ex.host.redraw()  # the first solution, drawn after the address was read
     assert ex.alert.visible and "tend (t_end)" in html.unescape(ex.alert.object)
-    ex._commit({"restitution": 0.5})  # the user's own change: its drawing hides it
+    ex.controls.commit({"restitution": 0.5})  # the user's own change: its drawing hides it
     assert ex.solution.values["restitution"] == 0.5
     assert not ex.alert.visible

@@ -29,12 +29,9 @@ def _context(live: int) -> SimpleNamespace:
 @pytest.fixture(autouse=True)
 def _unfrozen():
     gc.unfreeze()
-    memory._pending["ended"] = 0
+    memory.cancel_collection()
     yield
-    if memory._pending["handle"] is not None:  # a test's loop ended before the collection
-        memory._pending["handle"].cancel()
-        memory._pending["handle"] = None
-    memory._pending["ended"] = 0
+    memory.cancel_collection()  # a test's loop may have ended before the collection
     gc.unfreeze()
 
 
@@ -127,7 +124,7 @@ def test_a_burst_of_session_ends_schedules_one_collection(monkeypatch, run_async
     async def run() -> tuple[bool, int]:
         for live in (2, 1, 0):  # a class leaving
             memory.session_ended(_context(live))
-        pending = memory._pending["handle"] is not None
+        pending = memory.collection_scheduled()
         n = len(full)
         await asyncio.sleep(0.3)
         return pending, len(full) - n
@@ -139,8 +136,8 @@ def test_a_burst_of_session_ends_schedules_one_collection(monkeypatch, run_async
         gc.callbacks.remove(count)
     assert pending
     assert collections == 1
-    assert memory._pending["handle"] is None
-    assert memory._pending["ended"] == 0
+    assert not memory.collection_scheduled()
+    assert memory.ended_since_collection() == 0
     assert gc.get_freeze_count() > 0
 
 
@@ -155,5 +152,5 @@ def test_the_live_sessions_come_from_bokeh_s_server_context():
     from bokeh.server.contexts import BokehServerContext
 
     assert isinstance(BokehServerContext.sessions, property)
-    assert memory._live_sessions(_context(3)) == 3
-    assert memory._live_sessions(None) is None
+    assert memory.live_sessions(_context(3)) == 3
+    assert memory.live_sessions(None) is None

@@ -34,11 +34,13 @@ def widgets():
 
 
 @pytest.fixture
-def said(monkeypatch, caplog):
-    """The log records of the test, with the rate limit starting afresh."""
-    monkeypatch.setattr(browser_values, "_said", browser_values._Limited())
+def said(caplog):
+    """The log records of the test, with the rate limit starting afresh (and again after
+    it, as at the server's start)."""
+    browser_values.restart_rate_limit()
     caplog.set_level(logging.DEBUG)
-    return caplog
+    yield caplog
+    browser_values.restart_rate_limit()
 
 
 def _model(widget):

@@ -10,7 +10,8 @@ import re
 
 import pytest
 from bokeh.core.has_props import HasProps
-from bokeh.core.property.descriptors import PropertyDescriptor
+from bokeh.core.property.descriptors import PropertyDescriptor, UnsetValueError
+from bokeh.core.property.singletons import Undefined
 from bokeh.document import Document
 from bokeh.models import Column, ColumnDataSource, Div, Line
 from bokeh.themes import Theme
@@ -25,20 +26,19 @@ def patched(monkeypatch):
     """The patch applied for one test, Bokeh's own descriptor restored after it."""
     monkeypatch.setenv(perf.SWITCH, "on")
     _restore_bokeh(monkeypatch)
-    for kept in ("_DEFAULTS", "_CONTAINERS", "_UNSTABLE"):
-        monkeypatch.setattr(defaults, kept, {})
+    defaults.forget_kept()
     defaults.cache_immutable_defaults()
-    assert PropertyDescriptor._get_default is defaults._get_default
-    assert PropertyDescriptor.has_unstable_default is defaults._has_unstable_default
-    assert HasProps.themed_values is defaults._themed_values
+    assert PropertyDescriptor._get_default is defaults.get_default
+    assert PropertyDescriptor.has_unstable_default is defaults.has_unstable_default
+    assert HasProps.themed_values is defaults.themed_values
     yield
 
 
 #: What the patch replaces: (class, name, the patch's function, where it keeps Bokeh's).
-REPLACED = ((PropertyDescriptor, "_get_default", "_get_default", "_bokeh_get_default"),
-            (PropertyDescriptor, "has_unstable_default", "_has_unstable_default",
-             "_bokeh_has_unstable_default"),
-            (HasProps, "themed_values", "_themed_values", "_bokeh_themed_values"))
+REPLACED = ((PropertyDescriptor, "_get_default", "get_default", "BOKEH_GET_DEFAULT"),
+            (PropertyDescriptor, "has_unstable_default", "has_unstable_default",
+             "BOKEH_HAS_UNSTABLE_DEFAULT"),
+            (HasProps, "themed_values", "themed_values", "BOKEH_THEMED_VALUES"))
 
 
 def _restore_bokeh(monkeypatch):
@@ -66,6 +66,23 @@ def _page_models():
     return list(doc.models)
 
 
+def _given(model) -> set[str]:
+    """The properties of ``model`` given a value (by the code, a theme, or as Bokeh's
+    per-instance default), by Bokeh's public query; an unset property without a default
+    (Bokeh's ``Undefined``) is listed there too and is not one."""
+    found = model.query_properties_with_values(lambda _: True, include_defaults=False,
+                                               include_undefined=True)
+    return {name for name, value in found.items() if value is not Undefined}
+
+
+def _read(model, name: str):
+    """The value ``model.name`` reads, ``Undefined`` where it has none."""
+    try:
+        return getattr(model, name)
+    except UnsetValueError:
+        return Undefined
+
+
 def _page_json() -> str:
     """The page's JSON with what differs between two builds of it made equal: model ids,
     the counters and object addresses in names, the solve's measured time."""
@@ -81,15 +98,16 @@ def test_every_unset_property_of_a_page_reads_as_bokeh_computes_it(patched):
     for it, computed afresh."""
     _page_models()
     models = _page_models()
-    assert defaults._DEFAULTS  # the page did read kept defaults
+    assert defaults.kept_defaults()  # the page did read kept defaults
     checked = 0
     for model in models:
+        given = _given(model)
         for name in model.properties():
             descriptor = model.lookup(name)
-            if name in model._property_values or descriptor.has_unstable_default(model):
+            if name in given or descriptor.has_unstable_default(model):
                 continue  # set, or Bokeh's own per-instance default (a new model, a list)
             fresh = descriptor.instance_default(model)
-            value = descriptor._get(model)
+            value = _read(model, name)
             # (nan is a default too: a data range's start)
             assert value == fresh or value != value and fresh != fresh, (
                 type(model).__name__, name)
@@ -111,12 +129,11 @@ def test_container_defaults_are_fresh_copies_that_notify(patched):
     """A container default made from the class's kept one is the instance's own, of
     Bokeh's type, and a change to it in place is a change of the model (its owner)."""
     Column(), Column()  # the first computes and keeps it, the others copy it
-    assert any(key[0].name == "children" for key in defaults._CONTAINERS)
+    assert any(key[0].name == "children" for key in defaults.kept_containers())
     c, d = Column(), Column()
     assert c.children == d.children == [] and c.children is not d.children
-    assert type(c.children) is type(d.children) and (c, c.lookup("children")) in {
-        (o, desc) for o, desc in c.children._owners}
-    changes = []
+    assert type(c.children) is type(d.children)
+    changes = []  # the copy's owner is c, by its property "children": c hears of it
     c.on_change("children", lambda attr, old, new: changes.append(new))
     c.children.append(Div())
     assert len(changes) == 1 and d.children == []
@@ -130,7 +147,7 @@ def test_unstable_default_answers_as_bokeh(patched):
         for name in model.properties():
             descriptor = model.lookup(name)
             assert descriptor.has_unstable_default(model) == \
-                defaults._bokeh_has_unstable_default(descriptor, model), name
+                defaults.BOKEH_HAS_UNSTABLE_DEFAULT(descriptor, model), name
 
 
 def test_a_theme_still_applies(patched):
@@ -155,7 +172,7 @@ def test_the_page_is_the_same_with_and_without_it(monkeypatch):
     without = _page_json()
     monkeypatch.setenv(perf.SWITCH, "on")
     defaults.cache_immutable_defaults()
-    assert PropertyDescriptor._get_default is defaults._get_default
+    assert PropertyDescriptor._get_default is defaults.get_default
     _page()
     assert _page_json() == without
 

@@ -64,14 +64,14 @@ def test_the_page_links_bootstrap_at_the_shadow_roots_address(page):
 ])
 def test_only_panel_s_unversioned_css_gets_the_suffix(url):
     expected = url + "?v=9" if url.startswith("https://") else url
-    assert resources._versioned(url, "extensions/panel/", "?v=9") == expected
+    assert resources.versioned_css(url, "extensions/panel/", "?v=9") == expected
 
 
 def test_switched_off_nothing_is_patched(monkeypatch):
-    original_resolve = resources._design_resolve or Design.__dict__["resolve_resources"]
+    original_resolve = resources.PANEL_DESIGN_RESOLVE or Design.__dict__["resolve_resources"]
     monkeypatch.setattr(Design, "resolve_resources", original_resolve)
-    monkeypatch.setattr(resources, "_design_resolve", None)
-    original_tex = resources._panel_use_mathjax or panel_resources._panel_use_mathjax
+    monkeypatch.setattr(resources, "PANEL_DESIGN_RESOLVE", None)
+    original_tex = resources.PANEL_USE_MATHJAX or panel_resources._panel_use_mathjax
     monkeypatch.setattr(panel_resources, "_panel_use_mathjax", original_tex)
     monkeypatch.setenv(perf.SWITCH, "off")
     resources.load_each_bundle_once()

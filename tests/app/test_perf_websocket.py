@@ -85,8 +85,8 @@ def test_arrays_travel_inside_the_message(monkeypatch):
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
     # Bokeh's own create for the first message (whatever ran before), restored after.
     monkeypatch.setattr(patch_doc, "create",
-                        connection._bokeh_create or patch_doc.__dict__["create"])
-    monkeypatch.setattr(connection, "_bokeh_create", None)
+                        connection.BOKEH_CREATE or patch_doc.__dict__["create"])
+    monkeypatch.setattr(connection, "BOKEH_CREATE", None)
     doc = Document()
     source = ColumnDataSource({"x": np.zeros(3, dtype=np.float32), "y": np.zeros(3)})
     doc.add_root(source)
@@ -111,12 +111,12 @@ def test_a_patch_outside_its_version_window_is_not_applied(monkeypatch, caplog):
     """Bokeh 3.9's PATCH-DOC is left alone when the window names other versions, and the
     log says why."""
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
-    bokeh_create = connection._bokeh_create or patch_doc.__dict__["create"]
+    bokeh_create = connection.BOKEH_CREATE or patch_doc.__dict__["create"]
     monkeypatch.setattr(patch_doc, "create", bokeh_create)
-    monkeypatch.setattr(connection, "_bokeh_create", None)
+    monkeypatch.setattr(connection, "BOKEH_CREATE", None)
     old = perf.Patch("inline-arrays", "bokeh", "3.4", "3.5", "for an older Bokeh")
     monkeypatch.setitem(perf.PATCHES, "inline-arrays", old)
-    perf._say.cache_clear()
+    perf.say_once.cache_clear()
     with caplog.at_level("WARNING", logger="app.perf"):
         connection.send_arrays_inline()
     assert patch_doc.__dict__["create"] is bokeh_create
@@ -140,13 +140,13 @@ def test_the_windows_hold_the_installed_versions_and_no_others():
 
 
 def test_the_forked_create_is_bokehs_own_with_the_recorded_edits():
-    """``_patch_doc_inline`` is a copy of the installed Bokeh's ``patch_doc.create``: its
+    """``patch_doc_inline`` is a copy of the installed Bokeh's ``patch_doc.create``: its
     body hashes to the one recorded, and the recorded edits turn it into the copy. A Bokeh
     release that changes ``create`` fails here (and the server leaves the patch out)."""
     import hashlib
 
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
-    original = (connection._bokeh_create or patch_doc.__dict__["create"]).__func__
+    original = (connection.BOKEH_CREATE or patch_doc.__dict__["create"]).__func__
     bokeh_body = connection.normalised_body(original)
     assert hashlib.sha256(bokeh_body.encode()).hexdigest() == connection.FORKED_FROM, (
         "Bokeh's patch_doc.create changed:\n" + bokeh_body)
@@ -154,7 +154,7 @@ def test_the_forked_create_is_bokehs_own_with_the_recorded_edits():
     for old, new in connection.FORK_EDITS:
         assert edited.count(old) == 1, old
         edited = edited.replace(old, new)
-    assert edited == connection.normalised_body(connection._patch_doc_inline)
+    assert edited == connection.normalised_body(connection.patch_doc_inline)
     assert connection.fork_matches()
 
 
@@ -162,9 +162,9 @@ def test_a_changed_bokeh_create_leaves_the_copy_out(monkeypatch, caplog):
     """Inside its window, the patch is still left out where Bokeh's body is not the one
     copied."""
     patch_doc = importlib.import_module("bokeh.protocol.messages.patch_doc").patch_doc
-    bokeh_create = connection._bokeh_create or patch_doc.__dict__["create"]
+    bokeh_create = connection.BOKEH_CREATE or patch_doc.__dict__["create"]
     monkeypatch.setattr(patch_doc, "create", bokeh_create)
-    monkeypatch.setattr(connection, "_bokeh_create", None)
+    monkeypatch.setattr(connection, "BOKEH_CREATE", None)
     monkeypatch.setattr(connection, "FORKED_FROM", "0" * 64)
     connection.fork_matches.cache_clear()
     try:
