@@ -72,11 +72,12 @@ def test_every_cell_runs_without_an_error(executed):
 
 
 def test_the_explorer_and_a_component_display(executed):
-    """The explorer's cell and the controls' cell each display a Panel object (its
-    notebook MIME bundle), not just a repr."""
+    """The explorer's cell, the controls' cell and the lesson's cell each display a Panel
+    object (its notebook MIME bundle), not just a repr."""
     shown = [cell for cell in executed.cells if cell.cell_type == "code"
-             and ("explorer\n" in cell.source + "\n" or "sidebar()" in cell.source)]
-    assert len(shown) == 2
+             and ("explorer\n" in cell.source + "\n" or "sidebar()" in cell.source
+                  or "player.layout" in cell.source)]
+    assert len(shown) == 3
     for cell in shown:
         data = [o.get("data", {}) for o in _outputs(cell) if o["output_type"] ==
                 "display_data" or o["output_type"] == "execute_result"]
