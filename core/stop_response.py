@@ -4,8 +4,7 @@ prescribed overlap.
 Neither needs the oscillator. :func:`equivalent_rigid` is the stop the closed forms of the
 paper speak of (they are derived for a rigid stop, docs/physics.md, "The deformable stop";
 paper Eq. 16); :func:`overlap_program` drives the contact law (Eqs. 9-13) through the
-program of paper Fig. 2b (docs/contact-law.md, "`law="paper"`: the reading that reproduces
-Fig. 2b").
+program of paper Fig. 2b (docs/contact-law.md, on the paper's reading of the law).
 
 >>> from core import HystereticStop
 >>> stop = HystereticStop(0.15, 1000.0, 500.0, limit_overlap=0.05, beta_c=5.0, beta_e=5.0)
