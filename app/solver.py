@@ -262,7 +262,7 @@ def choose_method(method: str, stop_type: str) -> str:
     """
     if method != "auto":
         return method
-    if stop_type == "hysteretic" and importlib.util.find_spec("core.hysteretic") is None:
+    if stop_type == "hysteretic" and importlib.util.find_spec("core.deformable.solver") is None:
         return "switch"
     return "exact"
 
@@ -843,7 +843,7 @@ def theory_for(osc, stop, x0: float, v0: float) -> Theory | None:
 def measured_restitution(result: Result | None) -> np.ndarray:
     """Rebound over approach speed of each finished deformable contact
     (docs/contact-law.md, "Restitution against impact speed"), from
-    :func:`core.hysteretic.effective_restitutions`; empty without a result."""
+    :func:`core.deformable.solver.effective_restitutions`; empty without a result."""
     if result is None:
         return np.zeros(0)
     return effective_restitutions(result)
@@ -855,7 +855,7 @@ def overlap_program(stop: HystereticStop) -> Program:
     The overlap ``delta(s) = A(s) (1 - cos s) / 2`` rises from zero and returns to it
     each period while the amplitude ``A`` falls linearly from ``PROGRAM_PEAK * D`` to
     ``PROGRAM_DECAY`` of that; a reversal is stored at each turn of the overlap rate and a
-    new contact starts on the compression envelope (:mod:`core.hysteresis`).
+    new contact starts on the compression envelope (:mod:`core.deformable.law`).
     """
     n = PROGRAM_PERIODS * PROGRAM_SAMPLES_PER_PERIOD + 1
     s = np.linspace(0.0, 2.0 * math.pi * PROGRAM_PERIODS, n)

@@ -21,13 +21,13 @@ Modes and the events that end them
   relative velocity changes, ``docs/physics.md``); ``x = clearance`` with ``x' > 0`` (rigid
   impact, paper Eq. 8, or the start of a deformable contact); in a deformable contact,
   ``x' = 0`` (reversal of the overlap rate: the branch of the hysteresis law is updated with
-  :func:`core.hysteresis.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
+  :func:`core.deformable.law.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
   reaching the stop's strength (failure), the overlap reaching the limit overlap. A
   non-terminal event at ``x' = 0`` records every maximum of ``x`` as a point, so ``x_max``
   has the integration accuracy, and betrays a crossing of the stop that rose above it and
   fell back inside one step.
 * the force of a contact has **kinks**: where a branch's curve is clipped to an envelope
-  (Eq. 11; :func:`core.hysteresis.branch_kinks`) and at the face. A step across a kink does
+  (Eq. 11; :func:`core.deformable.law.branch_kinks`) and at the face. A step across a kink does
   not see it in its error estimate: each separation speed was ~3e-7 relative off at rtol
   1e-8, and trains of contacts added those up in their phase (1e-3 of the scale by t = 40
   on random stops). A step that crosses a clip point is not kept: the solver steps to it
@@ -66,8 +66,7 @@ import numpy as np
 from scipy.integrate import DOP853, LSODA, RK45, Radau
 from scipy.optimize import brentq
 
-from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     LIMIT_MARGIN,
     Branch,
@@ -76,6 +75,8 @@ from core.hysteresis import (
     reverse,
     start_branch,
 )
+from core.deformable.stop_work import StopWork
+from core.dense import log_rest_at_stop, new_log, result_from_track
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
 from core.numerics.events import Event, SegmentIntegrator
 from core.numerics.limits import COUNT_MAX, MAX_EVENTS, WorkLimit
@@ -83,7 +84,6 @@ from core.params import HystereticStop
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
-from core.stop_work import StopWork
 from core.validation import check_integer, check_range
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
@@ -94,7 +94,7 @@ _SOLVER_CLASSES = {"RK45": RK45, "DOP853": DOP853, "Radau": Radau, "LSODA": LSOD
 #: nonlinear function of the overlap there; on free stick two points are exact).
 STICK_CONTACT_POINTS = 16
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
-#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
+#: same for every method, :data:`core.deformable.law.LIMIT_MARGIN`).
 LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 #: Kinks of the force within this fraction of ``D`` of a branch's start (its reversal) or
 #: of the face (the separation) are not stepped to.
@@ -184,7 +184,7 @@ class EventSolver:
 
     def set_branch(self, branch: Branch) -> None:
         """Follow ``branch`` of the law from here, with the kinks of its force ahead (where
-        its curve is clipped to an envelope: :func:`core.hysteresis.branch_kinks`)."""
+        its curve is clipped to an envelope: :func:`core.deformable.law.branch_kinks`)."""
         self.branch, self.land_at, self.kinks = branch, None, []
         if self.work is not None:
             self.work.follow(branch if self.contact else None, self.x)

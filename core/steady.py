@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.hysteresis import ElasticLimit
+from core.deformable.law import ElasticLimit
 from core.params import Oscillator
 from core.result import Steady, SteadyKind, Transition, TransitionKind
 
@@ -136,7 +136,7 @@ class SwingProbe:
 
     ``evaluate(t) -> (x, x')`` is the solution; ``rest_amplitude`` and ``rest_velocity``
     the rule's thresholds on the swing of the position and of the velocity (the solver's
-    :func:`core.hysteretic_reduced.rest_swing`: 10 and 100 ``rtol`` of the length scale,
+    :func:`core.deformable.reduced.rest_swing`: 10 and 100 ``rtol`` of the length scale,
     docs/contact-law.md)."""
 
     evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
@@ -273,7 +273,7 @@ def train_contacts(tail: list[Transition]) -> list[Transition]:
 def train_loses(cycle: list[Transition], limit: ElasticLimit) -> bool:
     """True when a cycle of transitions is contacts of a regular train that the contact law
     makes lose energy (approach speeds between ``w_inf`` and ``w_deep``,
-    :class:`core.hysteresis.ElasticLimit`): its speeds fall at every contact, so it is no
+    :class:`core.deformable.law.ElasticLimit`): its speeds fall at every contact, so it is no
     fixed point, however small the fall is against a tolerance."""
     kinds = {tr.kind for tr in cycle}
     speeds = [tr.v for tr in cycle if tr.kind is TransitionKind.CONTACT]
@@ -306,7 +306,7 @@ def impacts_lose(cycle: list[Transition]) -> bool:
 
 def train_steady(tail: list[Transition], limit: ElasticLimit) -> Steady | None:
     """Steady state of a regular train of contacts (:func:`train_contacts`) read off the
-    contact law (:class:`core.hysteresis.ElasticLimit`), whatever a tolerance says:
+    contact law (:class:`core.deformable.law.ElasticLimit`), whatever a tolerance says:
 
     * contacts slower than ``w_inf`` are elastic, so each flight returns at the speed it
       left with: periodic from the first of them (a measured change of the speeds is the

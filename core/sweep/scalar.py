@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from core.hysteresis import phi_compression
+from core.deformable.law import phi_compression
 from core.params import HystereticStop
 from core.result import Result, SteadyKind, TransitionKind
 from core.simulate import simulate

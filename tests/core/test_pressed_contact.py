@@ -18,13 +18,13 @@ from core import (
     Status,
     SteadyKind,
     TransitionKind,
-    hysteretic,
-    hysteretic_arcs,
-    hysteretic_reduced,
     simulate,
 )
-from core.hysteretic import DEFAULT_MAX_STEPS, _Solver, simulate_hysteretic
-from core.hysteretic_reduced import rest_swing_factor
+from core.deformable import arcs as hysteretic_arcs
+from core.deformable import reduced as hysteretic_reduced
+from core.deformable import solver as hysteretic
+from core.deformable.reduced import rest_swing_factor
+from core.deformable.solver import DEFAULT_MAX_STEPS, _Solver, simulate_hysteretic
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 FACE = 0.42
@@ -677,8 +677,8 @@ def test_contact_map_refuses_a_kink():
     """The map is built only where every node's contact is one reversal between start
     and separation: a range reaching approach speeds above the belt's (friction changes
     sign inside the contact) is refused."""
-    from core.hysteretic import _Solver
-    from core.hysteretic_map import REGULAR, build_map, solve_contact
+    from core.deformable.solver import _Solver
+    from core.deformable.train_map import REGULAR, build_map, solve_contact
 
     stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=100.0, beta_e=100.0)
     sv = _Solver(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
@@ -691,8 +691,8 @@ def test_contact_map_refuses_a_kink():
 def test_contact_map_blocks_are_the_sequential_iterates():
     """The map is iterated a block of contacts at a time (sums swept until they settle):
     the speeds are those of ``w -> w - L(w)`` applied one contact after another."""
-    from core.hysteretic import _Solver
-    from core.hysteretic_map import _block, build_map
+    from core.deformable.solver import _Solver
+    from core.deformable.train_map import _block, build_map
 
     stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=100.0, beta_e=100.0)
     sv = _Solver(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
@@ -714,12 +714,12 @@ def test_a_reduced_train_stores_nothing_in_its_flights(model, k_c0, beta, d):
     there, as in the full solve (the contact's loss is counted at its separation). It held
     the last contact's loss until the next contact began: 1.3e-6 just after the map's
     switch, 2.3e-7 at t > 20 (k_c0 1e4, beta 100, D 0.01)."""
-    from core import hysteretic_map
+    from core.deformable import train_map
 
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
     with pytest.MonkeyPatch.context() as mp:
         if model == "fitted":  # hold the map back so that the fitted loss law runs
-            mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+            mp.setattr(train_map, "MIN_GAIN", math.inf)
         res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, n_samples=20_000,
                                   **STANDARD)
     switch = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
@@ -740,12 +740,13 @@ def test_a_reduced_train_unloads_on_the_law(model, k_c0, beta, d, t_end):
     much as every contact followed shows just after the switch. It stayed on the envelope
     (the row's first loading): 2.1 % of the peak force above the unloading branch (the map,
     k_c0 1e4, beta 100, D 0.01), so the drawn loops had no hysteresis."""
-    from core import FIRST_LOADING, contact_force, hysteretic_map, phi_compression, reverse
+    from core import FIRST_LOADING, contact_force, phi_compression, reverse
+    from core.deformable import train_map
 
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
     with pytest.MonkeyPatch.context() as mp:
         if model == "fitted":  # hold the map back so that the fitted loss law runs
-            mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+            mp.setattr(train_map, "MIN_GAIN", math.inf)
         fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, n_samples=100_000,
                                    **STANDARD)
     full = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, reduce=False,

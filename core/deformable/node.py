@@ -1,5 +1,5 @@
 """One regular contact of a pressed train in closed form and by quadrature: the node
-contacts of the contact-to-contact map (:mod:`core.hysteretic_map`).
+contacts of the contact-to-contact map (:mod:`core.deformable.train_map`).
 
 A contact of the train starts at the face with the law fresh and slip towards the stop
 (``s = +1`` throughout: its speeds stay below the slip circle's largest, which is below the
@@ -38,11 +38,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
-from core.hysteresis import FIRST_LOADING, _clip_breaks, leaving_overlap, reverse
-from core.hysteretic_arcs import _exp_mean_arr, _log_mean_m1_arr
+from core.deformable.arcs import _exp_mean_arr, _log_mean_m1_arr
+from core.deformable.law import FIRST_LOADING, _clip_breaks, leaving_overlap, reverse
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 #: Chebyshev points of each piece's integrand: the integrands are analytic on ``s`` in
 #: ``[0, 1]`` (the envelope's pole at ``D`` and the exponential's growth set how fast the
@@ -127,7 +127,7 @@ class _Piece:
 def _mean_hyper(k_d: float, d_lim: float, top: float, e):
     """Mean of ``k_d delta / (D - delta)`` over ``[top - e, top]`` (``e >= 0``), without
     cancellation: ``k_d h(top) + k_d D / (D - top) (L(-e / (D - top)) - 1)`` with
-    ``L(w) = -log(1 - w) / w`` (the form of :func:`core.hysteretic_arcs.arc`)."""
+    ``L(w) = -log(1 - w) / w`` (the form of :func:`core.deformable.arcs.arc`)."""
     gap = d_lim - top
     return k_d * top / gap + k_d * d_lim / gap * _log_mean_m1_arr(-np.asarray(e) / gap)
 

@@ -1,5 +1,5 @@
 """Samples, energy terms, dense evaluation and the steady state of a deformable-stop solve
-(:mod:`core.hysteretic`), from the rows and transitions the solver recorded."""
+(:mod:`core.deformable.solver`), from the rows and transitions the solver recorded."""
 
 from __future__ import annotations
 
@@ -9,16 +9,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.dense import steady_from_transitions
-from core.hysteresis import (
+from core.deformable.arcs import _evaluate_arcs
+from core.deformable.law import (
     BranchPrimitive,
     branch_work,
     force_on_branches,
     phi_compression,
     stored_energy_many,
 )
-from core.hysteretic_arcs import _evaluate_arcs
-from core.hysteretic_base import (
+from core.deformable.reduced import REST_SPEED_PER_AMPLITUDE
+from core.deformable.state import (
     _ARC,
     _HERMITE,
     _LINE,
@@ -28,7 +28,7 @@ from core.hysteretic_base import (
     _dpoly,
     _poly,
 )
-from core.hysteretic_reduced import REST_SPEED_PER_AMPLITUDE
+from core.dense import steady_from_transitions
 from core.numerics.hermite import hermite_max
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
@@ -36,7 +36,7 @@ from core.steady import SwingProbe, pressed_steady, train_steady
 from core.trajectory import evaluate
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 
 #: Samples added on each branch of a contact (from its start, a reversal of the overlap
@@ -319,7 +319,7 @@ def _work_at(sv: _Solver, t: np.ndarray) -> np.ndarray:
 
 def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, np.ndarray]:
     """The anchors of the passive law's curves kept over reversals inside the band
-    (:class:`~core.hysteresis.Branch`), ``nan`` where none, of the branches ``rows``."""
+    (:class:`~core.deformable.law.Branch`), ``nan`` where none, of the branches ``rows``."""
     a_d, a_p = np.full(len(rows), math.nan), np.full(len(rows), math.nan)
     if stop.law == "passive":
         for k, i in enumerate(rows):
@@ -490,8 +490,8 @@ def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np
 
 def swing_probe(sv: _Solver, t_end: float) -> SwingProbe:
     """The solution at the horizon against the solver's rule for rest
-    (:func:`core.hysteretic_reduced.rest_rule`): a swing of ``rest_amplitude`` in the
-    position and :data:`~core.hysteretic_reduced.REST_SPEED_PER_AMPLITUDE` times it in the
+    (:func:`core.deformable.reduced.rest_rule`): a swing of ``rest_amplitude`` in the
+    position and :data:`~core.deformable.reduced.REST_SPEED_PER_AMPLITUDE` times it in the
     velocity."""
     rest = sv.rest_amplitude()
     return SwingProbe(HystereticDense(sv, t_end).evaluate, t_end, rest,

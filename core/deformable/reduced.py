@@ -56,12 +56,12 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from core.hysteresis import FIRST_LOADING, Branch, stored_energy
-from core.hysteretic_base import _OSC, _TRAIN, _State
+from core.deformable.law import FIRST_LOADING, Branch, stored_energy
+from core.deformable.state import _OSC, _TRAIN, _State
 from core.result import TransitionKind
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 #: Amplitudes (one per cycle) the decay law is fitted to.
 DECAY_FIT = 6
@@ -320,7 +320,7 @@ class Oscillation(NamedTuple):
 
 
 def reduce_oscillation(sv: _Solver, st: _State, branch: Branch, reversal_x, s: int):
-    """Hand a small pressed oscillation to a reduced model (:mod:`core.hysteretic_reduced`),
+    """Hand a small pressed oscillation to a reduced model (:mod:`core.deformable.reduced`),
     or return ``None`` while it is too large or its decay not yet regular.
 
     One cycle is two reversals; its amplitude is a quarter of its two swings. Loops that
@@ -433,7 +433,7 @@ def retraces_one_curve(sv: _Solver, ns) -> bool:
     """Whether the loops of the window (the transition counts ``ns`` of its reversals)
     retrace one curve of the passive law: reversals alone (friction's sign is fixed) and
     every branch since the window's first reversal on the curve of one anchor
-    (:class:`~core.hysteresis.Branch`), which loading and unloading follow alike."""
+    (:class:`~core.deformable.law.Branch`), which loading and unloading follow alike."""
     if any(n1 - n0 != 1 for n0, n1 in zip(ns[:-1], ns[1:], strict=True)):
         return False
     branches = sv.contact.branches[-len(ns):]
@@ -642,7 +642,7 @@ def rest_swing(rtol: float, atol: float, scale: float) -> tuple[float, float]:
 
 def rest_swing_of(osc, stop, rtol: float, atol: float) -> tuple[float, float]:
     """:func:`rest_swing` for the oscillator ``osc`` on the deformable ``stop``, on the
-    solver's length scale ``max(a, b, v, |x_bar|, D)`` (``core.hysteretic._Solver.scale``)."""
+    solver's length scale ``max(a, b, v, |x_bar|, D)``."""
     scale = max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap, 1e-300)
     return rest_swing(rtol, atol, scale)
 
@@ -738,7 +738,7 @@ def reduce_extent(sv: _Solver) -> float:
 def creep_end(sv: _Solver, reversal_x, s: int) -> float | None:
     """Where the centre of a settled pressed oscillation ends once its last amplitude
     is gone: the centre creeps ``kappa`` times the amplitude lost
-    (:mod:`core.hysteretic_reduced`); ``None`` if it cannot be measured (then rest is
+    (:mod:`core.deformable.reduced`); ``None`` if it cannot be measured (then rest is
     at the equilibrium on the current branch)."""
     if not (sv.pressed() and s > 0) or len(reversal_x) < WINDOW:
         return None

@@ -1,4 +1,4 @@
-"""Shared pieces of the deformable-stop solver (:mod:`core.hysteretic`): the Dormand-Prince
+"""Shared pieces of the deformable-stop solver (:mod:`core.deformable.solver`): the Dormand-Prince
 5(4) pair and its step controller, the quintic Hermite rows that describe the contact phases
 densely, event location on a step, the transition log."""
 
@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 from scipy.optimize import brentq
 
-from core.hysteresis import (
+from core.deformable.law import (
     LIMIT_MARGIN,
     Branch,
 )
@@ -57,7 +57,7 @@ LIMIT_BAND_SPACINGS = 16
 
 def limit_band(clearance: float, limit_overlap: float) -> float:
     """``d_max``: the overlap at which a contact counts as reaching the limit ``D``,
-    ``(1 - LIMIT_MARGIN) D`` (:data:`core.hysteresis.LIMIT_MARGIN`) or lower where positions
+    ``(1 - LIMIT_MARGIN) D`` (:data:`core.deformable.law.LIMIT_MARGIN`) or lower where positions
     near the stop are too coarse for that band (:data:`LIMIT_BAND_SPACINGS`); ``<= 0`` when
     ``D`` itself is below their resolution (a contact then ends at the limit at once).
 

@@ -9,13 +9,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.hysteresis import (
+from core.deformable.law import (
     Branch,
 )
-from core.hysteretic_base import _ARC, _State
+from core.deformable.state import _ARC, _State
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 
 #: Semi-analytic arcs: the G7 and K15 estimates of an arc's duration must agree to this

@@ -6,13 +6,13 @@ the samples live in their own modules.
 
 Away from the stop the motion is the closed form of :mod:`core.flight` (slip circles and stick
 lines, paper Eqs. 3-6). Only the contact phase ``x > clearance`` is integrated numerically
-(paper Eqs. 14-15 with the law of :mod:`core.hysteresis`, Eqs. 11-13)::
+(paper Eqs. 14-15 with the law of :mod:`core.deformable.law`, Eqs. 11-13)::
 
     slip:  x'' + x = s*a - phi(delta)          s = sign(v - x'), delta = x - clearance
     stick: x' = v   while |x + phi(delta)| <= b
 
 Events inside contact: separation (``delta`` back to 0), reversal of the overlap rate
-(``x' = 0``: a new :class:`~core.hysteresis.Branch`), stick/slip changes (``x' = v``),
+(``x' = 0``: a new :class:`~core.deformable.law.Branch`), stick/slip changes (``x' = v``),
 failure of the stop (``phi > strength``) and the limit overlap (``delta -> D``). A stick
 segment inside contact is again exact (a straight line; its end ``x + phi = b`` is a scalar
 root).
@@ -46,16 +46,16 @@ stiffness. What remains is the overhead per step, hence a scalar embedded Dorman
 dense samples.
 
 Energy (per unit ``k``): the work done on the stop is the path integral of the force along
-the branches (:func:`core.hysteresis.branch_work`, closed form), friction work is ``s*a``
+the branches (:func:`core.deformable.law.branch_work`, closed form), friction work is ``s*a``
 times the displacement in slip and ``int (x + phi) dx`` in stick: all are functions of the
 integrated states, so the balance ``mechanical - mechanical[0] = friction_work - stop_loss
 - stop_stored`` checks the integration itself.
 
 Layout: this module is the solver's event loop, one class whose methods share the state of
 a solve (the current branch, the rows, the log), hence its length; what stands alone lives
-beside it: :mod:`core.hysteretic_base` (the Dormand-Prince pair, the dense rows, the log),
-:mod:`core.hysteretic_arcs` (semi-analytic arcs), :mod:`core.hysteretic_reduced` (reduced
-models of a pressed mass) and :mod:`core.hysteretic_samples` (samples, energy, steady state).
+beside it: :mod:`core.deformable.state` (the Dormand-Prince pair, the dense rows, the log),
+:mod:`core.deformable.arcs` (semi-analytic arcs), :mod:`core.deformable.reduced` (reduced
+models of a pressed mass) and :mod:`core.deformable.samples` (samples, energy, steady state).
 """
 
 from __future__ import annotations
@@ -65,8 +65,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from core.flight import Segment, after_event, free_flight, start_motion
-from core.hysteresis import (
+from core.deformable.arcs import arc
+from core.deformable.law import (
     EXP_CAP,
     FIRST_LOADING,
     Branch,
@@ -82,8 +82,19 @@ from core.hysteresis import (
     reverse,
     start_branch,
 )
-from core.hysteretic_arcs import arc
-from core.hysteretic_base import (
+from core.deformable.reduced import (
+    REST_AMPLITUDE_PER_RTOL,  # noqa: F401 (the rule's constant, read from here too)
+    advance_train,
+    creep_end,
+    fit_train,
+    reduce_extent,
+    reduce_oscillation,
+    rest_rule,
+    rest_swing,
+    rest_swing_factor,
+)
+from core.deformable.samples import _assemble
+from core.deformable.state import (
     _A21,
     _A31,
     _A32,
@@ -129,20 +140,9 @@ from core.hysteretic_base import (
     _State,
     limit_band,
 )
-from core.hysteretic_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
-from core.hysteretic_map import MAP_CONTACTS_PER_STEP, map_train
-from core.hysteretic_reduced import (
-    REST_AMPLITUDE_PER_RTOL,  # noqa: F401 (the rule's constant, read from here too)
-    advance_train,
-    creep_end,
-    fit_train,
-    reduce_extent,
-    reduce_oscillation,
-    rest_rule,
-    rest_swing,
-    rest_swing_factor,
-)
-from core.hysteretic_samples import _assemble
+from core.deformable.train_contact import TIGHT_RTOL, TIGHT_RTOL_MIN, Kinks, TrainContact
+from core.deformable.train_map import MAP_CONTACTS_PER_STEP, map_train
+from core.flight import Segment, after_event, free_flight, start_motion
 from core.numerics.limits import COUNT_MAX
 from core.params import HystereticStop
 from core.result import Mode, Result, Status, Steady, SteadyKind, TransitionKind
@@ -157,7 +157,7 @@ from core.validation import check_integer
 #: solved one by one, each of which costs ~15 us on the development machine (58e3 a second
 #: on a grazing train, 62e3 on scene 11's loops), and the contacts the contact-to-contact
 #: map lays out, far cheaper, at one step per
-#: :data:`core.hysteretic_map.MAP_CONTACTS_PER_STEP`. It is checked at each transition;
+#: :data:`core.deformable.train_map.MAP_CONTACTS_PER_STEP`. It is checked at each transition;
 #: past it the result ends there with ``Status.STEP_LIMIT``.
 #: Sized so that a call without ``max_steps`` returns within a few seconds whatever the
 #: horizon (~4 s; benchmarks/hysteretic_limits.py) while scene 11's loops (2.1e5 steps to
@@ -267,7 +267,7 @@ class _Solver:
 
     def accel(self, s: int, branch: Branch):
         """``x'' = -x + s a - phi(x - clearance)`` on one branch, as a fast closure (the
-        law of :func:`core.hysteresis.force_and_slope` with the branch constants bound)."""
+        law of :func:`core.deformable.law.force_and_slope` with the branch constants bound)."""
         stop = self.stop
         if stop.law == "passive":
             as_paper = passive_as_paper(branch, stop)
@@ -340,7 +340,7 @@ class _Solver:
     def run_contact(self, st: _State, stick: bool, inside: Branch | None = None) -> str:
         """Integrate one contact from ``st`` (at the face, moving in) until it ends; with
         ``inside``, from a start inside the stop on that branch
-        (:func:`~core.hysteresis.start_branch`).
+        (:func:`~core.deformable.law.start_branch`).
 
         Returns ``"separated"``, ``"rest"``, ``"failed"``, ``"limit"``, ``"periodic"`` or
         ``"horizon"``.
@@ -353,7 +353,7 @@ class _Solver:
         d_branch0 = st.x - xb
         w_in = st.v if inside is None else math.nan
         reversal_x: list[tuple[float, float, int]] = []  # (t, x, transitions) of reversals
-        # a contact of a train is kept on its first integral (core/hysteretic_contact.py)
+        # a contact of a train is kept on its first integral (core/deformable/train_contact.py)
         train = TrainContact(self, st.x, w_in, s, stick)
         while True:
             if stick:
@@ -431,8 +431,8 @@ class _Solver:
         """Record a contact's start; ``"periodic"`` if the motion is periodic from here (a
         fixed point of the friction-impact map), ``"horizon"`` or ``"rest"`` if a shrinking
         train is advanced by its reduced model from here (its contact-to-contact map,
-        :func:`core.hysteretic_map.map_train`, or its fitted loss law,
-        :func:`core.hysteretic_reduced.fit_train`). A train whose contacts turn elastic
+        :func:`core.deformable.train_map.map_train`, or its fitted loss law,
+        :func:`core.deformable.reduced.fit_train`). A train whose contacts turn elastic
         tends to the elastic speed without reaching it: it is never tiled as periodic."""
         self.n_contacts += 1
         self.record(TransitionKind.CONTACT, st, st.v)
@@ -474,8 +474,8 @@ class _Solver:
         """Dormand-Prince 5(4) steps until an event; ``st`` is left at the event.
 
         A step that would cross one of ``kinks`` (positions, descending) moving out is redone
-        to end on it (:class:`core.hysteretic_contact.Kinks`); ``tight``: steps at
-        :data:`core.hysteretic_contact.TIGHT_RTOL` times ``rtol``.
+        to end on it (:class:`core.deformable.train_contact.Kinks`); ``tight``: steps at
+        :data:`core.deformable.train_contact.TIGHT_RTOL` times ``rtol``.
 
         The step is the solve's inner loop (~200 steps a contact at the map's node
         tolerance): the rows are appended and the work advanced here, and the events are
@@ -600,7 +600,7 @@ class _Solver:
     def tolerances(self, tight: bool) -> tuple[float, float]:
         """``(rtol, atol)`` of the contact's steps: the solve's, or the tighter ones of a
         contact's first branches that are not kept on their first integral
-        (:mod:`core.hysteretic_contact`)."""
+        (:mod:`core.deformable.train_contact`)."""
         if tight:
             return self.tight_rtol, self.atol * self.tight_rtol / self.rtol
         return self.rtol, self.atol
@@ -920,13 +920,13 @@ class _Solver:
     def work_steps(self) -> int:
         """The steps counted against ``max_steps`` (:data:`DEFAULT_MAX_STEPS`); the map's
         contacts, far cheaper, count as one per
-        :data:`core.hysteretic_map.MAP_CONTACTS_PER_STEP`."""
+        :data:`core.deformable.train_map.MAP_CONTACTS_PER_STEP`."""
         return (self.steps + self.rejected + self.arcs + self.n_solved
                 + self.laid_out // MAP_CONTACTS_PER_STEP)
 
     def elastic_limit(self) -> ElasticLimit | None:
         """What the law makes of a regular train's contacts
-        (:func:`core.hysteresis.elastic_limit`); ``None`` on a still belt."""
+        (:func:`core.deformable.law.elastic_limit`); ``None`` on a still belt."""
         if self.vb <= 0.0:
             return None
         if self._limit is None:
@@ -992,7 +992,7 @@ def solve_hysteretic(
         ``Status.STEP_LIMIT``.
     reduce : bool
         Advance the small motion of a mass pressed on the stop by a reduced model
-        (:mod:`core.hysteretic_reduced`) once it is below the tolerance; ``False`` follows
+        (:mod:`core.deformable.reduced`) once it is below the tolerance; ``False`` follows
         every loop and contact (the reference of the error columns of the benchmark).
 
     Returns

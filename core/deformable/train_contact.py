@@ -4,7 +4,7 @@ A contact that starts at the stop's face with the law fresh (first loading, pape
 from the origin) and slides towards the stop throughout (``s = +1``, paper Eq. 14) follows
 one curve of the law on each branch, a function of the overlap alone, so it conserves
 ``u^2/2 + U(delta)`` with ``U = int phi + delta^2/2 - (a - x_bar) delta`` (as the node
-contacts of :mod:`core.hysteretic_node` do). Integrated step by step at the preset's
+contacts of :mod:`core.deformable.node` do). Integrated step by step at the preset's
 tolerance, each such contact left its separation speed off by up to ~2e-7 relative at
 rtol 1e-8, and a train of them added those errors up in its phase: the state at
 ``t = 100`` was off by up to 1.1e-4 of the length scale after 60 to 600 contacts
@@ -30,13 +30,13 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from core.hysteresis import Branch, _clip_breaks, leaving_overlap
-from core.hysteretic_arcs import _exp_mean, _log_mean_m1
-from core.hysteretic_base import _first_exit, _hermite_coeffs, _poly
-from core.hysteretic_node import S_PLUS_MARGIN, _envelope_work
+from core.deformable.arcs import _exp_mean, _log_mean_m1
+from core.deformable.law import Branch, _clip_breaks, leaving_overlap
+from core.deformable.node import S_PLUS_MARGIN, _envelope_work
+from core.deformable.state import _first_exit, _hermite_coeffs, _poly
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 #: The tolerance of a contact's first two branches where they are not projected, relative
 #: to the solve's ``rtol``, and its floor: 1e-11 at the standard preset. From rest on
@@ -189,7 +189,7 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
 
     def area(span: float) -> float:
         # int (phi_C - phi) over [r - span, r] as means over it, without cancellation
-        # (core.hysteretic_node._loss, in scalars)
+        # (core.deformable.node._loss, in scalars)
         if not span > 0.0:
             return 0.0
         band = k_d * r / gap + k_d * d_lim / gap * _log_mean_m1(-span / gap)
@@ -221,7 +221,7 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
 
     Below ``s+`` it meets ``phi_C`` once, at ``u = delta / D < s- / D``, if the peak is
     above ``s-``, where ``g(u) = log(u / (1 - u)) - beta_e u + C`` vanishes (the logarithm
-    of :func:`core.hysteresis._clip_breaks`'s ``f``): ``g`` rises and is concave on
+    of :func:`core.deformable.law._clip_breaks`'s ``f``): ``g`` rises and is concave on
     ``(0, s- / D)``, so Newton from the root of its first two terms, left of the root,
     converges to it from the left (in ~5 steps; brentq took ten times as long). Above
     ``s+`` (rare: the first contacts of a train from rest), by brentq."""

@@ -14,7 +14,7 @@ power of ``w - w_inf``: they never repeat to a fixed point, and a fitted decay l
 hold their phase. Here the loss ``L`` and the duration ``d`` are solved for one contact
 each at the Chebyshev nodes of the range of ``w`` the train visits, at a tight tolerance
 (:data:`NODE_RTOL`; below ``s+``, in closed form and by quadrature,
-:mod:`core.hysteretic_node`), and the interpolants are iterated a block of contacts at a time
+:mod:`core.deformable.node`), and the interpolants are iterated a block of contacts at a time
 (:func:`_block`): a fraction of a microsecond per contact instead of a contact integrated
 step by step (~1 ms).
 
@@ -44,14 +44,14 @@ import numpy as np
 from numpy.polynomial import chebyshev as cheb
 from numpy.polynomial import polynomial as poly
 
-from core.hysteresis import FIRST_LOADING, elastic_limit
-from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
-from core.hysteretic_node import node_contact
-from core.hysteretic_reduced import contact_at, record_last_restitution
+from core.deformable.law import FIRST_LOADING, elastic_limit
+from core.deformable.node import node_contact
+from core.deformable.reduced import contact_at, record_last_restitution
+from core.deformable.state import _TRAIN, _dpoly, _poly, _State
 from core.result import TransitionKind
 
 if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+    from core.deformable.solver import _Solver
 
 #: Points of each node contact's profile kept for drawing the model's contacts.
 PROFILE_POINTS = 129
@@ -90,7 +90,7 @@ NARROWING = 0.25
 REGULAR = ("contact", "reversal", "separation")
 
 #: Contacts the map lays out per step of the solve's work limit (``max_steps``,
-#: :data:`core.hysteretic.DEFAULT_MAX_STEPS`): 0.2-1.7 us a contact (2e6 in 0.4-3.5 s on
+#: :data:`core.deformable.solver.DEFAULT_MAX_STEPS`): 0.2-1.7 us a contact (2e6 in 0.4-3.5 s on
 #: the pressed cells of benchmarks/hysteretic_speed.py) against ~15 us a contact step, an
 #: arc or a transition solved. Uncounted, a train laid out to t_end = 1e6 took 2 s
 #: (7.5e5 contacts) and one to 1e9 would hold arrays of 7.5e8.
@@ -136,7 +136,7 @@ def solve_contact(sv: _Solver, w: float, profile: bool = True):
     """One contact from the face at approach speed ``w`` with the law's state fresh:
     ``(separation speed, duration, peak x, largest |x''|, kinds, profile)``. In closed form
     and by quadrature where it is one regular contact below ``s+``
-    (:func:`core.hysteretic_node.node_contact`), else integrated step by step at
+    (:func:`core.deformable.node.node_contact`), else integrated step by step at
     :data:`NODE_RTOL`."""
     closed = node_contact(sv, w, PROFILE_POINTS if profile else None)
     if closed is not None:
@@ -404,7 +404,7 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
 
 def elastic_speed(sv: _Solver) -> float:
     """Approach speed ``w_inf`` of the contact whose peak overlap ``r`` just stays elastic,
-    ``r (D - r) = D^2 / beta_e`` (:func:`core.hysteresis.elastic_limit`). A train of the
+    ``r (D - r) = D^2 / beta_e`` (:func:`core.deformable.law.elastic_limit`). A train of the
     paper's law tends to it from above and never passes it (slower contacts are elastic:
     ``P(w) = w``); ``nan`` when every contact is elastic (``beta_e <= 4``) or none is."""
     w_inf = elastic_limit(sv.a, sv.xb, sv.stop).w_inf
@@ -420,7 +420,7 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
 
     ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of the contacts;
     the last entry is the contact just started. Energy: as
-    :func:`core.hysteretic_reduced.advance_train` (each flight conserves the slip
+    :func:`core.deformable.reduced.advance_train` (each flight conserves the slip
     circle's energy, so the stop takes what the approach speed loses).
     """
     if not (sv.use_reduced and sv.pressed()) or sv.map_tried:
