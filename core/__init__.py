@@ -18,7 +18,7 @@ from core.deformable.law import contact_force as contact_force
 from core.deformable.law import phi_compression as phi_compression
 from core.deformable.law import phi_expansion as phi_expansion
 from core.deformable.law import reverse as reverse
-from core.deformable.reduced import rest_swing_of as rest_swing_of
+from core.deformable.rest import rest_swing_of as rest_swing_of
 from core.deformable.solver import effective_restitutions as effective_restitutions
 from core.params import HystereticStop as HystereticStop
 from core.params import Oscillator as Oscillator

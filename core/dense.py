@@ -40,7 +40,7 @@ from typing import NamedTuple
 import numpy as np
 
 from core.deformable.law import ElasticLimit, elastic_limit, stored_energy
-from core.deformable.reduced import rest_swing_of
+from core.deformable.rest import rest_swing_of
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
@@ -547,7 +547,7 @@ def result_from_dense(
         A deformable stop's law (see :func:`steady_from_transitions`).
     rest_swing : (float, float), optional
         The swing of the position and of the velocity within which loops on a pressed
-        deformable stop are at rest (:func:`core.deformable.reduced.rest_swing`): loops
+        deformable stop are at rest (:func:`core.deformable.rest.rest_swing`): loops
         still swinging more at the horizon are an oscillation, not rest (needs ``dense``).
     belt_speed : float
         ``v`` (for the belt's work).

@@ -33,16 +33,13 @@ whose tail is above :data:`CHEB_RTOL`.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
-from core.deformable.arcs import _exp_mean_arr, _log_mean_m1_arr
-from core.deformable.law import FIRST_LOADING, _clip_breaks, leaving_overlap, reverse
-
-if TYPE_CHECKING:
-    from core.deformable.solver import _Solver
+from core.deformable.arcs import exp_mean_arr, log_mean_m1_arr
+from core.deformable.law import FIRST_LOADING, clip_breaks, leaving_overlap, reverse
+from core.deformable.state import Solve
 
 #: Chebyshev points of each piece's integrand: the integrands are analytic on ``s`` in
 #: ``[0, 1]`` (the envelope's pole at ``D`` and the exponential's growth set how fast the
@@ -129,7 +126,7 @@ def _mean_hyper(k_d: float, d_lim: float, top: float, e):
     cancellation: ``k_d h(top) + k_d D / (D - top) (L(-e / (D - top)) - 1)`` with
     ``L(w) = -log(1 - w) / w`` (the form of :func:`core.deformable.arcs.arc`)."""
     gap = d_lim - top
-    return k_d * top / gap + k_d * d_lim / gap * _log_mean_m1_arr(-np.asarray(e) / gap)
+    return k_d * top / gap + k_d * d_lim / gap * log_mean_m1_arr(-np.asarray(e) / gap)
 
 
 def _root(f, slope, x: float) -> float | None:
@@ -144,7 +141,7 @@ def _root(f, slope, x: float) -> float | None:
     return None
 
 
-def _peak(sv: _Solver, w: float):
+def _peak(sv: Solve, w: float):
     """Peak overlap ``r`` of the first loading at approach speed ``w``, the turning point
     ``low < 0`` of the same energy on ``phi_C`` continued past the face, the potential
     ``U_C`` and its slope; ``None`` at the limit overlap or within :data:`S_PLUS_MARGIN` of
@@ -154,7 +151,7 @@ def _peak(sv: _Solver, w: float):
     kc = stop.k_c0 * d_lim
 
     def u_c(d: float) -> float:  # U_C: the potential on phi_C (continued past the face)
-        return _envelope_work(kc, d_lim, d) - gap * d + 0.5 * d * d
+        return envelope_work(kc, d_lim, d) - gap * d + 0.5 * d * d
 
     def f_c(d: float) -> float:
         return kc * d / (d_lim - d) - gap + d
@@ -181,10 +178,10 @@ def _loss(stop, r: float, span: float, c0: float, lam: float) -> float:
         return 0.0
     d_lim = stop.limit_overlap
     band = _mean_hyper((stop.k_c0 - stop.k_e0) * d_lim, d_lim, r, span)
-    return span * float(band - c0 * _exp_mean_arr(np.array(-lam * span)))
+    return span * float(band - c0 * exp_mean_arr(np.array(-lam * span)))
 
 
-def node_contact(sv: _Solver, w: float, profile_points: int | None):
+def node_contact(sv: Solve, w: float, profile_points: int | None):
     """The contact from the face at approach speed ``w`` with the law fresh, in closed form:
     ``(separation speed, duration, peak x, largest |x''|, profile)`` (the profile
     ``None`` if ``profile_points`` is), or ``None`` where it is refused (see the module's
@@ -201,7 +198,7 @@ def node_contact(sv: _Solver, w: float, profile_points: int | None):
     phi_r = kc * r / (d_lim - r)
     if phi_r > stop.strength:
         return None
-    breaks = _clip_breaks(0.0, r, reverse(r, phi_r, FIRST_LOADING, stop), stop)
+    breaks = clip_breaks(0.0, r, reverse(r, phi_r, FIRST_LOADING, stop), stop)
     if len(breaks) > 1:
         return None
     d_c = breaks[0] if breaks else r  # below d_c the unloading keeps to phi_C
@@ -217,7 +214,7 @@ def node_contact(sv: _Solver, w: float, profile_points: int | None):
         return lambda e: (_mean_hyper(kc, d_lim, top, -e) + top + 0.5 * e - gap)
 
     def on_raw(e):  # the same on the unloading exponential from the peak
-        return (_mean_hyper(ke, d_lim, r, -e) + c0 * _exp_mean_arr(lam * e) + r + 0.5 * e
+        return (_mean_hyper(ke, d_lim, r, -e) + c0 * exp_mean_arr(lam * e) + r + 0.5 * e
                 - gap)
 
     def angle(top: float, other: float, d: float) -> float:  # theta of d in [top, other]
@@ -245,7 +242,7 @@ def node_contact(sv: _Solver, w: float, profile_points: int | None):
     return math.sqrt(w_out2), dur, xb + r, accel, profile
 
 
-def _envelope_work(kc: float, d_lim: float, d: float) -> float:
+def envelope_work(kc: float, d_lim: float, d: float) -> float:
     """``int_0^d phi_C`` (``kc = k_c0 D``; continued past the face for ``d < 0``), by the
     series for small ``|d| / D``."""
     x = d / d_lim

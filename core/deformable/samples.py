@@ -1,15 +1,15 @@
-"""Samples, energy terms, dense evaluation and the steady state of a deformable-stop solve
-(:mod:`core.deformable.solver`), from the rows and transitions the solver recorded."""
+"""The samples of a finished deformable-stop solve: states, energy terms, dense evaluation
+and the steady state, read from the rows and transitions its :class:`Solve` recorded."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.deformable.arcs import _evaluate_arcs
+from core.deformable.arcs import evaluate_arcs
+from core.deformable.hermite import dpoly, poly
 from core.deformable.law import (
     BranchPrimitive,
     branch_work,
@@ -17,16 +17,15 @@ from core.deformable.law import (
     phi_compression,
     stored_energy_many,
 )
-from core.deformable.reduced import REST_SPEED_PER_AMPLITUDE
+from core.deformable.rest import REST_SPEED_PER_AMPLITUDE, rest_amplitude
 from core.deformable.state import (
-    _ARC,
-    _HERMITE,
-    _LINE,
-    _OSC,
-    _TRAIN,
+    ARC,
     FIXED_POINT_RTOL,
-    _dpoly,
-    _poly,
+    HERMITE,
+    LINE,
+    OSC,
+    TRAIN,
+    Solve,
 )
 from core.dense import steady_from_transitions
 from core.numerics.hermite import hermite_max
@@ -34,10 +33,6 @@ from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.steady import SwingProbe, pressed_steady, train_steady
 from core.trajectory import evaluate
-
-if TYPE_CHECKING:
-    from core.deformable.solver import _Solver
-
 
 #: Samples added on each branch of a contact (from its start, a reversal of the overlap
 #: rate or its end to the next) besides the uniform grid: a contact lasts ~pi/sqrt(k_c0),
@@ -51,7 +46,7 @@ CONTACT_SAMPLES = 16
 CONTACT_SAMPLED_BRANCHES = 16
 
 
-def _continued(sv: _Solver, times: np.ndarray, with_work: bool = True
+def _continued(sv: Solve, times: np.ndarray, with_work: bool = True
                ) -> tuple[np.ndarray, np.ndarray]:
     """Times mapped into the detected cycle (periodic continuation) and the work the
     repeated cycles add (zeros without ``with_work``); the identity and zeros without a
@@ -81,7 +76,7 @@ class HystereticDense:
     the periodic continuation. Position and velocity are continuous at a deformable stop,
     so ``side`` makes no difference."""
 
-    def __init__(self, sv: _Solver, t_stop: float) -> None:
+    def __init__(self, sv: Solve, t_stop: float) -> None:
         self._sv, self._t_stop = sv, t_stop
 
     def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
@@ -98,7 +93,7 @@ class HystereticDense:
 CYCLE_MAX_POINTS = 2000
 
 
-def _cycle_x_max(sv: _Solver, stop: HystereticStop, t_then: float, t_now: float) -> float:
+def _cycle_x_max(sv: Solve, stop: HystereticStop, t_then: float, t_now: float) -> float:
     """Largest ``x`` of the periodic cycle ``[t_then, t_now]``: the Hermite interpolant of
     the solution's states on :data:`CYCLE_MAX_POINTS` points and its transitions."""
     marks = [tr.t for tr in sv.log.recent if t_then <= tr.t <= t_now]
@@ -107,7 +102,7 @@ def _cycle_x_max(sv: _Solver, stop: HystereticStop, t_then: float, t_now: float)
     return float(hermite_max(tt, x, xd))
 
 
-def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
+def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
     """Samples on the free segments and the contact rows, energy terms, steady state."""
     t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
     if t_eval is None:
@@ -123,8 +118,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
         times = np.asarray(t_eval, dtype=float)
     times = times[times <= t_stop]
     if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
-        t_then, t_now = sv.tail_start
-        _replicate(sv, t_then, t_now, t_now - t_then, t_end)
+        sv.replicate_cycle(t_end)
     t_eval, shift_work = _continued(sv, times)
     x, xd, mode, phi, delta, work, stored = _evaluate(sv, t_eval, stop)
     work = work + shift_work
@@ -194,7 +188,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     )
 
 
-def _last_time(sv: _Solver) -> float:
+def _last_time(sv: Solve) -> float:
     ends = [sv.contact.t1[-1]] if sv.contact.t1 else []
     if sv.table.t1:
         ends.append(sv.table.t1[-1])
@@ -209,7 +203,7 @@ def _last_time(sv: _Solver) -> float:
 TRAIN_CONTACT_FRACTIONS = np.array([0.0, 0.04, 0.08, 0.5, 1.0])
 
 
-def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
+def _train_samples(sv: Solve, t_stop: float, bins: int) -> np.ndarray:
     """Times at the extremes of the contacts a reduced train lays out (their start, middle
     and end, :data:`TRAIN_CONTACT_FRACTIONS`, and the bottom of the flight after each), which
     a uniform grid aliases: a
@@ -219,7 +213,7 @@ def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
     c = sv.contact
     out = []
     for r, kind in enumerate(c.kind):
-        if kind != _TRAIN:
+        if kind != TRAIN:
             continue
         model, t0, t1 = c.data[r][0], c.t0[r], min(c.t1[r], t_stop)
         start = t0 + np.asarray(model.start, dtype=float)
@@ -236,7 +230,7 @@ def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
-def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
+def _contact_samples(sv: Solve, t_stop: float, t_end: float) -> np.ndarray:
     """:data:`CONTACT_SAMPLES` times on each branch of the first and the last
     :data:`CONTACT_SAMPLED_BRANCHES` contact branches, a detected cycle's continuation
     included."""
@@ -264,47 +258,7 @@ def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
     return (a[:, None] + (b - a)[:, None] * frac[None, :]).ravel()
 
 
-def _replicate(sv: _Solver, t_then: float, t_now: float, period: float, t_end: float) -> None:
-    """Transitions after the detected cycle: shifted copies, stored up to the cap.
-
-    Those the solve recorded after the cycle closed (the contact in progress went on to
-    its end) give way to the copies, as the samples there do (:func:`_continued`): kept,
-    each was recorded twice."""
-    late = [tr for tr in sv.log.stored if tr.t > t_now]
-    if late:
-        sv.log.stored = [tr for tr in sv.log.stored if tr.t <= t_now]
-        for tr in late:
-            sv.log.total -= 1
-            sv.log.counts[tr.kind.value] -= 1
-    cycle = [tr for tr in sv.log.stored
-             if t_then < tr.t <= t_now and tr.kind is not TransitionKind.REDUCED]
-    if not cycle:
-        return
-    k = 1
-    while True:
-        if cycle[0].t + k * period > t_end:
-            return
-        if len(sv.log.stored) >= sv.log.cap:
-            remaining = t_end - (cycle[0].t + k * period)
-            full = int(remaining // period) + 1
-            for tr in cycle:
-                n = (
-                    full
-                    if tr.t - cycle[0].t + (full - 1) * period + cycle[0].t + k * period <= t_end
-                    else full - 1
-                )
-                sv.log.total += n
-                sv.log.counts[tr.kind.value] += n
-            return
-        for tr in cycle:
-            ts = tr.t + k * period
-            if ts > t_end:
-                return
-            sv.log.add(tr.kind, ts, tr.x, tr.v, tr.v_after)
-        k += 1
-
-
-def _locate(sv: _Solver, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _locate(sv: Solve, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     starts = np.array([e[0] for e in sv.timeline])
     src = np.array([e[1] for e in sv.timeline], dtype=int)
     row = np.array([e[2] for e in sv.timeline], dtype=int)
@@ -312,7 +266,7 @@ def _locate(sv: _Solver, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return src[i], row[i]
 
 
-def _work_at(sv: _Solver, t: np.ndarray) -> np.ndarray:
+def _work_at(sv: Solve, t: np.ndarray) -> np.ndarray:
     _, _, _, _, _, work, _ = _evaluate(sv, t, sv.stop)
     return work
 
@@ -327,7 +281,7 @@ def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, n
     return a_d, a_p
 
 
-def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
+def _evaluate(sv: Solve, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
     """State, mode, force, overlap, cumulative work and stored energy at times ``t``.
 
     With ``state_only`` only the state ``x, xd`` is complete (the other arrays are left
@@ -360,10 +314,10 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         xb = stop.clearance
         kinds = np.array(c.kind, dtype=np.int8)[rows]
         branch_rows = np.array(c.branch, dtype=int)[rows]
-        is_arc = kinds == _ARC
-        is_osc = (kinds == _OSC) | (kinds == _TRAIN)
+        is_arc = kinds == ARC
+        is_osc = (kinds == OSC) | (kinds == TRAIN)
         if np.any(is_arc):
-            _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
+            evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
         # A reduced model's samples, one call per row (a train's lays out its contacts by
         # a search over thousands: vectorised, not per sample).
         for r in np.unique(rows[is_osc]):
@@ -385,14 +339,14 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
             kind = c.kind[r]
             tau = t[j] - c.t0[r]
             wf, wb, ws = c.work0[r]
-            if kind == _HERMITE:
+            if kind == HERMITE:
                 coeffs, h = c.data[r][:6], c.data[r][6]
                 th = tau / h
-                xj, uj = _poly(coeffs, th), _dpoly(coeffs, th) / h
+                xj, uj = poly(coeffs, th), dpoly(coeffs, th) / h
                 fr = c.friction[r]
                 wf += fr * (xj - coeffs[0])
                 wb += fr * sv.vb * tau
-            elif kind == _LINE:
+            elif kind == LINE:
                 x_start, vb = c.data[r]
                 xj, uj = x_start + vb * tau, vb
                 bi = c.branch[r]
@@ -410,7 +364,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
             return x, xd, mode, phi, x - stop.clearance, work, stored
         mode[idx] = Mode.CONTACT
         # A reduced train's flights are slip towards the stop.
-        mode[idx[(kinds == _TRAIN) & (x[idx] < xb)]] = Mode.SLIP
+        mode[idx[(kinds == TRAIN) & (x[idx] < xb)]] = Mode.SLIP
         brs = c.branches
         delta = x[idx] - xb
         loading = np.array([brs[i].loading for i in branch_rows])
@@ -419,8 +373,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         a_d, a_p = _anchors(brs, branch_rows, stop)
         # A reduced train's contact unloads from its own peak (paper Eq. 12): the row's
         # branch is the first loading of every contact, the envelope.
-        for r in np.unique(rows[kinds == _TRAIN]):
-            sel = np.nonzero((kinds == _TRAIN) & (rows == r))[0]
+        for r in np.unique(rows[kinds == TRAIN]):
+            sel = np.nonzero((kinds == TRAIN) & (rows == r))[0]
             model = c.data[r][0]
             unloading = (xd[idx[sel]] < 0.0) & (delta[sel] > 0.0)
             peak = np.asarray(model.peak(t[idx[sel]] - c.t0[r]), dtype=float)
@@ -429,7 +383,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
             p_r[sel] = np.where(unloading, phi_compression(peak, stop), p_r[sel])
             a_d[sel] = np.where(unloading, math.nan, a_d[sel])
         phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop, a_d, a_p)
-        _reduced_oscillation_forces(c, idx[kinds == _OSC], rows[kinds == _OSC], t, x, phi)
+        _reduced_oscillation_forces(c, idx[kinds == OSC], rows[kinds == OSC], t, x, phi)
         primitives: dict[int, BranchPrimitive] = {}
 
         def primitive(bi: int) -> BranchPrimitive:
@@ -488,17 +442,17 @@ def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np
     return stored
 
 
-def swing_probe(sv: _Solver, t_end: float) -> SwingProbe:
+def swing_probe(sv: Solve, t_end: float) -> SwingProbe:
     """The solution at the horizon against the solver's rule for rest
-    (:func:`core.deformable.reduced.rest_rule`): a swing of ``rest_amplitude`` in the
-    position and :data:`~core.deformable.reduced.REST_SPEED_PER_AMPLITUDE` times it in the
+    (:func:`core.deformable.rest.rest_rule`): a swing of ``rest_amplitude`` in the
+    position and :data:`~core.deformable.rest.REST_SPEED_PER_AMPLITUDE` times it in the
     velocity."""
-    rest = sv.rest_amplitude()
+    rest = rest_amplitude(sv)
     return SwingProbe(HystereticDense(sv, t_end).evaluate, t_end, rest,
                       REST_SPEED_PER_AMPLITUDE * rest)
 
 
-def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
+def _asymptotic(sv: Solve, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
     """Steady state read off the last transitions when no fixed point was found."""
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
@@ -510,7 +464,7 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
         # The passive law's loops of reversals alone retrace their curve: no loss.
         return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive",
                               probe=swing_probe(sv, t_end))
-    endless = getattr(sv, "endless", None)
+    endless = sv.endless
     if endless is not None:
         if endless.mode is Mode.SLIP:
             radius = math.hypot(endless.x0 - endless.centre, endless.v0)

@@ -28,15 +28,12 @@ contact after them.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
-from core.deformable.arcs import _exp_mean, _log_mean_m1
-from core.deformable.law import Branch, _clip_breaks, leaving_overlap
-from core.deformable.node import S_PLUS_MARGIN, _envelope_work
-from core.deformable.state import _first_exit, _hermite_coeffs, _poly
-
-if TYPE_CHECKING:
-    from core.deformable.solver import _Solver
+from core.deformable.arcs import exp_mean, log_mean_m1
+from core.deformable.hermite import first_exit, hermite_coeffs, poly
+from core.deformable.law import Branch, clip_breaks, leaving_overlap
+from core.deformable.node import S_PLUS_MARGIN, envelope_work
+from core.deformable.state import Solve
 
 #: The tolerance of a contact's first two branches where they are not projected, relative
 #: to the solve's ``rtol``, and its floor: 1e-11 at the standard preset. From rest on
@@ -80,7 +77,7 @@ class TrainContact:
     for. ``breaks`` are where its unloading curve meets ``phi_C`` (descending).
     """
 
-    def __init__(self, sv: _Solver, x: float, w: float, s: int, stick: bool):
+    def __init__(self, sv: Solve, x: float, w: float, s: int, stick: bool):
         self.sv, self.w = sv, w
         self.regular = s == 1 and not stick and x == sv.xb
         self.breaks: list[float] = []
@@ -139,9 +136,9 @@ class Kinks:
         on the kink (located on the step's interpolant), or 0 if it cannot be."""
         if not (math.isfinite(a1) and math.isfinite(u1)):
             return 0.0
-        coeffs = _hermite_coeffs(x, u, a0, x1, u1, a1, h)
+        coeffs = hermite_coeffs(x, u, a0, x1, u1, a1, h)
         kink = self.x
-        th = _first_exit(lambda th: _poly(coeffs, th) - kink)
+        th = first_exit(lambda th: poly(coeffs, th) - kink)
         return th * h if 0.0 < th < 1.0 else 0.0
 
     def landed(self, x0: float, x1: float) -> None:
@@ -151,7 +148,7 @@ class Kinks:
             self.x = self.xs.pop(0) if self.xs else -math.inf
 
 
-def project_peak(sv: _Solver, w: float, delta: float) -> float:
+def project_peak(sv: Solve, w: float, delta: float) -> float:
     """The peak overlap of a first loading from the face at approach speed ``w`` in slip
     towards the stop: the root of ``U_C(r) = w^2 / 2`` (``U_C = int phi_C + delta^2 / 2 -
     (a - x_bar) delta``, paper Eq. 14 with ``x' = 0``), by Newton from the integrated
@@ -163,7 +160,7 @@ def project_peak(sv: _Solver, w: float, delta: float) -> float:
     for _ in range(4):
         if not 0.0 < r < sv.d_max:
             return delta
-        excess = _envelope_work(kc, d_lim, r) + r * (0.5 * r - gap) - level
+        excess = envelope_work(kc, d_lim, r) + r * (0.5 * r - gap) - level
         slope = kc * r / (d_lim - r) - gap + r
         if not slope > 0.0:
             return delta
@@ -174,7 +171,7 @@ def project_peak(sv: _Solver, w: float, delta: float) -> float:
     return r if abs(r - delta) <= _projection_max(sv) * d_lim else delta
 
 
-def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float],
+def project_separation(sv: Solve, w: float, branch: Branch, breaks: list[float],
                        v: float) -> float:
     """The separation velocity of a regular contact, ``-sqrt(w^2 - 2 L)``: ``L`` is the area
     between ``phi_C`` and the unloading ``branch`` where that is below ``phi_C`` (between
@@ -192,8 +189,8 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
         # (core.deformable.node._loss, in scalars)
         if not span > 0.0:
             return 0.0
-        band = k_d * r / gap + k_d * d_lim / gap * _log_mean_m1(-span / gap)
-        return span * (band - c0 * _exp_mean(-lam * span))
+        band = k_d * r / gap + k_d * d_lim / gap * log_mean_m1(-span / gap)
+        return span * (band - c0 * exp_mean(-lam * span))
 
     # none: an elastic contact; two (from a peak above s+): less the part above the
     # first, where the curve is above phi_C (clipped to it)
@@ -207,12 +204,12 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
     return out if abs(out - v) <= _projection_max(sv) * w else v
 
 
-def _projection_max(sv: _Solver) -> float:
+def _projection_max(sv: Solve) -> float:
     """The largest relative correction a projection may make (:data:`PROJECTION_PER_RTOL`)."""
     return max(PROJECTION_MAX, PROJECTION_PER_RTOL * sv.rtol)
 
 
-def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
+def unloading_breaks(sv: Solve, branch: Branch) -> list[float] | None:
     """Where the unloading ``branch`` from a peak on ``phi_C`` meets ``phi_C`` again,
     descending: none (an elastic contact, clipped onto ``phi_C`` all the way), one (where it
     is clipped back onto it) or, from a peak above ``s+``, where it first keeps to
@@ -232,7 +229,7 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
     if r >= s_plus - S_PLUS_MARGIN * d_lim:
         if stop.law == "passive":
             return None  # it keeps to phi_C down to s+ (docs/contact-law.md): not this
-        breaks = _clip_breaks(0.0, r * (1.0 - KINK_MARGIN), branch, stop)
+        breaks = clip_breaks(0.0, r * (1.0 - KINK_MARGIN), branch, stop)
         return sorted(breaks, reverse=True) if len(breaks) == 2 else None
     c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
     k_d = (stop.k_c0 - stop.k_e0) * d_lim
@@ -251,5 +248,5 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
             break
         if abs(step) <= 4e-16 * u:
             return [u * d_lim]
-    breaks = [d for d in _clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
+    breaks = [d for d in clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
     return breaks if len(breaks) <= 1 else None

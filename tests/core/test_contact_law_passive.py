@@ -278,7 +278,7 @@ def test_passive_loops_on_the_stop_repeat():
     """A mass pressed on a passive stop ends in loops that retrace their curve, a
     sustained oscillation (the paper's reading shrinks towards rest instead). Once they
     retrace one curve their last cycle is repeated from a 'reduced' transition, with its
-    error stated (core/deformable/reduced.py, repeat_retracing); the repeated cycles
+    error stated (core/deformable/oscillation.py, repeat_retracing); the repeated cycles
     close the balance as the followed ones did."""
     osc = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
     kw = dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)

@@ -1,5 +1,5 @@
 """The reduced model of a shrinking train of contacts of a pressed mass
-(:class:`core.deformable.reduced.Train`) against the step-by-step solve it replaces.
+(:class:`core.deformable.reduced_train.Train`) against the step-by-step solve it replaces.
 
 The belt ``Oscillator(0.45, 0.30, 0.25, u_s=2.0)`` (a = 0.6) presses the mass on a stop
 whose face is at 0.42: the mass bounces on it in ever smaller contacts, thousands of them
@@ -15,7 +15,8 @@ import pytest
 
 from core import HystereticStop, Oscillator, TransitionKind
 from core.deformable import train_map
-from core.deformable.reduced import TRAIN_PER_RTOL, fit_train_decay
+from core.deformable.reduced_train import fit_train_decay
+from core.deformable.rest import TRAIN_PER_RTOL
 from core.deformable.solver import simulate_hysteretic
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)

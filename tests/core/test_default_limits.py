@@ -17,7 +17,7 @@ from core import (
     switch,
 )
 from core.deformable import solver as hysteretic
-from core.deformable.train_map import MAP_CONTACTS_PER_STEP
+from core.deformable.state import MAP_CONTACTS_PER_STEP
 from core.simulate import MAX_STEPS
 
 #: Scene 5a: an elastic stop and a slow belt, one impact per period (never at rest).
