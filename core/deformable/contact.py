@@ -64,7 +64,7 @@ def run_contact(sv: Solve, st: State, stick: bool, inside: Branch | None = None,
     Returns ``"separated"``, ``"rest"``, ``"failed"``, ``"limit"``, ``"periodic"`` or
     ``"horizon"``.
     """
-    stop, xb = sv.stop, sv.xb
+    xb = sv.xb
     opened = open_contact(sv, st, inside, start)
     if isinstance(opened, str):
         return opened
@@ -82,48 +82,79 @@ def run_contact(sv: Solve, st: State, stick: bool, inside: Branch | None = None,
                 return outcome
             stick, s = False, 1
             continue
-        if sv.use_arcs and st.v == 0.0 and branch.delta_r == st.x - xb:
-            phi = arc(sv, st, s, branch)
-            if phi is not None:
-                train.regular = False  # a second reversal
-                branch, ended = reversal(sv, st, branch, phi, reversal_x, s)
-                d_branch0 = st.x - xb
-                if ended:
-                    return ended
-                if sv.status is not Status.SUCCESS:
-                    return "failed"
-                continue
-        outcome, s_new = slip(sv, st, s, branch, train.kinks(),
-                                              train.tight(len(reversal_x)))
-        delta = st.x - xb
-        if outcome == "separated":
-            st.v = train.separation(st.v, branch, len(reversal_x))
-            close_branch(sv, branch, d_branch0, 0.0, st)
-            st.x = xb
-            sv.add_restitution(-st.v / w_in if w_in > 0 else math.nan)
-            sv.record(TransitionKind.SEPARATION, st, st.v)
-            return "separated"
-        if outcome == "reversal":
-            st.x = xb + retraced_top(sv, train.peak(delta, len(reversal_x)), branch)
-            delta = st.x - xb
-            phi, _ = force_and_slope(delta, branch, stop)
-            close_branch(sv, branch, d_branch0, delta, st)
-            branch, ended = reversal(sv, st, branch, phi, reversal_x, s)
-            d_branch0 = delta
-            train.unloading(branch)
+        phi = _arc_to_reversal(sv, st, s, branch)
+        if phi is not None:
+            train.regular = False  # a second reversal
+            branch, ended = _reverse(sv, st, branch, phi, reversal_x, s)
+            d_branch0 = st.x - xb
             if ended:
                 return ended
-            if sv.status is not Status.SUCCESS:
-                return "failed"
+            continue
+        outcome, s_new = slip(sv, st, s, branch, train.kinks(), train.tight(len(reversal_x)))
+        if outcome == "separated":
+            return _separate(sv, st, train, branch, d_branch0, w_in, len(reversal_x))
+        if outcome == "reversal":
+            branch, d_branch0, ended = _reverse_at_peak(sv, st, train, branch, d_branch0,
+                                                       reversal_x, s)
+            if ended:
+                return ended
             continue
         if outcome == "friction":
             train.regular = False
-            stick, s, branch, d_branch0 = belt_speed_reached(
-                    sv,                 st, s, s_new, branch, d_branch0)
+            stick, s, branch, d_branch0 = belt_speed_reached(sv, st, s, s_new, branch,
+                                                             d_branch0)
             continue
-        if outcome in ("failed", "limit", "horizon"):
-            close_branch(sv, branch, d_branch0, delta, st)
-            return outcome
+        # "failed", "limit" or "horizon"
+        close_branch(sv, branch, d_branch0, st.x - xb, st)
+        return outcome
+
+
+def _arc_to_reversal(sv: Solve, st: State, s: int, branch: Branch) -> float | None:
+    """The slip from a reversal to the next as a semi-analytic arc, where the solve takes
+    arcs and ``st`` is the reversal its branch starts from: the force at the new reversal,
+    or ``None`` (integrate it)."""
+    if sv.use_arcs and st.v == 0.0 and branch.delta_r == st.x - sv.xb:
+        return arc(sv, st, s, branch)
+    return None
+
+
+def _reverse(sv: Solve, st: State, branch: Branch, phi: float, reversal_x, s: int
+             ) -> tuple[Branch, str | None]:
+    """:func:`reversal`, and ``"failed"`` if the solve failed there (the work limit)."""
+    branch, ended = reversal(sv, st, branch, phi, reversal_x, s)
+    if not ended and sv.status is not Status.SUCCESS:
+        ended = "failed"
+    return branch, ended
+
+
+def _reverse_at_peak(sv: Solve, st: State, train: TrainContact, branch: Branch,
+                     d_branch0: float, reversal_x, s: int
+                     ) -> tuple[Branch, float, str | None]:
+    """A reversal the steps found: its peak projected (a train's contact, a retraced
+    curve), the branch closed and the next one started. Returns the new branch, its start
+    overlap and how the contact ended, if it did."""
+    delta = st.x - sv.xb
+    st.x = sv.xb + retraced_top(sv, train.peak(delta, len(reversal_x)), branch)
+    delta = st.x - sv.xb
+    phi, _ = force_and_slope(delta, branch, sv.stop)
+    close_branch(sv, branch, d_branch0, delta, st)
+    branch, ended = reversal(sv, st, branch, phi, reversal_x, s)
+    train.unloading(branch)
+    if not ended and sv.status is not Status.SUCCESS:
+        ended = "failed"
+    return branch, delta, ended
+
+
+def _separate(sv: Solve, st: State, train: TrainContact, branch: Branch, d_branch0: float,
+              w_in: float, reversals: int) -> str:
+    """The contact ends at the face: its separation speed (projected for a train's
+    contact), the branch closed, the restitution and the transition recorded."""
+    st.v = train.separation(st.v, branch, reversals)
+    close_branch(sv, branch, d_branch0, 0.0, st)
+    st.x = sv.xb
+    sv.add_restitution(-st.v / w_in if w_in > 0 else math.nan)
+    sv.record(TransitionKind.SEPARATION, st, st.v)
+    return "separated"
 
 
 def open_contact(sv: Solve, st: State, inside: Branch | None, start=start_plain

@@ -119,6 +119,17 @@ def fit_decay(amplitudes) -> Decay | None:
     pairs = list(zip(a[:-1], a[1:], strict=True))
     if any(q >= p for p, q in pairs):
         return None
+    spread, decay = min(_laws(a, pairs), key=lambda f: f[0])
+    if spread > DECAY_SPREAD:
+        return None
+    if decay.law != INVERSE and not 0.0 < decay.rate < 1.0:
+        return None
+    return decay
+
+
+def _laws(a: list[float], pairs: list[tuple[float, float]]) -> list[tuple[float, Decay]]:
+    """Each decay law fitted to the shrinking amplitudes ``a`` (``pairs``: successive
+    ones), with the spread of its per-cycle rates."""
     ratio = [q / p for p, q in pairs]
     inverse = [1.0 / q - 1.0 / p for p, q in pairs]
     steps = [q - p for p, q in pairs]
@@ -132,12 +143,7 @@ def fit_decay(amplitudes) -> Decay | None:
         limit = a[-1] + steps[-1] * q / (1.0 - q)
         if limit > 0.0:
             fits.append((_spread([1.0 - r for r in to_limit]), Decay(LIMIT, q, limit)))
-    spread, decay = min(fits, key=lambda f: f[0])
-    if spread > DECAY_SPREAD:
-        return None
-    if decay.law != INVERSE and not 0.0 < decay.rate < 1.0:
-        return None
-    return decay
+    return fits
 
 
 def decay_holds(reversal_x, decay: Decay, amp0: float, amp_end: float) -> bool:

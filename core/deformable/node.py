@@ -181,21 +181,21 @@ def _loss(stop, r: float, span: float, c0: float, lam: float) -> float:
     return span * float(band - c0 * exp_mean_arr(np.array(-lam * span)))
 
 
-def node_contact(sv: Solve, w: float, profile_points: int | None):
-    """The contact from the face at approach speed ``w`` with the law fresh, in closed form:
-    ``(separation speed, duration, peak x, largest |x''|, profile)`` (the profile
-    ``None`` if ``profile_points`` is), or ``None`` where it is refused (see the module's
-    docstring)."""
-    stop, d_lim, xb = sv.stop, sv.d_lim, sv.xb
-    gap = sv.a - xb
+def _unloading(sv: Solve, w: float):
+    """The peak of the contact at approach speed ``w`` and its unloading:
+    ``(r, low, U_C, phi_C, phi_r, d_c, w_out^2)`` with the peak overlap ``r``, the far
+    turning point ``low`` and the potential and force on ``phi_C`` (:func:`_peak`), the
+    force at the peak, the overlap ``d_c`` below which the unloading keeps to ``phi_C``, and
+    the separation speed squared; ``None`` where the contact is not one regular contact."""
+    stop, d_lim = sv.stop, sv.d_lim
+    gap = sv.a - sv.xb
     if not (0.0 < w and gap > 0.0 and math.hypot(gap, w) < sv.vb):
         return None
-    kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
     peak = _peak(sv, w)
     if peak is None:
         return None
     r, low, u_c, f_c = peak
-    phi_r = kc * r / (d_lim - r)
+    phi_r = stop.k_c0 * d_lim * r / (d_lim - r)
     if phi_r > stop.strength:
         return None
     breaks = clip_breaks(0.0, r, reverse(r, phi_r, FIRST_LOADING, stop), stop)
@@ -203,12 +203,28 @@ def node_contact(sv: Solve, w: float, profile_points: int | None):
         return None
     d_c = breaks[0] if breaks else r  # below d_c the unloading keeps to phi_C
     c0 = (stop.k_c0 - stop.k_e0) * d_lim * r / (d_lim - r)  # the exponential's amplitude
-    lam = stop.beta_e / d_lim
-    span = r - d_c
-    loss = _loss(stop, r, span, c0, lam)
+    loss = _loss(stop, r, r - d_c, c0, stop.beta_e / d_lim)
     w_out2 = w * w - 2.0 * loss
     if not w_out2 > 0.0:
         return None  # it does not separate: a second reversal in contact
+    return r, low, u_c, f_c, phi_r, d_c, w_out2
+
+
+def node_contact(sv: Solve, w: float, profile_points: int | None):
+    """The contact from the face at approach speed ``w`` with the law fresh, in closed form:
+    ``(separation speed, duration, peak x, largest |x''|, profile)`` (the profile
+    ``None`` if ``profile_points`` is), or ``None`` where it is refused (see the module's
+    docstring)."""
+    stop, d_lim, xb = sv.stop, sv.d_lim, sv.xb
+    gap = sv.a - xb
+    kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
+    unloading = _unloading(sv, w)
+    if unloading is None:
+        return None
+    r, low, u_c, f_c, phi_r, d_c, w_out2 = unloading
+    c0 = (stop.k_c0 - stop.k_e0) * d_lim * r / (d_lim - r)  # the exponential's amplitude
+    lam = stop.beta_e / d_lim
+    span = r - d_c
 
     def on_c(top):  # mean net force over [top, top + e] on phi_C
         return lambda e: (_mean_hyper(kc, d_lim, top, -e) + top + 0.5 * e - gap)

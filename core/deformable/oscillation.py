@@ -216,20 +216,18 @@ def reduce_oscillation(sv: Solve, st: State, branch: Branch, reversal_x, s: int)
     if not (sv.use_reduced and sv.pressed() and s > 0) or len(reversal_x) < WINDOW:
         return None
     ts, xs, ns = zip(*reversal_x[-WINDOW:], strict=True)
-    period = ts[-1] - ts[-3]
     tol = reduce_extent(sv)
     if sv.stop.law == "passive":
         return repeat_retracing(sv, st, ts, xs, ns)
-    swings = np.abs(np.diff(xs))
     amps = cycle_amplitudes(xs)
     decay = fit_decay(amps)
     if decay is None:
         return None
     period = (ts[-1] - ts[0]) / DECAY_FIT  # the window's mean cycle: the model keeps phase
-    omega = 2.0 * math.pi / period
     if decay.law == LIMIT and decay.limit * rest_swing_factor(period) > 0.5 * rest_amplitude(sv):
         # The loops near their limit: the last cycle is repeated once the amplitude left
         # and the phase the repeated cycle loses by the horizon are within the tolerance.
+        omega = 2.0 * math.pi / period
         error = (2.0 * (amps[-1] - decay.limit) * max(1.0, omega)
                  + retrace_error(sv, st, ts, xs))
         if error > tol:
@@ -237,6 +235,16 @@ def reduce_oscillation(sv: Solve, st: State, branch: Branch, reversal_x, s: int)
         return _repeat_last_cycle(sv, st, ts, ns, error)
     if 2.0 * amps[-1] > train_band(sv) or 2.0 * math.pi / period * amps[-1] >= sv.vb:
         return None
+    return _decaying(sv, st, branch, reversal_x, s, decay, period, tol)
+
+
+def _decaying(sv: Solve, st: State, branch: Branch, reversal_x, s: int, decay: Decay,
+              period: float, tol: float):
+    """The reduced model of loops that die out (:func:`reduce_oscillation`), tried on the
+    window's cycles with the fitted ``decay``: ``None`` while its bounds are above the
+    tolerance ``tol`` or its decay does not hold (tried again later)."""
+    xs = [x for _, x, _ in reversal_x[-WINDOW:]]
+    swings = np.abs(np.diff(xs))
     x_c = 0.5 * (xs[-1] + xs[-2])
     # Without its creep first (cheap): most reversals end here while the loops are large.
     plain = Oscillation(x_c, 0.5 * swings[-1], period, 0.0, decay)

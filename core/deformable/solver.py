@@ -131,7 +131,6 @@ def solve_hysteretic(
     sv = Solve(osc, stop, t_end, rtol, atol, transition_cap,
                max_steps=check_integer("max_steps", max_steps, 1, COUNT_MAX),
                use_arcs=arcs and stop.law == "paper", use_reduced=reduce)
-    xb = stop.clearance
     st = State(0.0, x0, v0, (0.0, 0.0, 0.0))
     motion = start_motion(osc, x0, v0)
     # Each pass records a transition, or moves to a contact that records one: twice the
@@ -139,47 +138,63 @@ def solve_hysteretic(
     for _ in range(2 * sv.max_steps + 2):
         if st.t >= t_end or sv.steady is not None or sv.status is not Status.SUCCESS:
             break
-        if st.t == 0.0 and x0 > xb:  # a start inside the stop
-            inside = start_branch(x0 - xb, v0, motion.s * osc.a - x0, stop)
-            phi0 = force_and_slope(x0 - xb, inside, stop)[0]
-            held = v0 == osc.v and abs(x0 + phi0) <= osc.b
-            if held and osc.v == 0.0:  # held for ever where it starts
-                rest_in_place(sv, st, inside)
-                break
-            outcome = run_contact(sv, st, stick=held, inside=inside, start=start_train)
-            if outcome != "separated":
-                break
-            motion = start_motion(osc, st.x, st.v)
-            continue
-        into_stop = st.x >= xb and (
-            st.v > 0.0 or (st.v == 0.0 and motion.mode is Mode.SLIP and motion.s * osc.a > xb)
-        )
-        if into_stop:
-            outcome = run_contact(sv, st, stick=motion.mode is Mode.STICK and st.v == osc.v,
-                                  start=start_train)
-            if outcome != "separated":
-                break
-            motion = start_motion(osc, st.x, st.v)
-            continue
-        seg, ev = free_flight(osc, st.t, st.x, st.v, motion, xb)
-        if ev is None or ev.t >= t_end:
-            sv.add_free(seg, t_end, st)
-            st.x, st.v = seg.state_at(min(t_end, seg.t1) if ev is not None else t_end)
-            st.t = t_end
-            if ev is None:
-                sv.end_free(seg)
+        motion = _one_pass(sv, st, motion, x0, v0)
+        if motion is None:
             break
-        sv.add_free(seg, ev.t, st)
-        st.t, st.x, st.v = ev.t, ev.x, ev.v
-        if ev.kind is TransitionKind.IMPACT:
-            if motion.mode is Mode.STICK:
-                st.v = osc.v
-            continue
-        sv.record(ev.kind, st, ev.v)
-        motion = after_event(osc, ev, motion)
     else:
         sv.fail(Status.STEP_LIMIT)
     return assemble(sv, osc, stop, t_end, x0, v0, n_samples, t_eval)
+
+
+def _one_pass(sv: Solve, st: State, motion, x0: float, v0: float):
+    """One pass of the event loop from ``st``: a contact to its end, or a free flight to its
+    event. Returns the motion after it, or ``None`` where the solve ends."""
+    osc, xb = sv.osc, sv.xb
+    if st.t == 0.0 and x0 > xb:
+        return _start_inside(sv, st, motion, x0, v0)
+    into_stop = st.x >= xb and (
+        st.v > 0.0 or (st.v == 0.0 and motion.mode is Mode.SLIP and motion.s * osc.a > xb)
+    )
+    if into_stop:
+        outcome = run_contact(sv, st, stick=motion.mode is Mode.STICK and st.v == osc.v,
+                              start=start_train)
+        return start_motion(osc, st.x, st.v) if outcome == "separated" else None
+    return _fly(sv, st, motion)
+
+
+def _start_inside(sv: Solve, st: State, motion, x0: float, v0: float):
+    """A start inside the stop at ``(x0, v0)``: held there for ever, or the contact it
+    starts."""
+    osc, stop = sv.osc, sv.stop
+    inside = start_branch(x0 - sv.xb, v0, motion.s * osc.a - x0, stop)
+    phi0 = force_and_slope(x0 - sv.xb, inside, stop)[0]
+    held = v0 == osc.v and abs(x0 + phi0) <= osc.b
+    if held and osc.v == 0.0:  # held for ever where it starts
+        rest_in_place(sv, st, inside)
+        return None
+    outcome = run_contact(sv, st, stick=held, inside=inside, start=start_train)
+    return start_motion(osc, st.x, st.v) if outcome == "separated" else None
+
+
+def _fly(sv: Solve, st: State, motion):
+    """Free flight (exact, :mod:`core.flight`) from ``st`` to its event or the horizon."""
+    osc, t_end = sv.osc, sv.t_end
+    seg, ev = free_flight(osc, st.t, st.x, st.v, motion, sv.xb)
+    if ev is None or ev.t >= t_end:
+        sv.add_free(seg, t_end, st)
+        st.x, st.v = seg.state_at(min(t_end, seg.t1) if ev is not None else t_end)
+        st.t = t_end
+        if ev is None:
+            sv.end_free(seg)
+        return None
+    sv.add_free(seg, ev.t, st)
+    st.t, st.x, st.v = ev.t, ev.x, ev.v
+    if ev.kind is TransitionKind.IMPACT:
+        if motion.mode is Mode.STICK:
+            st.v = osc.v
+        return motion
+    sv.record(ev.kind, st, ev.v)
+    return after_event(osc, ev, motion)
 
 
 #: :func:`solve_hysteretic` with the inputs of :func:`core.simulate`.

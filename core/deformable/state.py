@@ -388,21 +388,9 @@ class Solve:
         if not cycle:
             return
         k = 1
-        while True:
-            if cycle[0].t + k * period > t_end:
-                return
+        while cycle[0].t + k * period <= t_end:
             if len(log.stored) >= log.cap:
-                remaining = t_end - (cycle[0].t + k * period)
-                full = int(remaining // period) + 1
-                for tr in cycle:
-                    n = (
-                        full
-                        if tr.t - cycle[0].t + (full - 1) * period + cycle[0].t + k * period
-                        <= t_end
-                        else full - 1
-                    )
-                    log.total += n
-                    log.counts[tr.kind.value] += n
+                self._count_copies(cycle, k, period, t_end)
                 return
             for tr in cycle:
                 ts = tr.t + k * period
@@ -410,3 +398,17 @@ class Solve:
                     return
                 log.add(tr.kind, ts, tr.x, tr.v, tr.v_after)
             k += 1
+
+    def _count_copies(self, cycle, k: int, period: float, t_end: float) -> None:
+        """Count, not store, the copies of ``cycle`` from the ``k``-th on to ``t_end``."""
+        log = self.log
+        remaining = t_end - (cycle[0].t + k * period)
+        full = int(remaining // period) + 1
+        for tr in cycle:
+            n = (
+                full
+                if tr.t - cycle[0].t + (full - 1) * period + cycle[0].t + k * period <= t_end
+                else full - 1
+            )
+            log.total += n
+            log.counts[tr.kind.value] += n

@@ -416,10 +416,35 @@ def map_train(sv: Solve, st: State, train: list) -> bool:
     :func:`core.deformable.reduced_train.advance_train` (each flight conserves the slip
     circle's energy, so the stop takes what the approach speed loses).
     """
+    ready = _ready(sv, st, train)
+    if ready is None:
+        return False
+    period, w_inf = ready
+    sv.mark_map_tried()
+    gap = sv.a - sv.xb
+    runs, maps = _runs(sv, st, st.v, w_inf, period, gap)
+    if not runs or sum(len(r.start) for r in runs) == 0:
+        return False
+    t, dw, dt = runs[-1].t_last, runs[-1].err_speed, runs[-1].err_time
+    run = MapRun(np.concatenate([r.start for r in runs]),
+                 np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
+                 np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
+    cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
+                            overlap=max(m.overlap for m in maps),
+                            nodes=np.concatenate([m.nodes for m in maps]),
+                            profiles=np.concatenate([m.profiles for m in maps]))
+    _advance(sv, st, run, cmap, gap)
+    return True
+
+
+def _ready(sv: Solve, st: State, train: list) -> tuple[float, float] | None:
+    """``(period, w_inf)`` of a train the map may take over from ``st``, or ``None``: not
+    regular, too short, too near the horizon for the nodes to pay, still losing much per
+    contact, or not above its elastic speed (see :func:`map_train`)."""
     if not (sv.use_reduced and sv.pressed()) or sv.map_tried:
-        return False
+        return None
     if len(train) < MIN_CONTACTS + 1:
-        return False
+        return None
     gap = sv.a - sv.xb
     w_now = st.v
     # Regular: one reversal per contact, no stick in contact (x' <= w < v) nor in flight
@@ -427,20 +452,26 @@ def map_train(sv: Solve, st: State, train: list) -> bool:
     window = train[-(MIN_CONTACTS + 1):]
     if any(n1 - n0 != len(REGULAR) for (_, _, _, n0), (_, _, _, n1)
            in zip(window[:-1], window[1:], strict=True)):
-        return False
+        return None
     if not math.hypot(gap, w_now) < sv.vb or not 0.0 < w_now:
-        return False
+        return None
     period = window[-1][0] - window[-2][0]
     if (sv.t_end - st.t) / period < MIN_GAIN * (DEGREE + 1):
-        return False
+        return None
     # A train that still loses much per contact crosses a range in a few contacts: the
     # nodes would cost more than they save. It is tried again at a later contact.
     if window[-2][1] - w_now > MAX_LOSS * w_now:
-        return False
+        return None
     w_inf = elastic_speed(sv)
     if not w_inf < w_now:
-        return False
-    sv.mark_map_tried()
+        return None
+    return period, w_inf
+
+
+def _runs(sv: Solve, st: State, w_now: float, w_inf: float, period: float, gap: float
+          ) -> tuple[list[MapRun], list[ContactMap]]:
+    """The map's ranges from ``w_now`` towards ``w_inf``, each built when the iteration
+    leaves the one before and iterated (the runs and their maps)."""
     # the contacts it may lay out within the work limit (what is left of it)
     budget = max(0, sv.max_steps - sv.work_steps()) * MAP_CONTACTS_PER_STEP
     runs, maps = [], []
@@ -472,17 +503,7 @@ def map_train(sv: Solve, st: State, train: list) -> bool:
         floor = cmap.lo  # the iterate left this range: the next one reaches lower
         if run.reason != "range":
             break
-    if not runs or sum(len(r.start) for r in runs) == 0:
-        return False
-    run = MapRun(np.concatenate([r.start for r in runs]),
-                 np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
-                 np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
-    cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
-                            overlap=max(m.overlap for m in maps),
-                            nodes=np.concatenate([m.nodes for m in maps]),
-                            profiles=np.concatenate([m.profiles for m in maps]))
-    _advance(sv, st, run, cmap, gap)
-    return True
+    return runs, maps
 
 
 def _advance(sv: Solve, st: State, run: MapRun, cmap: ContactMap, gap: float) -> None:
