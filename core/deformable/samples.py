@@ -105,18 +105,7 @@ def _cycle_x_max(sv: Solve, stop: HystereticStop, t_then: float, t_now: float) -
 def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
     """Samples on the free segments and the contact rows, energy terms, steady state."""
     t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
-    if t_eval is None:
-        # The motion's end is one of its points: a solve stopped early (the limit
-        # overlap, a failed stop, a budget) ends between samples, and without it the
-        # result's last state was a contact sample before the end (a limit reached at
-        # t = 1.79626 read as x at t = 1.79588, 6 % of the overlap short).
-        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop] + [t_stop]
-        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
-                                          _contact_samples(sv, t_stop, t_end),
-                                          _train_samples(sv, t_stop, n_samples))))
-    else:
-        times = np.asarray(t_eval, dtype=float)
-    times = times[times <= t_stop]
+    times = _sample_times(sv, t_end, t_stop, n_samples, t_eval)
     if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
         sv.replicate_cycle(t_end)
     t_eval, shift_work = _continued(sv, times)
@@ -135,7 +124,6 @@ def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Res
         steady = _asymptotic(sv, t_end, mode, xd)
     elif steady.kind is SteadyKind.PERIODIC and math.isnan(steady.x_max):
         steady = dataclasses.replace(steady, x_max=_cycle_x_max(sv, stop, *sv.tail_start))
-    restitution = sv.restitution
     stats = make_stats(
         segments=len(sv.table) + len(sv.contact.kind),
         steps=sv.steps,
@@ -143,26 +131,7 @@ def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Res
         rhs_evals=sv.rhs_evals + sv.arc_evals,
         events=sv.log.total,
     )
-    info = {
-        "n_contacts": sv.n_contacts,
-        "work_steps": sv.work_steps(),
-        "contact_rhs_evals": sv.rhs_evals,
-        "arcs": sv.arcs,
-        "arc_evals": sv.arc_evals,
-        "effective_restitution": restitution[-1] if restitution else math.nan,
-        "effective_restitution_first": restitution[0] if restitution else math.nan,
-        "law": stop.law,
-    }
-    if not math.isnan(sv.rest_force):
-        info["rest_force"] = sv.rest_force
-    if sv.reduced_error > 0.0:
-        info["length_scale"] = sv.scale()
-        info["reduced_error"] = sv.reduced_error
-        # The band where a model states one (a fitted train's error also holds the
-        # velocity, up to twice its approach speed); else its error bounds the position too.
-        info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
-    if sv.rest_time_error > 0.0:
-        info["rest_time_error"] = sv.rest_time_error
+    info = _info(sv, stop)
     x_max = sv.x_max
     if sv.table.t0:
         x_max = max(x_max, sv.table.x_max)
@@ -186,6 +155,50 @@ def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Res
         info=info,
         dense=HystereticDense(sv, t_stop),
     )
+
+
+def _sample_times(sv: Solve, t_end: float, t_stop: float, n_samples: int, t_eval
+                  ) -> np.ndarray:
+    """The sample times up to ``t_stop``: ``t_eval``, or ``n_samples`` uniform ones with the
+    transitions, the motion's end and the extra samples of contacts and reduced trains."""
+    if t_eval is None:
+        # The motion's end is one of its points: a solve stopped early (the limit
+        # overlap, a failed stop, a budget) ends between samples, and without it the
+        # result's last state was a contact sample before the end (a limit reached at
+        # t = 1.79626 read as x at t = 1.79588, 6 % of the overlap short).
+        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop] + [t_stop]
+        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
+                                          _contact_samples(sv, t_stop, t_end),
+                                          _train_samples(sv, t_stop, n_samples))))
+    else:
+        times = np.asarray(t_eval, dtype=float)
+    return times[times <= t_stop]
+
+
+def _info(sv: Solve, stop: HystereticStop) -> dict:
+    """The result's ``info`` (:func:`core.deformable.solver.solve_hysteretic`)."""
+    restitution = sv.restitution
+    info = {
+        "n_contacts": sv.n_contacts,
+        "work_steps": sv.work_steps(),
+        "contact_rhs_evals": sv.rhs_evals,
+        "arcs": sv.arcs,
+        "arc_evals": sv.arc_evals,
+        "effective_restitution": restitution[-1] if restitution else math.nan,
+        "effective_restitution_first": restitution[0] if restitution else math.nan,
+        "law": stop.law,
+    }
+    if not math.isnan(sv.rest_force):
+        info["rest_force"] = sv.rest_force
+    if sv.reduced_error > 0.0:
+        info["length_scale"] = sv.scale()
+        info["reduced_error"] = sv.reduced_error
+        # The band where a model states one (a fitted train's error also holds the
+        # velocity, up to twice its approach speed); else its error bounds the position too.
+        info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
+    if sv.rest_time_error > 0.0:
+        info["rest_time_error"] = sv.rest_time_error
+    return info
 
 
 def _last_time(sv: Solve) -> float:
@@ -230,6 +243,21 @@ def _train_samples(sv: Solve, t_stop: float, bins: int) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
+def _repeated_spans(tail: tuple[float, float], spans: list[tuple[float, float]],
+                    t_end: float) -> list[tuple[float, float]]:
+    """The contact branches of the periodic cycle ``tail = (t_then, t_now)`` among
+    ``spans``, shifted by the cycle's repeats up to ``t_end`` (the last of them only)."""
+    t_then, t_now = tail
+    period = t_now - t_then
+    cycle = [(a, b) for a, b in spans if a >= t_then and b <= t_now + 1e-12 * period]
+    repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
+    # Only the last repeats can be among the sampled branches: a cycle of a train of
+    # micro-contacts may repeat a million times.
+    first = max(1, repeats - CONTACT_SAMPLED_BRANCHES)
+    return [(a + k * period, b + k * period)
+            for k in range(first, repeats + 1) for a, b in cycle if a + k * period < t_end]
+
+
 def _contact_samples(sv: Solve, t_stop: float, t_end: float) -> np.ndarray:
     """:data:`CONTACT_SAMPLES` times on each branch of the first and the last
     :data:`CONTACT_SAMPLED_BRANCHES` contact branches, a detected cycle's continuation
@@ -240,15 +268,7 @@ def _contact_samples(sv: Solve, t_stop: float, t_end: float) -> np.ndarray:
     spans = [(t0, t1) for (t0, k0), (t1, _) in zip(marks[:-1], marks[1:], strict=True)
              if k0 is not TransitionKind.SEPARATION and t1 > t0]
     if spans and sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
-        t_then, t_now = sv.tail_start
-        period = t_now - t_then
-        cycle = [(a, b) for a, b in spans if a >= t_then and b <= t_now + 1e-12 * period]
-        repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
-        # Only the last repeats can be among the sampled branches: a cycle of a train of
-        # micro-contacts may repeat a million times.
-        first = max(1, repeats - CONTACT_SAMPLED_BRANCHES)
-        spans += [(a + k * period, b + k * period)
-                  for k in range(first, repeats + 1) for a, b in cycle if a + k * period < t_end]
+        spans += _repeated_spans(sv.tail_start, spans, t_end)
     if len(spans) > 2 * CONTACT_SAMPLED_BRANCHES:
         spans = spans[:CONTACT_SAMPLED_BRANCHES] + spans[-CONTACT_SAMPLED_BRANCHES:]
     if not spans:
@@ -300,12 +320,7 @@ def _evaluate(sv: Solve, t: np.ndarray, stop: HystereticStop, state_only: bool =
     src, first_row = _locate(sv, t)
     free = src == 0
     if np.any(free):
-        table = sv.table.arrays(sv.vb)
-        out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
-        x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
-        work[free, 0] = out["friction_work"]
-        work[free, 1] = out["belt_input"]
-        work[free, 2] = out["stop_loss"]
+        _evaluate_free(sv, t, free, x, xd, mode, work)
     idx = np.nonzero(~free)[0]
     if len(idx):
         c = sv.contact
@@ -318,48 +333,9 @@ def _evaluate(sv: Solve, t: np.ndarray, stop: HystereticStop, state_only: bool =
         is_osc = (kinds == OSC) | (kinds == TRAIN)
         if np.any(is_arc):
             evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
-        # A reduced model's samples, one call per row (a train's lays out its contacts by
-        # a search over thousands: vectorised, not per sample).
-        for r in np.unique(rows[is_osc]):
-            js = idx[is_osc][rows[is_osc] == r]
-            model, x_s, m_s, loss_s = c.data[r]
-            tau = t[js] - c.t0[r]
-            xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
-                           for q in model.state(tau))
-            wf, wb, ws = c.work0[r]
-            dwf = c.friction[r] * (xj - x_s)
-            x[js], xd[js] = xj, uj
-            work[js, 0] = wf + dwf
-            work[js, 1] = wb + c.friction[r] * sv.vb * tau
-            work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
-            dissipated = model.energy(model.amp0) - model.energy(amp)
-            stored[js] = work[js, 2] - (loss_s + dissipated)
+        _evaluate_reduced(sv, t, idx[is_osc], rows[is_osc], x, xd, work, stored)
         plain = ~is_arc & ~is_osc
-        for j, r in zip(idx[plain], rows[plain], strict=True):
-            kind = c.kind[r]
-            tau = t[j] - c.t0[r]
-            wf, wb, ws = c.work0[r]
-            if kind == HERMITE:
-                coeffs, h = c.data[r][:6], c.data[r][6]
-                th = tau / h
-                xj, uj = poly(coeffs, th), dpoly(coeffs, th) / h
-                fr = c.friction[r]
-                wf += fr * (xj - coeffs[0])
-                wb += fr * sv.vb * tau
-            elif kind == LINE:
-                x_start, vb = c.data[r]
-                xj, uj = x_start + vb * tau, vb
-                bi = c.branch[r]
-                wst = 0.5 * (xj * xj - x_start * x_start) + branch_work(
-                    x_start - xb, xj - xb, c.branches[bi], stop
-                )
-                wf += wst
-                wb += wst
-            else:
-                xj, uj = c.data[r][0], 0.0
-                wb += c.friction[r] * sv.vb * tau
-            x[j], xd[j] = xj, uj
-            work[j, 0], work[j, 1] = wf, wb
+        _evaluate_rows(sv, t, idx[plain], rows[plain], x, xd, work)
         if state_only:
             return x, xd, mode, phi, x - stop.clearance, work, stored
         mode[idx] = Mode.CONTACT
@@ -411,6 +387,67 @@ def _evaluate(sv: Solve, t: np.ndarray, stop: HystereticStop, state_only: bool =
         stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
                                    d_r[own], p_r[own], branch_rows[own], primitive, stop)
     return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _evaluate_free(sv: Solve, t, free, x, xd, mode, work) -> None:
+    """The samples ``free`` (a mask of ``t``) in free flight, from its closed form."""
+    table = sv.table.arrays(sv.vb)
+    out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
+    x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
+    work[free, 0] = out["friction_work"]
+    work[free, 1] = out["belt_input"]
+    work[free, 2] = out["stop_loss"]
+
+
+def _evaluate_reduced(sv: Solve, t, idx, rows, x, xd, work, stored) -> None:
+    """The samples ``idx`` in the reduced models' ``rows``, one call per row (a train's lays
+    out its contacts by a search over thousands: vectorised, not per sample)."""
+    c = sv.contact
+    for r in np.unique(rows):
+        js = idx[rows == r]
+        model, x_s, m_s, loss_s = c.data[r]
+        tau = t[js] - c.t0[r]
+        xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
+                       for q in model.state(tau))
+        wf, wb, ws = c.work0[r]
+        dwf = c.friction[r] * (xj - x_s)
+        x[js], xd[js] = xj, uj
+        work[js, 0] = wf + dwf
+        work[js, 1] = wb + c.friction[r] * sv.vb * tau
+        work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
+        dissipated = model.energy(model.amp0) - model.energy(amp)
+        stored[js] = work[js, 2] - (loss_s + dissipated)
+
+
+def _evaluate_rows(sv: Solve, t, idx, rows, x, xd, work) -> None:
+    """The samples ``idx`` in Dormand-Prince steps, stick lines and rest (``rows``): the
+    state and the friction and belt work."""
+    c, stop, xb = sv.contact, sv.stop, sv.xb
+    for j, r in zip(idx, rows, strict=True):
+        kind = c.kind[r]
+        tau = t[j] - c.t0[r]
+        wf, wb, ws = c.work0[r]
+        if kind == HERMITE:
+            coeffs, h = c.data[r][:6], c.data[r][6]
+            th = tau / h
+            xj, uj = poly(coeffs, th), dpoly(coeffs, th) / h
+            fr = c.friction[r]
+            wf += fr * (xj - coeffs[0])
+            wb += fr * sv.vb * tau
+        elif kind == LINE:
+            x_start, vb = c.data[r]
+            xj, uj = x_start + vb * tau, vb
+            bi = c.branch[r]
+            wst = 0.5 * (xj * xj - x_start * x_start) + branch_work(
+                x_start - xb, xj - xb, c.branches[bi], stop
+            )
+            wf += wst
+            wb += wst
+        else:
+            xj, uj = c.data[r][0], 0.0
+            wb += c.friction[r] * sv.vb * tau
+        x[j], xd[j] = xj, uj
+        work[j, 0], work[j, 1] = wf, wb
 
 
 def _reduced_oscillation_forces(c, idx, rows, t, x, phi) -> None:

@@ -218,7 +218,7 @@ def unloading_breaks(sv: Solve, branch: Branch) -> list[float] | None:
 
     Below ``s+`` it meets ``phi_C`` once, at ``u = delta / D < s- / D``, if the peak is
     above ``s-``, where ``g(u) = log(u / (1 - u)) - beta_e u + C`` vanishes (the logarithm
-    of :func:`core.deformable.law._clip_breaks`'s ``f``): ``g`` rises and is concave on
+    of :func:`core.deformable.law.clip_breaks`'s ``f``): ``g`` rises and is concave on
     ``(0, s- / D)``, so Newton from the root of its first two terms, left of the root,
     converges to it from the left (in ~5 steps; brentq took ten times as long). Above
     ``s+`` (rare: the first contacts of a train from rest), by brentq."""
@@ -240,13 +240,22 @@ def unloading_breaks(sv: Solve, branch: Branch) -> list[float] | None:
     u = 1.0 / (1.0 + math.exp(big_c)) if big_c < 700.0 else math.exp(-big_c)
     if u < BREAK_FLOOR:
         return [0.0]
-    u_minus = (d_lim - s_plus) / d_lim
+    u = _clip_root(u, beta, big_c, (d_lim - s_plus) / d_lim)
+    if u is not None:
+        return [u * d_lim]
+    breaks = [d for d in clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
+    return breaks if len(breaks) <= 1 else None
+
+
+def _clip_root(u: float, beta: float, big_c: float, u_minus: float) -> float | None:
+    """Newton on ``g(u) = log(u / (1 - u)) - beta u + C`` from ``u`` (left of its root in
+    ``(0, u_minus)``, see :func:`unloading_breaks`); ``None`` if it leaves that interval or
+    does not converge."""
     for _ in range(BREAK_NEWTON):
         step = (math.log(u / (1.0 - u)) - beta * u + big_c) / (1.0 / (u * (1.0 - u)) - beta)
         u -= step
         if not 0.0 < u < u_minus:
-            break
+            return None
         if abs(step) <= 4e-16 * u:
-            return [u * d_lim]
-    breaks = [d for d in clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
-    return breaks if len(breaks) <= 1 else None
+            return u
+    return None
