@@ -208,13 +208,11 @@ def slip(sv: Solve, st: State, s: int, branch: Branch, kinks: list[float] = (),
     stop, xb, vb = sv.stop, sv.xb, sv.vb
     rtol, atol = step_tolerances(sv, tight)
     t_end, d_lim, d_max = sv.t_end, stop.limit_overlap, sv.d_max
-    loading = branch.loading
-    strength_finite = math.isfinite(stop.strength)
+    leaves = _mode_test(xb, branch.loading, s, vb, d_max, math.isfinite(stop.strength))
     sa = s * sv.a
     sav = sa * vb
     add_row = sv.add_row
     steps = rejected = 0
-    isfinite, sqrt = math.isfinite, math.sqrt
     x, u, t = st.x, st.v, st.t
     acc = accel(sv, s, branch)
     a0 = acc(x)
@@ -236,44 +234,15 @@ def slip(sv: Solve, st: State, s: int, branch: Branch, kinks: list[float] = (),
             sv.reach(x_max)
             return "horizon", s
         n_evals += 6
-        # Dormand-Prince stages; the acceleration depends on x only.
-        k1x, k1u = u, a0
-        y2x, y2u = x + h * A21 * k1x, u + h * A21 * k1u
-        k2x, k2u = y2u, acc(y2x)
-        y3x = x + h * (A31 * k1x + A32 * k2x)
-        y3u = u + h * (A31 * k1u + A32 * k2u)
-        k3x, k3u = y3u, acc(y3x)
-        y4x = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
-        y4u = u + h * (A41 * k1u + A42 * k2u + A43 * k3u)
-        k4x, k4u = y4u, acc(y4x)
-        y5x = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
-        y5u = u + h * (A51 * k1u + A52 * k2u + A53 * k3u + A54 * k4u)
-        k5x, k5u = y5u, acc(y5x)
-        y6x = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
-        y6u = u + h * (A61 * k1u + A62 * k2u + A63 * k3u + A64 * k4u + A65 * k5u)
-        k6x, k6u = y6u, acc(y6x)
-        x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
-        u1 = u + h * (B1 * k1u + B3 * k3u + B4 * k4u + B5 * k5u + B6 * k6u)
-        if not (isfinite(x1) and isfinite(u1)) or x1 - xb >= d_lim:
-            err = math.inf
-            a1 = math.nan
-        else:
-            a1 = acc(x1)
-            k7x, k7u = u1, a1
-            ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
-            eu = h * (E1 * k1u + E3 * k3u + E4 * k4u + E5 * k5u + E6 * k6u + E7 * k7u)
-            ax, ax1, au, au1 = abs(x), abs(x1), abs(u), abs(u1)
-            sx = atol + rtol * (ax if ax >= ax1 else ax1)
-            su = atol + rtol * (au if au >= au1 else au1)
-            err = sqrt(0.5 * ((ex / sx) ** 2 + (eu / su) ** 2))
-        if x1 < kink_x and not landing:
+        x1, u1, a1, err = dp_step(acc, x, u, a0, h, rtol, atol, xb, d_lim)
+        if x1 < kink_x:  # (-inf while landing)
             h_cut = ahead.cut(x, u, a0, x1, u1, a1, h)
             if h_cut > 0.0:
-                h, landing = h_cut, True
+                h, landing, kink_x = h_cut, True, -math.inf
                 continue
         if err > 1.0:
             rejected += 1
-            h *= max(MIN_FACTOR, SAFETY * err**-0.2) if isfinite(err) else MIN_FACTOR
+            h *= max(MIN_FACTOR, SAFETY * err**-0.2) if math.isfinite(err) else MIN_FACTOR
             if h < h_min:
                 sv.tally(steps, rejected, n_evals)
                 sv.reach(x_max)
@@ -283,9 +252,7 @@ def slip(sv: Solve, st: State, s: int, branch: Branch, kinks: list[float] = (),
             continue
         coeffs = hermite_coeffs(x, u, a0, x1, u1, a1, h)
         turn = may_pass_belt(u, u1, a0, a1, h, s, vb)
-        if (x1 < xb or (u1 < 0.0 if loading else u1 > 0.0)
-                or (u1 > vb if s > 0 else u1 < vb) or x1 - xb > d_max or strength_finite
-                or turn):
+        if leaves(x1, u1, turn):
             found = step_events(sv, coeffs, h, x1, u1, s, branch, turn)
         else:
             found = None
@@ -311,6 +278,71 @@ def slip(sv: Solve, st: State, s: int, branch: Branch, kinks: list[float] = (),
             landing = False
             ahead.landed(coeffs[0], x1)  # coeffs[0]: the step's start
             kink_x = ahead.x
+
+
+def _mode_test(xb: float, loading: bool, s: int, vb: float, d_max: float,
+               strength_finite: bool):
+    """Whether a step's end ``(x1, u1)`` may have left the mode (separation, reversal,
+    the belt's speed, the limit, a finite strength to check, or a velocity that turns,
+    ``turn``): its events are then located."""
+    if loading:
+        if s > 0:
+            def leaves(x1: float, u1: float, turn: bool) -> bool:
+                return (x1 < xb or u1 < 0.0 or u1 > vb or x1 - xb > d_max or strength_finite
+                        or turn)
+        else:
+            def leaves(x1: float, u1: float, turn: bool) -> bool:
+                return (x1 < xb or u1 < 0.0 or u1 < vb or x1 - xb > d_max or strength_finite
+                        or turn)
+    elif s > 0:
+        def leaves(x1: float, u1: float, turn: bool) -> bool:
+            return (x1 < xb or u1 > 0.0 or u1 > vb or x1 - xb > d_max or strength_finite
+                    or turn)
+    else:
+        def leaves(x1: float, u1: float, turn: bool) -> bool:
+            return (x1 < xb or u1 > 0.0 or u1 < vb or x1 - xb > d_max or strength_finite
+                    or turn)
+    return leaves
+
+
+def dp_step(acc, x: float, u: float, a0: float, h: float, rtol: float, atol: float,
+            xb: float, d_lim: float) -> tuple[float, float, float, float]:
+    """One Dormand-Prince 5(4) step of ``x'' = acc(x)`` from ``(x, u)`` (``a0 = acc(x)``):
+    ``(x1, u1, acc(x1), err)`` with ``err`` the error estimate's norm over the tolerances,
+    infinite (and the acceleration ``nan``) where the step leaves the numbers or reaches
+    the limit overlap ``d_lim`` past the face ``xb`` (the law's asymptote)."""
+    isfinite, sqrt = math.isfinite, math.sqrt
+    # Dormand-Prince stages; the acceleration depends on x only.
+    k1x, k1u = u, a0
+    y2x, y2u = x + h * A21 * k1x, u + h * A21 * k1u
+    k2x, k2u = y2u, acc(y2x)
+    y3x = x + h * (A31 * k1x + A32 * k2x)
+    y3u = u + h * (A31 * k1u + A32 * k2u)
+    k3x, k3u = y3u, acc(y3x)
+    y4x = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
+    y4u = u + h * (A41 * k1u + A42 * k2u + A43 * k3u)
+    k4x, k4u = y4u, acc(y4x)
+    y5x = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
+    y5u = u + h * (A51 * k1u + A52 * k2u + A53 * k3u + A54 * k4u)
+    k5x, k5u = y5u, acc(y5x)
+    y6x = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
+    y6u = u + h * (A61 * k1u + A62 * k2u + A63 * k3u + A64 * k4u + A65 * k5u)
+    k6x, k6u = y6u, acc(y6x)
+    x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
+    u1 = u + h * (B1 * k1u + B3 * k3u + B4 * k4u + B5 * k5u + B6 * k6u)
+    if not (isfinite(x1) and isfinite(u1)) or x1 - xb >= d_lim:
+        err = math.inf
+        a1 = math.nan
+    else:
+        a1 = acc(x1)
+        k7x, k7u = u1, a1
+        ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
+        eu = h * (E1 * k1u + E3 * k3u + E4 * k4u + E5 * k5u + E6 * k6u + E7 * k7u)
+        ax, ax1, au, au1 = abs(x), abs(x1), abs(u), abs(u1)
+        sx = atol + rtol * (ax if ax >= ax1 else ax1)
+        su = atol + rtol * (au if au >= au1 else au1)
+        err = sqrt(0.5 * ((ex / sx) ** 2 + (eu / su) ** 2))
+    return x1, u1, a1, err
 
 
 def end_at_event(sv: Solve, st: State, t: float, coeffs, h: float, s: int, event) -> str:
