@@ -1,7 +1,5 @@
-"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13), in one place.
-
-This module is longer than the project's ~500 lines because it holds the law whole, both
-readings with their reversal rules and the energy they store, so that one file states Eqs. 9-13.
+"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13): both readings, their
+reversal rules, the work along their branches and the energy they store.
 
 Two readings of the transition curves, chosen by ``HystereticStop.law`` and compared in
 docs/contact-law.md: ``"paper"`` (below; reproduces the paper's Fig. 2b, returns energy on
