@@ -149,7 +149,20 @@ def arc(sv: Solve, st: State, s: int, branch: Branch):
     lim_mean = kk * hyper_r
     kg = kk * d_lim / gap
     log_m1, e_mean, exp = log_mean_m1, exp_mean, math.exp
-    q = _mean_force(x_r - sa + lim_mean, gap, kg, cc, lam)
+    log1p, expm1 = math.log1p, math.expm1
+
+    def q(d: float) -> float:
+        # log_mean_m1 and exp_mean written out (as in _duration): Newton's iterations at
+        # every reversal of loops followed on the stop
+        w = d / gap
+        if abs(w) < 1e-3:
+            lm = w * (0.5 + w * (1.0 / 3.0 + w * (0.25 + w * (0.2 + w / 6.0))))
+        else:
+            lm = -log1p(-w) / w - 1.0
+        z = lam * d
+        em = expm1(z) / z if z != 0.0 else 1.0
+        return (x_r - sa + lim_mean) + 0.5 * d + kg * lm + cc * em
+
     q0 = x_r - sa + lim_mean + cc
     slope0 = 1.0 + kg / gap + cc * lam
     if ((q0 >= 0.0) if up else (q0 <= 0.0)) or slope0 <= 0.0:
@@ -174,42 +187,16 @@ def arc(sv: Solve, st: State, s: int, branch: Branch):
     sv.tally(arc_evals=n_evals + 15)
     if t_k is None or st.t + t_k >= sv.t_end:
         return None
-    _lay_arc(sv, st, sa, (x_r, d, t_k, kk, cc, lam, dr),
-             lim_mean + kg * log_m1(d / gap) + cc * e_mean(lam * d))
-    return phi_n
-
-
-def _lay_arc(sv: Solve, st: State, sa: float, row: tuple, mean_phi: float) -> None:
-    """Store the arc ``row = (x_r, d, duration, K, C, lam, d_r)`` and move ``st`` to its
-    end, the work advanced (the stop's by ``d`` times the mean force ``mean_phi``)."""
-    x_r, d, t_k = row[0], row[1], row[2]
+    # (the arc's row and the state at its end: the inner loop of loops on the stop)
     t1 = st.t + t_k
-    sv.add_row(ARC, st.t, t1, row, sa, st.work)
+    mean_phi = lim_mean + kg * log_m1(d / gap) + cc * e_mean(lam * d)
+    sv.add_row(ARC, st.t, t1, (x_r, d, t_k, kk, cc, lam, dr), sa, st.work)
     wf, wb, ws = st.work
     st.work = (wf + sa * d, wb + sa * sv.vb * t_k, ws + d * mean_phi)
     st.t, st.x, st.v = t1, x_r + d, 0.0
     sv.reach(st.x)
     sv.tally(arcs=1)
-
-
-def _mean_force(base: float, gap: float, kg: float, cc: float, lam: float):
-    """``Q(d)``, the mean net force over the arc's ``d`` from its reversal (:func:`arc`),
-    with ``base = x_r - s a + K d_r / (D - d_r)``."""
-    log1p, expm1 = math.log1p, math.expm1
-
-    def q(d: float) -> float:
-        # log_mean_m1 and exp_mean written out (as in _duration): Newton's iterations at
-        # every reversal of loops followed on the stop
-        w = d / gap
-        if abs(w) < 1e-3:
-            lm = w * (0.5 + w * (1.0 / 3.0 + w * (0.25 + w * (0.2 + w / 6.0))))
-        else:
-            lm = -log1p(-w) / w - 1.0
-        z = lam * d
-        em = expm1(z) / z if z != 0.0 else 1.0
-        return base + 0.5 * d + kg * lm + cc * em
-
-    return q
+    return phi_n
 
 
 def _stays_exact(stop, up: bool, s: int, vb: float, phi_n: float, d_n: float, dr: float,

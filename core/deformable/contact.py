@@ -82,7 +82,9 @@ def run_contact(sv: Solve, st: State, stick: bool, inside: Branch | None = None,
                 return outcome
             stick, s = False, 1
             continue
-        phi = _arc_to_reversal(sv, st, s, branch)
+        # a semi-analytic arc from the reversal the branch starts from
+        phi = (arc(sv, st, s, branch)
+               if sv.use_arcs and st.v == 0.0 and branch.delta_r == st.x - xb else None)
         if phi is not None:
             train.regular = False  # a second reversal
             branch, ended = _reverse(sv, st, branch, phi, reversal_x, s)
@@ -107,15 +109,6 @@ def run_contact(sv: Solve, st: State, stick: bool, inside: Branch | None = None,
         # "failed", "limit" or "horizon"
         close_branch(sv, branch, d_branch0, st.x - xb, st)
         return outcome
-
-
-def _arc_to_reversal(sv: Solve, st: State, s: int, branch: Branch) -> float | None:
-    """The slip from a reversal to the next as a semi-analytic arc, where the solve takes
-    arcs and ``st`` is the reversal its branch starts from: the force at the new reversal,
-    or ``None`` (integrate it)."""
-    if sv.use_arcs and st.v == 0.0 and branch.delta_r == st.x - sv.xb:
-        return arc(sv, st, s, branch)
-    return None
 
 
 def _reverse(sv: Solve, st: State, branch: Branch, phi: float, reversal_x, s: int
