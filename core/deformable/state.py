@@ -99,15 +99,6 @@ class Rows:
     branches: list[Branch] = field(default_factory=list)
     branch_start: list[tuple[float, float]] = field(default_factory=list)  # (delta0, W0)
 
-    def add(self, kind, t0, t1, data, friction, work0) -> None:
-        self.kind.append(kind)
-        self.t0.append(t0)
-        self.t1.append(t1)
-        self.data.append(data)
-        self.branch.append(len(self.branches) - 1)
-        self.friction.append(friction)
-        self.work0.append(work0)
-
 
 @dataclass
 class State:
@@ -225,7 +216,14 @@ class Solve:
         c = self.contact
         if not c.kind or self.timeline[-1][1] != 1:
             self.timeline.append((t0, 1, len(c.kind)))
-        c.add(kind, t0, t1, data, friction, work)
+        # (called at every step of a contact: the appends written out)
+        c.kind.append(kind)
+        c.t0.append(t0)
+        c.t1.append(t1)
+        c.data.append(data)
+        c.branch.append(len(c.branches) - 1)
+        c.friction.append(friction)
+        c.work0.append(work)
 
     def new_branch(self, branch: Branch, delta: float, w_stop: float) -> None:
         """The law's branch from overlap ``delta`` on, with the stop's work ``w_stop`` there."""
