@@ -24,7 +24,7 @@ from scipy.integrate import solve_ivp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from core import HystereticStop  # noqa: E402
-from core.hysteresis import (  # noqa: E402
+from core.deformable.law import (  # noqa: E402
     FIRST_LOADING,
     contact_force,
     force_and_slope,

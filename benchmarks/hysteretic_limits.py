@@ -2,7 +2,7 @@
 horizons.
 
 ``simulate(osc, HystereticStop(...), t_end=T)`` with no ``max_steps``: the solve stops at
-``core.hysteretic.DEFAULT_MAX_STEPS`` steps (contact steps, arcs, transitions solved;
+``core.deformable.solver.DEFAULT_MAX_STEPS`` steps (contact steps, arcs, transitions solved;
 ``info["work_steps"]``), which should come within
 a few seconds whatever the horizon. Scenes: 10 and 11 (the page's deformable stop,
 ``Oscillator(0.3, 0.2, 0.07)``, x_bar = 0.24 and 0.15), a grazing train (the same stop, belt
@@ -31,7 +31,7 @@ import scipy
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from core import HystereticStop, Oscillator, simulate  # noqa: E402
-from core.hysteretic import DEFAULT_MAX_STEPS  # noqa: E402
+from core.deformable.solver import DEFAULT_MAX_STEPS  # noqa: E402
 
 PAGE_STOP = dict(k_c0=400.0, k_e0=36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
 SCENES = {

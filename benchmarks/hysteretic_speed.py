@@ -20,7 +20,7 @@ Also: the steady state's label, the time of the switch into a reduced model (``-
 none), the reduced model's stated error bound in the position where it ends (``bound``:
 ``Result.info['reduced_error']`` over the scale; for a train advanced by its
 contact-to-contact map, the bound of its own error in the state, from the switch's state
-(core/hysteretic_map.py), at most the band; for a train fitted to a loss law, the band it
+(core/deformable/train_map.py), at most the band; for a train fitted to a loss law, the band it
 moves in at the switch, the velocity's being up to twice the approach speed; for an oscillation on
 the stop, the velocity's is up to ``2 pi / T`` times its oscillating part), the band it
 moves in while it runs (``band``: ``info['reduced_band']``) and whether the energy balance
@@ -59,11 +59,13 @@ import scipy
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from core import HystereticStop, Oscillator, Status, TransitionKind, simulate  # noqa: E402
-from core.hysteretic import (  # noqa: E402
+from core.deformable.rest import (  # noqa: E402
+    PAGE_RESOLUTION,
+    REDUCE_PER_RTOL,
     REST_AMPLITUDE_PER_RTOL,
-    simulate_hysteretic,
+    rest_rule,
 )
-from core.hysteretic_reduced import PAGE_RESOLUTION, REDUCE_PER_RTOL, rest_rule  # noqa: E402
+from core.deformable.solver import simulate_hysteretic  # noqa: E402
 from core.numerics.limits import COUNT_MAX  # noqa: E402
 
 OSC = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
@@ -99,12 +101,12 @@ def rest_time(res) -> float:
 
 
 def reference_rest_time(ref, amplitude: float, tolerance: float, t_end: float) -> float:
-    """The candidate's rule for rest (:func:`core.hysteretic_reduced.rest_rule`, as
-    ``core.hysteretic._Solver.settled`` applies it) on the reference's reversals: the first
+    """The candidate's rule for rest (:func:`core.deformable.rest.rest_rule`, as
+    ``core.deformable.contact.settled`` applies it) on the reference's reversals: the first
     reversal whose last four (itself included, all in one contact) lie within ``amplitude``,
     the candidate's rest amplitude, in the position and within ten times it in the
     velocity (the position's swing times ``2 pi / T``,
-    :func:`~core.hysteretic_reduced.rest_swing_factor`), unless the centre's creep left by
+    :func:`~core.deformable.rest.rest_swing_factor`), unless the centre's creep left by
     ``t_end`` is above it, the candidate's rest would then state more than ``tolerance``,
     and the loops left are few enough that the candidate follows them. The loops die like
     ``1/k`` and never stop: a time of rest is the time a rule says so, and the reference's
@@ -141,8 +143,8 @@ def errors(res, ref, d: float, t_end: float) -> list[str]:
     state = max(abs(res.x[-1] - ref.x[-1]), abs(res.v[-1] - ref.v[-1])) / scale
     xmax = abs(res.x_max - ref.x_max) / scale
     t_rest = rest_time(res)
-    # the candidate's rest amplitude and tolerance (core.hysteretic, _Solver.rest_amplitude
-    # and core.hysteretic_reduced.reduce_extent), on its own length scale (_Solver.scale)
+    # the candidate's rest amplitude and tolerance (core.deformable.rest.rest_amplitude and
+    # reduce_extent), on its own length scale (core.deformable.state.Solve.scale)
     length = max(OSC.a, OSC.b, OSC.v, CLEARANCE, d)
     amplitude = REST_AMPLITUDE_PER_RTOL * max(PRESET["rtol"] * length, PRESET["atol"])
     tolerance = max(REDUCE_PER_RTOL * PRESET["rtol"], PAGE_RESOLUTION) * length

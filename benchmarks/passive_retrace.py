@@ -2,7 +2,7 @@
 
 For each cell ``k_c0,beta,D`` of benchmarks/hysteretic_speed.py's scene with the passive
 law, the standard preset's solve (rtol 1e-8, which repeats the loops' last cycle from a
-``reduced`` transition, core/hysteretic_reduced.py ``repeat_retracing``) is compared at
+``reduced`` transition, core/deformable/oscillation.py ``repeat_retracing``) is compared at
 ``t_end`` with
 
 * a tight solve from the same switch: the same solve up to the reversal where the cycle
@@ -36,9 +36,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import core.hysteretic as hysteretic  # noqa: E402
+import core.deformable.contact as contact  # noqa: E402
 from core import TransitionKind, simulate  # noqa: E402
-from core.hysteretic import simulate_hysteretic  # noqa: E402
+from core.deformable.solver import simulate_hysteretic  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from hysteretic_speed import OSC, PRESET, REFERENCE, stop_of  # noqa: E402
@@ -73,22 +73,22 @@ def tight_from_switch(stop, t_switch: float, t_stop: float):
             sv.rtol, sv.atol, sv.use_reduced = REFERENCE["rtol"], REFERENCE["atol"], False
         return None
 
-    saved = hysteretic.reduce_oscillation
-    hysteretic.reduce_oscillation = tighten
+    saved = contact.reduce_oscillation
+    contact.reduce_oscillation = tighten
     try:
         return simulate_hysteretic(OSC, stop, t_stop, 0.0, 0.0, n_samples=10,
                                    transition_cap=10_000_000, **TOLS)
     finally:
-        hysteretic.reduce_oscillation = saved
+        contact.reduce_oscillation = saved
 
 
 def followed(stop, t_end: float):
-    saved = hysteretic.reduce_oscillation
-    hysteretic.reduce_oscillation = lambda *args: None
+    saved = contact.reduce_oscillation
+    contact.reduce_oscillation = lambda *args: None
     try:
         return simulate_hysteretic(OSC, stop, t_end, 0.0, 0.0, n_samples=10, **TOLS)
     finally:
-        hysteretic.reduce_oscillation = saved
+        contact.reduce_oscillation = saved
 
 
 def error(res, x: float, v: float) -> float:

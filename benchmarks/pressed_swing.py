@@ -10,7 +10,7 @@ D)`` and measured on the solution over the loops' last cycle before t_end (the c
 last stored reversals, 4,096 points):
 
 * ``Ax``, ``Av``: half the range of ``x`` and of ``x'``, and each over what the rule for rest
-  lets rest (``10 rtol L`` and ``100 rtol L``, core.hysteretic_reduced.rest_swing);
+  lets rest (``10 rtol L`` and ``100 rtol L``, core.deformable.rest.rest_swing);
 * ``imb``: the force imbalance ``|a - x - phi|`` at t_end (the acceleration: zero at rest);
 * ``swinging``: labelled rest while ``Ax`` or ``Av`` is above the rule's threshold.
 
@@ -35,7 +35,7 @@ from core import HystereticStop, Oscillator, simulate  # noqa: E402
 
 PRESET = {"rtol": 1e-8, "atol": 1e-11}
 HORIZONS = (400.0, 1600.0)
-#: The rule for rest's thresholds over ``rtol L`` (core.hysteretic_reduced.rest_swing).
+#: The rule for rest's thresholds over ``rtol L`` (core.deformable.rest.rest_swing).
 REST_X, REST_V = 10.0, 100.0
 POINTS = 4096
 

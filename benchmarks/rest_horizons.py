@@ -31,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from hysteretic_speed import CLEARANCE, OSC, PRESET, STATED_ERROR, stop_of  # noqa: E402
 
 from core import TransitionKind, simulate  # noqa: E402
-from core.hysteretic import simulate_hysteretic  # noqa: E402
+from core.deformable.solver import simulate_hysteretic  # noqa: E402
 
 CELLS = ("1e4,1000,1e-2", "1e4,100,1e-3", "1e5,1000,1e-3", "1e4,1000,1e-3", "1e3,1000,0.1")
 HORIZONS = (40.0, 60.0, 100.0)

@@ -35,7 +35,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from hysteretic_speed import CLEARANCE, OSC, PRESET, REFERENCE, stop_of  # noqa: E402
 
 from core import TransitionKind, simulate  # noqa: E402
-from core.hysteretic import simulate_hysteretic  # noqa: E402
+from core.deformable.solver import simulate_hysteretic  # noqa: E402
 
 T_END = 1e4
 #: The grid's trains whose one-piece references did not finish (hysteretic_speed.py),

@@ -13,13 +13,13 @@
 # and a type checker see where it lives; ``app`` imports from here only.
 from core import sweep as sweep
 from core import theory as theory
-from core.hysteresis import FIRST_LOADING as FIRST_LOADING
-from core.hysteresis import contact_force as contact_force
-from core.hysteresis import phi_compression as phi_compression
-from core.hysteresis import phi_expansion as phi_expansion
-from core.hysteresis import reverse as reverse
-from core.hysteretic import effective_restitutions as effective_restitutions
-from core.hysteretic_reduced import rest_swing_of as rest_swing_of
+from core.deformable.law import FIRST_LOADING as FIRST_LOADING
+from core.deformable.law import contact_force as contact_force
+from core.deformable.law import phi_compression as phi_compression
+from core.deformable.law import phi_expansion as phi_expansion
+from core.deformable.law import reverse as reverse
+from core.deformable.rest import rest_swing_of as rest_swing_of
+from core.deformable.solver import effective_restitutions as effective_restitutions
 from core.params import HystereticStop as HystereticStop
 from core.params import Oscillator as Oscillator
 from core.params import RigidStop as RigidStop

@@ -35,9 +35,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from core.deformable.law import ElasticLimit, elastic_limit, stored_energy
+from core.deformable.rest import rest_swing_of
 from core.dense_energy import StopWorkSamples, energy_at_samples
-from core.hysteresis import ElasticLimit, elastic_limit, stored_energy
-from core.hysteretic_reduced import rest_swing_of
 from core.numerics.dense_output import PointTrack
 from core.numerics.hermite import hermite_eval, hermite_max, linear_eval
 from core.result import (
@@ -152,7 +152,7 @@ def result_from_dense(
         stop less this.
     stop_law : optional
         The deformable stop's law along the solution's branches (as
-        :class:`core.stop_work.StopWork`): ``points``, the work done on the stop at the
+        :class:`core.deformable.stop_work.StopWork`): ``points``, the work done on the stop at the
         points, and ``at(idx, xs)``, the contact force, overlap, work and stored energy at
         samples ``xs`` in the intervals ``idx``, in closed form. Replaces
         ``contact_force``, ``overlap`` and ``stop_stored`` at the samples (no interpolation
@@ -179,7 +179,7 @@ def result_from_dense(
         A deformable stop's law (see :func:`core.steady.steady_from_transitions`).
     rest_swing : (float, float), optional
         The swing of the position and of the velocity within which loops on a pressed
-        deformable stop are at rest (:func:`core.hysteretic_reduced.rest_swing`): loops
+        deformable stop are at rest (:func:`core.deformable.rest.rest_swing`): loops
         still swinging more at the horizon are an oscillation, not rest (needs ``dense``).
     belt_speed : float
         ``v`` (for the belt's work).

@@ -16,7 +16,7 @@ from core.result import Mode
 
 
 class StopWorkSamples(NamedTuple):
-    """A deformable stop's work in closed form (:class:`core.stop_work.StopWork`): at the
+    """A deformable stop's work in closed form (:class:`core.deformable.stop_work.StopWork`): at the
     points, at the samples, and where the mass sticks in contact (mode ``CONTACT``, where
     the friction force is ``x + phi`` as on free stick)."""
 

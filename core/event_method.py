@@ -40,20 +40,21 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import DOP853, LSODA, RK45, Radau
 
-from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.event_modes import (
-    LIMIT_OVERLAP_FRACTION,
-    slip_events,
-    slip_rhs,
-    stick_contact_end,
-)
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     Branch,
     branch_kinks,
     force_and_slope,
     reverse,
     start_branch,
+)
+from core.deformable.stop_work import StopWork
+from core.dense import log_rest_at_stop, new_log, result_from_track
+from core.event_modes import (
+    LIMIT_OVERLAP_FRACTION,
+    slip_events,
+    slip_rhs,
+    stick_contact_end,
 )
 from core.method_entry import takes_options
 from core.numerics.dense_output import PiecewiseDense, PointTrack, line_piece
@@ -62,7 +63,6 @@ from core.numerics.limits import COUNT_MAX, MAX_EVENTS, WorkLimit
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
-from core.stop_work import StopWork
 from core.validation import check_integer, check_range
 
 #: Integrators offered: explicit Runge-Kutta pairs, an implicit Radau IIA method for stiff
@@ -160,7 +160,7 @@ class EventSolver:
 
     def set_branch(self, branch: Branch) -> None:
         """Follow ``branch`` of the law from here, with the kinks of its force ahead (where
-        its curve is clipped to an envelope: :func:`core.hysteresis.branch_kinks`)."""
+        its curve is clipped to an envelope: :func:`core.deformable.law.branch_kinks`)."""
         self.branch, self.land_at, self.kinks = branch, None, []
         if self.work is not None:
             self.work.follow(branch if self.contact else None, self.x)

@@ -10,13 +10,13 @@ deformable contact (:func:`stick_contact_end`).
   relative velocity changes, ``docs/physics.md``); ``x = clearance`` with ``x' > 0`` (rigid
   impact, paper Eq. 8, or the start of a deformable contact); in a deformable contact,
   ``x' = 0`` (reversal of the overlap rate: the branch of the hysteresis law is updated with
-  :func:`core.hysteresis.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
+  :func:`core.deformable.law.reverse`), ``x = clearance`` with ``x' < 0`` (separation), the force
   reaching the stop's strength (failure), the overlap reaching the limit overlap. A
   non-terminal event at ``x' = 0`` records every maximum of ``x`` as a point, so ``x_max``
   has the integration accuracy, and betrays a crossing of the stop that rose above it and
   fell back inside one step.
 * the force of a contact has **kinks**: where a branch's curve is clipped to an envelope
-  (Eq. 11; :func:`core.hysteresis.branch_kinks`) and at the face. A step across a kink does
+  (Eq. 11; :func:`core.deformable.law.branch_kinks`) and at the face. A step across a kink does
   not see it in its error estimate: each separation speed was ~3e-7 relative off at rtol
   1e-8, and trains of contacts added those up in their phase (1e-3 of the scale by t = 40
   on random stops). A step that crosses a clip point is not kept: the solver steps to it
@@ -39,13 +39,13 @@ from collections.abc import Callable
 import numpy as np
 from scipy.optimize import brentq
 
-from core.hysteresis import LIMIT_MARGIN, Branch, force_and_slope
+from core.deformable.law import LIMIT_MARGIN, Branch, force_and_slope
 from core.numerics.events import Event
 from core.params import HystereticStop, RigidStop
 from core.result import TransitionKind
 
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
-#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
+#: same for every method, :data:`core.deformable.law.LIMIT_MARGIN`).
 LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 #: Relative tolerance of roots (event times, the stick-in-contact end point).
 ROOT_RTOL = 4.0 * np.finfo(float).eps

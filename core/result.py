@@ -106,7 +106,7 @@ class Steady:
         before ``t_end`` (``period``); ``nan`` otherwise.
     rest_amplitude, rest_velocity : float
         Oscillation on the stop: the swings of ``x`` and ``x'`` the rule for rest lets rest
-        (``core.hysteretic_reduced.rest_swing``), one of which it exceeds; ``nan`` otherwise.
+        (``core.deformable.rest.rest_swing``), one of which it exceeds; ``nan`` otherwise.
     """
 
     kind: SteadyKind

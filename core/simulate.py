@@ -75,7 +75,7 @@ def simulate(
         point (``t[-1]``) with ``Status.STEP_LIMIT`` or ``Status.TIME_BUDGET``. By default
         each method stops at its own step limit (:data:`core.switch.DEFAULT_MAX_STEPS`,
         :data:`core.event_method.DEFAULT_MAX_STEPS`,
-        :data:`core.hysteretic.DEFAULT_MAX_STEPS`), which it reaches within a few seconds
+        :data:`core.deformable.solver.DEFAULT_MAX_STEPS`), which it reaches within a few seconds
         whatever the horizon; there is no default time budget, so a default call gives the
         same result on any machine.
 
@@ -111,7 +111,7 @@ def simulate(
 
         return solve_event(inputs, **limits, **_given(rtol=rtol, atol=atol))
     if isinstance(inputs.stop, HystereticStop):
-        from core.hysteretic import solve_hysteretic
+        from core.deformable.solver import solve_hysteretic
 
         return solve_hysteretic(inputs, **limits, **_given(rtol=rtol, atol=atol))
     return solve_rigid(inputs)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.hysteresis import FIRST_LOADING, contact_force, reverse
+from core.deformable.law import FIRST_LOADING, contact_force, reverse
 from core.params import HystereticStop, RigidStop
 from core.validation import check_integer, check_range
 

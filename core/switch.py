@@ -26,12 +26,12 @@ The stop
   (cubic Hermite root, then the RKF step recomputed to that time with one Newton
   correction), the state is put on the stop and the velocity reflected, ``x' -> -r x'``.
   The samples therefore never pass the stop.
-* Deformable (paper Eqs. 9-15): the contact force of :mod:`core.hysteresis` enters ``F``;
+* Deformable (paper Eqs. 9-15): the contact force of :mod:`core.deformable.law` enters ``F``;
   its branch (the memory of the law) is held fixed over a step, and the step is cut where
-  the overlap rate changes sign so that :func:`core.hysteresis.reverse` stores the reversal
+  the overlap rate changes sign so that :func:`core.deformable.law.reverse` stores the reversal
   point; contact start is cut too (a new contact starts on the first-loading branch). The
   work done on the stop, and the energy it stores, are the law's along the branch each
-  step follows (:mod:`core.stop_work`), not a quadrature over the steps.
+  step follows (:mod:`core.deformable.stop_work`), not a quadrature over the steps.
 
 Impact accumulation (Zeno)
 --------------------------
@@ -60,14 +60,15 @@ import math
 from dataclasses import dataclass
 from functools import partial
 
-from core.dense import log_rest_at_stop, new_log, result_from_track
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     Branch,
     force_and_slope,
     reverse,
     start_branch,
 )
+from core.deformable.stop_work import StopWork
+from core.dense import log_rest_at_stop, new_log, result_from_track
 from core.method_entry import takes_options
 from core.numerics.dense_output import HermiteDense, PointTrack
 from core.numerics.hermite import hermite, root, x_crossing
@@ -77,7 +78,6 @@ from core.params import Oscillator
 from core.result import Mode, Result, Status, TransitionKind, make_stats
 from core.solve_inputs import SolveInputs, StopFacts, solve_entry
 from core.steady import rest_force
-from core.stop_work import StopWork
 from core.switch_model import band_edge, check_eta, default_eta, eta_bounds, switch_rhs
 from core.validation import check_range
 
@@ -160,7 +160,7 @@ class SwitchSolver:
         self.t, self.x, self.v = 0.0, x0, v0
         self.contact = self.soft and x0 > self.c
         self.branch: Branch = FIRST_LOADING
-        # the stop's work along the law's branches (core/stop_work.py)
+        # the stop's work along the law's branches (core/deformable/stop_work.py)
         self.work = StopWork(stop, self.c) if self.soft else None
         if self.contact:  # a start inside the stop: its branch there (start_branch)
             s = 1 if v0 < osc.v else -1 if v0 > osc.v else (1 if x0 > 0.0 else -1)

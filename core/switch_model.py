@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from core.hysteresis import LIMIT_MARGIN, Branch, force_and_slope
+from core.deformable.law import LIMIT_MARGIN, Branch, force_and_slope
 from core.params import HystereticStop, Oscillator
 from core.validation import check_range
 
@@ -32,7 +32,7 @@ ETA_MAX_REL = 0.1
 #: 1e-2 of it and above the model followed the exact motion (tests/core/test_exact.py).
 ETA_MIN_PER_TOL = 1e-2
 #: An overlap within this fraction of the limit overlap ``D`` counts as reaching it (the
-#: same for every method, :data:`core.hysteresis.LIMIT_MARGIN`).
+#: same for every method, :data:`core.deformable.law.LIMIT_MARGIN`).
 LIMIT_OVERLAP_FRACTION = 1.0 - LIMIT_MARGIN
 
 

@@ -81,7 +81,7 @@ def headings(page: Path) -> set[str]:
 def test_the_prose_names_paths():
     """The extraction finds what it looks for (a regex that matched nothing would pass)."""
     named = {path for _, text in prose() for path in PATH.findall(text)}
-    assert {"core/hysteresis.py", "docs/physics.md", "benchmarks/results/"} <= named
+    assert {"core/deformable/law.py", "docs/physics.md", "benchmarks/results/"} <= named
 
 
 def test_every_path_named_in_the_prose_exists():

@@ -119,7 +119,7 @@ def choose_method(method: str, stop_type: str) -> str:
     """
     if method != "auto":
         return method
-    if stop_type == "hysteretic" and importlib.util.find_spec("core.hysteretic") is None:
+    if stop_type == "hysteretic" and importlib.util.find_spec("core.deformable.solver") is None:
         return "switch"
     return "exact"
 

@@ -43,7 +43,7 @@ class SwingProbe:
 
     ``evaluate(t) -> (x, x')`` is the solution; ``rest_amplitude`` and ``rest_velocity``
     the rule's thresholds on the swing of the position and of the velocity (the solver's
-    :func:`core.hysteretic_reduced.rest_swing`: 10 and 100 ``rtol`` of the length scale,
+    :func:`core.deformable.rest.rest_swing`: 10 and 100 ``rtol`` of the length scale,
     docs/contact-law.md)."""
 
     evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]

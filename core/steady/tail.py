@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from core.hysteresis import ElasticLimit
+from core.deformable.law import ElasticLimit
 from core.result import Mode, Steady, SteadyKind, Transition, TransitionKind
 from core.steady.fixed_point import FIXED_POINT_RTOL, FixedPointDetector
 from core.steady.pressed import SwingProbe, pressed_steady

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from core.hysteresis import ElasticLimit
+from core.deformable.law import ElasticLimit
 from core.result import Steady, SteadyKind, Transition, TransitionKind
 
 #: Contacts of a regular train (one reversal each, nothing else between them) its label is
@@ -44,7 +44,7 @@ def train_contacts(tail: list[Transition]) -> list[Transition]:
 def train_loses(cycle: list[Transition], limit: ElasticLimit) -> bool:
     """True when a cycle of transitions is contacts of a regular train that the contact law
     makes lose energy (approach speeds between ``w_inf`` and ``w_deep``,
-    :class:`core.hysteresis.ElasticLimit`): its speeds fall at every contact, so it is no
+    :class:`core.deformable.law.ElasticLimit`): its speeds fall at every contact, so it is no
     fixed point, however small the fall is against a tolerance."""
     kinds = {tr.kind for tr in cycle}
     speeds = [tr.v for tr in cycle if tr.kind is TransitionKind.CONTACT]
@@ -77,7 +77,7 @@ def impacts_lose(cycle: list[Transition]) -> bool:
 
 def train_steady(tail: list[Transition], limit: ElasticLimit) -> Steady | None:
     """Steady state of a regular train of contacts (:func:`train_contacts`) read off the
-    contact law (:class:`core.hysteresis.ElasticLimit`), whatever a tolerance says:
+    contact law (:class:`core.deformable.law.ElasticLimit`), whatever a tolerance says:
 
     * contacts slower than ``w_inf`` are elastic, so each flight returns at the speed it
       left with: periodic from the first of them (a measured change of the speeds is the

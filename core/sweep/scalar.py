@@ -11,7 +11,7 @@ import dataclasses
 
 import numpy as np
 
-from core.hysteresis import phi_compression
+from core.deformable.law import phi_compression
 from core.result import Result, SteadyKind, TransitionKind
 from core.simulate import simulate
 from core.steady import cycle_transitions

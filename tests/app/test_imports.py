@@ -1,5 +1,5 @@
 """The app reaches the solver library through ``core``'s public names only: no submodule
-import (``from core.result import ...``, ``import core.hysteresis``) and no private name
+import (``from core.result import ...``, ``import core.deformable.law``) and no private name
 (``from core import _x``, ``theory._y``), so ``core`` can move its insides freely."""
 
 from __future__ import annotations
@@ -68,10 +68,10 @@ def test_every_name_the_app_takes_from_core_is_exported(path):
     "source",
     [
         "from core.result import Status",
-        "import core.hysteresis",
+        "import core.deformable.law",
         "from core import _private",
         "from core import theory\ntheory._grid_helper(1)",
-        "def f():\n    from core.hysteretic import effective_restitutions",
+        "def f():\n    from core.deformable.solver import effective_restitutions",
     ],
 )
 def test_the_check_finds_each_kind_of_fault(source):

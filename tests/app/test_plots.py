@@ -205,7 +205,7 @@ def test_deformable_contacts_are_drawn_from_the_contact_itself(key):
     With only the uniform samples and the transition times a contact is a few chords,
     which cut up to 6 % of the peak above the envelope."""
     from app.plots import force_columns, loop_columns
-    from core.hysteresis import phi_compression
+    from core.deformable.law import phi_compression
 
     sol = solve(scene_values(key))
     peak = float(np.max(sol.result.contact_force))

@@ -377,7 +377,7 @@ def test_a_reference_still_swinging_within_the_run_s_rule_for_rest_is_the_same_v
     reference swings beyond the run's own rule."""
     import dataclasses
 
-    from core.hysteretic_reduced import rest_swing_of
+    from core.deformable.rest import rest_swing_of
     from core.result import Steady, SteadyKind
 
     values = {**scene_values("11"), "t_end": 1000.0}

@@ -41,7 +41,7 @@ def test_the_page_passes_its_step_limit(budget, factor):
 def test_the_exact_method_on_a_deformable_stop_runs_to_its_end():
     """The exact method on a deformable stop does not stop at the page's budget (the page
     waits for it in the background, and a retry joins the same solve): the page and its
-    reference lift the core's default work limit (core.hysteretic.DEFAULT_MAX_STEPS, a
+    reference lift the core's default work limit (core.deformable.solver.DEFAULT_MAX_STEPS, a
     few seconds), so a long horizon is not cut short for want of steps."""
     values = {**dict(scene_values("10")), "method": "auto"}
     options = _options_of_solve(values, SOLVE_BUDGET_S)

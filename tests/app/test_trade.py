@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from app.solve.trade import rest_alike
 from core import HystereticStop, Oscillator, RigidStop
-from core.hysteretic_reduced import rest_swing_of
+from core.deformable.rest import rest_swing_of
 from core.result import Steady, SteadyKind
 
 OSC = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)

@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from core import HystereticStop, Oscillator
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     Branch,
     BranchPrimitive,
@@ -30,7 +30,7 @@ from core.hysteresis import (
     stored_energy,
     stored_energy_many,
 )
-from core.hysteretic import simulate_hysteretic
+from core.deformable.solver import simulate_hysteretic
 
 D = 0.05
 #: Loss may fall by rounding only: each leg's work is a quadrature to 1e-12 relative of
@@ -114,7 +114,7 @@ def test_passive_law_loss_never_falls(turns, log_beta_c, beta_factor, log_ratio)
 def test_the_solver_s_passive_force_and_work_are_the_law_s(turns, log_beta_c, beta_factor,
                                                            log_ratio, ends):
     """The contact solver evaluates the passive law through a closure bound to the branch
-    (core.hysteresis.passive_branch_force) and its work through a primitive with the clip
+    (core.deformable.law.passive_branch_force) and its work through a primitive with the clip
     points found once (BranchPrimitive): on the branch reached by a random program they
     give the law's force to the bit and its work to rounding (the primitive sums the same
     closed forms in another order: 9e-16 of the scale seen over 3,000 random branches);
@@ -278,7 +278,7 @@ def test_passive_loops_on_the_stop_repeat():
     """A mass pressed on a passive stop ends in loops that retrace their curve, a
     sustained oscillation (the paper's reading shrinks towards rest instead). Once they
     retrace one curve their last cycle is repeated from a 'reduced' transition, with its
-    error stated (core/hysteretic_reduced.py, repeat_retracing); the repeated cycles
+    error stated (core/deformable/oscillation.py, repeat_retracing); the repeated cycles
     close the balance as the followed ones did."""
     osc = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
     kw = dict(k_c0=400.0, k_e0=200.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)

@@ -1,5 +1,5 @@
 """The reduced model of a shrinking train of contacts of a pressed mass
-(:class:`core.hysteretic_reduced.Train`) against the step-by-step solve it replaces.
+(:class:`core.deformable.reduced_train.Train`) against the step-by-step solve it replaces.
 
 The belt ``Oscillator(0.45, 0.30, 0.25, u_s=2.0)`` (a = 0.6) presses the mass on a stop
 whose face is at 0.42: the mass bounces on it in ever smaller contacts, thousands of them
@@ -13,13 +13,15 @@ import math
 import numpy as np
 import pytest
 
-from core import HystereticStop, Oscillator, TransitionKind, hysteretic_map
-from core.hysteretic import simulate_hysteretic
-from core.hysteretic_reduced import TRAIN_PER_RTOL, fit_train_decay
+from core import HystereticStop, Oscillator, TransitionKind
+from core.deformable import train_map
+from core.deformable.reduced_train import fit_train_decay
+from core.deformable.rest import TRAIN_PER_RTOL
+from core.deformable.solver import simulate_hysteretic
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 FACE = 0.42
-#: The app's "standard" preset (app/solver.py).
+#: The app's "standard" preset (app/solve/presets.py).
 STANDARD = {"rtol": 1e-8, "atol": 1e-11}
 T_END = 30.0
 #: Cells (k_c0, beta, D; k_e0 = k_c0 / 2) of benchmarks/hysteretic_speed.py whose trains
@@ -38,11 +40,11 @@ def _scale(stop) -> float:
 @pytest.fixture(scope="module", params=CELLS, ids=lambda c: f"{c[0]:g},{c[1]:g},{c[2]:g}")
 def pair(request):
     stop = _stop(*request.param)
-    # The contact-to-contact map (core/hysteretic_map.py) takes these trains first; it is
+    # The contact-to-contact map (core/deformable/train_map.py) takes these trains first; it is
     # held back here (as where too few contacts are left for its nodes) so that the fitted
     # loss law these tests are about is what runs.
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+        mp.setattr(train_map, "MIN_GAIN", math.inf)
         reduced = simulate_hysteretic(PRESSING, stop, T_END, 0.0, 0.0, **STANDARD)
     full = simulate_hysteretic(PRESSING, stop, T_END, 0.0, 0.0, reduce=False,
                                transition_cap=1_000_000, **STANDARD)

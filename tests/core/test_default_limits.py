@@ -13,11 +13,11 @@ from core import (
     RigidStop,
     Status,
     event_method,
-    hysteretic,
     simulate,
     switch,
 )
-from core.hysteretic_map import MAP_CONTACTS_PER_STEP
+from core.deformable import solver as hysteretic
+from core.deformable.state import MAP_CONTACTS_PER_STEP
 from core.simulate import MAX_STEPS
 
 #: Scene 5a: an elastic stop and a slow belt, one impact per period (never at rest).
@@ -69,7 +69,7 @@ GRAZING_STOP = HystereticStop(clearance=0.3, k_c0=400.0, k_e0=36.0, limit_overla
 def test_exact_on_a_deformable_stop_stops_at_its_default_limit_and_says_where():
     """Regression: the exact method on a deformable stop had no work limit short of 2e6
     transitions: a grazing train ran on for a time that grows with the horizon (to 1e9,
-    still allowed). A default call now stops at ``core.hysteretic.DEFAULT_MAX_STEPS``
+    still allowed). A default call now stops at ``core.deformable.solver.DEFAULT_MAX_STEPS``
     steps, at the first transition past it, with the status and the time reached; the
     same call with that limit given is the same."""
     res = simulate(GRAZING_OSC, GRAZING_STOP, t_end=1e5)

@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, RigidStop, SteadyKind, TransitionKind, simulate
-from core.event_method import SOLVERS, simulate_event
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     branch_kinks,
     force_and_slope,
     phi_compression,
     reverse,
 )
+from core.event_method import SOLVERS, simulate_event
 
 A, B = 0.2, 0.3
 FAST = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.5)

@@ -1,4 +1,4 @@
-"""Properties of the hysteretic contact law in core.hysteresis (paper Eqs. 9-13,
+"""Properties of the hysteretic contact law in core.deformable.law (paper Eqs. 9-13,
 docs/contact-law.md)."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from core.hysteresis import (
+from core.deformable.law import (
     FIRST_LOADING,
     Branch,
     branch_work,

@@ -1,4 +1,4 @@
-"""The deformable-stop solver core.hysteretic against the physics (paper §5; docs/physics.md,
+"""The deformable-stop solver core.deformable.solver against the physics (paper §5; docs/physics.md,
 "The deformable stop"; docs/contact-law.md)."""
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from core import (
     TransitionKind,
     simulate,
 )
-from core.hysteretic import effective_restitutions, simulate_hysteretic
+from core.deformable.solver import effective_restitutions, simulate_hysteretic
 from core.result import STATS_KEYS
 
 #: The paper scenes' friction pair and slow belt (app/scenes.py): a = 0.2, b = 0.3, v = 0.07.
@@ -229,7 +229,7 @@ def test_semi_analytic_arcs_match_step_by_step(stop_kw, clearance):
 
 
 def test_stored_energy_many_matches_scalar():
-    from core.hysteresis import Branch, contact_force, stored_energy, stored_energy_many
+    from core.deformable.law import Branch, contact_force, stored_energy, stored_energy_many
 
     rng = np.random.default_rng(3)
     for kw in (
@@ -259,7 +259,7 @@ def test_every_contact_is_sampled_densely():
     is its true peak: compared with a dense evaluation of the same solve (20 000 uniform
     samples) within 2 % (16 samples over a half-sine-like branch pair: the nearest lies
     within pi / 34 of the crest, 1 - cos(pi / 34) ~ 0.43 % below it)."""
-    from core.hysteretic_samples import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
+    from core.deformable.samples import CONTACT_SAMPLED_BRANCHES, CONTACT_SAMPLES
 
     stop = HystereticStop(0.24, **SCENE_STOP)
     res = simulate_hysteretic(SLOW, stop, 100.0, 0.0, 0.0, n_samples=1600)
@@ -345,7 +345,7 @@ def test_the_elastic_limit_of_a_train_is_the_contact_at_w_inf(law):
     flight 2 pi - 2 atan(w_inf / (x_bar - a)) on the slip circle about (a, 0)."""
     from scipy.integrate import solve_ivp
 
-    from core.hysteresis import elastic_limit, phi_compression
+    from core.deformable.law import elastic_limit, phi_compression
 
     stop = HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0,
                           law=law)
@@ -434,7 +434,7 @@ def test_the_limit_overlap_is_reached_at_the_same_overlap_in_every_method():
     # The exact method stopped at (1 - 1e-6) D, the event method at (1 - 1e-9) D: this
     # contact peaks at 1 - 2.3e-7 of D (its energy integral), and ended the exact solve at
     # the limit while the event method ran to the horizon.
-    from core.hysteresis import LIMIT_MARGIN
+    from core.deformable.law import LIMIT_MARGIN
 
     osc = Oscillator(mu_s=0.5178327340716943, mu_k=0.4927956471450393,
                      belt_speed=0.4382101230955627)
@@ -457,7 +457,7 @@ def test_a_solve_stopped_at_the_limit_overlap_ends_on_it():
     limit was reached (t = 1.79588, 6 % of the overlap short of it, at x' = 0.175), while
     the event and switch methods ended at the limit at t = 1.79626: the motion's end was
     not one of the result's points."""
-    from core.hysteresis import LIMIT_MARGIN
+    from core.deformable.law import LIMIT_MARGIN
 
     osc = Oscillator(mu_s=0.464, mu_k=0.175, belt_speed=0.258, u_s=1.046)
     stop = HystereticStop(clearance=0.2227, k_c0=200.0, k_e0=44.0, limit_overlap=0.00117,

@@ -77,7 +77,7 @@ def test_a_falling_train_is_grazing_towards_the_elastic_speed_in_every_method(me
     is loose enough to take a train losing 4 % per contact for a fixed point), event
     "grazing ... as r^h towards a slip circle touching the stop" (the rigid stop's). Each
     now names the elastic speed w_inf the train tends to, as exact does."""
-    from core.hysteresis import elastic_limit
+    from core.deformable.law import elastic_limit
 
     res = simulate(FIG_OSC, _fig_stop(0.24), 80.0, method=method)
     speeds = [tr.v for tr in res.transitions if tr.kind.value == "contact"]
@@ -124,7 +124,7 @@ def test_a_slowly_losing_train_is_never_a_fixed_point():
     t_end = 1e6 (speeds 0.33 % above w_inf, losing 2e-8 per contact) after calling it
     grazing at 1e5. Here a train losing 1e-12 of its speed per contact, within every
     tolerance of the fixed-point detector, read with the law and without it."""
-    from core.hysteresis import elastic_limit
+    from core.deformable.law import elastic_limit
     from core.result import Transition, TransitionKind
     from core.steady import steady_from_transitions
 

@@ -1,5 +1,5 @@
 """A contact counts as reaching the limit overlap ``D`` in a band below it that holds
-positions (core/hysteretic_base.py ``limit_band``), however small ``D`` is next to the
+positions (core/deformable/state.py ``limit_band``), however small ``D`` is next to the
 clearance."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from core.hysteresis import LIMIT_MARGIN
+from core.deformable.law import LIMIT_MARGIN
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -44,7 +44,7 @@ def test_a_limit_overlap_a_few_hundred_positions_wide_ends_at_the_limit(d):
     )
     got = json.loads(out.stdout)
     assert got["status"] == "limit_overlap"
-    from core.hysteretic_base import limit_band  # (imported here: absent before the band)
+    from core.deformable.state import limit_band  # (imported here: absent before the band)
 
     # the peak is a position: the band's bottom to within one spacing (a stick inside the
     # contact ends at the position nearest clearance + d_max)
@@ -56,7 +56,7 @@ def test_a_limit_overlap_a_few_hundred_positions_wide_ends_at_the_limit(d):
 def test_the_band_holds_positions_or_is_empty(clearance, d):
     """The band ``(d_max, D)`` is the paper-wide ``LIMIT_MARGIN D`` where positions near the
     stop resolve it, and at least LIMIT_BAND_SPACINGS position spacings wide otherwise."""
-    from core.hysteretic_base import LIMIT_BAND_SPACINGS, limit_band
+    from core.deformable.state import LIMIT_BAND_SPACINGS, limit_band
 
     d_max = limit_band(clearance, d)
     spacing = math.ulp(abs(clearance) + d)

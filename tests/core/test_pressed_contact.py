@@ -18,18 +18,18 @@ from core import (
     Status,
     SteadyKind,
     TransitionKind,
-    hysteretic,
-    hysteretic_arcs,
-    hysteretic_reduced,
     simulate,
 )
-from core.hysteretic import DEFAULT_MAX_STEPS, _Solver, simulate_hysteretic
-from core.hysteretic_reduced import rest_swing_factor
+from core.deformable import arcs, contact, oscillation
+from core.deformable import rest as rest_rules
+from core.deformable.rest import rest_amplitude, rest_swing_factor
+from core.deformable.solver import simulate_hysteretic
+from core.deformable.state import DEFAULT_MAX_STEPS, Solve
 
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 FACE = 0.42
 SCALE = max(PRESSING.a, PRESSING.b, PRESSING.v)
-#: The app's "standard" preset (app/solver.py).
+#: The app's "standard" preset (app/solve/presets.py).
 STANDARD = {"rtol": 1e-8, "atol": 1e-11}
 
 
@@ -38,7 +38,7 @@ def _every_loop(osc, stop, t_end, **kw):
     no rest declared when the loops fall below the rest amplitude (their velocity, ``omega``
     times that, may still be above it)."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_Solver, "settled", lambda self, reversal_x: (None, 0.0))
+        mp.setattr(contact, "settled", lambda sv, reversal_x: (None, 0.0))
         return simulate_hysteretic(osc, stop, t_end, 0.0, 0.0, reduce=False, n_samples=10,
                                    transition_cap=10, **kw)
 
@@ -138,7 +138,8 @@ def test_reduced_oscillation_against_the_full_model(monkeypatch):
     t_end = 500.0
     # Rest comes within FOLLOW_REVERSALS of the switch, so the solve follows the loops to
     # it; the model is what a later rest gets, and it is forced here.
-    monkeypatch.setattr(hysteretic_reduced, "FOLLOW_REVERSALS", 0)
+    monkeypatch.setattr(rest_rules, "FOLLOW_REVERSALS", 0)
+    monkeypatch.setattr(oscillation, "FOLLOW_REVERSALS", 0)
     fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, **STANDARD)
     full = _every_loop(PRESSING, stop, t_end, rtol=1e-10, atol=1e-13)
     switch = [tr for tr in fast.transitions if tr.kind is TransitionKind.REDUCED]
@@ -380,7 +381,7 @@ def _tight_from_switch(stop, t_switch: float, t_end: float):
         return None
 
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(hysteretic, "reduce_oscillation", tighten)
+        mp.setattr(contact, "reduce_oscillation", tighten)
         # every loop followed: past the default work limit, which bounds a call that
         # gives none
         return simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, n_samples=10,
@@ -503,7 +504,7 @@ def test_every_arc_with_a_reversal_finds_it(monkeypatch):
     which were then integrated step by step.)"""
     from scipy.optimize import brentq
 
-    original = hysteretic_arcs._mean_force_root
+    original = arcs._mean_force_root
     found = []
 
     def checked(q, net_force, bracket, guess):
@@ -518,7 +519,7 @@ def test_every_arc_with_a_reversal_finds_it(monkeypatch):
             found.append(got[0])
         return got
 
-    monkeypatch.setattr(hysteretic_arcs, "_mean_force_root", checked)
+    monkeypatch.setattr(arcs, "_mean_force_root", checked)
     osc = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.1435, u_s=2.0)
     stop = HystereticStop(0.3923, 283.6, 276.0, limit_overlap=0.668, beta_c=868.5,
                           beta_e=1308.4)
@@ -535,13 +536,13 @@ def test_a_model_that_keeps_failing_is_tried_less_and_less(monkeypatch):
     further each (~33 more to 4,900 cycles), 41 in all. The bound leaves room for a few
     windows more before the spacing grows; the old rule's 279 is far beyond it."""
     tries = []
-    original = hysteretic.reduce_oscillation
+    original = contact.reduce_oscillation
 
     def counted(*args):
         tries.append(args[1].t)
         return original(*args)
 
-    monkeypatch.setattr(hysteretic, "reduce_oscillation", counted)
+    monkeypatch.setattr(contact, "reduce_oscillation", counted)
     stop = HystereticStop(FACE, 100.0, 50.0, limit_overlap=0.1, beta_c=1000.0, beta_e=1000.0)
     res = simulate(PRESSING, stop, 1e4, **STANDARD)
     assert res.steady.kind is SteadyKind.REST
@@ -566,8 +567,8 @@ def test_rest_comes_when_the_rule_says_so_on_a_tight_solve(k_c0, beta, d, t_end)
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
     res = simulate(PRESSING, stop, t_end, **STANDARD)
     rest = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REST]
-    amplitude = _Solver(PRESSING, stop, t_end, STANDARD["rtol"], STANDARD["atol"],
-                        10).rest_amplitude()
+    amplitude = rest_amplitude(Solve(PRESSING, stop, t_end, STANDARD["rtol"], STANDARD["atol"],
+                                     10))
     ref = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, reduce=False, rtol=1e-11,
                               atol=1e-14, transition_cap=100_000, n_samples=10)
     # The rule's first test on the reference's reversals (one contact: these loops follow
@@ -677,11 +678,10 @@ def test_contact_map_refuses_a_kink():
     """The map is built only where every node's contact is one reversal between start
     and separation: a range reaching approach speeds above the belt's (friction changes
     sign inside the contact) is refused."""
-    from core.hysteretic import _Solver
-    from core.hysteretic_map import REGULAR, build_map, solve_contact
+    from core.deformable.train_map import REGULAR, build_map, solve_contact
 
     stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=100.0, beta_e=100.0)
-    sv = _Solver(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
+    sv = Solve(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
     assert solve_contact(sv, 0.3)[-1] != REGULAR
     assert build_map(sv, 0.2, 0.3) is None
     cmap = build_map(sv, 0.012, 0.016)
@@ -691,13 +691,12 @@ def test_contact_map_refuses_a_kink():
 def test_contact_map_blocks_are_the_sequential_iterates():
     """The map is iterated a block of contacts at a time (sums swept until they settle):
     the speeds are those of ``w -> w - L(w)`` applied one contact after another."""
-    from core.hysteretic import _Solver
-    from core.hysteretic_map import _block, build_map
+    from core.deformable.train_map import build_map, iterate_block
 
     stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=100.0, beta_e=100.0)
-    sv = _Solver(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
+    sv = Solve(PRESSING, stop, 100.0, 1e-8, 1e-11, 16)
     cmap = build_map(sv, 0.009, 0.016)
-    ws = _block(cmap, 0.012, 64)
+    ws = iterate_block(cmap, 0.012, 64)
     w, seq = 0.012, [0.012]
     for _ in range(64):
         w -= float(cmap.evaluate(cmap.loss, w))
@@ -714,12 +713,12 @@ def test_a_reduced_train_stores_nothing_in_its_flights(model, k_c0, beta, d):
     there, as in the full solve (the contact's loss is counted at its separation). It held
     the last contact's loss until the next contact began: 1.3e-6 just after the map's
     switch, 2.3e-7 at t > 20 (k_c0 1e4, beta 100, D 0.01)."""
-    from core import hysteretic_map
+    from core.deformable import train_map
 
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
     with pytest.MonkeyPatch.context() as mp:
         if model == "fitted":  # hold the map back so that the fitted loss law runs
-            mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+            mp.setattr(train_map, "MIN_GAIN", math.inf)
         res = simulate_hysteretic(PRESSING, stop, 100.0, 0.0, 0.0, n_samples=20_000,
                                   **STANDARD)
     switch = [tr.t for tr in res.transitions if tr.kind is TransitionKind.REDUCED]
@@ -740,12 +739,13 @@ def test_a_reduced_train_unloads_on_the_law(model, k_c0, beta, d, t_end):
     much as every contact followed shows just after the switch. It stayed on the envelope
     (the row's first loading): 2.1 % of the peak force above the unloading branch (the map,
     k_c0 1e4, beta 100, D 0.01), so the drawn loops had no hysteresis."""
-    from core import FIRST_LOADING, contact_force, hysteretic_map, phi_compression, reverse
+    from core import FIRST_LOADING, contact_force, phi_compression, reverse
+    from core.deformable import train_map
 
     stop = HystereticStop(FACE, k_c0, 0.5 * k_c0, limit_overlap=d, beta_c=beta, beta_e=beta)
     with pytest.MonkeyPatch.context() as mp:
         if model == "fitted":  # hold the map back so that the fitted loss law runs
-            mp.setattr(hysteretic_map, "MIN_GAIN", math.inf)
+            mp.setattr(train_map, "MIN_GAIN", math.inf)
         fast = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, n_samples=100_000,
                                    **STANDARD)
     full = simulate_hysteretic(PRESSING, stop, t_end, 0.0, 0.0, reduce=False,
@@ -930,7 +930,7 @@ def test_a_modelled_rest_far_away_states_the_error_of_its_time(k_c0, beta, d):
     t_rest = rest(modelled)
     bound = modelled.info["rest_time_error"]
     # Modelled: ~15,000 cycles of ~0.18, far more than the FOLLOW_REVERSALS followed.
-    assert t_rest - reduced > 0.5 * hysteretic_reduced.FOLLOW_REVERSALS * 0.18
+    assert t_rest - reduced > 0.5 * rest_rules.FOLLOW_REVERSALS * 0.18
     assert abs(t_rest - rest(followed)) <= bound
     # A bound that says something: the module's margins (END_AMPLITUDE_MARGIN) make it
     # ~10 % of the time modelled, against 0.02 % measured.

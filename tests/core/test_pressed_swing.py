@@ -6,7 +6,7 @@ the stop, approached asymptotically", while at ``t_end`` they still swung by up 
 the length scale (the rule for rest lets 1e-7 rest at rtol 1e-8), with a force imbalance
 ``|a - x - phi|`` up to 6e-2 of it (``benchmarks/results/pressed_swing_2026-11-29.txt``).
 Now the label is rest only where the swing at ``t_end`` is within the rule's thresholds
-(:func:`core.hysteretic_reduced.rest_swing`: ``10 rtol`` of the scale in the position,
+(:func:`core.deformable.rest.rest_swing`: ``10 rtol`` of the scale in the position,
 ``100 rtol`` in the velocity), else an oscillation on the stop with its amplitude there and
 its decay per cycle (``SteadyKind.OSCILLATION``).
 
@@ -22,11 +22,12 @@ import numpy as np
 import pytest
 
 from core import HystereticStop, Oscillator, simulate
-from core.hysteretic import simulate_hysteretic
-from core.hysteretic_reduced import END_AMPLITUDE_MARGIN, rest_swing
+from core.deformable.decay import END_AMPLITUDE_MARGIN
+from core.deformable.rest import rest_swing
+from core.deformable.solver import simulate_hysteretic
 from core.result import SteadyKind
 
-#: The app's standard preset (app/solver.py).
+#: The app's standard preset (app/solve/presets.py).
 PRESET = {"rtol": 1e-8, "atol": 1e-11}
 #: Every transition stored (the loops' last reversals give their cycle at t_end).
 REFERENCE = {"rtol": 1e-11, "atol": 1e-14, "reduce": False, "n_samples": 200,
@@ -36,7 +37,7 @@ REFERENCE = {"rtol": 1e-11, "atol": 1e-14, "reduce": False, "n_samples": 200,
 POINTS = 2048
 #: The stated amplitude against the reference's: the loops are followed at rtol 1e-8 or
 #: carried by a reduced model whose amplitude where it ends is within END_AMPLITUDE_MARGIN
-#: of the loops' (core/hysteretic_reduced.py). Measured: within 3e-4 on every draw below.
+#: of the loops' (core/deformable/decay.py). Measured: within 3e-4 on every draw below.
 AMPLITUDE_RTOL = END_AMPLITUDE_MARGIN - 1.0
 
 
@@ -45,7 +46,7 @@ def _osc(belt_speed: float) -> Oscillator:
 
 
 def _scale(osc: Oscillator, stop: HystereticStop) -> float:
-    """The solver's length scale (core.hysteretic._Solver.scale)."""
+    """The solver's length scale (core.deformable.state.Solve.scale)."""
     return max(osc.a, osc.b, osc.v, abs(stop.clearance), stop.limit_overlap)
 
 

@@ -10,8 +10,8 @@ import inspect
 import pytest
 
 from core import Oscillator, simulate
+from core.deformable.solver import simulate_hysteretic
 from core.event_method import EventOptions, simulate_event
-from core.hysteretic import simulate_hysteretic
 from core.rigid import simulate_rigid
 from core.sweep import sweep, sweep_grid
 from core.sweep.distributed import sweep_distributed

@@ -1,6 +1,7 @@
-"""The numerical methods' energy split on a deformable stop (core.stop_work): the work done on
-the stop is the law's, so the balance closes and a passive law's loss never falls, on random
-stops as on the paper's figures (tests/core/test_event_method.py, tests/core/test_switch.py).
+"""The numerical methods' energy split on a deformable stop (core.deformable.stop_work): the
+work done on the stop is the law's, so the balance closes and a passive law's loss never
+falls, on random stops as on the paper's figures (tests/core/test_event_method.py,
+tests/core/test_switch.py).
 """
 
 from __future__ import annotations

@@ -367,9 +367,9 @@ def test_a_deformable_stops_grazing_limit_is_swept_at_the_elastic_speed():
     """Fig. 10's stop: the bifurcation diagram plotted impact speed 0 at every grazing
     point (the rigid stop's limit) while the label said "towards w_inf = 0.001768", and
     steady x_max, period and force peak had no sample (x_max nan). The limit is the train of
-    elastic contacts at w_inf (core.hysteresis.elastic_limit): its speed, its peak, its
+    elastic contacts at w_inf (core.deformable.law.elastic_limit): its speed, its peak, its
     force and its period are sampled."""
-    from core.hysteresis import elastic_limit, phi_compression
+    from core.deformable.law import elastic_limit, phi_compression
 
     stop = HystereticStop(0.24, 400.0, 36.0, limit_overlap=0.01, beta_c=300.0, beta_e=300.0)
     osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)

@@ -436,7 +436,8 @@ def test_the_energy_split_on_a_deformable_stop_is_the_law_s(law, clearance):
     """Defect: the work done on the stop was the trapezoid rule over the model's steps:
     the balance closed to only 3.4e-6 to 2e-5 of the belt's input on Figs. 10 and 11, and
     the passive law's loss fell by up to 1.4e-7 (no closed program of that law returns
-    energy). The work is now the law's primitive along each branch (core/stop_work.py)."""
+    energy). The work is now the law's primitive along each branch
+    (core/deformable/stop_work.py)."""
     from core import simulate
 
     osc = Oscillator(mu_s=0.3, mu_k=0.2, belt_speed=0.07)

@@ -24,7 +24,7 @@ from core import HystereticStop, Oscillator, TransitionKind, simulate
 PRESSING = Oscillator(mu_s=0.45, mu_k=0.30, belt_speed=0.25, u_s=2.0)
 FACE = 0.42
 SCALE = max(PRESSING.a, PRESSING.b, PRESSING.v)
-#: The app's "standard" preset (app/solver.py) and its stated error over the scale.
+#: The app's "standard" preset (app/solve/presets.py) and its stated error over the scale.
 STANDARD = {"rtol": 1e-8, "atol": 1e-11}
 STATED_ERROR = 1e-6
 #: The reference's tolerance: each piece's own error is ~1e-13, the times of 150 contacts
@@ -171,7 +171,7 @@ def test_a_long_train_keeps_its_phase_within_the_preset_s_error(k_c0, beta, d_li
 
 
 def test_a_train_handed_to_its_map_starts_it_from_the_right_speed():
-    """The contact-to-contact map (core/hysteretic_map.py) takes this train after 17
+    """The contact-to-contact map (core/deformable/train_map.py) takes this train after 17
     contacts and iterates ~180 more from the approach speed it is handed: the contacts
     integrated before, each off by ~1e-7 in its separation speed, left that speed off and
     the map turned it into phase (the state at t_end = 100 was off by 2.3e-5). Now off by
@@ -193,7 +193,7 @@ def test_a_sharp_stop_s_contacts_are_projected_whatever_their_integration_error(
     so the projection was refused and the error stayed. The contacts after it started
     2e-6 late, and a pressed mass from rest that reaches this train was 5e-6 of the scale
     off at t = 100 (the passive law's cell of benchmarks/hysteretic_speed.py). The limit
-    now grows with rtol (core.hysteretic_contact.PROJECTION_PER_RTOL)."""
+    now grows with rtol (core.deformable.train_contact.PROJECTION_PER_RTOL)."""
     stop = HystereticStop(FACE, 1e4, 5e3, limit_overlap=0.01, beta_c=1000.0, beta_e=1000.0,
                           law=law)
     w0, t_end = 0.0613790410594, 1.6  # then the mass stays on the stop

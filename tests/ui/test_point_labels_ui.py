@@ -5,9 +5,9 @@ label takes the corner that faces away from the curves through its point."""
 from __future__ import annotations
 
 import pytest
-from app.solver import solve
 
 from app.plots import PLACE_LABELS_JS, data_bounds, reference_columns
+from app.solve.pool import solve
 from app.state import scene_values
 
 pytestmark = pytest.mark.ui

@@ -5,18 +5,13 @@ the duration a smooth quadrature (Gauss-Kronrod 7-15), instead of step by step."
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.hysteresis import (
+from core.deformable.law import (
     Branch,
 )
-from core.hysteretic_base import _ARC, _State
-
-if TYPE_CHECKING:
-    from core.hysteretic import _Solver
-
+from core.deformable.state import ARC, Solve, State
 
 #: Semi-analytic arcs: the G7 and K15 estimates of an arc's duration must agree to this
 #: fraction of it (K15 is then good to ~1e-10 relative: its error falls like the square of
@@ -81,7 +76,7 @@ _ARC_COS = tuple(math.cos(0.5 * th) for th in _ARC_TH)
 _ARC_SIN2 = tuple(math.sin(0.5 * th) ** 2 for th in _ARC_TH)
 
 
-def _log_mean_m1(w: float) -> float:
+def log_mean_m1(w: float) -> float:
     """``L(w) - 1`` with ``L(w) = -log(1 - w) / w`` (mean of ``1/(1 - w s)`` over ``[0, 1]``),
     by its series where the closed form cancels."""
     if abs(w) < 1e-3:
@@ -89,12 +84,12 @@ def _log_mean_m1(w: float) -> float:
     return -math.log1p(-w) / w - 1.0
 
 
-def _exp_mean(z: float) -> float:
+def exp_mean(z: float) -> float:
     """``(exp(z) - 1) / z``, the mean of ``exp(z s)`` over ``[0, 1]``."""
     return math.expm1(z) / z if z != 0.0 else 1.0
 
 
-def _log_mean_m1_arr(w: np.ndarray) -> np.ndarray:
+def log_mean_m1_arr(w: np.ndarray) -> np.ndarray:
     small = np.abs(w) < 1e-3
     ws = np.where(small, 0.5, w)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -103,13 +98,13 @@ def _log_mean_m1_arr(w: np.ndarray) -> np.ndarray:
     return np.where(small, series, direct)
 
 
-def _exp_mean_arr(z: np.ndarray) -> np.ndarray:
+def exp_mean_arr(z: np.ndarray) -> np.ndarray:
     zero = z == 0.0
     zs = np.where(zero, 1.0, z)
     return np.where(zero, 1.0, np.expm1(zs) / zs)
 
 
-def branch_constants(sv: _Solver, branch: Branch) -> tuple[float, float, float]:
+def branch_constants(sv: Solve, branch: Branch) -> tuple[float, float, float]:
     """``(K, C, lam)`` of the unclipped curve ``phi = K d/(D - d) + C exp(lam (d - d_r))``."""
     stop, d_lim = sv.stop, sv.d_lim
     r = branch.delta_r
@@ -120,7 +115,7 @@ def branch_constants(sv: _Solver, branch: Branch) -> tuple[float, float, float]:
     return ke, branch.phi_r - ke * r / (d_lim - r), stop.beta_e / d_lim
 
 
-def arc(sv: _Solver, st: _State, s: int, branch: Branch):
+def arc(sv: Solve, st: State, s: int, branch: Branch):
     """Semi-analytic slip from a reversal to the next one, or ``None`` (integrate it).
 
     In slip with a fixed friction sign and on one branch the motion conserves
@@ -153,11 +148,11 @@ def arc(sv: _Solver, st: _State, s: int, branch: Branch):
     sa = s * sv.a
     lim_mean = kk * hyper_r
     kg = kk * d_lim / gap
-    log_m1, exp_mean, exp = _log_mean_m1, _exp_mean, math.exp
+    log_m1, e_mean, exp = log_mean_m1, exp_mean, math.exp
     log1p, expm1 = math.log1p, math.expm1
 
     def q(d: float) -> float:
-        # _log_mean_m1 and _exp_mean written out (as in _duration): Newton's iterations at
+        # log_mean_m1 and exp_mean written out (as in _duration): Newton's iterations at
         # every reversal of loops followed on the stop
         w = d / gap
         if abs(w) < 1e-3:
@@ -186,30 +181,34 @@ def arc(sv: _Solver, st: _State, s: int, branch: Branch):
     if not (0.0 < d_n < sv.d_max) or abs(q(d)) > 1e-9 * abs(q0):
         return None  # separation, the limit overlap, or no clean root: integrate
     phi_n = kk * d_n / (d_lim - d_n) + cc * exp(lam * d)
-    if phi_n > stop.strength:
-        return None
-    if not up and _clipped(stop, d_n, dr, cc, lam):
-        return None
-    vb = sv.vb
-    if not _below_belt_speed(up, s, vb, 2.0 * abs(q0) * abs(d)):
+    if not _stays_exact(stop, up, s, sv.vb, phi_n, d_n, dr, cc, lam, 2.0 * abs(q0) * abs(d)):
         return None
     t_k = _duration(d, x_r - sa + lim_mean, kg, gap, cc, lam)
-    sv.arc_evals += n_evals + 15
-    if t_k is None:
+    sv.tally(arc_evals=n_evals + 15)
+    if t_k is None or st.t + t_k >= sv.t_end:
         return None
+    # (the arc's row and the state at its end: the inner loop of loops on the stop)
     t1 = st.t + t_k
-    if t1 >= sv.t_end:
-        return None
-    mean_phi = lim_mean + kg * log_m1(d / gap) + cc * exp_mean(lam * d)
-    if not sv.contact.kind or sv.timeline[-1][1] != 1:
-        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
-    sv.contact.add(_ARC, st.t, t1, (x_r, d, t_k, kk, cc, lam, dr), sa, st.work)
+    mean_phi = lim_mean + kg * log_m1(d / gap) + cc * e_mean(lam * d)
+    sv.add_row(ARC, st.t, t1, (x_r, d, t_k, kk, cc, lam, dr), sa, st.work)
     wf, wb, ws = st.work
-    st.work = (wf + sa * d, wb + sa * vb * t_k, ws + d * mean_phi)
+    st.work = (wf + sa * d, wb + sa * sv.vb * t_k, ws + d * mean_phi)
     st.t, st.x, st.v = t1, x_r + d, 0.0
-    sv.x_max = max(sv.x_max, st.x)
-    sv.arcs += 1
+    sv.reach(st.x)
+    sv.tally(arcs=1)
     return phi_n
+
+
+def _stays_exact(stop, up: bool, s: int, vb: float, phi_n: float, d_n: float, dr: float,
+                 cc: float, lam: float, u2_max: float) -> bool:
+    """Whether the arc ending at overlap ``d_n`` with force ``phi_n`` is exactly the motion:
+    within the stop's strength, an unloading not clipped to an envelope, and speeds (their
+    square at most ``u2_max``) on one side of the belt's."""
+    if phi_n > stop.strength:
+        return False
+    if not up and _clipped(stop, d_n, dr, cc, lam):
+        return False
+    return _below_belt_speed(up, s, vb, u2_max)
 
 
 def _on_transition_curve(up: bool, cc: float, band: float) -> bool:
@@ -302,7 +301,7 @@ def _duration(d: float, q0: float, kg: float, gap: float, cc: float,
     by more than :data:`ARC_QUAD_RTOL` (or the integrand is not real).
 
     The mean net force ``Q(e) = q0 + e/2 + kg (L(e/gap) - 1) + cc (exp(lam e) - 1)/(lam e)``
-    of :func:`arc` is written out here, as :func:`_log_mean_m1` and :func:`_exp_mean` do,
+    of :func:`arc` is written out here, as :func:`log_mean_m1` and :func:`exp_mean` do,
     and what does not change from node to node is taken out of the loop: it runs at every
     reversal of loops followed on the stop, and the calls were half its time."""
     t_k = t_g = 0.0
@@ -331,8 +330,8 @@ def _duration(d: float, q0: float, kg: float, gap: float, cc: float,
     return t_k
 
 
-def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
-    """Samples inside semi-analytic arcs (:meth:`_Solver.arc`), vectorised.
+def evaluate_arcs(sv: Solve, t, idx, rows, x, xd, work) -> None:
+    """Samples inside semi-analytic arcs (:meth:`Solve.arc`), vectorised.
 
     The angle ``theta`` of each sample solves ``t(theta) = tau`` (Newton; ``t(theta)`` by
     15-point Gauss-Kronrod on ``[0, theta]``); position from ``x = x_r + d sin^2(theta/2)``,
@@ -351,13 +350,13 @@ def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
     kg = kk * d_lim / gap
 
     def mean_phi(e):
-        return kk * dr / gap + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
+        return kk * dr / gap + kg * log_mean_m1_arr(e / gap) + cc * exp_mean_arr(lam * e)
 
     def rate(th, k):  # dt/dtheta of the samples k
         dk = d[k]
         e = dk * np.sin(0.5 * th) ** 2
-        q = (base[k] + 0.5 * e + kg[k] * _log_mean_m1_arr(e / gap[k])
-             + cc[k] * _exp_mean_arr(lam[k] * e))
+        q = (base[k] + 0.5 * e + kg[k] * log_mean_m1_arr(e / gap[k])
+             + cc[k] * exp_mean_arr(lam[k] * e))
         return np.abs(dk) * np.cos(0.5 * th) / np.sqrt(np.maximum(-2.0 * dk * q, 1e-300))
 
     xi = np.array(_GK_X)
@@ -379,7 +378,7 @@ def _evaluate_arcs(sv: _Solver, t, idx, rows, x, xd, work) -> None:
         th[act] = np.clip(ta - step, 0.0, math.pi)
         act = act[np.abs(step) > ARC_SAMPLE_STEP]
     e = d * np.sin(0.5 * th) ** 2
-    q = base + 0.5 * e + kg * _log_mean_m1_arr(e / gap) + cc * _exp_mean_arr(lam * e)
+    q = base + 0.5 * e + kg * log_mean_m1_arr(e / gap) + cc * exp_mean_arr(lam * e)
     x[idx] = x_r + e
     xd[idx] = np.sign(d) * np.sqrt(np.maximum(-2.0 * e * q, 0.0))
     work[idx, 0] = w0[:, 0] + sa * e

@@ -1,5 +1,5 @@
 """One regular contact of a pressed train in closed form and by quadrature: the node
-contacts of the contact-to-contact map (:mod:`core.hysteretic_map`).
+contacts of the contact-to-contact map (:mod:`core.deformable.train_map`).
 
 A contact of the train starts at the face with the law fresh and slip towards the stop
 (``s = +1`` throughout: its speeds stay below the slip circle's largest, which is below the
@@ -33,16 +33,13 @@ whose tail is above :data:`CHEB_RTOL`.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
-from core.hysteresis import FIRST_LOADING, _clip_breaks, leaving_overlap, reverse
-from core.hysteretic_arcs import _exp_mean_arr, _log_mean_m1_arr
-
-if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+from core.deformable.arcs import exp_mean_arr, log_mean_m1_arr
+from core.deformable.law import FIRST_LOADING, clip_breaks, leaving_overlap, reverse
+from core.deformable.state import Solve
 
 #: Chebyshev points of each piece's integrand: the integrands are analytic on ``s`` in
 #: ``[0, 1]`` (the envelope's pole at ``D`` and the exponential's growth set how fast the
@@ -127,9 +124,9 @@ class _Piece:
 def _mean_hyper(k_d: float, d_lim: float, top: float, e):
     """Mean of ``k_d delta / (D - delta)`` over ``[top - e, top]`` (``e >= 0``), without
     cancellation: ``k_d h(top) + k_d D / (D - top) (L(-e / (D - top)) - 1)`` with
-    ``L(w) = -log(1 - w) / w`` (the form of :func:`core.hysteretic_arcs.arc`)."""
+    ``L(w) = -log(1 - w) / w`` (the form of :func:`core.deformable.arcs.arc`)."""
     gap = d_lim - top
-    return k_d * top / gap + k_d * d_lim / gap * _log_mean_m1_arr(-np.asarray(e) / gap)
+    return k_d * top / gap + k_d * d_lim / gap * log_mean_m1_arr(-np.asarray(e) / gap)
 
 
 def _root(f, slope, x: float) -> float | None:
@@ -144,7 +141,7 @@ def _root(f, slope, x: float) -> float | None:
     return None
 
 
-def _peak(sv: _Solver, w: float):
+def _peak(sv: Solve, w: float):
     """Peak overlap ``r`` of the first loading at approach speed ``w``, the turning point
     ``low < 0`` of the same energy on ``phi_C`` continued past the face, the potential
     ``U_C`` and its slope; ``None`` at the limit overlap or within :data:`S_PLUS_MARGIN` of
@@ -154,7 +151,7 @@ def _peak(sv: _Solver, w: float):
     kc = stop.k_c0 * d_lim
 
     def u_c(d: float) -> float:  # U_C: the potential on phi_C (continued past the face)
-        return _envelope_work(kc, d_lim, d) - gap * d + 0.5 * d * d
+        return envelope_work(kc, d_lim, d) - gap * d + 0.5 * d * d
 
     def f_c(d: float) -> float:
         return kc * d / (d_lim - d) - gap + d
@@ -181,43 +178,59 @@ def _loss(stop, r: float, span: float, c0: float, lam: float) -> float:
         return 0.0
     d_lim = stop.limit_overlap
     band = _mean_hyper((stop.k_c0 - stop.k_e0) * d_lim, d_lim, r, span)
-    return span * float(band - c0 * _exp_mean_arr(np.array(-lam * span)))
+    return span * float(band - c0 * exp_mean_arr(np.array(-lam * span)))
 
 
-def node_contact(sv: _Solver, w: float, profile_points: int | None):
+def _unloading(sv: Solve, w: float):
+    """The peak of the contact at approach speed ``w`` and its unloading:
+    ``(r, low, U_C, phi_C, phi_r, d_c, w_out^2)`` with the peak overlap ``r``, the far
+    turning point ``low`` and the potential and force on ``phi_C`` (:func:`_peak`), the
+    force at the peak, the overlap ``d_c`` below which the unloading keeps to ``phi_C``, and
+    the separation speed squared; ``None`` where the contact is not one regular contact."""
+    stop, d_lim = sv.stop, sv.d_lim
+    gap = sv.a - sv.xb
+    if not (0.0 < w and gap > 0.0 and math.hypot(gap, w) < sv.vb):
+        return None
+    peak = _peak(sv, w)
+    if peak is None:
+        return None
+    r, low, u_c, f_c = peak
+    phi_r = stop.k_c0 * d_lim * r / (d_lim - r)
+    if phi_r > stop.strength:
+        return None
+    breaks = clip_breaks(0.0, r, reverse(r, phi_r, FIRST_LOADING, stop), stop)
+    if len(breaks) > 1:
+        return None
+    d_c = breaks[0] if breaks else r  # below d_c the unloading keeps to phi_C
+    c0 = (stop.k_c0 - stop.k_e0) * d_lim * r / (d_lim - r)  # the exponential's amplitude
+    loss = _loss(stop, r, r - d_c, c0, stop.beta_e / d_lim)
+    w_out2 = w * w - 2.0 * loss
+    if not w_out2 > 0.0:
+        return None  # it does not separate: a second reversal in contact
+    return r, low, u_c, f_c, phi_r, d_c, w_out2
+
+
+def node_contact(sv: Solve, w: float, profile_points: int | None):
     """The contact from the face at approach speed ``w`` with the law fresh, in closed form:
     ``(separation speed, duration, peak x, largest |x''|, profile)`` (the profile
     ``None`` if ``profile_points`` is), or ``None`` where it is refused (see the module's
     docstring)."""
     stop, d_lim, xb = sv.stop, sv.d_lim, sv.xb
     gap = sv.a - xb
-    if not (0.0 < w and gap > 0.0 and math.hypot(gap, w) < sv.vb):
-        return None
     kc, ke = stop.k_c0 * d_lim, stop.k_e0 * d_lim
-    peak = _peak(sv, w)
-    if peak is None:
+    unloading = _unloading(sv, w)
+    if unloading is None:
         return None
-    r, low, u_c, f_c = peak
-    phi_r = kc * r / (d_lim - r)
-    if phi_r > stop.strength:
-        return None
-    breaks = _clip_breaks(0.0, r, reverse(r, phi_r, FIRST_LOADING, stop), stop)
-    if len(breaks) > 1:
-        return None
-    d_c = breaks[0] if breaks else r  # below d_c the unloading keeps to phi_C
+    r, low, u_c, f_c, phi_r, d_c, w_out2 = unloading
     c0 = (stop.k_c0 - stop.k_e0) * d_lim * r / (d_lim - r)  # the exponential's amplitude
     lam = stop.beta_e / d_lim
     span = r - d_c
-    loss = _loss(stop, r, span, c0, lam)
-    w_out2 = w * w - 2.0 * loss
-    if not w_out2 > 0.0:
-        return None  # it does not separate: a second reversal in contact
 
     def on_c(top):  # mean net force over [top, top + e] on phi_C
         return lambda e: (_mean_hyper(kc, d_lim, top, -e) + top + 0.5 * e - gap)
 
     def on_raw(e):  # the same on the unloading exponential from the peak
-        return (_mean_hyper(ke, d_lim, r, -e) + c0 * _exp_mean_arr(lam * e) + r + 0.5 * e
+        return (_mean_hyper(ke, d_lim, r, -e) + c0 * exp_mean_arr(lam * e) + r + 0.5 * e
                 - gap)
 
     def angle(top: float, other: float, d: float) -> float:  # theta of d in [top, other]
@@ -245,7 +258,7 @@ def node_contact(sv: _Solver, w: float, profile_points: int | None):
     return math.sqrt(w_out2), dur, xb + r, accel, profile
 
 
-def _envelope_work(kc: float, d_lim: float, d: float) -> float:
+def envelope_work(kc: float, d_lim: float, d: float) -> float:
     """``int_0^d phi_C`` (``kc = k_c0 D``; continued past the face for ``d < 0``), by the
     series for small ``|d| / D``."""
     x = d / d_lim

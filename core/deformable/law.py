@@ -1,7 +1,5 @@
-"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13), in one place.
-
-This module is longer than the project's ~500 lines because it holds the law whole, both
-readings with their reversal rules and the energy they store, so that one file states Eqs. 9-13.
+"""The hysteretic contact law of the deformable stop (paper Eqs. 9-13): both readings, their
+reversal rules, the work along their branches and the energy they store.
 
 Two readings of the transition curves, chosen by ``HystereticStop.law`` and compared in
 docs/contact-law.md: ``"paper"`` (below; reproduces the paper's Fig. 2b, returns energy on
@@ -310,7 +308,7 @@ def passive_as_paper(branch: Branch, stop: HystereticStop) -> Branch | None:
     return Branch(False, d_a, p_a)
 
 
-def _on_compression(d_r: float, p_r: float, stop: HystereticStop) -> bool:
+def on_compression(d_r: float, p_r: float, stop: HystereticStop) -> bool:
     d_lim = stop.limit_overlap
     return d_r <= 0.0 or p_r >= stop.k_c0 * d_lim * d_r / (d_lim - d_r) * (1.0 - ON_ENVELOPE_RTOL)
 
@@ -321,7 +319,7 @@ def _passive_anchor(branch: Branch, stop: HystereticStop) -> tuple[float, float]
     if branch.anchor is not None:
         return branch.anchor
     d_r, p_r = branch.delta_r, branch.phi_r
-    on_c = _on_compression(d_r, p_r, stop)
+    on_c = on_compression(d_r, p_r, stop)
     if branch.loading and on_c:
         return None
     s_plus = leaving_overlap(stop)
@@ -469,7 +467,7 @@ def reverse(delta: float, phi: float, branch: Branch,
         return new
     if branch.anchor is not None and (new.delta_r, new.phi_r) == branch.anchor:
         return Branch(new.loading, new.delta_r, new.phi_r, branch.anchor)  # the same curve
-    if _on_compression(new.delta_r, new.phi_r, stop):
+    if on_compression(new.delta_r, new.phi_r, stop):
         return new
     anchor = _passive_anchor(branch, stop)
     if anchor is None or not _keeps_curve(new.delta_r, new.phi_r, anchor, stop):
@@ -541,7 +539,7 @@ def _raw_scalar(delta: float, branch: Branch, stop: HystereticStop) -> float:
     return stop.k_e0 * hyper + c * math.exp(min(-stop.beta_e * (r - delta) / d_lim, EXP_CAP))
 
 
-def _clip_breaks(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> list[float]:
+def clip_breaks(lo: float, hi: float, branch: Branch, stop: HystereticStop) -> list[float]:
     """Overlaps in ``(lo, hi)`` where the transition curve meets the envelope it is clipped to.
 
     Unloading curves can rise above ``phi_C`` (clip ``f < 0`` with
@@ -635,7 +633,7 @@ def branch_work(d0: float, d1: float, branch: Branch, stop: HystereticStop) -> f
         return math.inf
     if stop.law == "passive":
         return _passive_work(lo, hi, branch, stop)
-    points = [lo, *_clip_breaks(lo, hi, branch, stop), hi]
+    points = [lo, *clip_breaks(lo, hi, branch, stop), hi]
     total = 0.0
     for p, q in zip(points[:-1], points[1:], strict=False):
         which = _classify(0.5 * (p + q), branch, stop)
@@ -720,7 +718,7 @@ def branch_kinks(branch: Branch, stop: HystereticStop, lo: float, hi: float) -> 
     if not hi > lo:
         return []
     if stop.law != "passive":
-        return _clip_breaks(lo, hi, branch, stop)
+        return clip_breaks(lo, hi, branch, stop)
     anchor = _passive_anchor(branch, stop)
     if anchor is None:
         return []  # phi_C: smooth
@@ -728,7 +726,7 @@ def branch_kinks(branch: Branch, stop: HystereticStop, lo: float, hi: float) -> 
     curve = Branch(False, *anchor)
     capped = _work_capped(curve, s_plus, stop)
     top = min(hi, s_plus) if capped else hi
-    kinks = _clip_breaks(lo, top, curve, _paper_reading(stop)) if top > lo else []
+    kinks = clip_breaks(lo, top, curve, _paper_reading(stop)) if top > lo else []
     if capped and lo < s_plus < hi:
         kinks.append(s_plus)
     return sorted(kinks)
@@ -801,7 +799,7 @@ class BranchPrimitive:
         if stop.law == "passive":
             self._passive(lo, hi)
             return
-        points = [lo, *(_clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
+        points = [lo, *(clip_breaks(lo, hi, branch, stop) if hi > lo else []), hi]
         self.points = points
         self.which = []
         self.offsets = []
@@ -897,7 +895,7 @@ def stored_energy_many(delta, phi, stop: HystereticStop, delta_r=None,
 
     The unloading curve through ``(d_r, phi_r)`` is clipped to ``phi_C`` where
     ``f(s) = (k_c0 - k_e0) D s/(D - s) - c exp(-beta_e (d_r - s)/D) < 0``; on the monotone
-    pieces of ``log f`` (split at ``s (D - s) = D^2 / beta_e``, as in :func:`_clip_breaks`)
+    pieces of ``log f`` (split at ``s (D - s) = D^2 / beta_e``, as in :func:`clip_breaks`)
     each sign change is bracketed and bisected to the last bit, then the pieces are summed
     in closed form. States below the expansion envelope (``c < 0``, rounding) unload on it.
     """

@@ -1,7 +1,7 @@
 """The work done on a deformable stop along a numerical method's solution, in closed form.
 
 On each branch of the contact law (paper Eqs. 12-13) the force is a function of the overlap,
-so the work from the branch's start is its primitive (:class:`core.hysteresis.BranchPrimitive`).
+so the work from the branch's start is its primitive (:class:`core.deformable.law.BranchPrimitive`).
 The event method (:mod:`core.event_method`) and the switch model (:mod:`core.switch`) record
 the branch each point of their track follows; :func:`core.dense.result_from_dense` takes the
 work at the points and at the samples from here instead of the trapezoid rule over the
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from core.hysteresis import (
+from core.deformable.law import (
     LIMIT_MARGIN,
     Branch,
     BranchPrimitive,
@@ -26,7 +26,7 @@ from core.params import HystereticStop
 class StopWork:
     """The work done on a deformable stop along the solution, in closed form: on each
     branch of the law the force is a function of the overlap, so the work from the
-    branch's start is its primitive (:class:`core.hysteresis.BranchPrimitive`). Each
+    branch's start is its primitive (:class:`core.deformable.law.BranchPrimitive`). Each
     point of the track records its branch (:meth:`add_point`); the work is evaluated at
     the points that need it (:attr:`points`) and at any sample (:meth:`at`), for
     :func:`core.dense.result_from_dense`. With the trapezoid rule over the solver's

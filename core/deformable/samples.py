@@ -1,42 +1,37 @@
-"""Samples, energy terms, dense evaluation and the steady state of a deformable-stop solve
-(:mod:`core.hysteretic`), from the rows and transitions the solver recorded."""
+"""The samples of a finished deformable-stop solve: states, energy terms, dense evaluation
+and the steady state, read from the rows and transitions its :class:`Solve` recorded."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from core.hysteresis import (
+from core.deformable.arcs import evaluate_arcs
+from core.deformable.hermite import dpoly, poly
+from core.deformable.law import (
     BranchPrimitive,
     branch_work,
     force_on_branches,
     phi_compression,
     stored_energy_many,
 )
-from core.hysteretic_arcs import _evaluate_arcs
-from core.hysteretic_base import (
-    _ARC,
-    _HERMITE,
-    _LINE,
-    _OSC,
-    _TRAIN,
+from core.deformable.rest import REST_SPEED_PER_AMPLITUDE, rest_amplitude
+from core.deformable.state import (
+    ARC,
     FIXED_POINT_RTOL,
-    _dpoly,
-    _poly,
+    HERMITE,
+    LINE,
+    OSC,
+    TRAIN,
+    Solve,
 )
-from core.hysteretic_reduced import REST_SPEED_PER_AMPLITUDE
 from core.numerics.hermite import hermite_max
 from core.params import HystereticStop
 from core.result import Energy, Mode, Result, Status, Steady, SteadyKind, TransitionKind, make_stats
 from core.steady import SwingProbe, pressed_steady, steady_from_transitions, train_steady
 from core.trajectory import evaluate
-
-if TYPE_CHECKING:
-    from core.hysteretic import _Solver
-
 
 #: Samples added on each branch of a contact (from its start, a reversal of the overlap
 #: rate or its end to the next) besides the uniform grid: a contact lasts ~pi/sqrt(k_c0),
@@ -50,7 +45,7 @@ CONTACT_SAMPLES = 16
 CONTACT_SAMPLED_BRANCHES = 16
 
 
-def _continued(sv: _Solver, times: np.ndarray, with_work: bool = True
+def _continued(sv: Solve, times: np.ndarray, with_work: bool = True
                ) -> tuple[np.ndarray, np.ndarray]:
     """Times mapped into the detected cycle (periodic continuation) and the work the
     repeated cycles add (zeros without ``with_work``); the identity and zeros without a
@@ -80,7 +75,7 @@ class HystereticDense:
     the periodic continuation. Position and velocity are continuous at a deformable stop,
     so ``side`` makes no difference."""
 
-    def __init__(self, sv: _Solver, t_stop: float) -> None:
+    def __init__(self, sv: Solve, t_stop: float) -> None:
         self._sv, self._t_stop = sv, t_stop
 
     def evaluate(self, t, side: int = -1) -> tuple[np.ndarray, np.ndarray]:
@@ -97,7 +92,7 @@ class HystereticDense:
 CYCLE_MAX_POINTS = 2000
 
 
-def _cycle_x_max(sv: _Solver, stop: HystereticStop, t_then: float, t_now: float) -> float:
+def _cycle_x_max(sv: Solve, stop: HystereticStop, t_then: float, t_now: float) -> float:
     """Largest ``x`` of the periodic cycle ``[t_then, t_now]``: the Hermite interpolant of
     the solution's states on :data:`CYCLE_MAX_POINTS` points and its transitions."""
     marks = [tr.t for tr in sv.log.recent if t_then <= tr.t <= t_now]
@@ -106,24 +101,12 @@ def _cycle_x_max(sv: _Solver, stop: HystereticStop, t_then: float, t_now: float)
     return float(hermite_max(tt, x, xd))
 
 
-def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
+def assemble(sv: Solve, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> Result:
     """Samples on the free segments and the contact rows, energy terms, steady state."""
     t_stop = t_end if sv.status is Status.SUCCESS else min(t_end, _last_time(sv))
-    if t_eval is None:
-        # The motion's end is one of its points: a solve stopped early (the limit
-        # overlap, a failed stop, a budget) ends between samples, and without it the
-        # result's last state was a contact sample before the end (a limit reached at
-        # t = 1.79626 read as x at t = 1.79588, 6 % of the overlap short).
-        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop] + [t_stop]
-        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
-                                          _contact_samples(sv, t_stop, t_end),
-                                          _train_samples(sv, t_stop, n_samples))))
-    else:
-        times = np.asarray(t_eval, dtype=float)
-    times = times[times <= t_stop]
+    times = _sample_times(sv, t_end, t_stop, n_samples, t_eval)
     if sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
-        t_then, t_now = sv.tail_start
-        _replicate(sv, t_then, t_now, t_now - t_then, t_end)
+        sv.replicate_cycle(t_end)
     t_eval, shift_work = _continued(sv, times)
     x, xd, mode, phi, delta, work, stored = _evaluate(sv, t_eval, stop)
     work = work + shift_work
@@ -140,7 +123,6 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
         steady = _asymptotic(sv, t_end, mode, xd)
     elif steady.kind is SteadyKind.PERIODIC and math.isnan(steady.x_max):
         steady = dataclasses.replace(steady, x_max=_cycle_x_max(sv, stop, *sv.tail_start))
-    restitution = sv.restitution
     stats = make_stats(
         segments=len(sv.table) + len(sv.contact.kind),
         steps=sv.steps,
@@ -148,26 +130,7 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
         rhs_evals=sv.rhs_evals + sv.arc_evals,
         events=sv.log.total,
     )
-    info = {
-        "n_contacts": sv.n_contacts,
-        "work_steps": sv.work_steps(),
-        "contact_rhs_evals": sv.rhs_evals,
-        "arcs": sv.arcs,
-        "arc_evals": sv.arc_evals,
-        "effective_restitution": restitution[-1] if restitution else math.nan,
-        "effective_restitution_first": restitution[0] if restitution else math.nan,
-        "law": stop.law,
-    }
-    if not math.isnan(sv.rest_force):
-        info["rest_force"] = sv.rest_force
-    if sv.reduced_error > 0.0:
-        info["length_scale"] = sv.scale()
-        info["reduced_error"] = sv.reduced_error
-        # The band where a model states one (a fitted train's error also holds the
-        # velocity, up to twice its approach speed); else its error bounds the position too.
-        info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
-    if sv.rest_time_error > 0.0:
-        info["rest_time_error"] = sv.rest_time_error
+    info = _info(sv, stop)
     x_max = sv.x_max
     if sv.table.t0:
         x_max = max(x_max, sv.table.x_max)
@@ -193,7 +156,51 @@ def _assemble(sv: _Solver, osc, stop, t_end, x0, v0, n_samples, t_eval=None) -> 
     )
 
 
-def _last_time(sv: _Solver) -> float:
+def _sample_times(sv: Solve, t_end: float, t_stop: float, n_samples: int, t_eval
+                  ) -> np.ndarray:
+    """The sample times up to ``t_stop``: ``t_eval``, or ``n_samples`` uniform ones with the
+    transitions, the motion's end and the extra samples of contacts and reduced trains."""
+    if t_eval is None:
+        # The motion's end is one of its points: a solve stopped early (the limit
+        # overlap, a failed stop, a budget) ends between samples, and without it the
+        # result's last state was a contact sample before the end (a limit reached at
+        # t = 1.79626 read as x at t = 1.79588, 6 % of the overlap short).
+        marks = [tr.t for tr in sv.log.stored if tr.t <= t_stop] + [t_stop]
+        times = np.unique(np.concatenate((np.linspace(0.0, t_end, n_samples), marks,
+                                          _contact_samples(sv, t_stop, t_end),
+                                          _train_samples(sv, t_stop, n_samples))))
+    else:
+        times = np.asarray(t_eval, dtype=float)
+    return times[times <= t_stop]
+
+
+def _info(sv: Solve, stop: HystereticStop) -> dict:
+    """The result's ``info`` (:func:`core.deformable.solver.solve_hysteretic`)."""
+    restitution = sv.restitution
+    info = {
+        "n_contacts": sv.n_contacts,
+        "work_steps": sv.work_steps(),
+        "contact_rhs_evals": sv.rhs_evals,
+        "arcs": sv.arcs,
+        "arc_evals": sv.arc_evals,
+        "effective_restitution": restitution[-1] if restitution else math.nan,
+        "effective_restitution_first": restitution[0] if restitution else math.nan,
+        "law": stop.law,
+    }
+    if not math.isnan(sv.rest_force):
+        info["rest_force"] = sv.rest_force
+    if sv.reduced_error > 0.0:
+        info["length_scale"] = sv.scale()
+        info["reduced_error"] = sv.reduced_error
+        # The band where a model states one (a fitted train's error also holds the
+        # velocity, up to twice its approach speed); else its error bounds the position too.
+        info["reduced_band"] = sv.reduced_band if sv.reduced_band > 0.0 else sv.reduced_error
+    if sv.rest_time_error > 0.0:
+        info["rest_time_error"] = sv.rest_time_error
+    return info
+
+
+def _last_time(sv: Solve) -> float:
     ends = [sv.contact.t1[-1]] if sv.contact.t1 else []
     if sv.table.t1:
         ends.append(sv.table.t1[-1])
@@ -208,7 +215,7 @@ def _last_time(sv: _Solver) -> float:
 TRAIN_CONTACT_FRACTIONS = np.array([0.0, 0.04, 0.08, 0.5, 1.0])
 
 
-def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
+def _train_samples(sv: Solve, t_stop: float, bins: int) -> np.ndarray:
     """Times at the extremes of the contacts a reduced train lays out (their start, middle
     and end, :data:`TRAIN_CONTACT_FRACTIONS`, and the bottom of the flight after each), which
     a uniform grid aliases: a
@@ -218,7 +225,7 @@ def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
     c = sv.contact
     out = []
     for r, kind in enumerate(c.kind):
-        if kind != _TRAIN:
+        if kind != TRAIN:
             continue
         model, t0, t1 = c.data[r][0], c.t0[r], min(c.t1[r], t_stop)
         start = t0 + np.asarray(model.start, dtype=float)
@@ -235,7 +242,22 @@ def _train_samples(sv: _Solver, t_stop: float, bins: int) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
-def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
+def _repeated_spans(tail: tuple[float, float], spans: list[tuple[float, float]],
+                    t_end: float) -> list[tuple[float, float]]:
+    """The contact branches of the periodic cycle ``tail = (t_then, t_now)`` among
+    ``spans``, shifted by the cycle's repeats up to ``t_end`` (the last of them only)."""
+    t_then, t_now = tail
+    period = t_now - t_then
+    cycle = [(a, b) for a, b in spans if a >= t_then and b <= t_now + 1e-12 * period]
+    repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
+    # Only the last repeats can be among the sampled branches: a cycle of a train of
+    # micro-contacts may repeat a million times.
+    first = max(1, repeats - CONTACT_SAMPLED_BRANCHES)
+    return [(a + k * period, b + k * period)
+            for k in range(first, repeats + 1) for a, b in cycle if a + k * period < t_end]
+
+
+def _contact_samples(sv: Solve, t_stop: float, t_end: float) -> np.ndarray:
     """:data:`CONTACT_SAMPLES` times on each branch of the first and the last
     :data:`CONTACT_SAMPLED_BRANCHES` contact branches, a detected cycle's continuation
     included."""
@@ -245,15 +267,7 @@ def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
     spans = [(t0, t1) for (t0, k0), (t1, _) in zip(marks[:-1], marks[1:], strict=True)
              if k0 is not TransitionKind.SEPARATION and t1 > t0]
     if spans and sv.steady is not None and sv.steady.kind is SteadyKind.PERIODIC:
-        t_then, t_now = sv.tail_start
-        period = t_now - t_then
-        cycle = [(a, b) for a, b in spans if a >= t_then and b <= t_now + 1e-12 * period]
-        repeats = int(max(0.0, t_end - t_now) // period) + 1 if cycle and period > 0 else 0
-        # Only the last repeats can be among the sampled branches: a cycle of a train of
-        # micro-contacts may repeat a million times.
-        first = max(1, repeats - CONTACT_SAMPLED_BRANCHES)
-        spans += [(a + k * period, b + k * period)
-                  for k in range(first, repeats + 1) for a, b in cycle if a + k * period < t_end]
+        spans += _repeated_spans(sv.tail_start, spans, t_end)
     if len(spans) > 2 * CONTACT_SAMPLED_BRANCHES:
         spans = spans[:CONTACT_SAMPLED_BRANCHES] + spans[-CONTACT_SAMPLED_BRANCHES:]
     if not spans:
@@ -263,47 +277,7 @@ def _contact_samples(sv: _Solver, t_stop: float, t_end: float) -> np.ndarray:
     return (a[:, None] + (b - a)[:, None] * frac[None, :]).ravel()
 
 
-def _replicate(sv: _Solver, t_then: float, t_now: float, period: float, t_end: float) -> None:
-    """Transitions after the detected cycle: shifted copies, stored up to the cap.
-
-    Those the solve recorded after the cycle closed (the contact in progress went on to
-    its end) give way to the copies, as the samples there do (:func:`_continued`): kept,
-    each was recorded twice."""
-    late = [tr for tr in sv.log.stored if tr.t > t_now]
-    if late:
-        sv.log.stored = [tr for tr in sv.log.stored if tr.t <= t_now]
-        for tr in late:
-            sv.log.total -= 1
-            sv.log.counts[tr.kind.value] -= 1
-    cycle = [tr for tr in sv.log.stored
-             if t_then < tr.t <= t_now and tr.kind is not TransitionKind.REDUCED]
-    if not cycle:
-        return
-    k = 1
-    while True:
-        if cycle[0].t + k * period > t_end:
-            return
-        if len(sv.log.stored) >= sv.log.cap:
-            remaining = t_end - (cycle[0].t + k * period)
-            full = int(remaining // period) + 1
-            for tr in cycle:
-                n = (
-                    full
-                    if tr.t - cycle[0].t + (full - 1) * period + cycle[0].t + k * period <= t_end
-                    else full - 1
-                )
-                sv.log.total += n
-                sv.log.counts[tr.kind.value] += n
-            return
-        for tr in cycle:
-            ts = tr.t + k * period
-            if ts > t_end:
-                return
-            sv.log.add(tr.kind, ts, tr.x, tr.v, tr.v_after)
-        k += 1
-
-
-def _locate(sv: _Solver, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _locate(sv: Solve, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     starts = np.array([e[0] for e in sv.timeline])
     src = np.array([e[1] for e in sv.timeline], dtype=int)
     row = np.array([e[2] for e in sv.timeline], dtype=int)
@@ -311,14 +285,14 @@ def _locate(sv: _Solver, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return src[i], row[i]
 
 
-def _work_at(sv: _Solver, t: np.ndarray) -> np.ndarray:
+def _work_at(sv: Solve, t: np.ndarray) -> np.ndarray:
     _, _, _, _, _, work, _ = _evaluate(sv, t, sv.stop)
     return work
 
 
 def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, np.ndarray]:
     """The anchors of the passive law's curves kept over reversals inside the band
-    (:class:`~core.hysteresis.Branch`), ``nan`` where none, of the branches ``rows``."""
+    (:class:`~core.deformable.law.Branch`), ``nan`` where none, of the branches ``rows``."""
     a_d, a_p = np.full(len(rows), math.nan), np.full(len(rows), math.nan)
     if stop.law == "passive":
         for k, i in enumerate(rows):
@@ -326,7 +300,7 @@ def _anchors(brs, rows: np.ndarray, stop: HystereticStop) -> tuple[np.ndarray, n
     return a_d, a_p
 
 
-def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
+def _evaluate(sv: Solve, t: np.ndarray, stop: HystereticStop, state_only: bool = False):
     """State, mode, force, overlap, cumulative work and stored energy at times ``t``.
 
     With ``state_only`` only the state ``x, xd`` is complete (the other arrays are left
@@ -345,12 +319,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
     src, first_row = _locate(sv, t)
     free = src == 0
     if np.any(free):
-        table = sv.table.arrays(sv.vb)
-        out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
-        x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
-        work[free, 0] = out["friction_work"]
-        work[free, 1] = out["belt_input"]
-        work[free, 2] = out["stop_loss"]
+        _evaluate_free(sv, t, free, x, xd, mode, work)
     idx = np.nonzero(~free)[0]
     if len(idx):
         c = sv.contact
@@ -359,57 +328,18 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         xb = stop.clearance
         kinds = np.array(c.kind, dtype=np.int8)[rows]
         branch_rows = np.array(c.branch, dtype=int)[rows]
-        is_arc = kinds == _ARC
-        is_osc = (kinds == _OSC) | (kinds == _TRAIN)
+        is_arc = kinds == ARC
+        is_osc = (kinds == OSC) | (kinds == TRAIN)
         if np.any(is_arc):
-            _evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
-        # A reduced model's samples, one call per row (a train's lays out its contacts by
-        # a search over thousands: vectorised, not per sample).
-        for r in np.unique(rows[is_osc]):
-            js = idx[is_osc][rows[is_osc] == r]
-            model, x_s, m_s, loss_s = c.data[r]
-            tau = t[js] - c.t0[r]
-            xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
-                           for q in model.state(tau))
-            wf, wb, ws = c.work0[r]
-            dwf = c.friction[r] * (xj - x_s)
-            x[js], xd[js] = xj, uj
-            work[js, 0] = wf + dwf
-            work[js, 1] = wb + c.friction[r] * sv.vb * tau
-            work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
-            dissipated = model.energy(model.amp0) - model.energy(amp)
-            stored[js] = work[js, 2] - (loss_s + dissipated)
+            evaluate_arcs(sv, t, idx[is_arc], rows[is_arc], x, xd, work)
+        _evaluate_reduced(sv, t, idx[is_osc], rows[is_osc], x, xd, work, stored)
         plain = ~is_arc & ~is_osc
-        for j, r in zip(idx[plain], rows[plain], strict=True):
-            kind = c.kind[r]
-            tau = t[j] - c.t0[r]
-            wf, wb, ws = c.work0[r]
-            if kind == _HERMITE:
-                coeffs, h = c.data[r][:6], c.data[r][6]
-                th = tau / h
-                xj, uj = _poly(coeffs, th), _dpoly(coeffs, th) / h
-                fr = c.friction[r]
-                wf += fr * (xj - coeffs[0])
-                wb += fr * sv.vb * tau
-            elif kind == _LINE:
-                x_start, vb = c.data[r]
-                xj, uj = x_start + vb * tau, vb
-                bi = c.branch[r]
-                wst = 0.5 * (xj * xj - x_start * x_start) + branch_work(
-                    x_start - xb, xj - xb, c.branches[bi], stop
-                )
-                wf += wst
-                wb += wst
-            else:
-                xj, uj = c.data[r][0], 0.0
-                wb += c.friction[r] * sv.vb * tau
-            x[j], xd[j] = xj, uj
-            work[j, 0], work[j, 1] = wf, wb
+        _evaluate_rows(sv, t, idx[plain], rows[plain], x, xd, work)
         if state_only:
             return x, xd, mode, phi, x - stop.clearance, work, stored
         mode[idx] = Mode.CONTACT
         # A reduced train's flights are slip towards the stop.
-        mode[idx[(kinds == _TRAIN) & (x[idx] < xb)]] = Mode.SLIP
+        mode[idx[(kinds == TRAIN) & (x[idx] < xb)]] = Mode.SLIP
         brs = c.branches
         delta = x[idx] - xb
         loading = np.array([brs[i].loading for i in branch_rows])
@@ -418,8 +348,8 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         a_d, a_p = _anchors(brs, branch_rows, stop)
         # A reduced train's contact unloads from its own peak (paper Eq. 12): the row's
         # branch is the first loading of every contact, the envelope.
-        for r in np.unique(rows[kinds == _TRAIN]):
-            sel = np.nonzero((kinds == _TRAIN) & (rows == r))[0]
+        for r in np.unique(rows[kinds == TRAIN]):
+            sel = np.nonzero((kinds == TRAIN) & (rows == r))[0]
             model = c.data[r][0]
             unloading = (xd[idx[sel]] < 0.0) & (delta[sel] > 0.0)
             peak = np.asarray(model.peak(t[idx[sel]] - c.t0[r]), dtype=float)
@@ -428,7 +358,7 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
             p_r[sel] = np.where(unloading, phi_compression(peak, stop), p_r[sel])
             a_d[sel] = np.where(unloading, math.nan, a_d[sel])
         phi[idx] = force_on_branches(delta, loading, d_r, p_r, stop, a_d, a_p)
-        _reduced_oscillation_forces(c, idx[kinds == _OSC], rows[kinds == _OSC], t, x, phi)
+        _reduced_oscillation_forces(c, idx[kinds == OSC], rows[kinds == OSC], t, x, phi)
         primitives: dict[int, BranchPrimitive] = {}
 
         def primitive(bi: int) -> BranchPrimitive:
@@ -456,6 +386,67 @@ def _evaluate(sv: _Solver, t: np.ndarray, stop: HystereticStop, state_only: bool
         stored[idx[own]] = _stored(delta[own], phi[idx[own]], ~loading[own] & (delta[own] > 0.0),
                                    d_r[own], p_r[own], branch_rows[own], primitive, stop)
     return x, xd, mode, phi, x - stop.clearance, work, stored
+
+
+def _evaluate_free(sv: Solve, t, free, x, xd, mode, work) -> None:
+    """The samples ``free`` (a mask of ``t``) in free flight, from its closed form."""
+    table = sv.table.arrays(sv.vb)
+    out = evaluate(table, t[free], np.zeros(free.sum(), bool), sv.vb)
+    x[free], xd[free], mode[free] = out["x"], out["v"], out["mode"]
+    work[free, 0] = out["friction_work"]
+    work[free, 1] = out["belt_input"]
+    work[free, 2] = out["stop_loss"]
+
+
+def _evaluate_reduced(sv: Solve, t, idx, rows, x, xd, work, stored) -> None:
+    """The samples ``idx`` in the reduced models' ``rows``, one call per row (a train's lays
+    out its contacts by a search over thousands: vectorised, not per sample)."""
+    c = sv.contact
+    for r in np.unique(rows):
+        js = idx[rows == r]
+        model, x_s, m_s, loss_s = c.data[r]
+        tau = t[js] - c.t0[r]
+        xj, uj, amp = (np.broadcast_to(np.asarray(q, dtype=float), tau.shape)
+                       for q in model.state(tau))
+        wf, wb, ws = c.work0[r]
+        dwf = c.friction[r] * (xj - x_s)
+        x[js], xd[js] = xj, uj
+        work[js, 0] = wf + dwf
+        work[js, 1] = wb + c.friction[r] * sv.vb * tau
+        work[js, 2] = ws + dwf - (0.5 * (xj * xj + uj * uj) - m_s)
+        dissipated = model.energy(model.amp0) - model.energy(amp)
+        stored[js] = work[js, 2] - (loss_s + dissipated)
+
+
+def _evaluate_rows(sv: Solve, t, idx, rows, x, xd, work) -> None:
+    """The samples ``idx`` in Dormand-Prince steps, stick lines and rest (``rows``): the
+    state and the friction and belt work."""
+    c, stop, xb = sv.contact, sv.stop, sv.xb
+    for j, r in zip(idx, rows, strict=True):
+        kind = c.kind[r]
+        tau = t[j] - c.t0[r]
+        wf, wb, ws = c.work0[r]
+        if kind == HERMITE:
+            coeffs, h = c.data[r][:6], c.data[r][6]
+            th = tau / h
+            xj, uj = poly(coeffs, th), dpoly(coeffs, th) / h
+            fr = c.friction[r]
+            wf += fr * (xj - coeffs[0])
+            wb += fr * sv.vb * tau
+        elif kind == LINE:
+            x_start, vb = c.data[r]
+            xj, uj = x_start + vb * tau, vb
+            bi = c.branch[r]
+            wst = 0.5 * (xj * xj - x_start * x_start) + branch_work(
+                x_start - xb, xj - xb, c.branches[bi], stop
+            )
+            wf += wst
+            wb += wst
+        else:
+            xj, uj = c.data[r][0], 0.0
+            wb += c.friction[r] * sv.vb * tau
+        x[j], xd[j] = xj, uj
+        work[j, 0], work[j, 1] = wf, wb
 
 
 def _reduced_oscillation_forces(c, idx, rows, t, x, phi) -> None:
@@ -487,17 +478,17 @@ def _stored(delta, phi, on_branch, d_r, p_r, branch_rows, primitive, stop) -> np
     return stored
 
 
-def swing_probe(sv: _Solver, t_end: float) -> SwingProbe:
+def swing_probe(sv: Solve, t_end: float) -> SwingProbe:
     """The solution at the horizon against the solver's rule for rest
-    (:func:`core.hysteretic_reduced.rest_rule`): a swing of ``rest_amplitude`` in the
-    position and :data:`~core.hysteretic_reduced.REST_SPEED_PER_AMPLITUDE` times it in the
+    (:func:`core.deformable.rest.rest_rule`): a swing of ``rest_amplitude`` in the
+    position and :data:`~core.deformable.rest.REST_SPEED_PER_AMPLITUDE` times it in the
     velocity."""
-    rest = sv.rest_amplitude()
+    rest = rest_amplitude(sv)
     return SwingProbe(HystereticDense(sv, t_end).evaluate, t_end, rest,
                       REST_SPEED_PER_AMPLITUDE * rest)
 
 
-def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
+def _asymptotic(sv: Solve, t_end: float, mode: np.ndarray, xd: np.ndarray) -> Steady:
     """Steady state read off the last transitions when no fixed point was found."""
     if sv.status is not Status.SUCCESS:
         return Steady(SteadyKind.NONE)
@@ -509,7 +500,7 @@ def _asymptotic(sv: _Solver, t_end: float, mode: np.ndarray, xd: np.ndarray) -> 
         # The passive law's loops of reversals alone retrace their curve: no loss.
         return pressed_steady(list(sv.log.recent), lossless=sv.stop.law == "passive",
                               probe=swing_probe(sv, t_end))
-    endless = getattr(sv, "endless", None)
+    endless = sv.endless
     if endless is not None:
         if endless.mode is Mode.SLIP:
             radius = math.hypot(endless.x0 - endless.centre, endless.v0)

@@ -4,7 +4,7 @@ A contact that starts at the stop's face with the law fresh (first loading, pape
 from the origin) and slides towards the stop throughout (``s = +1``, paper Eq. 14) follows
 one curve of the law on each branch, a function of the overlap alone, so it conserves
 ``u^2/2 + U(delta)`` with ``U = int phi + delta^2/2 - (a - x_bar) delta`` (as the node
-contacts of :mod:`core.hysteretic_node` do). Integrated step by step at the preset's
+contacts of :mod:`core.deformable.node` do). Integrated step by step at the preset's
 tolerance, each such contact left its separation speed off by up to ~2e-7 relative at
 rtol 1e-8, and a train of them added those errors up in its phase: the state at
 ``t = 100`` was off by up to 1.1e-4 of the length scale after 60 to 600 contacts
@@ -28,15 +28,12 @@ contact after them.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
-from core.hysteresis import Branch, _clip_breaks, leaving_overlap
-from core.hysteretic_arcs import _exp_mean, _log_mean_m1
-from core.hysteretic_base import _first_exit, _hermite_coeffs, _poly
-from core.hysteretic_node import S_PLUS_MARGIN, _envelope_work
-
-if TYPE_CHECKING:
-    from core.hysteretic import _Solver
+from core.deformable.arcs import exp_mean, log_mean_m1
+from core.deformable.hermite import first_exit, hermite_coeffs, poly
+from core.deformable.law import Branch, clip_breaks, leaving_overlap
+from core.deformable.node import S_PLUS_MARGIN, envelope_work
+from core.deformable.state import Solve
 
 #: The tolerance of a contact's first two branches where they are not projected, relative
 #: to the solve's ``rtol``, and its floor: 1e-11 at the standard preset. From rest on
@@ -80,7 +77,7 @@ class TrainContact:
     for. ``breaks`` are where its unloading curve meets ``phi_C`` (descending).
     """
 
-    def __init__(self, sv: _Solver, x: float, w: float, s: int, stick: bool):
+    def __init__(self, sv: Solve, x: float, w: float, s: int, stick: bool):
         self.sv, self.w = sv, w
         self.regular = s == 1 and not stick and x == sv.xb
         self.breaks: list[float] = []
@@ -139,9 +136,9 @@ class Kinks:
         on the kink (located on the step's interpolant), or 0 if it cannot be."""
         if not (math.isfinite(a1) and math.isfinite(u1)):
             return 0.0
-        coeffs = _hermite_coeffs(x, u, a0, x1, u1, a1, h)
+        coeffs = hermite_coeffs(x, u, a0, x1, u1, a1, h)
         kink = self.x
-        th = _first_exit(lambda th: _poly(coeffs, th) - kink)
+        th = first_exit(lambda th: poly(coeffs, th) - kink)
         return th * h if 0.0 < th < 1.0 else 0.0
 
     def landed(self, x0: float, x1: float) -> None:
@@ -151,7 +148,7 @@ class Kinks:
             self.x = self.xs.pop(0) if self.xs else -math.inf
 
 
-def project_peak(sv: _Solver, w: float, delta: float) -> float:
+def project_peak(sv: Solve, w: float, delta: float) -> float:
     """The peak overlap of a first loading from the face at approach speed ``w`` in slip
     towards the stop: the root of ``U_C(r) = w^2 / 2`` (``U_C = int phi_C + delta^2 / 2 -
     (a - x_bar) delta``, paper Eq. 14 with ``x' = 0``), by Newton from the integrated
@@ -163,7 +160,7 @@ def project_peak(sv: _Solver, w: float, delta: float) -> float:
     for _ in range(4):
         if not 0.0 < r < sv.d_max:
             return delta
-        excess = _envelope_work(kc, d_lim, r) + r * (0.5 * r - gap) - level
+        excess = envelope_work(kc, d_lim, r) + r * (0.5 * r - gap) - level
         slope = kc * r / (d_lim - r) - gap + r
         if not slope > 0.0:
             return delta
@@ -174,7 +171,7 @@ def project_peak(sv: _Solver, w: float, delta: float) -> float:
     return r if abs(r - delta) <= _projection_max(sv) * d_lim else delta
 
 
-def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float],
+def project_separation(sv: Solve, w: float, branch: Branch, breaks: list[float],
                        v: float) -> float:
     """The separation velocity of a regular contact, ``-sqrt(w^2 - 2 L)``: ``L`` is the area
     between ``phi_C`` and the unloading ``branch`` where that is below ``phi_C`` (between
@@ -189,11 +186,11 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
 
     def area(span: float) -> float:
         # int (phi_C - phi) over [r - span, r] as means over it, without cancellation
-        # (core.hysteretic_node._loss, in scalars)
+        # (core.deformable.node._loss, in scalars)
         if not span > 0.0:
             return 0.0
-        band = k_d * r / gap + k_d * d_lim / gap * _log_mean_m1(-span / gap)
-        return span * (band - c0 * _exp_mean(-lam * span))
+        band = k_d * r / gap + k_d * d_lim / gap * log_mean_m1(-span / gap)
+        return span * (band - c0 * exp_mean(-lam * span))
 
     # none: an elastic contact; two (from a peak above s+): less the part above the
     # first, where the curve is above phi_C (clipped to it)
@@ -207,12 +204,12 @@ def project_separation(sv: _Solver, w: float, branch: Branch, breaks: list[float
     return out if abs(out - v) <= _projection_max(sv) * w else v
 
 
-def _projection_max(sv: _Solver) -> float:
+def _projection_max(sv: Solve) -> float:
     """The largest relative correction a projection may make (:data:`PROJECTION_PER_RTOL`)."""
     return max(PROJECTION_MAX, PROJECTION_PER_RTOL * sv.rtol)
 
 
-def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
+def unloading_breaks(sv: Solve, branch: Branch) -> list[float] | None:
     """Where the unloading ``branch`` from a peak on ``phi_C`` meets ``phi_C`` again,
     descending: none (an elastic contact, clipped onto ``phi_C`` all the way), one (where it
     is clipped back onto it) or, from a peak above ``s+``, where it first keeps to
@@ -221,7 +218,7 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
 
     Below ``s+`` it meets ``phi_C`` once, at ``u = delta / D < s- / D``, if the peak is
     above ``s-``, where ``g(u) = log(u / (1 - u)) - beta_e u + C`` vanishes (the logarithm
-    of :func:`core.hysteresis._clip_breaks`'s ``f``): ``g`` rises and is concave on
+    of :func:`core.deformable.law.clip_breaks`'s ``f``): ``g`` rises and is concave on
     ``(0, s- / D)``, so Newton from the root of its first two terms, left of the root,
     converges to it from the left (in ~5 steps; brentq took ten times as long). Above
     ``s+`` (rare: the first contacts of a train from rest), by brentq."""
@@ -232,7 +229,7 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
     if r >= s_plus - S_PLUS_MARGIN * d_lim:
         if stop.law == "passive":
             return None  # it keeps to phi_C down to s+ (docs/contact-law.md): not this
-        breaks = _clip_breaks(0.0, r * (1.0 - KINK_MARGIN), branch, stop)
+        breaks = clip_breaks(0.0, r * (1.0 - KINK_MARGIN), branch, stop)
         return sorted(breaks, reverse=True) if len(breaks) == 2 else None
     c = branch.phi_r - stop.k_e0 * d_lim * r / (d_lim - r)
     k_d = (stop.k_c0 - stop.k_e0) * d_lim
@@ -243,13 +240,22 @@ def unloading_breaks(sv: _Solver, branch: Branch) -> list[float] | None:
     u = 1.0 / (1.0 + math.exp(big_c)) if big_c < 700.0 else math.exp(-big_c)
     if u < BREAK_FLOOR:
         return [0.0]
-    u_minus = (d_lim - s_plus) / d_lim
+    u = _clip_root(u, beta, big_c, (d_lim - s_plus) / d_lim)
+    if u is not None:
+        return [u * d_lim]
+    breaks = [d for d in clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
+    return breaks if len(breaks) <= 1 else None
+
+
+def _clip_root(u: float, beta: float, big_c: float, u_minus: float) -> float | None:
+    """Newton on ``g(u) = log(u / (1 - u)) - beta u + C`` from ``u`` (left of its root in
+    ``(0, u_minus)``, see :func:`unloading_breaks`); ``None`` if it leaves that interval or
+    does not converge."""
     for _ in range(BREAK_NEWTON):
         step = (math.log(u / (1.0 - u)) - beta * u + big_c) / (1.0 / (u * (1.0 - u)) - beta)
         u -= step
         if not 0.0 < u < u_minus:
-            break
+            return None
         if abs(step) <= 4e-16 * u:
-            return [u * d_lim]
-    breaks = [d for d in _clip_breaks(0.0, r, branch, stop) if d < r * (1.0 - KINK_MARGIN)]
-    return breaks if len(breaks) <= 1 else None
+            return u
+    return None

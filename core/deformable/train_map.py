@@ -14,8 +14,8 @@ power of ``w - w_inf``: they never repeat to a fixed point, and a fitted decay l
 hold their phase. Here the loss ``L`` and the duration ``d`` are solved for one contact
 each at the Chebyshev nodes of the range of ``w`` the train visits, at a tight tolerance
 (:data:`NODE_RTOL`; below ``s+``, in closed form and by quadrature,
-:mod:`core.hysteretic_node`), and the interpolants are iterated a block of contacts at a time
-(:func:`_block`): a fraction of a microsecond per contact instead of a contact integrated
+:mod:`core.deformable.node`), and the interpolants are iterated a block of contacts at a time
+(:func:`iterate_block`): a fraction of a microsecond per contact instead of a contact integrated
 step by step (~1 ms).
 
 The model refuses (the solve goes on step by step) where a node's contact is not one
@@ -38,20 +38,19 @@ train's band (positions) and ``2 w`` (velocities), the smaller of the two being 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 from numpy.polynomial import polynomial as poly
 
-from core.hysteresis import FIRST_LOADING, elastic_limit
-from core.hysteretic_base import _TRAIN, _dpoly, _poly, _State
-from core.hysteretic_node import node_contact
-from core.hysteretic_reduced import contact_at, record_last_restitution
+from core.deformable import hermite
+from core.deformable.contact import run_contact
+from core.deformable.law import FIRST_LOADING, elastic_limit
+from core.deformable.node import node_contact
+from core.deformable.reduced_train import contact_at, record_last_restitution
+from core.deformable.state import MAP_CONTACTS_PER_STEP, TRAIN, Solve, State
 from core.result import TransitionKind
-
-if TYPE_CHECKING:
-    from core.hysteretic import _Solver
 
 #: Points of each node contact's profile kept for drawing the model's contacts.
 PROFILE_POINTS = 129
@@ -89,12 +88,6 @@ NARROWING = 0.25
 #: The sequence of one regular contact in the log: contact, reversal, separation.
 REGULAR = ("contact", "reversal", "separation")
 
-#: Contacts the map lays out per step of the solve's work limit (``max_steps``,
-#: :data:`core.hysteretic.DEFAULT_MAX_STEPS`): 0.2-1.7 us a contact (2e6 in 0.4-3.5 s on
-#: the pressed cells of benchmarks/hysteretic_speed.py) against ~15 us a contact step, an
-#: arc or a transition solved. Uncounted, a train laid out to t_end = 1e6 took 2 s
-#: (7.5e5 contacts) and one to 1e9 would hold arrays of 7.5e8.
-MAP_CONTACTS_PER_STEP = 8
 
 
 class ContactMap(NamedTuple):
@@ -122,7 +115,7 @@ class ContactMap(NamedTuple):
 
 def _horner(series, u):
     """``polyval(u, series)`` in place: the same operations in the same order (so the same
-    bits), without two temporaries per coefficient (the sweeps of :func:`_block` evaluate
+    bits), without two temporaries per coefficient (the sweeps of :func:`iterate_block` evaluate
     millions of contacts)."""
     y = u * 0.0
     y += series[-1]
@@ -132,22 +125,22 @@ def _horner(series, u):
     return y
 
 
-def solve_contact(sv: _Solver, w: float, profile: bool = True):
+def solve_contact(sv: Solve, w: float, profile: bool = True):
     """One contact from the face at approach speed ``w`` with the law's state fresh:
     ``(separation speed, duration, peak x, largest |x''|, kinds, profile)``. In closed form
     and by quadrature where it is one regular contact below ``s+``
-    (:func:`core.hysteretic_node.node_contact`), else integrated step by step at
+    (:func:`core.deformable.node.node_contact`), else integrated step by step at
     :data:`NODE_RTOL`."""
     closed = node_contact(sv, w, PROFILE_POINTS if profile else None)
     if closed is not None:
         w_out, dur, peak, accel, prof = closed
         return w_out, dur, peak, accel, REGULAR, prof
     rtol = min(NODE_RTOL, sv.rtol)
-    one = type(sv)(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16)
-    one.use_reduced = False
-    one.use_arcs = False  # every row a Hermite step: the profile below reads them
-    st = _State(0.0, sv.xb, w, (0.0, 0.0, 0.0))
-    outcome = one.run_contact(st, stick=False)
+    # every row a Hermite step (no arcs): the profile below reads them
+    one = Solve(sv.osc, sv.stop, math.inf, rtol, 1e-3 * rtol * sv.scale(), 16,
+                use_arcs=False, use_reduced=False)
+    st = State(0.0, sv.xb, w, (0.0, 0.0, 0.0))
+    outcome = run_contact(one, st, stick=False)
     kinds = tuple(tr.kind.value for tr in one.log.stored)
     if outcome != "separated":
         kinds += (outcome,)
@@ -160,7 +153,7 @@ def solve_contact(sv: _Solver, w: float, profile: bool = True):
     return -st.v, st.t, peak, accel, kinds, _profile(one, st.t)
 
 
-def _profile(one: _Solver, dur: float) -> np.ndarray:
+def _profile(one: Solve, dur: float) -> np.ndarray:
     """Overlap and velocity of a solved contact at :data:`PROFILE_POINTS` times spread
     evenly over its duration (rows of the contact's Hermite steps, evaluated at once)."""
     c = one.contact
@@ -170,10 +163,10 @@ def _profile(one: _Solver, dur: float) -> np.ndarray:
     data = np.array([c.data[r][:7] for r in rows])
     h = data[:, 6]
     th = (times - t0[rows]) / h
-    coeffs = data[:, :6].T  # each row a coefficient over the points: _poly takes arrays
+    coeffs = data[:, :6].T  # each row a coefficient over the points: poly takes arrays
     out = np.empty((2, PROFILE_POINTS))
-    out[0] = _poly(coeffs, th) - one.xb
-    out[1] = _dpoly(coeffs, th) / h
+    out[0] = hermite.poly(coeffs, th) - one.xb
+    out[1] = hermite.dpoly(coeffs, th) / h
     out[0, -1] = 0.0  # the separation
     return out
 
@@ -186,7 +179,7 @@ def _series(values: np.ndarray) -> tuple[tuple[float, ...], float]:
     return tuple(float(c) for c in cheb.cheb2poly(coef)), tail
 
 
-def build_map(sv: _Solver, lo: float, hi: float) -> ContactMap | None:
+def build_map(sv: Solve, lo: float, hi: float) -> ContactMap | None:
     """The map over ``[lo, hi]`` from contacts solved at the nodes, or ``None`` if one of
     them is not a regular contact (a kink of the map in the range)."""
     u = np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE)
@@ -311,7 +304,7 @@ class MapRun(NamedTuple):
     reason: str  # "horizon", "bound", "range" or "limit" (the work limit)
 
 
-def _block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
+def iterate_block(cmap: ContactMap, w0: float, m: int) -> np.ndarray | None:
     """The next ``m`` speeds from ``w0``, ``w_(k+1) = w_k - L(w_k)``, all at once: the
     sums ``w_k = w0 - sum_(j<k) L(w_j)`` are swept over the block (from the first iterate
     that still changed) until they no longer change (to rounding), which makes them the
@@ -353,7 +346,7 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
     """Iterate the map from a contact at ``w0`` starting ``t0`` after the switch (with the
     bounds ``dw0``, ``dt0`` so far) until the next contact would start past ``horizon``,
     ``w`` leaves the range or ``max_contacts`` are laid out, in blocks of contacts
-    (:func:`_block`; a block that does not settle is halved, one that settles fast
+    (:func:`iterate_block`; a block that does not settle is halved, one that settles fast
     doubled)."""
     g, e_l, e_d = cmap.gain, cmap.err_loss, cmap.err_dur
     t_slope = cmap.dur_slope + 2.0 / gap
@@ -364,7 +357,7 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
     left = math.inf if max_contacts is None else max_contacts
     while True:
         m = int(min(m, max(left, 1)))
-        ws = _block(cmap, w, m)
+        ws = iterate_block(cmap, w, m)
         if ws is None:
             m = max(1, m // 2)
             continue
@@ -402,16 +395,16 @@ def iterate(cmap: ContactMap, w0: float, horizon: float, gap: float, t0: float =
         m = min(2 * m, MAX_BLOCK)
 
 
-def elastic_speed(sv: _Solver) -> float:
+def elastic_speed(sv: Solve) -> float:
     """Approach speed ``w_inf`` of the contact whose peak overlap ``r`` just stays elastic,
-    ``r (D - r) = D^2 / beta_e`` (:func:`core.hysteresis.elastic_limit`). A train of the
+    ``r (D - r) = D^2 / beta_e`` (:func:`core.deformable.law.elastic_limit`). A train of the
     paper's law tends to it from above and never passes it (slower contacts are elastic:
     ``P(w) = w``); ``nan`` when every contact is elastic (``beta_e <= 4``) or none is."""
     w_inf = elastic_limit(sv.a, sv.xb, sv.stop).w_inf
     return w_inf if 0.0 < w_inf < math.inf else math.nan
 
 
-def map_train(sv: _Solver, st: _State, train: list) -> bool:
+def map_train(sv: Solve, st: State, train: list) -> bool:
     """Advance a regular train of contacts by its contact-to-contact map from the start
     of a contact (``st``) to the start of a later one, where the step-by-step solve takes
     over again (see the module's docstring); ``False`` (nothing done) while the train is
@@ -420,13 +413,38 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
 
     ``train`` holds ``(t, approach speed, peak x, transitions so far)`` of the contacts;
     the last entry is the contact just started. Energy: as
-    :func:`core.hysteretic_reduced.advance_train` (each flight conserves the slip
+    :func:`core.deformable.reduced_train.advance_train` (each flight conserves the slip
     circle's energy, so the stop takes what the approach speed loses).
     """
+    ready = _ready(sv, st, train)
+    if ready is None:
+        return False
+    period, w_inf = ready
+    sv.mark_map_tried()
+    gap = sv.a - sv.xb
+    runs, maps = _runs(sv, st, st.v, w_inf, period, gap)
+    if not runs or sum(len(r.start) for r in runs) == 0:
+        return False
+    t, dw, dt = runs[-1].t_last, runs[-1].err_speed, runs[-1].err_time
+    run = MapRun(np.concatenate([r.start for r in runs]),
+                 np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
+                 np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
+    cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
+                            overlap=max(m.overlap for m in maps),
+                            nodes=np.concatenate([m.nodes for m in maps]),
+                            profiles=np.concatenate([m.profiles for m in maps]))
+    _advance(sv, st, run, cmap, gap)
+    return True
+
+
+def _ready(sv: Solve, st: State, train: list) -> tuple[float, float] | None:
+    """``(period, w_inf)`` of a train the map may take over from ``st``, or ``None``: not
+    regular, too short, too near the horizon for the nodes to pay, still losing much per
+    contact, or not above its elastic speed (see :func:`map_train`)."""
     if not (sv.use_reduced and sv.pressed()) or sv.map_tried:
-        return False
+        return None
     if len(train) < MIN_CONTACTS + 1:
-        return False
+        return None
     gap = sv.a - sv.xb
     w_now = st.v
     # Regular: one reversal per contact, no stick in contact (x' <= w < v) nor in flight
@@ -434,20 +452,26 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
     window = train[-(MIN_CONTACTS + 1):]
     if any(n1 - n0 != len(REGULAR) for (_, _, _, n0), (_, _, _, n1)
            in zip(window[:-1], window[1:], strict=True)):
-        return False
+        return None
     if not math.hypot(gap, w_now) < sv.vb or not 0.0 < w_now:
-        return False
+        return None
     period = window[-1][0] - window[-2][0]
     if (sv.t_end - st.t) / period < MIN_GAIN * (DEGREE + 1):
-        return False
+        return None
     # A train that still loses much per contact crosses a range in a few contacts: the
     # nodes would cost more than they save. It is tried again at a later contact.
     if window[-2][1] - w_now > MAX_LOSS * w_now:
-        return False
+        return None
     w_inf = elastic_speed(sv)
     if not w_inf < w_now:
-        return False
-    sv.map_tried = True
+        return None
+    return period, w_inf
+
+
+def _runs(sv: Solve, st: State, w_now: float, w_inf: float, period: float, gap: float
+          ) -> tuple[list[MapRun], list[ContactMap]]:
+    """The map's ranges from ``w_now`` towards ``w_inf``, each built when the iteration
+    leaves the one before and iterated (the runs and their maps)."""
     # the contacts it may lay out within the work limit (what is left of it)
     budget = max(0, sv.max_steps - sv.work_steps()) * MAP_CONTACTS_PER_STEP
     runs, maps = [], []
@@ -479,20 +503,10 @@ def map_train(sv: _Solver, st: _State, train: list) -> bool:
         floor = cmap.lo  # the iterate left this range: the next one reaches lower
         if run.reason != "range":
             break
-    if not runs or sum(len(r.start) for r in runs) == 0:
-        return False
-    run = MapRun(np.concatenate([r.start for r in runs]),
-                 np.concatenate([runs[0].w[:1]] + [r.w[1:] for r in runs]),
-                 np.concatenate([r.dur for r in runs]), t, dw, dt, runs[-1].reason)
-    cmap = maps[-1]._replace(accel=max(m.accel for m in maps),
-                            overlap=max(m.overlap for m in maps),
-                            nodes=np.concatenate([m.nodes for m in maps]),
-                            profiles=np.concatenate([m.profiles for m in maps]))
-    _advance(sv, st, run, cmap, gap)
-    return True
+    return runs, maps
 
 
-def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float) -> None:
+def _advance(sv: Solve, st: State, run: MapRun, cmap: ContactMap, gap: float) -> None:
     """Lay the map's contacts into the solve (a row of :class:`Train`) and move ``st`` to
     the start of the contact handed back."""
     sv.record(TransitionKind.REDUCED, st, st.v)
@@ -500,9 +514,7 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
     model = MapTrain(sv.a, sv.xb, run.start, run.w, run.dur, cmap.nodes, cmap.profiles)
     x_s, m_s, loss_s = st.x, 0.5 * (st.x * st.x + st.v * st.v), st.work[2]
     sv.new_branch(FIRST_LOADING, 0.0, st.work[2])
-    if not sv.contact.kind or sv.timeline[-1][1] != 1:
-        sv.timeline.append((st.t, 1, len(sv.contact.kind)))
-    sv.contact.add(_TRAIN, st.t, st.t + run.t_last, (model, x_s, m_s, loss_s), sv.a, st.work)
+    sv.add_row(TRAIN, st.t, st.t + run.t_last, (model, x_s, m_s, loss_s), sv.a, st.work)
     w1 = float(run.w[-1])
     wf, wb, ws = st.work
     dm = 0.5 * (w1 * w1 - st.v * st.v)
@@ -516,17 +528,16 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
             continue
         t0, w, d = t_s + float(run.start[j]), float(run.w[j]), float(run.dur[j])
         if j > 0:
-            sv.log.add(TransitionKind.CONTACT, t0, sv.xb, w, w)
+            sv.add_transition(TransitionKind.CONTACT, t0, sv.xb, w, w)
         peak = float(cmap.evaluate(cmap.peak, w))
         t_peak = t0 + 0.5 * d
-        sv.log.add(TransitionKind.REVERSAL, t_peak, peak, 0.0, 0.0)
-        sv.log.add(TransitionKind.SEPARATION, t0 + d, sv.xb, -float(run.w[j + 1]),
+        sv.add_transition(TransitionKind.REVERSAL, t_peak, peak, 0.0, 0.0)
+        sv.add_transition(TransitionKind.SEPARATION, t0 + d, sv.xb, -float(run.w[j + 1]),
                    -float(run.w[j + 1]))
     for kind in REGULAR:
         n = k - first - (1 if kind == "contact" and first == 0 else 0)
-        sv.log.count(TransitionKind(kind), (k - 1 if kind == "contact" else k) - n)
-    sv.n_contacts += k - 1
-    sv.laid_out += k
+        sv.count_transitions(TransitionKind(kind), (k - 1 if kind == "contact" else k) - n)
+    sv.count_laid_out(k - 1, k)
     record_last_restitution(sv, run.w)
     st.t, st.x, st.v = t_s + run.t_last, sv.xb, w1
     err = 2.0 * run.err_speed + max(cmap.accel, run.w[0]) * run.err_time
@@ -534,5 +545,4 @@ def _advance(sv: _Solver, st: _State, run: MapRun, cmap: ContactMap, gap: float)
     # contacts' overlap and the flights' depth below the face, speeds within +-w.
     w0 = float(run.w[0])
     envelope = max(2.0 * w0, cmap.overlap + math.hypot(gap, w0) - gap)
-    sv.reduced_error = max(sv.reduced_error, min(err, envelope))
-    sv.reduced_band = max(sv.reduced_band, cmap.overlap)
+    sv.bound(error=min(err, envelope), band=cmap.overlap)
