@@ -35,7 +35,8 @@ ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
 #: in the page's address turns them off), no history entry per change of the address,
-#: a name on every slider's handle for screen readers (``static/a11y.js``), the
+#: a name and exact values on every slider's handle for screen readers, the help icons
+#: by keyboard and a name on the checkbox and the menu's arrow (``static/a11y.js``), the
 #: presentation mode's page classes (app.presentation), the report of the waiting
 #: plots in view (``static/lazy_plots.js``, app.plots_host's lazy plots), and the controls
 #: as a closed drawer on a phone (``static/drawer.js``).

@@ -3,8 +3,8 @@ control draws, and the phone layout of the main column.
 
 The page-level rules (the drawer, the columns, text sizes) are in ``static/explorer.css``;
 Panel draws each widget in a shadow root that no page-level rule reaches, so the focus ring
-comes with the page's design (:class:`ExplorerDesign`), which gives every widget's shadow
-root the same small sheet.
+comes with the page's design (:class:`ExplorerDesign`), which links every widget's and
+HTML pane's shadow root to the same small sheet (``static/widgets.css``).
 """
 
 from __future__ import annotations
@@ -22,24 +22,9 @@ VIEWPORT = "width=device-width, initial-scale=1"
 #: (static/explorer.css and static/drawer.js use the same number).
 PHONE_MAX_WIDTH = 700
 
-#: A ring of 3 px around whichever control has the keyboard's focus. Bootstrap draws a
-#: button's focus as a shadow of the button's own colour, which the default grey buttons
-#: leave invisible; a button in a group is lifted above its neighbours so that its ring
-#: is not drawn under them. Only keyboard focus (``:focus-visible``): a click draws none.
-FOCUS_CSS = """
-:focus-visible { outline: 3px solid #1f6feb !important; outline-offset: 2px; }
-.bk-btn:focus-visible { position: relative; z-index: 2; }
-"""
-#: A widget's text on a phone: at least 14 px (Bootstrap's buttons are 0.8 rem, 12.8 px;
-#: the rest follows ``--bokeh-font-size``, static/explorer.css).
-WIDGET_PHONE_CSS = f"""
-@media (max-width: {PHONE_MAX_WIDTH}px) {{ .bk-btn {{ font-size: 14px; }} }}
-"""
-#: An HTML pane's text on a phone: at least 14 px, over a size the pane sets on itself
-#: (the plots' legends are 12 px).
-PANE_PHONE_CSS = f"""
-@media (max-width: {PHONE_MAX_WIDTH}px) {{ :host {{ font-size: max(14px, 1em) !important; }} }}
-"""
+#: Every widget's and HTML pane's own sheet: the focus ring, and text of at least 14 px on
+#: a phone. One address: one style sheet model per page, linked into every shadow root.
+SHADOW_CSS = "assets/widgets.css"
 
 #: The main column on a phone: the plots (the phase portrait first) before the readout's
 #: table, which would otherwise fill the first screen.
@@ -51,11 +36,11 @@ MAIN_COLUMN_CSS = f"""
 
 
 class ExplorerDesign(Bootstrap):
-    """Panel's Bootstrap design, with the focus ring (:data:`FOCUS_CSS`) in every widget
-    and text of at least 14 px on a phone."""
+    """Panel's Bootstrap design, with :data:`SHADOW_CSS` in every widget and HTML pane:
+    a focus ring on every control, and text of at least 14 px on a phone."""
 
     modifiers = {
         **Bootstrap.modifiers,
-        Widget: {"stylesheets": [Inherit, FOCUS_CSS + WIDGET_PHONE_CSS]},
-        HTML: {"stylesheets": [Inherit, PANE_PHONE_CSS]},
+        Widget: {"stylesheets": [Inherit, SHADOW_CSS]},
+        HTML: {"stylesheets": [Inherit, SHADOW_CSS]},
     }

@@ -19,10 +19,11 @@ RING_PX = 2
 PRESSES_PER_CONTROL = 3
 
 #: JavaScript: numbers every visible control of the header and the sidebar (shadow roots
-#: included) in ``data-fie-control`` and returns how many there are.
-JS_MARK = """() => {
-  const css = "button, select, input:not([type=hidden]), a[href], .noUi-handle, " +
-              ".bk-description";
+#: included; the inputs' help icons with ``help``) in ``data-fie-control`` and returns how
+#: many there are.
+JS_MARK = """help => {
+  const css = "button, select, input:not([type=hidden]), a[href], .noUi-handle" +
+              (help ? ", .bk-description" : "");
   let n = 0;
   function walk(root) {
     for (const el of root.querySelectorAll("*")) {
@@ -52,7 +53,8 @@ JS_FOCUSED = """() => {
     (label ? label.textContent : "") || el.textContent || el.title || "";
   const cs = getComputedStyle(el);
   return {control: el.dataset.fieControl ?? null, name: name.trim(),
-          tag: el.tagName, outline: cs.outlineStyle,
+          tag: el.tagName, unnamed_by_bokeh: el.type === "checkbox" ||
+            el.classList.contains("bk-dropdown-toggle"), outline: cs.outlineStyle,
           width: parseFloat(cs.outlineWidth), shadow: cs.boxShadow};
 }"""
 
@@ -65,8 +67,11 @@ def page(browser, server):
 
 
 def test_tab_reaches_every_control_named_and_ringed(page):
-    count = page.page.evaluate(JS_MARK)
-    assert count >= 40  # the header's two, the sidebar's buttons, boxes, sliders, helps
+    # Without static/a11y.js's patches (app.perf switched off) the help icons are out of
+    # reach and a checkbox and a menu's arrow unnamed, as BokehJS draws them.
+    help_keys, names = applies("help-keys"), applies("control-names")
+    count = page.page.evaluate(JS_MARK, help_keys)
+    assert count >= (40 if help_keys else 30)  # the header's two, the sidebar's controls
     page.page.evaluate("() => document.activeElement && document.activeElement.blur()")
     reached: dict[str, dict] = {}
     for _ in range(count * PRESSES_PER_CONTROL):
@@ -79,7 +84,8 @@ def test_tab_reaches_every_control_named_and_ringed(page):
         reached[focused["control"]] = focused
     missed = sorted(set(map(str, range(count))) - set(reached), key=int)
     assert not missed, f"controls Tab does not reach: {missed}"
-    unnamed = [f for f in reached.values() if not f["name"]]
+    unnamed = [f for f in reached.values()
+               if not f["name"] and (names or not f["unnamed_by_bokeh"])]
     assert not unnamed, unnamed
     unringed = [f for f in reached.values()
                 if not (f["outline"] != "none" and f["width"] >= RING_PX)]
@@ -88,6 +94,8 @@ def test_tab_reaches_every_control_named_and_ringed(page):
 
 
 def test_the_arrow_beside_pin_is_named(page):
+    if not applies("control-names"):  # static/a11y.js switched off (app.perf)
+        pytest.skip("control-names is off")
     arrow = page.page.locator(".fie-compare-menu .bk-dropdown-toggle").first
     assert arrow.get_attribute("aria-label") == "Pin this run: more choices"
 
