@@ -41,7 +41,7 @@
   const script = document.currentScript;
   const APPLY = new Set(((script && new URL(script.src, window.location.href)
     .searchParams.get("apply")) || "").split(",").filter(Boolean));
-  //: Significant digits of an aria value (a step's sum without its float noise).
+  // Significant digits of an aria value (a step's sum without its float noise).
   const DIGITS = 12;
 
   function name(view) {

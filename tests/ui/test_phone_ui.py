@@ -114,7 +114,9 @@ def test_the_page_lays_out_at_the_phone_width(phone):
 
 def test_the_phone_opens_on_the_phase_portrait_with_the_drawer_closed(phone, shots):
     assert not phone.page.locator("#sidebar").is_visible()
-    assert phone.page.locator("#sidebar-toggle").get_attribute("aria-expanded") == "false"
+    toggle = phone.page.locator("#sidebar-toggle")
+    assert toggle.get_attribute("aria-expanded") == "false"
+    assert toggle.get_attribute("aria-label") == "Show or hide the controls"
     box = phone.page.locator(".fie-plot-phase").first.bounding_box()
     assert box is not None and box["width"] > 0
     # The whole phase portrait (with its legend) in the first screen.
