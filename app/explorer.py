@@ -24,6 +24,7 @@ from app.controls import Controls
 from app.export import Downloads
 from app.lessons.mount import LessonsMount
 from app.notices import Notices
+from app.page_style import MAIN_COLUMN_CSS
 from app.permalink import URL_DELAY_MS, Permalink  # noqa: F401 - the page's timing
 from app.plots_host import FIRST_PLOTS, PlotsHost  # noqa: F401 - the page's lazy plots
 from app.readout import READOUT_SPARE_LINES, Readout  # noqa: F401 - the readout's room
@@ -90,7 +91,8 @@ class Explorer(pn.viewable.Viewer):
     def main_panel(self) -> pn.Column:
         """The main area (:meth:`main`) in one column; the story and the model card open
         in it below their buttons."""
-        column = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0)
+        column = pn.Column(*self.main(), sizing_mode="stretch_width", margin=0,
+                           stylesheets=[MAIN_COLUMN_CSS])
         self.teach.attach(column)
         return column
 

@@ -21,6 +21,7 @@ if str(ROOT) not in sys.path:  # `panel serve app/main.py` puts only app/ on the
 
 from app.explorer import WIDGET_WIDTH, Explorer  # noqa: E402
 from app.memory import keep_long_lived_out_of_collections  # noqa: E402
+from app.page_style import VIEWPORT, ExplorerDesign  # noqa: E402
 from app.perf import report  # noqa: E402
 from app.perf.defaults import cache_immutable_defaults  # noqa: E402
 from app.perf.page import page_scripts  # noqa: E402
@@ -34,16 +35,19 @@ ASSETS = "assets"
 #: Scripts of the page: the JavaScript patches of BokehJS (``static/perf/``: repaint
 #: shortcuts, no repaint of a stale preview after a slider's release; ``paint_shortcuts=off``
 #: in the page's address turns them off), no history entry per change of the address,
-#: a name on every slider's handle for screen readers (``static/a11y.js``), the
-#: presentation mode's page classes (app.presentation), and the report of the waiting
-#: plots in view (``static/lazy_plots.js``, app.plots_host's lazy plots).
+#: a name and exact values on every slider's handle for screen readers, the help icons
+#: by keyboard and a name on the checkbox and the menu's arrow (``static/a11y.js``), the
+#: presentation mode's page classes (app.presentation), the report of the waiting
+#: plots in view (``static/lazy_plots.js``, app.plots_host's lazy plots), and the controls
+#: as a closed drawer on a phone (``static/drawer.js``).
 JS_FILES = {"fie_paint": f"{ASSETS}/perf/bokeh_paint.js",
             "fie_release_hold": f"{ASSETS}/perf/release_hold.js",
             "fie_url_history": f"{ASSETS}/url_history.js",
             "fie_a11y": f"{ASSETS}/a11y.js",
             "fie_present": f"{ASSETS}/present.js",
             "fie_lazy_plots": f"{ASSETS}/lazy_plots.js",
-            "fie_reconnect": f"{ASSETS}/reconnect.js"}
+            "fie_reconnect": f"{ASSETS}/reconnect.js",
+            "fie_drawer": f"{ASSETS}/drawer.js"}
 #: Page title.
 TITLE = "Friction–Impact Explorer"
 #: Bokeh's development checks, off on a served page (public settings, ``bokeh.settings``):
@@ -59,7 +63,7 @@ DEVELOPMENT_CHECKS = {"BOKEH_VALIDATE_DOC": "false", "BOKEH_PERFORM_ERROR_DIAGNO
 def create_app() -> pn.template.BaseTemplate:
     """One session's page: the explorer's controls in the sidebar, plots in the main area."""
     # The patching scripts' addresses name the patches that apply (app.perf.page).
-    pn.extension(notifications=False, design="bootstrap", js_files=page_scripts(JS_FILES))
+    pn.extension(notifications=False, design=ExplorerDesign, js_files=page_scripts(JS_FILES))
     cache_immutable_defaults()  # before the page's models are built
     explorer = Explorer(lazy_plots=True)
     explorer.sync_url()
@@ -72,6 +76,8 @@ def create_app() -> pn.template.BaseTemplate:
         favicon=f"{ASSETS}/favicon.svg",
         css_files=[f"{ASSETS}/explorer.css"],
         header_background="#1f3b5f",
+        design=ExplorerDesign,  # Bootstrap with a focus ring on every control
+        meta_viewport=VIEWPORT,  # a phone lays the page out at its own width
         # The spinner would restyle the page twice per slider release, each time forcing
         # every figure that repaints next to recompute its styles.
         busy_indicator=None,

@@ -463,11 +463,18 @@ INPUT_CSS = """
 .bk-input:focus-visible { outline: 3px solid #1f6feb; outline-offset: 1px; }
 """
 #: A visible focus ring on the slider's handle (the keyboard moves it); the title (the
-#: handle's accessible name) is not shown.
+#: handle's accessible name) is not shown. On a phone (app.page_style.PHONE_MAX_WIDTH) the
+#: handle is drawn at 24 px and takes touches over 44 x 44 px (the usual smallest touch
+#: target), through a transparent ring around it.
 SLIDER_CSS = """
 .bk-slider-title { display: none; }
 .noUi-handle:focus-visible, .noUi-handle:focus { outline: 3px solid #1f6feb;
                                                  outline-offset: 2px; }
+@media (max-width: 700px) {
+  :host(.fie-slider) { --handle-width: 24px; --handle-height: 24px; }
+  .noUi-horizontal .noUi-handle::after { display: block; content: ""; position: absolute;
+    background: transparent; width: 44px; height: 44px; left: -10px; top: -10px; }
+}
 """
 #: The message below a box.
 MESSAGE_CSS = """

@@ -21,7 +21,8 @@ shortcuts also check their BokehJS version in the browser and take ``paint_short
 in the page's address as a switch of their own. The explorer works without any patch
 (without ``browser-values`` a script's malformed value is still refused, but by Panel, with
 a traceback in the log, and a radio index of -1 picks the last option; without the page's,
-the sliders' handles have no accessible name, each change of the address is a history
+the sliders' handles have no accessible name and rounded aria values, the help icons
+are out of the keyboard's reach, each change of the address is a history
 entry and a slide's PNG has the screen's pixel ratio); ``benchmarks/README.md`` has a
 paired measurement of what they buy, and the findings worth reporting upstream.
 """
@@ -151,6 +152,20 @@ PATCHES = {
               "every slider's handle is named after its parameter (aria-label) whenever "
               "BokehJS draws its title",
               ("static/a11y.js",), ("AbstractSliderView.prototype._update_title",)),
+        Patch("slider-aria-values", "bokeh", "3.9", "3.10",
+              "every slider handle's aria-valuenow, -valuemin, -valuemax and -valuetext "
+              "carry its value and limits in full (noUiSlider rounds them to one and two "
+              "decimals), after each of noUiSlider's updates",
+              ("static/a11y.js",), ("AbstractSliderView.prototype.render",)),
+        Patch("help-keys", "bokeh", "3.9", "3.10",
+              "an input's help icon is a named button the keyboard reaches: focus shows "
+              "its tooltip, Enter or Space keeps it, Escape hides it",
+              ("static/a11y.js",), ("InputWidgetView.prototype._build_description_el",)),
+        Patch("control-names", "bokeh", "3.9", "3.10",
+              "the arrow of a split menu button is named after the button (aria-label), "
+              "a checkbox after its label (aria-labelledby)",
+              ("static/a11y.js",),
+              ("DropdownView.prototype.render", "CheckboxView.prototype.render")),
         Patch("address-in-place", "panel", "1.9", "1.10",
               "a new address that differs only in its query replaces the history entry "
               "instead of adding one (Panel's Location writes with history.pushState)",

@@ -193,7 +193,8 @@ def test_each_patching_script_is_told_which_of_its_patches_apply(monkeypatch):
 
     monkeypatch.setenv(perf.SWITCH, "on")  # make test runs tests/app with it off too
     on = page_scripts(JS_FILES)
-    assert on["fie_a11y"] == "assets/a11y.js?apply=slider-handle-names"
+    assert on["fie_a11y"] == ("assets/a11y.js?apply=slider-handle-names,slider-aria-values,"
+                              "help-keys,control-names")
     assert on["fie_paint"] == "assets/perf/bokeh_paint.js?apply=paint-shortcuts"
     assert on["fie_lazy_plots"] == JS_FILES["fie_lazy_plots"]
     told = {name for url in on.values() if "?apply=" in url
