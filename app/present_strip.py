@@ -37,7 +37,7 @@ STRIP_SLIDERS: Mapping[str, tuple[str, ...]] = {
 STRIP_FONT_PX = 18
 #: Height [px] the strip takes above the plots, its margins included (kept in step with the
 #: plots' heights, :data:`app.presentation.STRIP_PX`).
-STRIP_HEIGHT_PX = 56
+STRIP_HEIGHT_PX = 50
 #: The sliders' labels: the paper's symbols (the strip holds three on a 1024 px screen; the
 #: sidebar's tooltips say what each means).
 SYMBOLS: Mapping[str, str] = {"belt_speed": "v", "clearance": "x_bar", "restitution": "r",
@@ -96,25 +96,25 @@ class PresentStrip:
         self.scene = pn.widgets.Select(
             options={**{SCENES[k].title: k for k in SCENES}, "custom": CUSTOM},
             value=st.scene, sizing_mode="stretch_width", min_width=160, max_width=440,
-            margin=(8, 6), stylesheets=[STYLESHEET], css_classes=["fie-present-scene"])
+            margin=(6, 6), stylesheets=[STYLESHEET], css_classes=["fie-present-scene"])
         self.scene.param.watch(self._scene_picked, "value")
         self.sliders = {name: self._slider(name) for name in dict.fromkeys(
             n for names in STRIP_SLIDERS.values() for n in names)}
         self.layouts = pn.widgets.RadioButtonGroup(
-            options={k: k for k in modes}, value=st.present or "1", margin=(8, 6),
+            options={k: k for k in modes}, value=st.present or "1", margin=(6, 6),
             stylesheets=[STYLESHEET], css_classes=["fie-present-layouts"],
             description="Plots shown: " + ", ".join(f"{k}: {v}" for k, v in modes.items())
                         + " (keys 1-4)")
         self.layouts.param.watch(self._layout_picked, "value")
         self.fullscreen = pn.widgets.Button(
-            label="Fullscreen", margin=(8, 6), stylesheets=[STYLESHEET],
+            label="Fullscreen", margin=(6, 6), stylesheets=[STYLESHEET],
             css_classes=["fie-present-fullscreen"])
         self.fullscreen.js_on_click(code=FULLSCREEN_JS)
         self.exit = pn.widgets.Button(
-            label="Exit", margin=(8, 6), color="primary",
+            label="Exit", margin=(6, 6), color="primary",
             stylesheets=[STYLESHEET], css_classes=["fie-present-exit"])
         self.exit.on_click(lambda event: set_mode(""))
-        self.help = pn.pane.HTML(help_html(), margin=(12, 6), css_classes=["fie-present-help"])
+        self.help = pn.pane.HTML(help_html(), margin=(9, 6), css_classes=["fie-present-help"])
         self.layout = pn.Row(
             self.scene, *self.sliders.values(), self.layouts, self.fullscreen, self.exit, self.help,
             sizing_mode="stretch_width", height=STRIP_HEIGHT_PX, margin=0,

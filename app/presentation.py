@@ -80,7 +80,7 @@ LINE_SCALE = 2.0
 #: scene's caption are hidden; the scene is named in the strip's picker).
 STRIP_PX = STRIP_HEIGHT_PX
 #: Margin [px] of a plot's pane while presenting: (vertical, horizontal).
-PANE_MARGIN = (2, 4)
+PANE_MARGIN = (1, 2)
 #: High-contrast frame: axis lines and ticks in black, a darker grid.
 AXIS_COLOR, GRID_COLOR = "#000000", "#9a9a9a"
 #: Figure formats for slides: the address's value -> menu label.
@@ -187,6 +187,14 @@ class Presentation:
         for pane in self._hidden:
             if pane.visible == self.on:
                 pane.visible = not self.on
+        if self.on:
+            # The layout's plots are all in view: built now, not when the browser reports
+            # them (a plot not yet built left its half of a row empty).
+            host = self.host
+            waiting = {n for n in self.shown(host.visible_plots())
+                       if not host.plot_panes[n].objects}
+            if waiting:
+                host.build_in_view(waiting)
 
     # --- address ---------------------------------------------------------------------------
 

@@ -13,8 +13,9 @@ from app.present_strip import STRIP_SLIDERS
 from app.presentation import MODES, PLOT_COUNT
 
 
-def _page(query: str = ""):
-    """A served page (its every plot reported in view), its address ``query``."""
+def _page(query: str = "", in_view: bool = True):
+    """A served page (its every plot reported in view, unless not ``in_view``), its address
+    ``query``."""
     import app.main as main
     from app.scenes import PLOTS
 
@@ -24,7 +25,8 @@ def _page(query: str = ""):
         if query:
             template.explorer.apply_query(query)
         main.serve(template, doc)
-        template.explorer.in_view.value = ",".join(PLOTS)
+        if in_view:
+            template.explorer.in_view.value = ",".join(PLOTS)
     return template.explorer, doc
 
 
@@ -102,3 +104,15 @@ def test_presented_figures_lose_their_width_cap():
         assert fig.sizing_mode == "stretch_both" and fig.max_width is None
         ex.presentation.set_mode("")
         assert fig.sizing_mode == "stretch_width" and fig.max_width is not None
+
+
+def test_a_lazy_page_builds_every_plot_of_the_layout():
+    """On the served (lazy) page the third and fourth plots waited, empty, for the browser
+    to report them in view: the three-plot layout showed half a row blank."""
+    ex, doc = _page("scene=10", in_view=False)
+    with set_curdoc(doc):
+        for mode in ("3", "4"):
+            ex.presentation.set_mode(mode)
+            shown = [n for n, pane in ex.plot_panes.items() if pane.visible]
+            assert len(shown) == PLOT_COUNT[mode]
+            assert all(ex.plot_panes[n].objects for n in shown), mode
