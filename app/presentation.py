@@ -45,7 +45,7 @@ from app.plots import (
     TICK_LABEL_FONT,
     TITLE_FONT,
 )
-from app.present_strip import STRIP_HEIGHT_PX
+from app.present_strip import STRIP_HEIGHT_PX, PresentStrip
 from app.scenes import SCENES
 
 #: The presentation layouts: the address's value -> menu label (``""``: off).
@@ -130,6 +130,7 @@ class Presentation:
         self.strip: Any = None
         #: Panes of the page hidden while presenting (:meth:`hide_while_presenting`).
         self._hidden: list[Any] = []
+        self._hiding = False
 
     @property
     def mode(self) -> str:
@@ -180,12 +181,11 @@ class Presentation:
     def _show_page(self) -> None:
         """The strip (made on the first entry) and the page's panes for the mode."""
         if self.on and self.strip is None:
-            from app.present_strip import PresentStrip
-
             self.strip = PresentStrip(self.state, self.host.commit, self.set_mode, MODES)
             self.host.above_plots(self.strip.layout)
-        for pane in self._hidden:
-            if pane.visible == self.on:
+        if self._hiding != self.on:  # only on entering and leaving: a lesson's question
+            self._hiding = self.on    # hides the same panes meanwhile
+            for pane in self._hidden:
                 pane.visible = not self.on
         if self.on:
             # The layout's plots are all in view: built now, not when the browser reports

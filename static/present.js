@@ -46,8 +46,7 @@
   const FRAME_CSS = `
 body.fie-present #header { display: none !important; }
 body.fie-present #main, body.fie-present .main { padding: 0 !important; margin-top: 0 !important; }
-body.fie-present #content { padding-top: 0 !important; margin-top: 0 !important; }
-body.fie-present { overflow: hidden; }`;
+body.fie-present #content { padding-top: 0 !important; margin-top: 0 !important; }`;
   function frameStyle() {
     if (document.getElementById("fie-present-frame") || document.head == null) return;
     const style = document.createElement("style");

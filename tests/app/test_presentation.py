@@ -116,3 +116,16 @@ def test_a_lazy_page_builds_every_plot_of_the_layout():
             shown = [n for n, pane in ex.plot_panes.items() if pane.visible]
             assert len(shown) == PLOT_COUNT[mode]
             assert all(ex.plot_panes[n].objects for n in shown), mode
+
+
+def test_panes_hidden_by_a_lesson_stay_hidden_when_not_presenting():
+    """The caption is shown again on leaving the presentation only: a lesson's question
+    hides it meanwhile, and a redraw of the plots must not show it."""
+    ex, doc = _page("scene=5a")
+    with set_curdoc(doc):
+        ex.caption.visible = False  # as a step that asks a question does
+        ex.host.show_plots()
+        assert not ex.caption.visible
+        ex.presentation.set_mode("2")
+        ex.presentation.set_mode("")
+        assert ex.caption.visible
