@@ -72,6 +72,7 @@ def help_html() -> str:
             'style="cursor:pointer;font-weight:bold;padding:4px 10px;border:1px solid #888;'
             'border-radius:6px;list-style:none">?</summary>'
             '<table style="position:absolute;right:8px;z-index:10;background:#fff;'
+            'white-space:nowrap;width:max-content;border-spacing:8px 4px;'
             'border:1px solid #444;padding:8px;box-shadow:0 2px 8px #0004">'
             f"{rows}</table></details>")
 

@@ -176,6 +176,8 @@ class Presentation:
         """Hide ``panes`` of the page while presenting (the scene's caption: the strip's
         picker names the scene)."""
         self._hidden[:] = panes
+        for pane in panes if self._hiding else ():  # the page opened presenting
+            pane.visible = False
         self._show_page()
 
     def _show_page(self) -> None:

@@ -129,3 +129,16 @@ def test_panes_hidden_by_a_lesson_stay_hidden_when_not_presenting():
         ex.presentation.set_mode("2")
         ex.presentation.set_mode("")
         assert ex.caption.visible
+
+
+def test_a_page_opened_presenting_hides_the_caption():
+    """The address is read before the page is laid out: the caption, registered after the
+    mode was on, stayed above the strip."""
+    from app.explorer import Explorer
+
+    ex = Explorer()
+    ex.apply_query("scene=5a&present=1")
+    ex.main()
+    assert not ex.caption.visible
+    ex.presentation.set_mode("")
+    assert ex.caption.visible
