@@ -51,6 +51,8 @@ from app.scenes import SCENES
 #: The presentation layouts: the address's value -> menu label (``""``: off).
 MODES: Mapping[str, str] = {"1": "one large plot", "2": "two plots", "3": "three plots",
                             "4": "2×2 plots"}
+#: The layouts the page's menu offers.
+MENU_MODES = ("1", "4")
 #: The permalink's key.
 URL_KEY = "present"
 #: Plots shown by layout (the first the scene shows; the animation only alone).
@@ -146,7 +148,8 @@ class Presentation:
 
     def menu_items(self) -> list[tuple[str, str]]:
         """Entries of the page's menu."""
-        items = [(f"Presentation: {label}", f"present:{key}") for key, label in MODES.items()
+        # The layouts of one and four plots (the strip and the keys switch to any).
+        items = [(f"Presentation: {MODES[key]}", f"present:{key}") for key in MENU_MODES
                  if key != self.mode]
         if self.on:
             items.append(("Leave the presentation", "present:"))
