@@ -25,8 +25,9 @@ from app.control_specs import MU_S_MIN, SLIDERS
 from app.scenes import CUSTOM, SCENES
 from app.widgets import set_changed
 
-#: The sliders of the strip by stop type: what the paper varies between its figures of that
-#: stop (belt speed everywhere; the stop's place and its restitution or its stiffness law).
+#: The sliders of the strip by stop type: the belt speed (a slow or a fast belt, Eq. 25),
+#: and the stop's place and restitution (a rigid stop) or limit overlap (a deformable one);
+#: without a stop, the static friction and the static deflection u_s = F_N / k.
 STRIP_SLIDERS: Mapping[str, tuple[str, ...]] = {
     "none": ("belt_speed", "mu_s", "u_s"),
     "rigid": ("belt_speed", "clearance", "restitution"),
@@ -88,6 +89,11 @@ class PresentStrip:
         Commits a user's values (the page's controls' commit).
     set_mode : callable(str)
         Switches the presentation's layout (``""``: leave).
+    modes : mapping
+        The layouts: key -> what it shows.
+
+    The sliders move the core's dimensionless values, in SI units too (the sidebar's SI
+    boxes convert).
     """
 
     def __init__(self, state: Any, commit: Callable[[Mapping[str, Any]], None],
