@@ -1,6 +1,7 @@
 """The page's compare menu: one split button whose main part pins the run on screen; its menu
 unpins, loads the paper's preset comparisons and switches the presentation mode
-(:class:`app.presentation.Presentation`). One Bokeh model whatever it offers.
+(:class:`app.presentation.Presentation`). One Bokeh model whatever it offers; beside it, the
+"Present" button (one more) that starts the presentation.
 """
 
 from __future__ import annotations
@@ -16,6 +17,11 @@ from app.control_specs import WIDGET_WIDTH
 from app.perf.browser_values import say_refused
 from app.pins import URL_KEY, PinSpec, decode_pins, encode_pins
 from app.state import ExplorerState, scene_values
+
+#: The label of the button that starts the presentation (P: its shortcut).
+PRESENT_LABEL = "▶ Present (P)"
+#: The layout the button starts with.
+PRESENT_FIRST = "1"
 
 
 class CompareMenu(pn.viewable.Viewer):
@@ -43,6 +49,11 @@ class CompareMenu(pn.viewable.Viewer):
             label=PIN_LABEL, split=True, items=self._items(), width=WIDGET_WIDTH,
             color="default", css_classes=["fie-compare-menu"])
         self.button.on_click(self._clicked)
+        #: Starts the presentation (one large plot; its strip switches the layout).
+        self.present = pn.widgets.Button(
+            label=PRESENT_LABEL, width=WIDGET_WIDTH, color="primary",
+            css_classes=["fie-present-button"])
+        self.present.on_click(lambda event: self.presentation.set_mode(PRESENT_FIRST))
         self.state.param.watch(lambda event: self.refresh(), ["pinned", "present", "slides"])
 
     def __panel__(self) -> pn.viewable.Viewable:

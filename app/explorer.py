@@ -75,9 +75,9 @@ class Explorer(pn.viewable.Viewer):
 
     def sidebar(self) -> list[Any]:
         """The controls, top to bottom."""
-        return [*self.controls.sidebar(), self.studies.measure, self.studies.open_sweeps,
-                self.controls.show_all, self.downloads.trajectory, self.downloads.transitions,
-                self.menu.button, self.lessons.button]
+        return [self.menu.present, *self.controls.sidebar(), self.studies.measure,
+                self.studies.open_sweeps, self.controls.show_all, self.downloads.trajectory,
+                self.downloads.transitions, self.menu.button, self.lessons.button]
 
     def main(self) -> list[Any]:
         """The notices, the lesson (if one is open), the caption, the readout and the
@@ -85,6 +85,8 @@ class Explorer(pn.viewable.Viewer):
         host, readout = self.host, self.readout_view
         # A step that asks a question hides what would give its answer away.
         self.lessons.hide_while_asking(readout.caption, readout.readout, host.plot_box)
+        # While presenting the strip names the scene: no caption, no story buttons.
+        host.presentation.hide_while_presenting(readout.caption, *self.teach.buttons)
         return [self.notices, *self.lessons.panels, readout.caption, *self.teach.buttons,
                 readout.readout, host.arrived, host.in_view, host.plot_box]
 

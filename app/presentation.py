@@ -1,11 +1,24 @@
 """Presentation mode: the plots fill the screen for a projector; figures for slides.
 
-One large plot (``present=1`` in the address) or four in a 2×2 grid (``present=4``): fonts and
-lines scaled up, a high-contrast frame, the theory's points named as in the paper
-(:data:`app.plots.PAPER_NAMES`), the sidebar collapsed and the readout hidden
-(``static/present.js`` gives the page's body the classes that ``static/explorer.css`` styles
-by). Everything is done by changing properties of the figures already built: the mode adds no
-Bokeh model to the page. Leaving it puts every property back.
+One, two, three or four plots (``present=1`` .. ``present=4`` in the address; four in a 2×2
+grid, three as one wide plot over two) under a slim control strip (:mod:`app.present_strip`,
+built the first time the page presents), the sidebar, the page's header, the scene's caption
+and the readout hidden (``static/present.js`` gives the page's body the classes it styles by,
+and the keyboard's shortcuts: P present / leave, 1-4 the layouts, F fullscreen, ? help). The
+plots' panes take the window's height less the strip's (:data:`STRIP_PX`), in one row or
+two, at 16:9 and at 4:3 alike. The figures are restyled by changing properties of those
+already built: the mode adds no Bokeh model to the figures. Leaving it puts every property
+back.
+
+Sizes for the back of a room (one plot; :data:`FONTS` for the others): titles 26 px, axis
+labels 22 px, tick labels and the strip's widgets 18 px, every line twice its width on the
+page (:data:`LINE_SCALE`: the page's 1.5 px trajectories become 3 px), axes and ticks in
+black at 2 px. Why: a letter is read with ease when it subtends about 10 arcmin (twice the
+5 arcmin letter of 20/20 vision). On a 1080-line image 2 m high one CSS pixel is 1.85 mm,
+an 18 px font's capitals ~13 px = 24 mm, which subtend 10 arcmin at 8 m (four image
+heights); the 26 px titles at ~12 m. On a 768-line (4:3) projector of the same height every
+pixel is 40 % larger. The four-plot grid's 15 px ticks read to ~7 m: a layout for a smaller
+room or a closer look.
 
 Figures for slides (``slides=svg`` or ``slides=png``): each figure gets a caption line under
 it that states the scene and the parameters, and its save tool (the toolbar's download
@@ -32,19 +45,29 @@ from app.plots import (
     TICK_LABEL_FONT,
     TITLE_FONT,
 )
+from app.present_strip import STRIP_HEIGHT_PX, PresentStrip
 from app.scenes import SCENES
 
 #: The presentation layouts: the address's value -> menu label (``""``: off).
-MODES: Mapping[str, str] = {"1": "one large plot", "4": "2×2 plots"}
+MODES: Mapping[str, str] = {"1": "one large plot", "2": "two plots", "3": "three plots",
+                            "4": "2×2 plots"}
+#: The layouts the page's menu offers.
+MENU_MODES = ("1", "4")
 #: The permalink's key.
 URL_KEY = "present"
-#: Plots shown in the 2×2 layout, in order of preference (the first four the scene shows).
-GRID_PLOTS = 4
+#: Plots shown by layout (the first the scene shows; the animation only alone).
+PLOT_COUNT: Mapping[str, int] = {"1": 1, "2": 2, "3": 3, "4": 4}
+#: Rows of plots by layout.
+ROWS: Mapping[str, int] = {"1": 1, "2": 1, "3": 2, "4": 2}
 #: Fonts for a projector by layout: title, axis labels, tick labels, the theory's point
 #: names, legends (a quarter of a 720p screen holds a 230 px plot: smaller than one large).
 FONTS: Mapping[str, Mapping[str, str]] = {
     "1": {"title": "26px", "axis": "22px", "tick": "18px", "points": f"{PRESENT_LABEL_FONT_PX}px",
           "legend": "18px"},
+    "2": {"title": "24px", "axis": "20px", "tick": "17px", "points": "20px",
+          "legend": "16px"},
+    "3": {"title": "20px", "axis": "17px", "tick": "15px", "points": "18px",
+          "legend": "14px"},
     "4": {"title": "20px", "axis": "17px", "tick": "15px", "points": "18px",
           "legend": "14px"},
 }
@@ -52,11 +75,14 @@ FONTS: Mapping[str, Mapping[str, str]] = {
 #: screen the stacked x(t) and x'(t) plots are ~60 px high, and six 15 px tick labels
 #: touched each other there; asked for 4, Bokeh's ticker still ticked x'(t) of Fig. 5a
 #: (a span of 0.25) every 0.05, six labels; asked for 3 it ticks every 0.1.
-TICKS: Mapping[str, int] = {"": 6, "1": 5, "4": 3}
+TICKS: Mapping[str, int] = {"": 6, "1": 5, "2": 5, "3": 3, "4": 3}
 #: Line widths are multiplied by this (a 1.5 px line is invisible from the back of a room).
 LINE_SCALE = 2.0
-#: Height left free above the plots [px]: the page's header and the scene's title.
-HEADER_PX = {"1": 130, "4": 130}
+#: Height left free above the plots [px]: the control strip's (the page's header and the
+#: scene's caption are hidden; the scene is named in the strip's picker).
+STRIP_PX = STRIP_HEIGHT_PX
+#: Margin [px] of a plot's pane while presenting: (vertical, horizontal).
+PANE_MARGIN = (1, 2)
 #: High-contrast frame: axis lines and ticks in black, a darker grid.
 AXIS_COLOR, GRID_COLOR = "#000000", "#9a9a9a"
 #: Figure formats for slides: the address's value -> menu label.
@@ -101,6 +127,12 @@ class Presentation:
         self._widths: dict[str, float] = {}
         #: Each figure's caption line once made.
         self._captions: dict[str, Title] = {}
+        #: The control strip (:class:`app.present_strip.PresentStrip`), made when the page
+        #: first presents.
+        self.strip: Any = None
+        #: Panes of the page hidden while presenting (:meth:`hide_while_presenting`).
+        self._hidden: list[Any] = []
+        self._hiding = False
 
     @property
     def mode(self) -> str:
@@ -116,7 +148,8 @@ class Presentation:
 
     def menu_items(self) -> list[tuple[str, str]]:
         """Entries of the page's menu."""
-        items = [(f"Presentation: {label}", f"present:{key}") for key, label in MODES.items()
+        # The layouts of one and four plots (the strip and the keys switch to any).
+        items = [(f"Presentation: {MODES[key]}", f"present:{key}") for key in MENU_MODES
                  if key != self.mode]
         if self.on:
             items.append(("Leave the presentation", "present:"))
@@ -138,9 +171,35 @@ class Presentation:
         """The plot panes the layout shows of the ``visible`` ones."""
         if self.mode == "1":
             return visible[:1]
-        if self.mode == "4":
-            return tuple(p for p in visible if p != "anim")[:GRID_PLOTS]
+        if self.on:
+            return tuple(p for p in visible if p != "anim")[:PLOT_COUNT[self.mode]]
         return visible
+
+    def hide_while_presenting(self, *panes: Any) -> None:
+        """Hide ``panes`` of the page while presenting (the scene's caption: the strip's
+        picker names the scene)."""
+        self._hidden[:] = panes
+        for pane in panes if self._hiding else ():  # the page opened presenting
+            pane.visible = False
+        self._show_page()
+
+    def _show_page(self) -> None:
+        """The strip (made on the first entry) and the page's panes for the mode."""
+        if self.on and self.strip is None:
+            self.strip = PresentStrip(self.state, self.host.commit, self.set_mode, MODES)
+            self.host.above_plots(self.strip.layout)
+        if self._hiding != self.on:  # only on entering and leaving: a lesson's question
+            self._hiding = self.on    # hides the same panes meanwhile
+            for pane in self._hidden:
+                pane.visible = not self.on
+        if self.on:
+            # The layout's plots are all in view: built now, not when the browser reports
+            # them (a plot not yet built left its half of a row empty).
+            host = self.host
+            waiting = {n for n in self.shown(host.visible_plots())
+                       if not host.plot_panes[n].objects}
+            if waiting:
+                host.build_in_view(waiting)
 
     # --- address ---------------------------------------------------------------------------
 
@@ -235,6 +294,7 @@ class Presentation:
                 div.styles = {**div.styles, "font-size": size, "line-height": (
                     f"{int(size[:-2]) + 8}px" if self.on else "20px")}
         self._slides()
+        self._show_page()
         self._layout()
 
     def _style_labels(self, labels: Any) -> None:
@@ -291,29 +351,40 @@ class Presentation:
         """Plot panes that fill the screen: heights from the window's (CSS), the figures
         stretched to them; the usual responsive grid otherwise."""
         shown = self.shown(self.host.visible_plots())
-        rows = 1 if self.mode == "1" else 2
         for name, pane in self.host.plot_panes.items():
             if name not in shown or not pane.objects:
                 continue
             if self.on:
-                height = f"calc((100vh - {HEADER_PX[self.mode]}px) / {rows} - 12px)"
-                basis = "100%" if self.mode == "1" else "calc(50% - 20px)"
-                styles = {"flex": f"1 1 {basis}", "height": height}
-                sizing, max_width = "stretch_both", None
+                styles = self._pane_styles(shown.index(name))
+                sizing, max_width, margin = "stretch_both", None, PANE_MARGIN
             else:
                 styles = {"flex": f"1 1 {PLOT_WIDTHS[0] + 160}px"}
-                sizing, max_width = "stretch_width", PLOT_WIDTHS[1]
+                sizing, max_width, margin = "stretch_width", PLOT_WIDTHS[1], (4, 8)
             if pane.styles != styles:
-                pane.param.update(styles=styles, sizing_mode=sizing, max_width=max_width)
+                pane.param.update(styles=styles, sizing_mode=sizing, max_width=max_width,
+                                  margin=margin)
             if name != "anim":  # the animation keeps its own sizing (never presented)
                 self._stretch(name, pane, sizing, max_width)
+
+    def _pane_styles(self, index: int) -> dict[str, str]:
+        """The CSS of the ``index``-th plot shown: its share of a row and its height, the
+        window's height less the strip's, split in the layout's rows."""
+        rows = ROWS[self.mode]
+        vertical, horizontal = PANE_MARGIN
+        height = f"calc((100vh - {STRIP_PX}px) / {rows} - {2 * vertical}px)"
+        # One plot, or the wide first plot of three, takes a row; the others share one.
+        whole = self.mode == "1" or (self.mode == "3" and index == 0)
+        basis = "100%" if whole else f"calc(50% - {2 * horizontal}px)"
+        return {"flex": f"1 1 {basis}", "height": height}
 
     def _stretch(self, name: str, pane: Any, sizing: str, max_width: int | None) -> None:
         """Let the pane's Bokeh layout and figures follow its size."""
         plots = self.host.plots
         body = pane.objects[0]
-        if hasattr(body, "sizing_mode") and body.sizing_mode != sizing:
-            body.sizing_mode = sizing
+        # The plot's pane, and its figure's pane inside the column it shares with a legend.
+        for part in (body, *getattr(body, "objects", ())[:1]):
+            if hasattr(part, "sizing_mode") and part.sizing_mode != sizing:
+                part.sizing_mode = sizing
         layout = plots.panes.get(name)
         if layout is None:
             return
@@ -321,5 +392,6 @@ class Presentation:
         if layout.sizing_mode != sizing:
             layout.sizing_mode = sizing
         for fig in figs:
-            if fig.sizing_mode != sizing:
+            # (The layout may be the figure itself: its width cap is checked on its own.)
+            if fig.sizing_mode != sizing or fig.max_width != max_width:
                 fig.update(sizing_mode=sizing, max_width=max_width)

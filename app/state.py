@@ -177,8 +177,8 @@ class ExplorerState(param.Parameterized):
         run of the release follows).""")
     figure = param.Selector(default=DEFAULT_SCENE, objects=list(SCENES), doc="""
         The paper's figure last loaded (the reset button returns to it).""")
-    present = param.Selector(default="", objects=["", "1", "4"], doc="""
-        Presentation layout: '' off, '1' one large plot, '4' a 2x2 grid.""")
+    present = param.Selector(default="", objects=["", "1", "2", "3", "4"], doc="""
+        Presentation layout: '' off, or the number of plots shown ('4': a 2x2 grid).""")
     slides = param.Selector(default="", objects=["", "svg", "png"], doc="""
         Figures for slides: '' as on screen, or the format their save tool writes.""")
 
