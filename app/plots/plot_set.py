@@ -34,10 +34,7 @@ from app.plots.labels import applicable_points
 from app.plots.legends import legend_html, phase_entries
 from app.plots.map_boundaries import boundary_columns
 from app.plots.ranges import RANGE_PADDING, data_bounds, set_range, stop_in_view
-from app.plots.return_figure import legend_entries as return_legend
-from app.plots.return_figure import return_columns
-from app.plots.return_figure import set_axes as set_return_axes
-from app.plots.return_figure import title as return_title
+from app.plots.return_figure import draw_return
 from app.plots.sources import SharedModels, SourceData, Sources, assign
 from app.plots.style import ENERGY_COLORS, MAP_PALETTE, MODE_NAMES
 from app.plots.window import RunWindow
@@ -321,31 +318,12 @@ class PlotSet:
             set_range(self.figures[name].x_range, (shown,), 0.0)
 
     def _fill_return(self, sol: Solution, scales: Scales) -> None:
-        """The return map of the impacts (or stick onsets), its title, lines and legend."""
-        fig = self.figures["return"]
-        res = sol.result
-        rmap = (return_map(res, sol.values["stop_type"], sol.t_end,
+        """The return map of the impacts, contacts or stick onsets."""
+        rmap = (return_map(sol.result, sol.values["stop_type"], sol.t_end,
                            phase_step(*sample_bounds(sol)))
-                if res is not None else NO_RETURN)
-        speed = rmap.quantity != "stick position"
-        unit = scales.velocity if speed else 1.0
-        cols = return_columns(rmap, unit)
-        assign(self.sources["ret_points"], cols["points"])
-        assign(self.sources["ret_fixed"], cols["fixed"])
-        if fig.title.text != return_title(rmap):
-            fig.title.text = return_title(rmap)
-        r = sol.values.get("restitution")
-        grazing = self.slopes["grazing"]
-        show_r = rmap.quantity == "impact speed" and r is not None and 0.0 < r < 1.0
-        grazing.update(visible=show_r, gradient=float(r) if show_r else 1.0)
-        label = (f"{rmap.quantity} ({scales.velocity_label})" if speed and rmap.quantity
-                 else rmap.quantity or "s")
-        fig.xaxis.axis_label, fig.yaxis.axis_label = f"{label}: n", f"{label}: n+1"
-        set_return_axes(fig, speed and bool(rmap.quantity), cols["points"]["x"],
-                        cols["points"]["y"])
-        legend = return_legend(rmap, float(r) if show_r else None)
-        if self.legends["return"].object != legend:
-            self.legends["return"].object = legend
+                if sol.result is not None else NO_RETURN)
+        draw_return(self.figures["return"], self.sources, self.slopes["grazing"],
+                    self.legends["return"], rmap, sol.values.get("restitution"), scales)
 
     def _fill_force(self, sol: Solution, scales: Scales, preview: bool = False) -> None:
         """The contact force; its rest axis comes and goes with the full solutions only

@@ -28,16 +28,22 @@ from bokeh.models import (
 
 from app.glyphs import add_glyph
 from app.plots.legends import legend_html, legend_pane, swatch
+from app.plots.sources import assign
 from app.plots.style import MODE_COLORS, SMALL_SIZE
 from app.return_map import ReturnMap
+from app.state import Scales
 
 #: Title of the figure with nothing to show.
 NO_EVENTS = "Return map: no impacts or stick onsets in this run"
+#: What the events of each quantity are called (a long run stores the first ones).
+EVENT_NAMES = {"impact speed": "impacts", "contact speed": "contacts",
+               "stick position": "stick onsets"}
 #: Styles of the identity line, the grazing line, the points and the fixed point.
 IDENTITY_STYLE = {"line_color": "#888888", "line_dash": "dashed", "line_width": 1.5}
 GRAZING_STYLE = {"line_color": MODE_COLORS[2], "line_dash": "dotted", "line_width": 2}
 POINT_STYLE = {"color": "#1f3a93", "size": 7, "alpha": 0.7}
-FIXED_STYLE = {"size": 16, "fill_color": "#ffffff",
+# (Hollow: the points it marks show through.)
+FIXED_STYLE = {"size": 16, "fill_color": "#ffffff", "fill_alpha": 0.0,
                "line_color": "#d62728", "line_width": 2.5}
 #: Factor around the points' span on a log axis (half a decade of room in all: 10^0.25
 #: each side), and the fraction of a linear span.
@@ -96,8 +102,9 @@ def title(rmap: ReturnMap) -> str:
     if not rmap.quantity:
         return NO_EVENTS
     n = max(len(rmap.values) - 1, 0)
+    events = EVENT_NAMES.get(rmap.quantity, "events")
     kept = ("" if rmap.total == len(rmap.values)
-            else f", the first {len(rmap.values)} of {rmap.total} events")
+            else f", from the first {len(rmap.values)} of {rmap.total} {events}")
     return f"Return map: {rmap.quantity} n+1 vs n ({n} points{kept})"
 
 
@@ -123,3 +130,27 @@ def set_axes(fig: Any, log: bool, x_values: np.ndarray, y_values: np.ndarray) ->
     for rng in (fig.x_range, fig.y_range):
         if (rng.start, rng.end) != (lo, hi):
             rng.update(start=lo, end=hi, reset_start=lo, reset_end=hi)
+
+
+def draw_return(fig: Any, sources: Mapping[str, ColumnDataSource], grazing: Slope,
+                legend: Any, rmap: ReturnMap, restitution: float | None,
+                scales: Scales) -> None:
+    """Draw ``rmap`` in the figure: its points and fixed point, the title, the grazing
+    line ``s_n+1 = r s_n`` of a stop of ``restitution`` 0 < r < 1, the axes, the
+    ``legend`` (an HTML pane)."""
+    speed = rmap.quantity in ("impact speed", "contact speed")
+    cols = return_columns(rmap, scales.velocity if speed else 1.0)
+    assign(sources["ret_points"], cols["points"])
+    assign(sources["ret_fixed"], cols["fixed"])
+    if fig.title.text != title(rmap):
+        fig.title.text = title(rmap)
+    r = restitution
+    show_r = rmap.quantity == "impact speed" and r is not None and 0.0 < r < 1.0
+    grazing.update(visible=show_r, gradient=float(r) if show_r else 1.0)
+    label = (f"{rmap.quantity} ({scales.velocity_label})" if speed
+             else rmap.quantity or "state")
+    fig.xaxis.axis_label, fig.yaxis.axis_label = f"{label}: n", f"{label}: n+1"
+    set_axes(fig, speed, cols["points"]["x"], cols["points"]["y"])
+    text = legend_entries(rmap, float(r) if show_r else None)
+    if legend.object != text:
+        legend.object = text

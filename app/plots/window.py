@@ -32,9 +32,12 @@ LONG_RUN_PERIODS = 20
 TURN = 2.0 * math.pi
 #: Height [px] of the overview.
 OVERVIEW_HEIGHT = 110
-#: The brush's shade.
-BRUSH_STYLE = {"fill_color": "#1f77b4", "fill_alpha": 0.15, "line_color": "#1f77b4",
-               "line_width": 1.5}
+#: The brush's shade: strong, over a light line, since five periods of a run of a
+#: thousand are a few pixels of the overview.
+BRUSH_STYLE = {"fill_color": "#d62728", "fill_alpha": 0.35, "line_color": "#d62728",
+               "line_width": 2}
+#: The whole run's line under it.
+OVERVIEW_LINE = {"line_color": "#9a9a9a", "line_width": 1}
 
 
 def run_period(sol: Solution) -> float:
@@ -78,7 +81,7 @@ def build_overview(traj: Any, window_range: Range1d) -> tuple[Any, Any]:
     fig.yaxis.visible = False
     fig.ygrid.visible = False
     fig.xaxis.major_label_text_font_size = TICK_LABEL_FONT
-    add_glyph(fig, "line", "t", "x", source=traj, line_color="#555555", line_width=1)
+    add_glyph(fig, "line", "t", "x", source=traj, **OVERVIEW_LINE)
     brush = RangeTool(x_range=window_range, start_gesture="pan")
     brush.overlay.update(**BRUSH_STYLE)
     fig.add_tools(brush)
