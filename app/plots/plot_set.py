@@ -376,8 +376,10 @@ class PlotSet:
         if "time" in plots:
             traj = d["traj"]
             window = self.run_window.shown(self._scales.time)
-            set_range(f["time_x"].x_range, (traj["t"], more.get(("time_x", "x"), ()))
-                      if window is None else (window,), 0.0)
+            if window is None:
+                set_range(f["time_x"].x_range, (traj["t"], more.get(("time_x", "x"), ())), 0.0)
+            else:
+                self.run_window.place(f["time_x"].x_range, window)
             set_range(f["time_x"].y_range, (traj["x"], stop, more.get(("time_x", "y"), ())),
                       RANGE_PADDING)
             set_range(f["time_v"].y_range, (traj["v"], more.get(("time_v", "y"), ())),

@@ -18,6 +18,7 @@ from bokeh.plotting import figure
 
 from app.deferred import later
 from app.glyphs import add_glyph
+from app.plots.ranges import set_range
 from app.plots.style import PLOT_WIDTHS, TICK_LABEL_FONT, TITLE_FONT
 from app.solve.solution import Solution
 
@@ -116,6 +117,7 @@ class RunWindow:
         self._unit = 1.0
         self._brushed = False
         self._pending: Any = None
+        self._placing = False
 
     def choose(self, sol: Solution) -> None:
         """The window for a new solution: the one brushed if the horizon is the same,
@@ -154,8 +156,27 @@ class RunWindow:
             if (rng.start, rng.end) != (lo, hi):
                 rng.update(start=lo, end=hi)
 
+    def place(self, rng: Range1d, shown: tuple[float, float]) -> None:
+        """Set the time histories' range ``rng`` to the window ``shown`` (shown units):
+        the server's own move, which the brush's handler does not follow (Bokeh calls it
+        once per edge, between which the range holds one old and one new edge)."""
+        self._placing = True
+        try:
+            set_range(rng, (shown,), 0.0)
+        finally:
+            self._placing = False
+
     def _moved(self, attr: str, old: Any, new: Any) -> None:
-        """The time axis moved (the brush, a pan or zoom): follow it once it rests."""
+        """The time axis moved (the brush, a pan or zoom): follow it once it rests (both
+        edges are read then, as the browser left them)."""
+        if self._placing or self.window is None:
+            return
+        if self._pending is not None:
+            self._pending.cancel()
+        self._pending = later(self._follow, FOLLOW_DELAY_MS)
+
+    def _follow(self) -> None:
+        self._pending = None
         rng = self._time_range
         if self.window is None or self._t_end is None or rng.start is None or rng.end is None:
             return
@@ -164,11 +185,5 @@ class RunWindow:
         tol = SAME_WINDOW * self._t_end
         if hi <= lo or (abs(lo - self.window[0]) <= tol and abs(hi - self.window[1]) <= tol):
             return
-        if self._pending is not None:
-            self._pending.cancel()
-        self._pending = later(lambda: self._follow((lo, hi)), FOLLOW_DELAY_MS)
-
-    def _follow(self, window: tuple[float, float]) -> None:
-        self._pending = None
-        self.window, self._brushed = window, True
+        self.window, self._brushed = (lo, hi), True
         self.follow()

@@ -107,3 +107,28 @@ def test_the_page_s_return_map_has_a_point_per_pair_of_impacts(scene):
     assert f"({impacts - 1} points)" in ex.plots.figures["return"].title.text
     periodic = ex.solution.result.steady.kind.value == "periodic"
     assert len(ex.plots.sources["ret_fixed"].data["x"]) == (1 if periodic else 0)
+
+
+def test_the_server_s_own_move_of_the_window_is_not_a_brush(monkeypatch):
+    """Served, a horizon of 5000 opened on a page of 60 put the contact force on
+    (60, 4972): Bokeh told the brush's handler of the server's own move of the time axis
+    once per edge, the handler read a range of one old and one new edge and, a moment
+    later, drew that as the window. Here the session's event loop is a list of calls run
+    after the release, as in the browser."""
+    import app.plots.window as window_module
+
+    pending = []
+    monkeypatch.setattr(window_module, "later", lambda fn, ms: pending.append(fn) or fn)
+    ex = _page("5a")
+    ex.controls.commit({"t_end": 5000.0})
+    for call in pending:
+        call()
+    plots = ex.plots
+    default = plots.run_window.window
+    period = ex.solution.result.steady.period
+    assert default == pytest.approx((5000.0 - WINDOW_PERIODS * period, 5000.0))
+    fx = plots.figures["time_x"].x_range
+    assert (fx.start, fx.end) == pytest.approx(default)
+    ex.host.build_in_view({"force"})
+    force = plots.figures["force"].x_range
+    assert (force.start, force.end) == pytest.approx(default)
