@@ -16,6 +16,7 @@ from typing import Any, NamedTuple
 from app.control_specs import CONSTRAINTS, SI_STATE_NAME
 from app.scenes import CUSTOM
 from app.state import (
+    HORIZON_CHOICES,
     SOLVE_PARAMS,
     SOLVER_CHOICES,
     ExplorerState,
@@ -24,6 +25,11 @@ from app.state import (
     si_units,
 )
 from app.widgets import bounds_reason
+
+#: Solve values whose change keeps the scene (its title and caption): how the motion is
+#: solved and how long it is watched (:data:`~app.state.SOLVER_CHOICES`,
+#: :data:`~app.state.HORIZON_CHOICES`).
+SCENE_KEEPERS = SOLVER_CHOICES + HORIZON_CHOICES
 
 
 class Note(NamedTuple):
@@ -55,7 +61,7 @@ def commit_changes(state: ExplorerState, changes: Mapping[str, Any]
 
     Solve values go through the constraints and drop the overlap program off a
     deformable stop; a real change of one (other than the method or accuracy,
-    :data:`~app.state.SOLVER_CHOICES`) makes the scene 'custom'.
+    :data:`SCENE_KEEPERS`) makes the scene 'custom'.
     """
     new = {k: v for k, v in changes.items() if k not in SOLVE_PARAMS}
     solve_changes = {k: v for k, v in changes.items() if k in SOLVE_PARAMS}
@@ -63,7 +69,7 @@ def commit_changes(state: ExplorerState, changes: Mapping[str, Any]
     if solve_changes:
         diff, notes = _solve_changes(state, solve_changes)
         new.update(diff)
-        if "scene" not in changes and any(k not in SOLVER_CHOICES for k in diff):
+        if "scene" not in changes and any(k not in SCENE_KEEPERS for k in diff):
             new["scene"] = CUSTOM
     return {k: v for k, v in new.items() if getattr(state, k) != v}, notes
 
@@ -136,7 +142,7 @@ def refusal_si(state: ExplorerState, key: str, value: float, label: str,
 def differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     """Whether solve values differ from a scene's: numbers beyond 1e-11 relative (an SI
     address holds 12 digits), anything else at all; the method and accuracy are not the
-    scene's (:data:`~app.state.SOLVER_CHOICES`).
+    scene's, nor is the horizon (:data:`SCENE_KEEPERS`).
 
     >>> from app.state import scene_values
     >>> v = scene_values("7c")
@@ -146,7 +152,7 @@ def differs(values: Mapping[str, Any], scene: Mapping[str, Any]) -> bool:
     (True, True)
     """
     for name in SOLVE_PARAMS:
-        if name in SOLVER_CHOICES:
+        if name in SCENE_KEEPERS:
             continue
         a, b = values[name], scene[name]
         if isinstance(a, float) and isinstance(b, float | int) and not isinstance(b, bool):

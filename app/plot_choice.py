@@ -13,7 +13,7 @@ def applicable_plots(state: Any) -> tuple[str, ...]:
 
     >>> from app.state import ExplorerState
     >>> applicable_plots(ExplorerState(stop_type="none"))
-    ('phase', 'time', 'anim', 'friction', 'energy', 'map')
+    ('phase', 'time', 'anim', 'friction', 'energy', 'map', 'return')
     """
     if state.program and state.stop_type == "hysteretic":
         return ("loop", "force")

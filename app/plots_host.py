@@ -41,7 +41,8 @@ FIRST_PLOTS = frozenset({"phase", "time"})
 #: that the page does not jump when it is drawn and only the plots in view are reported.
 PANE_HEIGHTS = {"phase": PHASE_SIZE[1] + 60, "time": 2 * TIME_SIZE[1], "anim": ANIM_SIZE[1] + 90,
                 "force": SMALL_SIZE[1], "loop": SMALL_SIZE[1], "friction": SMALL_SIZE[1],
-                "energy": SMALL_SIZE[1] + 60, "map": MAP_SIZE[1] + 100}
+                "energy": SMALL_SIZE[1] + 60, "map": MAP_SIZE[1] + 100,
+                "return": SMALL_SIZE[1] + 60}
 #: Delay [ms] before a drag's draft is drawn (a release arriving meanwhile cancels it).
 PREVIEW_DELAY_MS = 15
 #: The house stylesheet (panes render in shadow DOMs: each that uses its classes links it).

@@ -547,12 +547,42 @@ def mode_bands(t: np.ndarray, mode: np.ndarray, t_lo: float, t_hi: float, column
 
 
 def history(result: Result, evaluate: Evaluate, t_end: float, exact: bool,
-            columns: int, step: tuple[float, float]) -> History:
+            columns: int, step: tuple[float, float],
+            window: tuple[float, float] | None = None) -> History:
     """The time histories and mode bands for a plot ``columns`` pixels wide (``step``:
-    the phase portrait's chord bound, see :func:`core.steady.steady_cycle`)."""
+    the phase portrait's chord bound, see :func:`core.steady.steady_cycle`).
+
+    With a ``window`` ``(t_lo, t_hi)`` narrower than the run, the plot shows that window:
+    inside it the samples and bands are reduced to ``columns`` columns of the window,
+    outside it to columns of the whole run (what an overview of the run and a brush moved
+    off the window show until the window follows)."""
     cycle = steady_cycle(result, t_end, step) if exact else None
-    t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle, t_end / columns)
+    whole = window is None or window[1] - window[0] >= t_end
+    width = t_end if whole else window[1] - window[0]
+    t, x, v, mode = fine_samples(result, evaluate, t_end, exact, cycle, width / columns)
     t_lo = float(t[0]) if len(t) else 0.0
     idx = m4(t, (x, v), t_lo, t_end, columns)
     bands = mode_bands(t, mode, t_lo, t_end, columns)
+    if not whole and len(t):
+        w_lo, w_hi = window
+        # The window's samples and one beyond each end, so its lines run to its edges.
+        lo = max(int(np.searchsorted(t, w_lo, side="left")) - 1, 0)
+        hi = min(int(np.searchsorted(t, w_hi, side="right")) + 1, len(t))
+        inner = lo + m4(t[lo:hi], (x[lo:hi], v[lo:hi]), w_lo, w_hi, columns)
+        idx = np.union1d(idx, inner)
+        bands = _windowed_bands(bands, mode_bands(t[lo:hi], mode[lo:hi], w_lo, w_hi, columns),
+                                w_lo, w_hi)
     return History(t=t[idx], x=x[idx], v=v[idx], mode=mode[idx], bands=bands)
+
+
+def _windowed_bands(coarse, fine, w_lo: float, w_hi: float):
+    """The ``coarse`` bands (columns of the whole run) cut away from ``[w_lo, w_hi]``,
+    where the ``fine`` ones (columns of the window) show the modes; slip first."""
+    left, right, m = coarse
+    before = left < w_lo
+    after = right > w_hi
+    cut_l = _cat(left[before], np.maximum(left[after], w_hi), fine[0])
+    cut_r = _cat(np.minimum(right[before], w_lo), right[after], fine[1])
+    cut_m = _cat(m[before], m[after], fine[2]).astype(np.int8)
+    order = np.argsort(cut_m != int(Mode.SLIP), kind="stable")
+    return cut_l[order], cut_r[order], cut_m[order]

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 
 #: Plot identifiers, in the order the page shows them.
-PLOTS = ("phase", "time", "anim", "force", "loop", "friction", "energy", "map")
+PLOTS = ("phase", "time", "anim", "force", "loop", "friction", "energy", "map", "return")
 #: Human names of the plots (titles of the panes).
 PLOT_TITLES = MappingProxyType(
     {
@@ -38,18 +38,20 @@ PLOT_TITLES = MappingProxyType(
         "energy": "Energy",
         "map": "Regime map",
         "anim": "Mechanism",
+        "return": "Return map",
     }
 )
 
 #: Plots of a scene with no stop: no contact force is computed, so plots 3-4 are left out.
 IMPACTLESS_PLOTS = ("phase", "time", "friction", "energy", "map", "anim")
 #: Plots of a rigid-stop scene: those of the paper's Figs. 4-9 (impulses as stems), the
-#: regime map of Sec. 4 and the mechanism. The energy budget is one tick away ("show all
+#: regime map of Sec. 4, the mechanism and the return map of the impacts (Sec. 2.5; built
+#: when scrolled to, at the page's foot). The energy budget is one tick away ("show all
 #: plots"); left out by default, each release repaints one figure less (10 ms less from
 #: release to picture in scenes 5b and 7c, paired in one browser; benchmarks/README.md).
-RIGID_PLOTS = ("phase", "time", "force", "map", "anim")
-#: Plots of a hysteretic-stop scene.
-HYSTERETIC_PLOTS = ("phase", "time", "force", "loop", "energy", "anim")
+RIGID_PLOTS = ("phase", "time", "force", "map", "anim", "return")
+#: Plots of a hysteretic-stop scene (the return map follows the contacts' speeds).
+HYSTERETIC_PLOTS = ("phase", "time", "force", "loop", "energy", "anim", "return")
 
 #: The friction pair all scenes share: ``a = mu_k u_s = 0.2``, ``b = mu_s u_s = 0.3``.
 BASE = MappingProxyType(

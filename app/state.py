@@ -48,6 +48,9 @@ SOLVE_PARAMS = (
 #: Of those, how the motion is solved, not which motion: a scene keeps its name (title,
 #: caption) under any of them, as loading a scene keeps the ones chosen.
 SOLVER_CHOICES = ("accuracy", "method")
+#: Of those, how long the motion is watched, not which motion: a scene keeps its name and
+#: caption over any horizon (a long run of a figure is still that figure).
+HORIZON_CHOICES = ("t_end",)
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
 #: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
 #: the deformable stop's initial compression and expansion stiffnesses [N/m].

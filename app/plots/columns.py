@@ -84,19 +84,21 @@ def phase_step(x_bounds: tuple[float, float], v_bounds: tuple[float, float]
 
 
 def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
-                       columns: int = HISTORY_COLUMNS) -> dict[str, np.ndarray]:
+                       columns: int = HISTORY_COLUMNS,
+                       window: tuple[float, float] | None = None) -> dict[str, np.ndarray]:
     """Columns of the trajectory source (time histories and the animation): ``t``
     (shown units, also read by the animation), ``x``, ``v`` and
     ``mode``, reduced to the first, last, lowest and highest sample of each of
     ``columns`` pixel columns from samples of the exact motion
-    (:func:`app.sampling.history`); ``bands`` holds the mode bands."""
+    (:func:`app.sampling.history`), and as many more of the ``window`` (dimensionless
+    times) that the time histories show; ``bands`` holds the mode bands."""
     res = sol.result
     if res is None:
         return {**{k: f32([]) for k in ("t", "x", "v")},
                 "mode": np.zeros(0, np.int8)}
     evaluate, exact = _drawing(sol)
     step = phase_step(*sample_bounds(sol))
-    h = sampling.history(res, evaluate, sol.t_end, exact, columns, step)
+    h = sampling.history(res, evaluate, sol.t_end, exact, columns, step, window)
     return {"t": f32(h.t * scales.time), "x": f32(h.x),
             "v": f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
             "bands": h.bands}

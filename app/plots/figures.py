@@ -38,6 +38,7 @@ from app.plots.legends import (
 )
 from app.plots.map_boundaries import LABEL_CORNERS
 from app.plots.ranges import PHASE_X_PADDING
+from app.plots.return_figure import build_return
 from app.plots.style import (
     AXIS_LABEL_FONT,
     BAND_LEGEND_PX,
@@ -84,6 +85,8 @@ class Built:
     map_mapper: LinearColorMapper | None = None
     #: The regime map's boundary labels by name.
     map_labels: dict[str, Label] = field(default_factory=dict)
+    #: Lines the updates move (the return map's grazing line).
+    slopes: dict[str, Any] = field(default_factory=dict)
 
 
 def new_figure(title: str, size: tuple[int, int], **kw) -> Any:
@@ -259,10 +262,18 @@ def build_map(s: Sources) -> Built:
     return Built(fig, {"map": fig}, map_mapper=mapper, map_labels=labels)
 
 
+def build_return_plot(s: Sources) -> Built:
+    """The return map of the impacts or stick onsets (:mod:`app.plots.return_figure`)."""
+    parts = build_return(s, new_figure)
+    return Built(parts["figure"], {"return": parts["figure"]}, legend=parts["legend"],
+                 slopes={"grazing": parts["grazing"]})
+
+
 #: The builder of each plot this package builds.
 BUILDERS: Mapping[str, Callable[[Sources], Built]] = {
     "phase": build_phase, "time": build_time, "force": build_force, "loop": build_loop,
     "friction": build_friction, "energy": build_energy, "map": build_map,
+    "return": build_return_plot,
 }
 
 

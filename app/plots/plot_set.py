@@ -33,9 +33,12 @@ from app.plots.figures import BUILDERS, set_axis_labels
 from app.plots.labels import applicable_points
 from app.plots.legends import legend_html, phase_entries
 from app.plots.map_boundaries import boundary_columns
-from app.plots.ranges import RANGE_PADDING, set_range, stop_in_view
+from app.plots.ranges import RANGE_PADDING, data_bounds, set_range, stop_in_view
+from app.plots.return_figure import draw_return
 from app.plots.sources import SharedModels, SourceData, Sources, assign
 from app.plots.style import ENERGY_COLORS, MAP_PALETTE, MODE_NAMES
+from app.plots.window import RunWindow
+from app.return_map import ReturnMap, return_map
 from app.scenes import CUSTOM, PLOTS
 from app.solve.regime_map import map_ranges
 from app.solve.solution import Solution
@@ -45,6 +48,8 @@ from app.state import Scales
 BUILT_HERE = tuple(p for p in PLOTS if p != "anim")
 #: What the regime map's axes depend on besides the point: a change reframes the map.
 MAP_FRAME_KEYS = ("scene", "stop_type", "mu_s", "mu_k", "u_s", "units")
+#: The return map of no run.
+NO_RETURN = ReturnMap("", np.zeros(0), 0, np.zeros(0))
 #: Mode bands of no motion.
 NO_BANDS = (np.zeros(0), np.zeros(0), np.zeros(0, np.int8))
 #: The plots whose sources one column builder fills from the solution: source name ->
@@ -81,6 +86,10 @@ class PlotSet:
         self.map_mapper = None
         #: The regime map's boundary labels by name (:mod:`app.plots.map_boundaries`).
         self.map_labels: dict[str, Any] = {}
+        #: Lines the updates move (the return map's grazing line).
+        self.slopes: dict[str, Any] = {}
+        #: The window of a long run the time histories show, and its overview.
+        self.run_window = RunWindow(self._follow_window)
         self._last: Solution | None = None
         self._scales: Scales | None = None
         self._kinds_stop: str | None = None
@@ -125,6 +134,7 @@ class PlotSet:
             if built.map_mapper is not None:
                 self.map_mapper = built.map_mapper
             self.map_labels.update(built.map_labels)
+            self.slopes.update(built.slopes)
             self.panes[name] = built.layout
             self._dirty.add(name)
         return self.panes[name]
@@ -162,6 +172,7 @@ class PlotSet:
         Hidden plots are marked stale and filled by :meth:`refresh` when shown.
         """
         self._last, self._scales = sol, scales
+        self.run_window.choose(sol)
         self._dirty = set(PLOTS)
         self.refresh(visible, map_data)
 
@@ -185,7 +196,7 @@ class PlotSet:
         """The phase path, the transitions it passes, and the time histories."""
         s = self.sources
         step = self._phase_step(sol, scales)
-        traj = trajectory_columns(sol, scales)
+        traj = trajectory_columns(sol, scales, window=self.run_window.window)
         self._bands = traj.pop("bands", NO_BANDS)
         assign(s["traj"], traj)
         phase = phase_columns(sol, scales, step)
@@ -239,6 +250,7 @@ class PlotSet:
             self._fill_motion(sol, scales)
         if "time" in todo:
             assign(self.sources["bands"], band_columns(self._bands, scales))
+            self._show_overview(sol, scales)
         if "force" in todo:
             self._fill_force(sol, scales)
         for name, (columns, targets) in SIMPLE_FILLS.items():
@@ -248,6 +260,8 @@ class PlotSet:
                     assign(self.sources[source], cols if key is None else cols[key])
         if "map" in todo and map_data is not None:
             self._set_map(sol, scales, map_data)
+        if "return" in todo:
+            self._fill_return(sol, scales)
         self._dirty -= todo - ({"map"} if map_data is None else set())
         self._set_spans(sol, scales)
         set_axis_labels(self.figures, self.rest_axis, sol, scales)
@@ -273,6 +287,43 @@ class PlotSet:
         self._kinds_shown.update(s["trans"].data["kind"])
         self.refresh_legend()
         self._dirty -= {"phase", "anim"}
+
+    def _show_overview(self, sol: Solution, scales: Scales) -> None:
+        """The whole run's overview below the time histories, for a long run."""
+        traj = self.sources["traj"].data
+        self.run_window.show_overview(
+            self.panes["time"], self.figures["time_x"].x_range,
+            self.sources["traj"], (0.0, sol.t_end * scales.time),
+            data_bounds((traj["x"],), RANGE_PADDING))
+
+    def _follow_window(self) -> None:
+        """The brush moved the window: the histories, bands and time axes sampled for it
+        again (the phase portrait and the other plots stay)."""
+        sol, scales = self._last, self._scales
+        if sol is None or "time" not in self.panes:
+            return
+        with pn.io.hold(), validate(False):
+            traj = trajectory_columns(sol, scales, window=self.run_window.window)
+            self._bands = traj.pop("bands", NO_BANDS)
+            assign(self.sources["traj"], traj)
+            assign(self.sources["bands"], band_columns(self._bands, scales))
+            self._set_window_ranges(sol, scales, {"force", "energy"} & self.built)
+
+    def _set_window_ranges(self, sol: Solution, scales: Scales, plots: set[str]) -> None:
+        """The time axes of ``plots`` (force, energy) on the window, where it is one."""
+        shown = self.run_window.shown(scales.time)
+        if shown is None or sol.program is not None:
+            return
+        for name in plots:
+            set_range(self.figures[name].x_range, (shown,), 0.0)
+
+    def _fill_return(self, sol: Solution, scales: Scales) -> None:
+        """The return map of the impacts, contacts or stick onsets."""
+        rmap = (return_map(sol.result, sol.values["stop_type"], sol.t_end,
+                           phase_step(*sample_bounds(sol)))
+                if sol.result is not None else NO_RETURN)
+        draw_return(self.figures["return"], self.sources, self.slopes["grazing"],
+                    self.legends["return"], rmap, sol.values.get("restitution"), scales)
 
     def _fill_force(self, sol: Solution, scales: Scales, preview: bool = False) -> None:
         """The contact force; its rest axis comes and goes with the full solutions only
@@ -324,7 +375,11 @@ class PlotSet:
             assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
         if "time" in plots:
             traj = d["traj"]
-            set_range(f["time_x"].x_range, (traj["t"], more.get(("time_x", "x"), ())), 0.0)
+            window = self.run_window.shown(self._scales.time)
+            if window is None:
+                set_range(f["time_x"].x_range, (traj["t"], more.get(("time_x", "x"), ())), 0.0)
+            else:
+                self.run_window.place(f["time_x"].x_range, window)
             set_range(f["time_x"].y_range, (traj["x"], stop, more.get(("time_x", "y"), ())),
                       RANGE_PADDING)
             set_range(f["time_v"].y_range, (traj["v"], more.get(("time_v", "y"), ())),
@@ -349,6 +404,7 @@ class PlotSet:
             set_range(f["energy"].x_range, (energy["t"],), RANGE_PADDING)
             set_range(f["energy"].y_range, tuple(energy[n] for n in ENERGY_COLORS),
                       RANGE_PADDING)
+        self._set_window_ranges(sol, self._scales, {"force", "energy"} & plots)
 
     def fit_ranges(self) -> None:
         """Fit the axes of the built, up-to-date figures again (what :attr:`more_extents`

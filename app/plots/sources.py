@@ -134,4 +134,6 @@ EMPTY: Mapping[str, Mapping[str, list]] = {
     "map": {"image": [], "x": [], "y": [], "dw": [], "dh": []},
     "here": {"v": [], "x": []},
     "bounds": {k: [] for k in BOUNDARY_COLUMNS},
+    "ret_points": {"x": [], "y": [], "n": []},
+    "ret_fixed": {"x": [], "y": []},
 }

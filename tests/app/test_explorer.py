@@ -65,7 +65,7 @@ def test_opens_on_a_scene_with_a_picture(ex):
     assert traj["x"].dtype == np.float32
     assert "Steady state found" in ex.readout.object
     visible = [n for n, p in ex.plot_panes.items() if p.visible]
-    assert visible == [p for p in PLOTS if p in ("phase", "time", "anim", "force", "map")]
+    assert visible == [p for p in PLOTS if p in ("phase", "time", "anim", "force", "map", "return")]
     # The box that shows the others names them.
     assert ex.show_all.name == "show all plots (+ friction law, energy)"
     ex.show_all.value = True

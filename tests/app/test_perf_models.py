@@ -51,9 +51,9 @@ def test_a_new_page_builds_its_first_plots_and_the_others_when_the_browser_sees_
         main.serve(template, doc)
     ex = template.explorer
     visible = ex.visible_plots()
-    assert set(visible) == {"phase", "time", "anim", "force", "map"}
+    assert set(visible) == {"phase", "time", "anim", "force", "map", "return"}
     waiting = [n for n in visible if "fie-plot-pending" in ex.plot_panes[n].css_classes]
-    assert sorted(waiting) == ["anim", "force", "map"]
+    assert sorted(waiting) == ["anim", "force", "map", "return"]
     assert set(ex.plots.figures) == {"phase", "time_x", "time_v"}
     assert ex.anim.figure is None  # nor the mechanism's figure, sources and controls
     assert all(ex.plot_panes[n].min_height and not ex.plot_panes[n].objects for n in waiting)

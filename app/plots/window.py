@@ -1,0 +1,189 @@
+"""The window of a long run that the time histories show, and the overview of the whole run
+whose brush moves it.
+
+A run of hundreds of periods drawn whole is a solid block (true envelopes, but a block):
+the time histories then show the last :data:`WINDOW_PERIODS` periods, and a small overview
+of the whole run below them holds a brush (Bokeh's ``RangeTool``) on their time axis. A
+short run is shown whole, without an overview.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from bokeh.core.properties import validate
+from bokeh.models import Range1d, RangeTool
+from bokeh.plotting import figure
+
+from app.deferred import later
+from app.glyphs import add_glyph
+from app.plots.ranges import set_range
+from app.plots.style import PLOT_WIDTHS, TICK_LABEL_FONT, TITLE_FONT
+from app.solve.solution import Solution
+
+#: Periods the window shows of a long run: enough to see the cycle repeat, few enough
+#: that each slip arc keeps some hundred pixels at the page's widths.
+WINDOW_PERIODS = 5
+#: A run longer than this many periods is shown through the window (a shorter one whole:
+#: 20 periods of 1600 px keep 80 px per period, still readable).
+LONG_RUN_PERIODS = 20
+#: A slip arc turns at one radian per unit of dimensionless time (paper Eq. 7): the
+#: period of a motion with no periodic steady state is taken as one turn.
+TURN = 2.0 * math.pi
+#: Height [px] of the overview.
+OVERVIEW_HEIGHT = 110
+#: The brush's shade: strong, over a light line, since five periods of a run of a
+#: thousand are a few pixels of the overview.
+BRUSH_STYLE = {"fill_color": "#d62728", "fill_alpha": 0.35, "line_color": "#d62728",
+               "line_width": 2}
+#: The whole run's line under it.
+OVERVIEW_LINE = {"line_color": "#9a9a9a", "line_width": 1}
+
+
+def run_period(sol: Solution) -> float:
+    """The period of the run's steady state (dimensionless time), or one :data:`TURN`.
+
+    >>> from types import SimpleNamespace as NS
+    >>> run_period(NS(result=NS(steady=NS(period=5.5)))), run_period(NS(result=None))
+    (5.5, 6.283185307179586)
+    """
+    res = sol.result
+    period = res.steady.period if res is not None else math.nan
+    return float(period) if math.isfinite(period) and period > 0 else TURN
+
+
+def default_window(sol: Solution) -> tuple[float, float] | None:
+    """The last :data:`WINDOW_PERIODS` periods of a run longer than
+    :data:`LONG_RUN_PERIODS` periods (dimensionless times), else ``None`` (shown whole).
+
+    >>> from types import SimpleNamespace as NS
+    >>> default_window(NS(result=NS(steady=NS(period=2.0)), t_end=100.0))
+    (90.0, 100.0)
+    >>> default_window(NS(result=NS(steady=NS(period=2.0)), t_end=30.0)) is None
+    True
+    """
+    period = run_period(sol)
+    if sol.t_end <= LONG_RUN_PERIODS * period:
+        return None
+    return sol.t_end - WINDOW_PERIODS * period, sol.t_end
+
+
+def build_overview(traj: Any, window_range: Range1d) -> tuple[Any, Any]:
+    """The overview figure of the whole run (x(t) of the ``traj`` source) with a brush on
+    ``window_range`` (the time histories' time axis); returns ``(figure, brush)``."""
+    fig = figure(title="Whole run: drag across it to choose the window above, or move the "
+                 "shaded one", height=OVERVIEW_HEIGHT, width=PLOT_WIDTHS[0],
+                 sizing_mode="stretch_width", min_width=PLOT_WIDTHS[0],
+                 max_width=PLOT_WIDTHS[1], x_range=Range1d(0.0, 1.0),
+                 y_range=Range1d(0.0, 1.0), tools="", toolbar_location=None,
+                 output_backend="canvas")
+    fig.title.text_font_size = TITLE_FONT
+    fig.yaxis.visible = False
+    fig.ygrid.visible = False
+    fig.xaxis.major_label_text_font_size = TICK_LABEL_FONT
+    add_glyph(fig, "line", "t", "x", source=traj, **OVERVIEW_LINE)
+    brush = RangeTool(x_range=window_range, start_gesture="pan")
+    brush.overlay.update(**BRUSH_STYLE)
+    fig.add_tools(brush)
+    return fig, brush
+
+
+#: Delay [ms] after the brush (or a pan or zoom of the time axis) last moved before the
+#: histories are sampled again for the new window: one resampling per gesture.
+FOLLOW_DELAY_MS = 150
+#: A window edge that moved less than this fraction of the run is the same window (the
+#: server's own range update coming back, float32 rounding).
+SAME_WINDOW = 1e-6
+
+
+class RunWindow:
+    """The window the time histories show of the run on screen, and the overview.
+
+    Parameters
+    ----------
+    follow : callable()
+        Draws the histories for a new :attr:`window` (the brush moved it).
+    """
+
+    def __init__(self, follow: Any) -> None:
+        self.follow = follow
+        #: ``(t_lo, t_hi)`` in dimensionless time, or ``None``: the whole run.
+        self.window: tuple[float, float] | None = None
+        self.overview: Any = None
+        self.brush: Any = None
+        self._time_range: Range1d | None = None
+        self._t_end: float | None = None
+        self._unit = 1.0
+        self._brushed = False
+        self._pending: Any = None
+        self._placing = False
+
+    def choose(self, sol: Solution) -> None:
+        """The window for a new solution: the one brushed if the horizon is the same,
+        else :func:`default_window`."""
+        if not (self._brushed and self.window is not None and sol.t_end == self._t_end
+                and default_window(sol) is not None):
+            self.window, self._brushed = default_window(sol), False
+        self._t_end = sol.t_end
+
+    def shown(self, unit: float) -> tuple[float, float] | None:
+        """The window in shown time units (``unit`` per dimensionless unit)."""
+        self._unit = unit
+        return None if self.window is None else (self.window[0] * unit, self.window[1] * unit)
+
+    def show_overview(self, layout: Any, time_range: Range1d, traj: Any,
+                      t_span: tuple[float, float], x_span: tuple[float, float]) -> None:
+        """Show the overview below the time histories' ``layout`` (built the first time a
+        long run is shown) over ``t_span`` and ``x_span``; hide it for a short run."""
+        if self.window is None:
+            if self.overview is not None and self.overview.visible:
+                self.overview.visible = False
+            return
+        if self.overview is None:
+            # Built with Bokeh's checks on, also under a caller's ``validate(False)``: they
+            # turn values such as a title's text into models.
+            with validate(True):
+                self.overview, self.brush = build_overview(traj, time_range)
+            layout.children.append(self.overview)
+            self._time_range = time_range
+            time_range.on_change("start", self._moved)
+            time_range.on_change("end", self._moved)
+        fig = self.overview
+        if not fig.visible:
+            fig.visible = True
+        for rng, (lo, hi) in ((fig.x_range, t_span), (fig.y_range, x_span)):
+            if (rng.start, rng.end) != (lo, hi):
+                rng.update(start=lo, end=hi)
+
+    def place(self, rng: Range1d, shown: tuple[float, float]) -> None:
+        """Set the time histories' range ``rng`` to the window ``shown`` (shown units):
+        the server's own move, which the brush's handler does not follow (Bokeh calls it
+        once per edge, between which the range holds one old and one new edge)."""
+        self._placing = True
+        try:
+            set_range(rng, (shown,), 0.0)
+        finally:
+            self._placing = False
+
+    def _moved(self, attr: str, old: Any, new: Any) -> None:
+        """The time axis moved (the brush, a pan or zoom): follow it once it rests (both
+        edges are read then, as the browser left them)."""
+        if self._placing or self.window is None:
+            return
+        if self._pending is not None:
+            self._pending.cancel()
+        self._pending = later(self._follow, FOLLOW_DELAY_MS)
+
+    def _follow(self) -> None:
+        self._pending = None
+        rng = self._time_range
+        if self.window is None or self._t_end is None or rng.start is None or rng.end is None:
+            return
+        lo, hi = sorted((float(rng.start) / self._unit, float(rng.end) / self._unit))
+        lo, hi = max(lo, 0.0), min(hi, self._t_end)
+        tol = SAME_WINDOW * self._t_end
+        if hi <= lo or (abs(lo - self.window[0]) <= tol and abs(hi - self.window[1]) <= tol):
+            return
+        self.window, self._brushed = (lo, hi), True
+        self.follow()
