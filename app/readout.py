@@ -39,6 +39,8 @@ CONTACT_LAW_TEXT = {
 
 #: Significant digits of the numbers shown.
 DIGITS = 4
+#: Significant digits of a duration in seconds (a solve's time varies more than that).
+DURATION_DIGITS = 3
 #: The house stylesheet (panes render in shadow DOMs: each that uses its classes links it).
 STYLESHEET = "assets/explorer.css"
 #: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
@@ -51,6 +53,19 @@ def _num(x: float, unit: str = "") -> str:
     if x is None or not math.isfinite(x):
         return "—" if x is None or math.isnan(x) else ("∞" if x > 0 else "-∞")
     return f"{x:.{DIGITS}g}{unit}"
+
+
+def duration_text(seconds: float) -> str:
+    """A wall-clock duration as a person reads it: milliseconds below a second, seconds
+    (three significant digits) from one on ("19.4 s", not "1.942e+04 ms").
+
+    >>> duration_text(0.0123), duration_text(19.42)
+    ('12.3 ms', '19.4 s')
+    """
+    ms = float(f"{seconds * 1e3:.{DIGITS}g}")
+    if ms < 1e3:
+        return f"{ms:g} ms"
+    return f"{seconds:.{DURATION_DIGITS}g} s"
 
 
 def _ratio(r: float) -> str:
@@ -80,7 +95,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     rows = _theory_rows(sol, scales) if sol.theory is not None else []
     if sol.result is not None:
         rows += _run_rows(sol, scales)
-    rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; "
+    rows.append(("Solve", f"{sol.method}, {duration_text(sol.solve_time)}; "
                           f"accuracy {accuracy_text(sol, scales)}"))
     return rows
 
