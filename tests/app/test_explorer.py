@@ -23,6 +23,7 @@ from app.solve.presets import ACCURACY
 from app.solve.regime_map import MAP_CELLS
 from app.solve.solution import compute
 from app.state import ExplorerState, scene_values, si_bound_error, si_units
+from app.widgets import format_number
 
 
 @pytest.fixture
@@ -113,8 +114,8 @@ def test_typed_entry_commits_and_widens_the_slider(ex):
     w.input.value = "0.9"  # beyond the slider's soft end
     assert ex.state.belt_speed == 0.9 and ex.state.scene == CUSTOM
     assert w.slider.end >= 0.9 and w.slider.value == 0.9
-    w.input.value = "50"  # beyond the hard bound: refused, said, kept in the box
-    assert ex.state.belt_speed == 0.9 and w.invalid and w.input.value == "50"
+    w.input.value = "50"  # beyond the hard bound: refused, said, the value in use shown
+    assert ex.state.belt_speed == 0.9 and w.invalid and w.input.value == "0.9"
     assert "belt_speed must lie in [0, 10]; got 50" in w.message.object
 
 
@@ -641,14 +642,20 @@ def test_a_new_regime_map_follows_the_rest_of_the_picture(ex, monkeypatch):
     ("clearance", "-0.5", "the stop must lie ahead of the start position"),
 ])
 def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
+    """A refused entry stayed in its box ("abc", red) while the page ran with the value
+    before it; the box now shows that value again, and the message says what was
+    refused and which value stays."""
     before = ex.state.values()
     w = ex.sliders[name]
+    in_use = w.input.value
+    assert in_use == format_number(getattr(ex.state, name))
     w.input.value = text
     assert ex.state.values() == before and not ex.alert.visible
-    assert w.invalid and w.input.value == text and html.escape(said) in w.message.object
-    assert "fie-invalid" in w.input.css_classes
-    ex.controls.commit({"x0": -0.01})  # another change leaves the refused entry in its box
-    assert w.invalid and w.input.value == text
+    assert w.invalid and w.input.value == in_use and html.escape(said) in w.message.object
+    assert f"the value in use stays {in_use}" in w.message.object
+    assert "fie-msg-error" in w.message.object
+    ex.controls.commit({"x0": -0.01})  # another change leaves the message below the box
+    assert w.invalid and w.message.visible and w.input.value == in_use
     ex.controls.reset()
     assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
 
