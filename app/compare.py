@@ -60,10 +60,19 @@ from app.state import (
 )
 from core import TransitionKind
 
-#: Muted colours of the pins, in pin order: far from the modes' blue, orange and red.
-PIN_COLORS = ("#8e7cc3", "#5f9e96", "#a88b5a")
-#: How a ghost is drawn: thin, dashed, half transparent (the current run stays on top).
-GHOST_STYLE: Mapping[str, Any] = {"line_width": 1.5, "line_dash": "dashed", "line_alpha": 0.8}
+#: The pins' colours, in pin order (Okabe and Ito's reddish purple and bluish green, a dark
+#: grey): CIEDE2000 at least 14 from each other and from the modes' blue, orange and red
+#: to normal, deuteranope and protanope vision (app.plots.colour_vision), where the
+#: muted lilac, teal and tan before were 10 from the modes.
+PIN_COLORS = ("#cc79a7", "#009e73", "#555555")
+#: Each pin's dash (by its colour): the pins differ in line too, not in colour only.
+PIN_DASHES: Mapping[str, str] = dict(zip(PIN_COLORS, ("dashed", "dotdash", "dotted"),
+                                         strict=True))
+#: Bokeh's named dashes as SVG dash arrays (the legend's and the table's swatches).
+SVG_DASHES: Mapping[str, str] = {"dashed": "6 4", "dotdash": "2 3 6 3", "dotted": "2 3"}
+#: How a ghost is drawn: its pin's colour and dash, a little thinner than the current run
+#: (which stays on top).
+GHOST_STYLE: Mapping[str, Any] = {"line_width": 2.0, "line_alpha": 0.9}
 #: Parameters named at most in a pin's label (the rest are summed up as "…").
 LABEL_ITEMS = 3
 #: Names of the parameters in a pin's label, as the page's boxes name them: parameter ->
@@ -268,10 +277,11 @@ TABLE_ROWS = (("steady", "steady state"), ("period", "period"), ("x_max", "x_max
 
 
 def swatch(color: str) -> str:
-    """A dashed line in ``color``: how a ghost is drawn."""
-    return (f'<svg width="22" height="10" aria-hidden="true" style="vertical-align:0">'
-            f'<line x1="1" y1="5" x2="21" y2="5" stroke="{color}" stroke-width="2.5" '
-            f'stroke-dasharray="5 3"/></svg>')
+    """A line in a pin's ``color`` and dash (:data:`PIN_DASHES`): how its ghost is drawn."""
+    dash = SVG_DASHES[PIN_DASHES.get(color, "dashed")]
+    return (f'<svg width="26" height="10" aria-hidden="true" style="vertical-align:0">'
+            f'<line x1="1" y1="5" x2="25" y2="5" stroke="{color}" stroke-width="2.5" '
+            f'stroke-dasharray="{dash}"/></svg>')
 
 
 def comparison_html(current: Solution,
@@ -514,7 +524,8 @@ class Compare:
                 if key not in self._drawn:
                     fig = figs[fig_name]
                     r = add_glyph(fig, "line", x, y, source=self._sources[slot][source],
-                                  line_color=color, **GHOST_STYLE)
+                                  line_color=color, line_dash=PIN_DASHES[color],
+                                  **GHOST_STYLE)
                     # Drawn under the current run, over the mode bands and references.
                     fig.renderers = _under_current(fig.renderers, r, self.plots.sources)
                     r.view.filter = self.plots.shared.filter
@@ -527,7 +538,8 @@ class Compare:
                     self._drawn.add(key)
                     self._renderers[key] = r
                 elif self._renderers[key].glyph.line_color != color:
-                    self._renderers[key].glyph.line_color = color
+                    self._renderers[key].glyph.update(line_color=color,
+                                                      line_dash=PIN_DASHES[color])
 
     def ghost_source(self, slot: int, name: str) -> Any:
         """The source of pin slot ``slot``'s ghost ``name`` (a key of :data:`GHOSTS`)."""

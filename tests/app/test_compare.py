@@ -339,3 +339,36 @@ LABEL_ITEMS_EXPECTED = (
     ("v0", ("x'0 0.2", "x'0 2 m/s")),
     ("t_end", ("t_end 40", "t_end 4 s")),
 )
+
+
+def test_pins_differ_in_colour_and_dash_in_the_portrait_and_its_legend():
+    """Every pin was drawn dashed, in a muted colour near the others: three pins on the
+    phase portrait were hard to tell apart and from the run. Each pin now has its own
+    colour and dash, on its ghost and on its legend entry (which names its label); the
+    colours stay apart from each other and from the modes' to colour-blind viewers."""
+    from app.compare import PIN_DASHES, SVG_DASHES
+    from app.plots.colour_vision import min_difference
+    from app.plots.style import MODE_COLORS
+
+    ex, doc = _page()
+    with set_curdoc(doc):
+        for key in ("7c", "5b", "10"):
+            values = scene_values(key)
+            ex.compare.pin(key, values, ex.state.mass, ex.state.stiffness)
+        assert all(p.solution is not None for p in ex.compare.pins)
+        styles = []
+        for slot in range(3):
+            glyph = ex.compare.ghost_renderer(slot, "phase").glyph
+            styles.append((glyph.line_color, tuple(glyph.line_dash)))
+        assert len({dash for _, dash in styles}) == 3 and len({c for c, _ in styles}) == 3
+        legend = ex.plots.legends["phase"].object
+        for label, pin in zip(ex.compare.labels(ex.state.values()), ex.compare.pins,
+                              strict=True):
+            assert label in legend
+            assert (f'stroke="{pin.color}" stroke-width="2.5" '
+                    f'stroke-dasharray="{SVG_DASHES[PIN_DASHES[pin.color]]}"') in legend
+    # CIEDE2000 of 10 is about what a glance tells apart on thin lines beside each other;
+    # the pins' colours keep more than that from each other and from the modes' for
+    # every viewer (the muted palette before had 10.3 to a protanope).
+    for vision in ("normal", "deuteranopia", "protanopia"):
+        assert min_difference([*MODE_COLORS.values(), *PIN_COLORS], vision) > 12, vision
