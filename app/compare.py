@@ -60,11 +60,12 @@ from app.state import (
 )
 from core import TransitionKind
 
-#: The pins' colours, in pin order (Okabe and Ito's reddish purple and bluish green, a dark
-#: grey): CIEDE2000 at least 14 from each other and from the modes' blue, orange and red
-#: to normal, deuteranope and protanope vision (app.plots.colour_vision), where the
-#: muted lilac, teal and tan before were 10 from the modes.
-PIN_COLORS = ("#cc79a7", "#009e73", "#555555")
+#: The pins' colours, in pin order: a violet (the mode bands are chosen so that none,
+#: darkened on the black curve's edge, comes near it: app.plots.style), Okabe and Ito's
+#: bluish green, a dark grey. CIEDE2000 at least 12.6 from each other and from the modes'
+#: blue, orange and red to normal, deuteranope and protanope vision
+#: (app.plots.colour_vision); the lilac, teal and tan before were 10.3 apart to a protanope.
+PIN_COLORS = ("#8e7cc3", "#009e73", "#555555")
 #: Each pin's dash (by its colour): the pins differ in line too, not in colour only.
 PIN_DASHES: Mapping[str, str] = dict(zip(PIN_COLORS, ("dashed", "dotdash", "dotted"),
                                          strict=True))
@@ -72,7 +73,7 @@ PIN_DASHES: Mapping[str, str] = dict(zip(PIN_COLORS, ("dashed", "dotdash", "dott
 SVG_DASHES: Mapping[str, str] = {"dashed": "6 4", "dotdash": "2 3 6 3", "dotted": "2 3"}
 #: How a ghost is drawn: its pin's colour and dash, a little thinner than the current run
 #: (which stays on top).
-GHOST_STYLE: Mapping[str, Any] = {"line_width": 2.0, "line_alpha": 0.9}
+GHOST_STYLE: Mapping[str, Any] = {"line_width": 2.0, "line_alpha": 1.0}
 #: Parameters named at most in a pin's label (the rest are summed up as "…").
 LABEL_ITEMS = 3
 #: Names of the parameters in a pin's label, as the page's boxes name them: parameter ->

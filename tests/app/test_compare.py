@@ -367,8 +367,7 @@ def test_pins_differ_in_colour_and_dash_in_the_portrait_and_its_legend():
             assert label in legend
             assert (f'stroke="{pin.color}" stroke-width="2.5" '
                     f'stroke-dasharray="{SVG_DASHES[PIN_DASHES[pin.color]]}"') in legend
-    # CIEDE2000 of 10 is about what a glance tells apart on thin lines beside each other;
-    # the pins' colours keep more than that from each other and from the modes' for
-    # every viewer (the muted palette before had 10.3 to a protanope).
+    # The pins' colours keep apart from each other and from the modes' for every viewer
+    # by more than the palette before (lilac, teal, tan: 10.3 to a protanope).
     for vision in ("normal", "deuteranopia", "protanopia"):
         assert min_difference([*MODE_COLORS.values(), *PIN_COLORS], vision) > 12, vision
