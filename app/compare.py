@@ -142,39 +142,59 @@ def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
     stop = str(values["stop_type"])
     names = ("stop_type", *(("mass", "stiffness") if scales.si else ()),
              *NAMED.get(stop, NAMED["none"]), "program")
-    diff = []
-    for name in names:
-        mine, text = _shown(name, values, pin_scales)
-        theirs, _ = _shown(name, current, scales)
-        if not _same(mine, theirs):
-            diff.append(text)
+    diff = [" ".join(part for part in pair if part)
+            for pair in differences(values, current, scales, pin_scales, names)]
     if not diff:
         diff = ["same parameters"]
     more = ", …" if len(diff) > LABEL_ITEMS else ""
     return f"{scene}: {', '.join(diff[:LABEL_ITEMS])}{more}"
 
 
-def _shown(name: str, values: Mapping[str, Any], scales: Scales) -> tuple[Any, str]:
+def differences(values: Mapping[str, Any], current: Mapping[str, Any],
+                scales: Scales = DIMENSIONLESS, own_scales: Scales | None = None,
+                names: Sequence[str] | None = None) -> list[tuple[str, str]]:
+    """The parameters of ``values`` (in ``own_scales``) that differ from ``current`` (in
+    ``scales``), as the page's boxes name them: ``(name, value with its unit)`` pairs, of
+    ``names`` (by default those the stop type of ``values`` uses).
+
+    >>> from app.state import scene_values
+    >>> differences({**scene_values("5a"), "restitution": 0.42}, scene_values("5a"))
+    [('r', '0.42')]
+    """
+    own_scales = scales if own_scales is None else own_scales
+    if names is None:
+        names = NAMED.get(str(values["stop_type"]), NAMED["none"])
+    diff = []
+    for name in names:
+        mine, text = _shown(name, values, own_scales)
+        theirs, _ = _shown(name, current, scales)
+        if not _same(mine, theirs):
+            diff.append(text)
+    return diff
+
+
+def _shown(name: str, values: Mapping[str, Any],
+           scales: Scales) -> tuple[Any, tuple[str, str]]:
     """A parameter of a run as its label shows it: its value in the units of ``scales``
-    and ``name value unit`` (SI units and factors: :data:`app.export.SI_PARAMETERS`)."""
+    and ``(name, value unit)`` (SI units and factors: :data:`app.export.SI_PARAMETERS`)."""
     if name in ("mass", "stiffness"):
         value = getattr(scales, name)
         unit = "kg" if name == "mass" else "N/m"
-        return value, f"{URL_KEYS[name]} {_short(value)} {unit}"
+        return value, (URL_KEYS[name], f"{_short(value)} {unit}")
     value = values.get(name)
     if name == "stop_type":
-        return value, f"stop {value}"
+        return value, ("stop", str(value))
     if name == "program":
-        return bool(value), "overlap program" if value else "no overlap program"
+        return bool(value), ("overlap program" if value else "no overlap program", "")
     dimensionless, si_name = LABEL_NAMES[name]
     if isinstance(value, bool) or not isinstance(value, int | float):
-        return value, f"{dimensionless} {value}"
+        return value, (dimensionless, str(value))
     value = float(value)
     if not scales.si:
-        return value, f"{dimensionless} {_short(value)}"
+        return value, (dimensionless, _short(value))
     _, factor, unit = SI_PARAMETERS.get(name, (si_name, None, ""))
     value *= getattr(scales, factor) if factor else 1.0
-    return value, f"{si_name} {_short(value)}{' ' + unit if unit else ''}"
+    return value, (si_name, f"{_short(value)}{' ' + unit if unit else ''}")
 
 
 def _same(a: Any, b: Any) -> bool:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import html
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -45,8 +46,14 @@ DURATION_DIGITS = 3
 STYLESHEET = "assets/explorer.css"
 #: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
 READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
-#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
+#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width,
+#: or the note of a drag's preview).
 READOUT_SPARE_LINES = 1
+#: The readout while its rows are not the sliders' run: greyed, under a line that says why.
+PENDING_CSS = """
+:host(.fie-pending) table { opacity: 0.45; }
+.fie-pending-note { font-size: 13px; line-height: 18px; font-style: italic; color: #1f3f7a; }
+"""
 
 
 def _num(x: float, unit: str = "") -> str:
@@ -332,6 +339,39 @@ def _reduced_text(sol: Solution, scales: Scales) -> str:
     return text
 
 
+def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
+                 shown: Mapping[str, Any], scales: Scales = DIMENSIONLESS) -> str | None:
+    """What the readout says above rows that are not those of the values on the sliders:
+    a drag's ``preview`` (the phase portrait draws its draft), or committed ``values``
+    whose run is being solved, against the values of the run ``shown``; None when the
+    rows are the sliders' run.
+
+    >>> from app.state import scene_values
+    >>> five_a = scene_values("5a")
+    >>> pending_text({**five_a, "restitution": 0.42}, five_a, five_a)
+    'Preview of r = 0.42 — release to solve'
+    >>> pending_text(None, {**five_a, "restitution": 0.42}, five_a)
+    'Solving r = 0.42 — the rows below are the run before'
+    >>> pending_text(None, five_a, five_a) is None
+    True
+    """
+    # The pins' labels name values as the page's boxes do (and app.compare reads the
+    # readout's restitutions: imported here, not at the top).
+    from app.compare import differences
+
+    if preview is not None and dict(preview) != dict(shown):
+        changed = differences(preview, shown, scales) or [("new values", "")]
+        return f"Preview of {_named(changed)} — release to solve"
+    if any(shown.get(name) != value for name, value in values.items()):
+        changed = differences(values, shown, scales) or [("new values", "")]
+        return f"Solving {_named(changed)} — the rows below are the run before"
+    return None
+
+
+def _named(pairs: list[tuple[str, str]]) -> str:
+    return ", ".join(f"{name} = {value}" if value else name for name, value in pairs)
+
+
 def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     """The rows as an HTML table (escaped); a long row wraps."""
     rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
@@ -362,10 +402,14 @@ class Readout(pn.viewable.Viewer):
         # that grew or shrank on a release made BokehJS lay out every figure again (about
         # 60 ms before the new picture showed).
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
-                                    css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+                                    css_classes=["fie-readout-pane"],
+                                    stylesheets=[STYLESHEET, PENDING_CSS])
         self._reserved_for: str | None = None
+        #: The rows of the run on screen (the note of a drag or a solve goes above them).
+        self._rows = ""
         # After the plots' draw (one message all the same: the page waits for its figures).
         self.state.param.watch(self._show, ["solution", "pinned"], precedence=1)
+        self.state.param.watch(self._pending, "preview", precedence=1)
         self.state.param.watch(self._presented, "present")
 
     def __panel__(self) -> pn.viewable.Viewable:
@@ -376,10 +420,26 @@ class Readout(pn.viewable.Viewer):
         if sol is None:
             return
         scales = self.state.scales()
-        text = readout_html(sol, scales) + self.compare.table(sol, scales)
-        self.readout.object = text
-        self._reserve(text.count("<tr>"))
+        self._rows = readout_html(sol, scales) + self.compare.table(sol, scales)
+        self._pending()
+        self._reserve(self._rows.count("<tr>"))
         self.caption.object = caption_html(self.state.scene)
+
+    def _pending(self, *events: param.parameterized.Event) -> None:
+        """Mark the rows (greyed, a line above them) while they are not the run of the
+        sliders' values: a drag's draft is drawn, or a release's run is being solved. The
+        note takes the line the readout keeps spare (:data:`READOUT_SPARE_LINES`)."""
+        st, sol = self.state, self.state.solution
+        if sol is None:
+            return
+        note = pending_text(st.preview, st.values(), sol.values, st.scales())
+        text = self._rows
+        if note is not None:
+            text = (f"<div class='fie-pending-note' role='status'>{html.escape(note)}</div>"
+                    + text)
+        self.readout.object = text
+        classes = ["fie-readout-pane", *(["fie-pending"] if note is not None else [])]
+        set_changed(self.readout, css_classes=classes)
 
     def _reserve(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows
