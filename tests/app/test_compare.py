@@ -241,7 +241,7 @@ def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
     """/main?scene=5a&units=SI&pins=5a: typing m = 4 turned the pin into another physical
     run ("5a: v_dr 0.5 m/s, t_end 12 s", period 1.119 s instead of 0.5597 s)."""
     ex, doc = _page()
-    _query(ex, doc, units="SI", pins="5a")
+    _query(ex, doc, units="SI", mass=1.0, stiffness=100.0, pins="5a")
     with set_curdoc(doc):
         pinned = summary(ex.compare.pins[0].solution, ex.state.scales())["period"]
         assert pinned == "0.5597 s"
@@ -255,7 +255,7 @@ def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
         assert max(ex.compare.ghost_source(0, "traj").data["t"]) == pytest.approx(t_end)
         # The permalink names the pin's mass, the page's is 4 kg.
         assert ex.menu.query({})["pins"] == "5a,m=1.0"
-        back = decode_pins("5a,m=1.0", mass=4.0)[0]
+        back = decode_pins("5a,m=1.0", mass=4.0, stiffness=100.0)[0]
         assert (back.mass, back.stiffness) == (1.0, 100.0)
         # A link written before pins kept their own m and k: the page's.
         old = decode_pins("5a", mass=4.0, stiffness=50.0)[0]
@@ -267,7 +267,7 @@ def test_a_pin_keeps_its_stiffness_in_newtons():
     ex, doc = _page()
     with set_curdoc(doc):
         ex.state.load_scene("10")
-    _query(ex, doc, units="SI", pins="10")
+    _query(ex, doc, units="SI", mass=1.0, stiffness=100.0, pins="10")
     with set_curdoc(doc):
         before = float(np.nanmax(_force_ghost(ex)["f"]))
         ex.controls.commit_si({"k": 400.0})
@@ -291,10 +291,11 @@ def test_the_table_says_which_contact_its_restitution_is_from():
 
 @pytest.mark.parametrize("units, scene, current, words", [
     # The clearance by its display name and, in SI, its unit (it read "xbar 0.1").
-    ("SI", "6b", "5a", ("v_dr 3 m/s", "x_bar 0.1 m", "r 0.7")),
+    # SI with the default m = 0.5 kg, k = 200 N/m: omega = 20 rad/s.
+    ("SI", "6b", "5a", ("v_dr 6 m/s", "x_bar 0.1 m", "r 0.7")),
     ("dimensionless", "6b", "5a", ("v 0.3", "x_bar 0.1", "r 0.7")),
     ("dimensionless", "7c", "10", ("stop rigid", "r 0.3", "t_end 60")),
-    ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 6 s")),
+    ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 3 s")),
 ])
 def test_label_items_are_named_as_the_page_names_them(units, scene, current, words):
     from app.state import ExplorerState

@@ -287,6 +287,7 @@ def test_si_units_convert_the_view(ex):
 
 
 def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.units.value = "SI"
     omega = ex.state.omega
     visible = {name: s.visible for name, s in ex.sliders.items()}
@@ -368,6 +369,7 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     """Scene 7c (r = 0.3): each impact's impulse is m (v_before - v_after) and Newton's law
     v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
     ex.scene_select.value = "7c"
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.units.value = "SI"
     lines = ex.downloads.transitions_file().getvalue().splitlines()
     assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
@@ -672,6 +674,7 @@ def test_a_refused_si_entry_names_its_range_in_si(ex, name, text, said):
     """In SI a value below the range was told '[0, 1e+09]' (the box's placeholder) or the
     core's '(0, inf]'; the range is the state's, in SI with the current m and k, and the
     box's tooltip says it."""
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.state.units = "SI"  # m = 1 kg, k = 100 N/m: omega = 10 rad/s
     before = ex.state.values()
     w = ex.sliders[name]
@@ -862,6 +865,7 @@ def test_a_run_cut_short_says_so_in_the_units_it_is_shown_in(ex):
     ex.state.solution = short
     assert ex.alert.visible and "Solved only in part" in ex.alert.object
     assert "t_end = 5000:" in ex.alert.object and ex.retry.visible
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.state.units = "SI"  # omega = 10 rad/s: the horizon in seconds
     assert ex.alert.visible and "Solved only in part" in ex.alert.object
     assert "t_end = 500 s:" in ex.alert.object and ex.retry.visible
