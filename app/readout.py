@@ -351,7 +351,7 @@ def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
     >>> pending_text({**five_a, "restitution": 0.42}, five_a, five_a)
     'Preview of r = 0.42 — release to solve'
     >>> pending_text(None, {**five_a, "restitution": 0.42}, five_a)
-    'Solving r = 0.42 — the rows below are the run before'
+    'Not shown yet: r = 0.42 — the rows below are the run before'
     >>> pending_text(None, five_a, five_a) is None
     True
     """
@@ -359,13 +359,19 @@ def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
     # readout's restitutions: imported here, not at the top).
     from app.compare import differences
 
-    if preview is not None and dict(preview) != dict(shown):
+    if preview is not None and _differ(preview, shown):
         changed = differences(preview, shown, scales) or [("new values", "")]
         return f"Preview of {_named(changed)} — release to solve"
-    if any(shown.get(name) != value for name, value in values.items()):
+    if _differ(values, shown):
+        # Said alike while the run is solved and after it failed (the alert says why):
+        # either way the rows are the run before.
         changed = differences(values, shown, scales) or [("new values", "")]
-        return f"Solving {_named(changed)} — the rows below are the run before"
+        return f"Not shown yet: {_named(changed)} — the rows below are the run before"
     return None
+
+
+def _differ(values: Mapping[str, Any], shown: Mapping[str, Any]) -> bool:
+    return any(shown.get(name) != value for name, value in values.items())
 
 
 def _named(pairs: list[tuple[str, str]]) -> str:
@@ -427,7 +433,8 @@ class Readout(pn.viewable.Viewer):
 
     def _pending(self, *events: param.parameterized.Event) -> None:
         """Mark the rows (greyed, a line above them) while they are not the run of the
-        sliders' values: a drag's draft is drawn, or a release's run is being solved. The
+        sliders' values: a drag's draft is drawn, or a release's run is being solved (or
+        failed). The
         note takes the line the readout keeps spare (:data:`READOUT_SPARE_LINES`)."""
         st, sol = self.state, self.state.solution
         if sol is None:

@@ -239,7 +239,8 @@ def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
 def test_a_deformable_stop_s_regime_row_says_it_is_the_equivalent_rigid_stop_s_theory():
     """Scene 10: the Regime row gave the rigid stop's "impact speeds fall as r^h" as if it
     were this stop's, beside a steady state that says otherwise (docs/contact-law.md)."""
-    rows = dict(readout_rows(solve(scene_values("10")), ExplorerState(units="SI").scales()))
+    si = ExplorerState(units="SI", mass=1.0, stiffness=100.0).scales()  # omega = 10 rad/s
+    rows = dict(readout_rows(solve(scene_values("10")), si))
     assert rows["Regime"].endswith("(the theory of the equivalent rigid stop, "
                                    "r_eq = sqrt(k_e0/k_c0), Eq. 16)")
     found = rows["Steady state found"]
@@ -421,12 +422,19 @@ def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
     with param.edit_constant(slider):
         slider.value_throttled = 0.42  # the release: its run arrives
     assert ex.state.preview is None and ex.solution.values["restitution"] == 0.42
-    assert "Preview" not in ex.readout.object and "Solving" not in ex.readout.object
+    assert "Preview" not in ex.readout.object and "Not shown yet" not in ex.readout.object
     assert "fie-pending" not in ex.readout.css_classes
     assert "<th>x*</th>" in ex.readout.object  # the new run's rows
+    slider = ex.sliders["clearance"].slider  # a release the core refuses: behind the start
+    slider.value = -0.5
+    with param.edit_constant(slider):
+        slider.value_throttled = -0.5
+    assert ex.alert.visible and ex.solution.values["clearance"] != -0.5
+    assert "Not shown yet: x_bar = -0.5 — the rows below are the run before" in (
+        ex.readout.object)
 
 
-def test_a_release_whose_run_is_still_solving_says_so_in_the_units_shown():
+def test_a_release_whose_run_is_not_shown_yet_says_so_in_the_units_shown():
     from app.readout import pending_text
     from app.state import si_scales
 
@@ -434,7 +442,7 @@ def test_a_release_whose_run_is_still_solving_says_so_in_the_units_shown():
     moved = {**five_a, "belt_speed": 0.05}
     scales = si_scales(1.0, 100.0)  # omega = 10 rad/s: v_dr = 10 v
     assert pending_text(None, moved, five_a, scales) == (
-        "Solving v_dr = 0.5 m/s — the rows below are the run before")
+        "Not shown yet: v_dr = 0.5 m/s — the rows below are the run before")
     assert pending_text(moved, five_a, five_a, scales) == (
         "Preview of v_dr = 0.5 m/s — release to solve")
     assert pending_text(None, five_a, dict(five_a)) is None

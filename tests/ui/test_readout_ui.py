@@ -92,7 +92,7 @@ def test_a_drag_s_preview_is_marked_in_the_readout(browser, server, shots):
         p.page.screenshot(path=shots / "readout-drag-preview.png")
         p.page.mouse.up()
         shown = p.wait_text(".fie-readout-pane",
-                            lambda t: "Preview" not in t and "Solving" not in t,
+                            lambda t: "Preview" not in t and "Not shown yet" not in t,
                             "the release's run never replaced the preview")
         assert "x*" in shown  # r < 1: Eq. 35's x*
         assert pane.evaluate(JS_OPACITY) == 1.0
