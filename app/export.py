@@ -30,9 +30,9 @@ from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
 
-#: Significant digits of the SI values in a header: a value on any slider's step grid
-#: (steps down to 1e-4 of a unit, app.control_specs) reads back to 1e-12 relative, while
-#: the last bits a unit conversion adds (0.07 * 10 = 0.7000000000000001) are dropped.
+#: Significant digits of the SI values in a header: a value on a slider's step grid (the
+#: finest step is 5e-4, app.control_specs) reads back to 1e-12 relative up to 1e8 steps,
+#: while the last bits a unit conversion adds (0.07 * 10 = 0.7000000000000001) go.
 SI_HEADER_DIGITS = 12
 #: Transition kinds at which the stop gives the mass an impulse (Newton's law).
 IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
