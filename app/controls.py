@@ -347,7 +347,7 @@ def si_default_tip() -> str:
     """The units' tooltip: what SI shows and its default mass and stiffness (those of
     :class:`~app.state.ExplorerState`), with the numbers they give a scene.
 
-    >>> si_default_tip()[:60]
+    >>> si_default_tip()[:61]
     'SI: the scene in seconds, newtons and metres, with m = 0.5 kg'
     """
     m, k = (ExplorerState.param[name].default for name in ("mass", "stiffness"))
