@@ -60,10 +60,20 @@ from app.state import (
 )
 from core import TransitionKind
 
-#: Muted colours of the pins, in pin order: far from the modes' blue, orange and red.
-PIN_COLORS = ("#8e7cc3", "#5f9e96", "#a88b5a")
-#: How a ghost is drawn: thin, dashed, half transparent (the current run stays on top).
-GHOST_STYLE: Mapping[str, Any] = {"line_width": 1.5, "line_dash": "dashed", "line_alpha": 0.8}
+#: The pins' colours, in pin order: a violet (the mode bands are chosen so that none,
+#: darkened on the black curve's edge, comes near it: app.plots.style), Okabe and Ito's
+#: bluish green, a dark grey. CIEDE2000 at least 12.6 from each other and from the modes'
+#: blue, orange and red to normal, deuteranope and protanope vision
+#: (app.plots.colour_vision); the lilac, teal and tan before were 10.3 apart to a protanope.
+PIN_COLORS = ("#8e7cc3", "#009e73", "#555555")
+#: Each pin's dash (by its colour): the pins differ in line too, not in colour only.
+PIN_DASHES: Mapping[str, str] = dict(zip(PIN_COLORS, ("dashed", "dotdash", "dotted"),
+                                         strict=True))
+#: Bokeh's named dashes as SVG dash arrays (the legend's and the table's swatches).
+SVG_DASHES: Mapping[str, str] = {"dashed": "6 4", "dotdash": "2 3 6 3", "dotted": "2 3"}
+#: How a ghost is drawn: its pin's colour and dash, a little thinner than the current run
+#: (which stays on top).
+GHOST_STYLE: Mapping[str, Any] = {"line_width": 2.0, "line_alpha": 1.0}
 #: Parameters named at most in a pin's label (the rest are summed up as "…").
 LABEL_ITEMS = 3
 #: Names of the parameters in a pin's label, as the page's boxes name them: parameter ->
@@ -132,39 +142,59 @@ def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
     stop = str(values["stop_type"])
     names = ("stop_type", *(("mass", "stiffness") if scales.si else ()),
              *NAMED.get(stop, NAMED["none"]), "program")
-    diff = []
-    for name in names:
-        mine, text = _shown(name, values, pin_scales)
-        theirs, _ = _shown(name, current, scales)
-        if not _same(mine, theirs):
-            diff.append(text)
+    diff = [" ".join(part for part in pair if part)
+            for pair in differences(values, current, scales, pin_scales, names)]
     if not diff:
         diff = ["same parameters"]
     more = ", …" if len(diff) > LABEL_ITEMS else ""
     return f"{scene}: {', '.join(diff[:LABEL_ITEMS])}{more}"
 
 
-def _shown(name: str, values: Mapping[str, Any], scales: Scales) -> tuple[Any, str]:
+def differences(values: Mapping[str, Any], current: Mapping[str, Any],
+                scales: Scales = DIMENSIONLESS, own_scales: Scales | None = None,
+                names: Sequence[str] | None = None) -> list[tuple[str, str]]:
+    """The parameters of ``values`` (in ``own_scales``) that differ from ``current`` (in
+    ``scales``), as the page's boxes name them: ``(name, value with its unit)`` pairs, of
+    ``names`` (by default those the stop type of ``values`` uses).
+
+    >>> from app.state import scene_values
+    >>> differences({**scene_values("5a"), "restitution": 0.42}, scene_values("5a"))
+    [('r', '0.42')]
+    """
+    own_scales = scales if own_scales is None else own_scales
+    if names is None:
+        names = NAMED.get(str(values["stop_type"]), NAMED["none"])
+    diff = []
+    for name in names:
+        mine, text = _shown(name, values, own_scales)
+        theirs, _ = _shown(name, current, scales)
+        if not _same(mine, theirs):
+            diff.append(text)
+    return diff
+
+
+def _shown(name: str, values: Mapping[str, Any],
+           scales: Scales) -> tuple[Any, tuple[str, str]]:
     """A parameter of a run as its label shows it: its value in the units of ``scales``
-    and ``name value unit`` (SI units and factors: :data:`app.export.SI_PARAMETERS`)."""
+    and ``(name, value unit)`` (SI units and factors: :data:`app.export.SI_PARAMETERS`)."""
     if name in ("mass", "stiffness"):
         value = getattr(scales, name)
         unit = "kg" if name == "mass" else "N/m"
-        return value, f"{URL_KEYS[name]} {_short(value)} {unit}"
+        return value, (URL_KEYS[name], f"{_short(value)} {unit}")
     value = values.get(name)
     if name == "stop_type":
-        return value, f"stop {value}"
+        return value, ("stop", str(value))
     if name == "program":
-        return bool(value), "overlap program" if value else "no overlap program"
+        return bool(value), ("overlap program" if value else "no overlap program", "")
     dimensionless, si_name = LABEL_NAMES[name]
     if isinstance(value, bool) or not isinstance(value, int | float):
-        return value, f"{dimensionless} {value}"
+        return value, (dimensionless, str(value))
     value = float(value)
     if not scales.si:
-        return value, f"{dimensionless} {_short(value)}"
+        return value, (dimensionless, _short(value))
     _, factor, unit = SI_PARAMETERS.get(name, (si_name, None, ""))
     value *= getattr(scales, factor) if factor else 1.0
-    return value, f"{si_name} {_short(value)}{' ' + unit if unit else ''}"
+    return value, (si_name, f"{_short(value)}{' ' + unit if unit else ''}")
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -268,10 +298,11 @@ TABLE_ROWS = (("steady", "steady state"), ("period", "period"), ("x_max", "x_max
 
 
 def swatch(color: str) -> str:
-    """A dashed line in ``color``: how a ghost is drawn."""
-    return (f'<svg width="22" height="10" aria-hidden="true" style="vertical-align:0">'
-            f'<line x1="1" y1="5" x2="21" y2="5" stroke="{color}" stroke-width="2.5" '
-            f'stroke-dasharray="5 3"/></svg>')
+    """A line in a pin's ``color`` and dash (:data:`PIN_DASHES`): how its ghost is drawn."""
+    dash = SVG_DASHES[PIN_DASHES.get(color, "dashed")]
+    return (f'<svg width="26" height="10" aria-hidden="true" style="vertical-align:0">'
+            f'<line x1="1" y1="5" x2="25" y2="5" stroke="{color}" stroke-width="2.5" '
+            f'stroke-dasharray="{dash}"/></svg>')
 
 
 def comparison_html(current: Solution,
@@ -514,7 +545,8 @@ class Compare:
                 if key not in self._drawn:
                     fig = figs[fig_name]
                     r = add_glyph(fig, "line", x, y, source=self._sources[slot][source],
-                                  line_color=color, **GHOST_STYLE)
+                                  line_color=color, line_dash=PIN_DASHES[color],
+                                  **GHOST_STYLE)
                     # Drawn under the current run, over the mode bands and references.
                     fig.renderers = _under_current(fig.renderers, r, self.plots.sources)
                     r.view.filter = self.plots.shared.filter
@@ -527,7 +559,8 @@ class Compare:
                     self._drawn.add(key)
                     self._renderers[key] = r
                 elif self._renderers[key].glyph.line_color != color:
-                    self._renderers[key].glyph.line_color = color
+                    self._renderers[key].glyph.update(line_color=color,
+                                                      line_dash=PIN_DASHES[color])
 
     def ghost_source(self, slot: int, name: str) -> Any:
         """The source of pin slot ``slot``'s ghost ``name`` (a key of :data:`GHOSTS`)."""

@@ -139,7 +139,8 @@ class Controls(pn.viewable.Viewer):
             label="Stop", options=list(STOP_TYPES), value=st.stop_type, width=WIDGET_WIDTH,
             color="default", css_classes=["fie-stop-type"])
         self.units = RadioButtonGroup(
-            label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH)
+            label="Units", options=list(UNITS), value=st.units, width=WIDGET_WIDTH,
+            description=si_default_tip())
         self.accuracy = RadioButtonGroup(
             label="Accuracy", options=list(ACCURACIES), value=st.accuracy, width=WIDGET_WIDTH,
             description=accuracy_tip(), css_classes=["fie-accuracy"])
@@ -340,3 +341,19 @@ class Controls(pn.viewable.Viewer):
         set_changed(self.program, visible=st.stop_type == "hysteretic")
         for name in LENGTH_SLIDERS:
             self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
+
+
+def si_default_tip() -> str:
+    """The units' tooltip: what SI shows and its default mass and stiffness (those of
+    :class:`~app.state.ExplorerState`), with the numbers they give a scene.
+
+    >>> si_default_tip()[:61]
+    'SI: the scene in seconds, newtons and metres, with m = 0.5 kg'
+    """
+    m, k = (ExplorerState.param[name].default for name in ("mass", "stiffness"))
+    omega = math.sqrt(k / m)
+    return (f"SI: the scene in seconds, newtons and metres, with m = {m:g} kg and "
+            f"k = {k:g} N/m by default (a bench spring: omega = {omega:.3g} rad/s, a period "
+            f"of {2 * math.pi / omega:.2g} s). Lengths keep the scene's numbers, read as "
+            f"metres, so the normal force is F_N = k u_s ({k:g} N at the scenes' u_s = 1) "
+            "and a belt speed v_dr = omega v. Change m and k in the boxes below.")

@@ -30,8 +30,10 @@ from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
 
-#: Significant digits written (double precision round-trips with 17).
-CSV_DIGITS = 17
+#: Significant digits of the SI values in a header: a value on a slider's step grid (the
+#: finest step is 5e-4, app.control_specs) reads back to 1e-12 relative up to 1e8 steps,
+#: while the last bits a unit conversion adds (0.07 * 10 = 0.7000000000000001) go.
+SI_HEADER_DIGITS = 12
 #: Transition kinds at which the stop gives the mass an impulse (Newton's law).
 IMPACT_KINDS = (TransitionKind.IMPACT, TransitionKind.STICK_IMPACT)
 #: Parameters named in a file name, by stop type (the URL's short keys).
@@ -55,6 +57,25 @@ SI_PARAMETERS: Mapping[str, tuple[str, str | None, str]] = {
     "x0": ("x0", None, "m"),
     "limit_overlap": ("D", None, "m"),
 }
+
+
+def csv_number(value: float) -> str:
+    """A CSV cell: the shortest digits that read back to the same double (the float's
+    repr), so 0.07 is written "0.07", not "0.070000000000000007".
+
+    >>> csv_number(np.float64(0.07)), csv_number(1 / 3), csv_number(float("nan"))
+    ('0.07', '0.3333333333333333', 'nan')
+    """
+    return repr(float(value))
+
+
+def si_header_number(value: float) -> str:
+    """An SI value of a header with :data:`SI_HEADER_DIGITS` significant digits.
+
+    >>> si_header_number(0.07 * 10.0), si_header_number(100.0), si_header_number(0.1 / 3)
+    ('0.7', '100', '0.0333333333333')
+    """
+    return f"{float(value):.{SI_HEADER_DIGITS}g}"
 
 
 def si_values(values: Mapping[str, Any], scales: Scales) -> list[tuple[str, Any, str]]:
@@ -108,7 +129,8 @@ def _header(sol: Solution, what: str, scales: Scales) -> str:
         params += f"; kept by the page, not used with this stop: {kept}"
     if scales.si:
         # The SI values the page showed, then the core's own (a permalink's) numbers.
-        shown = ", ".join(f"{name}={value!r} {unit}" if unit else f"{name}={value}"
+        shown = ", ".join(f"{name}={si_header_number(value)} {unit}" if unit
+                          else f"{name}={value}"
                           for name, value, unit in si_values(used, scales))
         head = f"units: SI; {shown}; the core's dimensionless values: {params}"
     else:
@@ -133,7 +155,7 @@ def trajectory_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringIO
         buf.write(f"s,overlap [{u['x']}],contact_force [{u['force']}]\n")
         prog = sol.program
         for row in zip(prog.s, prog.overlap, prog.force * scales.force, strict=True):
-            buf.write(",".join(f"{v:.{CSV_DIGITS}g}" for v in row) + "\n")
+            buf.write(",".join(csv_number(v) for v in row) + "\n")
         return _rewound(buf)
     buf.write(f"t [{u['t']}],x [{u['x']}],xdot [{u['v']}],mode,"
               f"contact_force [{u['force']}],overlap [{u['x']}]\n")
@@ -143,9 +165,9 @@ def trajectory_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringIO
     overlap = _overlap(sol, np.asarray(res.x))
     for i in range(len(t)):
         buf.write(
-            f"{t[i]:.{CSV_DIGITS}g},{res.x[i]:.{CSV_DIGITS}g},{v[i]:.{CSV_DIGITS}g},"
-            f"{MODE_NAMES[int(res.mode[i])]},{phi[i]:.{CSV_DIGITS}g},"
-            f"{overlap[i]:.{CSV_DIGITS}g}\n"
+            f"{csv_number(t[i])},{csv_number(res.x[i])},{csv_number(v[i])},"
+            f"{MODE_NAMES[int(res.mode[i])]},{csv_number(phi[i])},"
+            f"{csv_number(overlap[i])}\n"
         )
     return _rewound(buf)
 
@@ -167,11 +189,10 @@ def transitions_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringI
                   "the first ones, then only a reduced model's start, rest or a failed stop\n")
     for tr in res.transitions:
         impulse = ((tr.v - tr.v_after) * scales.impulse if tr.kind in IMPACT_KINDS else None)
-        cells = [f"{tr.t * scales.time:.{CSV_DIGITS}g}", tr.kind.value,
-                 f"{tr.x:.{CSV_DIGITS}g}", f"{tr.v * scales.velocity:.{CSV_DIGITS}g}",
-                 f"{tr.v_after * scales.velocity:.{CSV_DIGITS}g}",
-                 f"{float(_overlap(sol, np.array([tr.x]))[0]):.{CSV_DIGITS}g}",
-                 "" if impulse is None else f"{impulse:.{CSV_DIGITS}g}"]
+        cells = [csv_number(tr.t * scales.time), tr.kind.value, csv_number(tr.x),
+                 csv_number(tr.v * scales.velocity), csv_number(tr.v_after * scales.velocity),
+                 csv_number(_overlap(sol, np.array([tr.x]))[0]),
+                 "" if impulse is None else csv_number(impulse)]
         buf.write(",".join(cells) + "\n")
     return _rewound(buf)
 

@@ -90,7 +90,7 @@ def decode_pins(raw: str, accuracy: str = "standard", method: str = "auto",
 
     >>> decode_pins("5b,r=0.5")[0].values["restitution"]
     0.5
-    >>> decode_pins("5b,m=4", mass=2.0)[0][2:]
+    >>> decode_pins("5b,m=4", mass=2.0, stiffness=100.0)[0][2:]
     (4.0, 100.0)
     >>> decode_pins("5b,r=2")
     Traceback (most recent call last):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import html
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -39,18 +40,39 @@ CONTACT_LAW_TEXT = {
 
 #: Significant digits of the numbers shown.
 DIGITS = 4
+#: Significant digits of a duration in seconds (a solve's time varies more than that).
+DURATION_DIGITS = 3
 #: The house stylesheet (panes render in shadow DOMs: each that uses its classes links it).
 STYLESHEET = "assets/explorer.css"
 #: Height [px] of one line of the readout (``explorer.css``) and the room kept below it.
 READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
-#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width).
+#: Lines the readout reserves beyond its rows (one long row that wraps at the page's width,
+#: or the note of a drag's preview).
 READOUT_SPARE_LINES = 1
+#: The readout while its rows are not the sliders' run: greyed, under a line that says why.
+PENDING_CSS = """
+:host(.fie-pending) table { opacity: 0.45; }
+.fie-pending-note { font-size: 13px; line-height: 18px; font-style: italic; color: #1f3f7a; }
+"""
 
 
 def _num(x: float, unit: str = "") -> str:
     if x is None or not math.isfinite(x):
         return "—" if x is None or math.isnan(x) else ("∞" if x > 0 else "-∞")
     return f"{x:.{DIGITS}g}{unit}"
+
+
+def duration_text(seconds: float) -> str:
+    """A wall-clock duration as a person reads it: milliseconds below a second, seconds
+    (three significant digits) from one on ("19.4 s", not "1.942e+04 ms").
+
+    >>> duration_text(0.0123), duration_text(19.42)
+    ('12.3 ms', '19.4 s')
+    """
+    ms = float(f"{seconds * 1e3:.{DIGITS}g}")
+    if ms < 1e3:
+        return f"{ms:g} ms"
+    return f"{seconds:.{DURATION_DIGITS}g} s"
 
 
 def _ratio(r: float) -> str:
@@ -80,7 +102,7 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
     rows = _theory_rows(sol, scales) if sol.theory is not None else []
     if sol.result is not None:
         rows += _run_rows(sol, scales)
-    rows.append(("Solve", f"{sol.method}, {_num(sol.solve_time * 1e3)} ms; "
+    rows.append(("Solve", f"{sol.method}, {duration_text(sol.solve_time)}; "
                           f"accuracy {accuracy_text(sol, scales)}"))
     return rows
 
@@ -317,6 +339,45 @@ def _reduced_text(sol: Solution, scales: Scales) -> str:
     return text
 
 
+def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
+                 shown: Mapping[str, Any], scales: Scales = DIMENSIONLESS) -> str | None:
+    """What the readout says above rows that are not those of the values on the sliders:
+    a drag's ``preview`` (the phase portrait draws its draft), or committed ``values``
+    whose run is being solved, against the values of the run ``shown``; None when the
+    rows are the sliders' run.
+
+    >>> from app.state import scene_values
+    >>> five_a = scene_values("5a")
+    >>> pending_text({**five_a, "restitution": 0.42}, five_a, five_a)
+    'Preview of r = 0.42 — release to solve'
+    >>> pending_text(None, {**five_a, "restitution": 0.42}, five_a)
+    'Not shown yet: r = 0.42 — the rows below are the run before'
+    >>> pending_text(None, five_a, five_a) is None
+    True
+    """
+    # The pins' labels name values as the page's boxes do (and app.compare reads the
+    # readout's restitutions: imported here, not at the top).
+    from app.compare import differences
+
+    if preview is not None and _differ(preview, shown):
+        changed = differences(preview, shown, scales) or [("new values", "")]
+        return f"Preview of {_named(changed)} — release to solve"
+    if _differ(values, shown):
+        # Said alike while the run is solved and after it failed (the alert says why):
+        # either way the rows are the run before.
+        changed = differences(values, shown, scales) or [("new values", "")]
+        return f"Not shown yet: {_named(changed)} — the rows below are the run before"
+    return None
+
+
+def _differ(values: Mapping[str, Any], shown: Mapping[str, Any]) -> bool:
+    return any(shown.get(name) != value for name, value in values.items())
+
+
+def _named(pairs: list[tuple[str, str]]) -> str:
+    return ", ".join(f"{name} = {value}" if value else name for name, value in pairs)
+
+
 def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
     """The rows as an HTML table (escaped); a long row wraps."""
     rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
@@ -347,10 +408,14 @@ class Readout(pn.viewable.Viewer):
         # that grew or shrank on a release made BokehJS lay out every figure again (about
         # 60 ms before the new picture showed).
         self.readout = pn.pane.HTML("", sizing_mode="stretch_width",
-                                    css_classes=["fie-readout-pane"], stylesheets=[STYLESHEET])
+                                    css_classes=["fie-readout-pane"],
+                                    stylesheets=[STYLESHEET, PENDING_CSS])
         self._reserved_for: str | None = None
+        #: The rows of the run on screen (the note of a drag or a solve goes above them).
+        self._rows = ""
         # After the plots' draw (one message all the same: the page waits for its figures).
         self.state.param.watch(self._show, ["solution", "pinned"], precedence=1)
+        self.state.param.watch(self._pending, "preview", precedence=1)
         self.state.param.watch(self._presented, "present")
 
     def __panel__(self) -> pn.viewable.Viewable:
@@ -361,10 +426,27 @@ class Readout(pn.viewable.Viewer):
         if sol is None:
             return
         scales = self.state.scales()
-        text = readout_html(sol, scales) + self.compare.table(sol, scales)
-        self.readout.object = text
-        self._reserve(text.count("<tr>"))
+        self._rows = readout_html(sol, scales) + self.compare.table(sol, scales)
+        self._pending()
+        self._reserve(self._rows.count("<tr>"))
         self.caption.object = caption_html(self.state.scene)
+
+    def _pending(self, *events: param.parameterized.Event) -> None:
+        """Mark the rows (greyed, a line above them) while they are not the run of the
+        sliders' values: a drag's draft is drawn, or a release's run is being solved (or
+        failed). The
+        note takes the line the readout keeps spare (:data:`READOUT_SPARE_LINES`)."""
+        st, sol = self.state, self.state.solution
+        if sol is None:
+            return
+        note = pending_text(st.preview, st.values(), sol.values, st.scales())
+        text = self._rows
+        if note is not None:
+            text = (f"<div class='fie-pending-note' role='status'>{html.escape(note)}</div>"
+                    + text)
+        self.readout.object = text
+        classes = ["fie-readout-pane", *(["fie-pending"] if note is not None else [])]
+        set_changed(self.readout, css_classes=classes)
 
     def _reserve(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows

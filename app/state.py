@@ -159,8 +159,10 @@ class ExplorerState(param.Parameterized):
     method = param.Selector(default="auto", objects=list(METHODS))
     program = param.Boolean(False, doc="""
         Drive the stop with the overlap program of paper Fig. 2b instead of the oscillator.""")
-    mass = param.Number(1.0, bounds=(1e-6, 1e6), softbounds=(0.1, 10.0), doc="Mass m [kg].")
-    stiffness = param.Number(100.0, bounds=(1e-6, 1e9), softbounds=(1.0, 1000.0), doc="""
+    # SI defaults of a bench rig: a 0.5 kg block on a 200 N/m spring (omega = 20 rad/s,
+    # a period of 0.31 s).
+    mass = param.Number(0.5, bounds=(1e-6, 1e6), softbounds=(0.1, 10.0), doc="Mass m [kg].")
+    stiffness = param.Number(200.0, bounds=(1e-6, 1e9), softbounds=(1.0, 1000.0), doc="""
         Spring stiffness k [N/m].""")
     show_all = param.Boolean(False, doc="Show every plot, not only the scene's.")
 
@@ -243,7 +245,7 @@ class ExplorerState(param.Parameterized):
         input, naming the parameter and its bounds. Nothing is set (see
         :meth:`set_physical`).
 
-        >>> s = ExplorerState(belt_speed=0.1, t_end=60.0)  # m = 1 kg, k = 100 N/m
+        >>> s = ExplorerState(belt_speed=0.1, t_end=60.0, mass=1.0, stiffness=100.0)
         >>> s.physical()["t_end"], s.physical()["belt_speed"]  # omega = 10 rad/s
         (6.0, 1.0)
         >>> v = s.from_physical(k=400.0)  # omega = 20 rad/s: the same seconds and m/s

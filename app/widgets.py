@@ -115,9 +115,10 @@ class TypedSlider:
     """A labelled number box (hard bounds) and a slider (soft range) for one value.
 
     The box takes any text: a value that is not a number, or that ``validate`` refuses,
-    stays in the box, marked red with the message below it, until a valid value replaces
-    it; nothing is committed meanwhile. The label is the box's own (its accessible name),
-    with a tooltip naming the symbol and its allowed range.
+    is said below the box in red, and the box shows the value in use again; the message
+    stays until a valid value replaces it; nothing is committed meanwhile. The label is
+    the box's own (its accessible name), with a tooltip naming the symbol and its allowed
+    range.
 
     Parameters
     ----------
@@ -169,7 +170,7 @@ class TypedSlider:
         self._quiet = False
         #: The released value being committed, while it is (None otherwise).
         self._releasing: float | None = None
-        #: True while the box shows a refused entry.
+        #: True while a refused entry is said below the box.
         self.invalid = False
         start, end = min(soft[0], value), max(soft[1], value)
         if end <= start:
@@ -301,7 +302,7 @@ class TypedSlider:
             hard_end: float | None = None) -> None:
         """Show ``value`` without calling back; optionally move the upper ends.
 
-        A refused entry stays in its box (red) while the value it would have replaced is
+        A refused entry's message stays while the value it would have replaced is
         unchanged; a new value replaces it.
         """
         slider, box = self._part("slider"), self._part("input")
@@ -353,10 +354,17 @@ class TypedSlider:
         set_changed(self.message, object=body, visible=bool(text))
 
     def refuse(self, message: str) -> None:
-        """Keep the typed entry in the box, red, with ``message`` below it."""
+        """Say ``message`` below the box (red) and put the value in use back in the box:
+        a refused entry left there (or a box left empty) said another value than the one
+        the page runs with."""
         self.invalid = True
-        set_changed(self.input, css_classes=["fie-input", "fie-invalid"])
-        self.note(message, error=True)
+        in_use = format_number(self.value)
+        self._quiet = True
+        try:
+            set_changed(self.input, value=in_use, css_classes=["fie-input"])
+        finally:
+            self._quiet = False
+        self.note(f"{message}; the value in use stays {in_use}", error=True)
 
     def clear(self) -> None:
         """Forget a refused entry and any note: the box shows the slider's value."""
@@ -453,13 +461,11 @@ class _Values:
 
 #: Arrow-key presses that cross a slider's range (PageUp/PageDown move five steps).
 KEY_PRESSES = 100
-#: The box beside its label, on one line; a refused entry is red.
+#: The box beside its label, on one line.
 INPUT_CSS = """
 .bk-input-group { flex-direction: row; align-items: center; gap: 6px; }
 .bk-input-group > label { flex: 1; margin: 0; }
 .bk-input-group > .bk-input { flex: 0 0 96px; width: 96px; }
-:host(.fie-invalid) .bk-input { border-color: #c0392b; background: #fdecea;
-                                box-shadow: 0 0 0 1px #c0392b; }
 .bk-input:focus-visible { outline: 3px solid #1f6feb; outline-offset: 1px; }
 """
 #: A visible focus ring on the slider's handle (the keyboard moves it); the title (the

@@ -126,7 +126,8 @@ class AxisUnits:
     dimensionless numbers to the parameter and the quantity shown, and their axis labels.
 
     >>> from app.state import ExplorerState
-    >>> units = axis_units("belt_speed", "period", ExplorerState(units="SI").scales())
+    >>> si = ExplorerState(units="SI", mass=1.0, stiffness=100.0).scales()
+    >>> units = axis_units("belt_speed", "period", si)
     >>> units.parameter, units.quantity, units.parameter_label  # omega = 10 rad/s
     (10.0, 0.1, 'belt speed v_dr (m/s)')
     """

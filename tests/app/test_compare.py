@@ -244,7 +244,7 @@ def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
     """/main?scene=5a&units=SI&pins=5a: typing m = 4 turned the pin into another physical
     run ("5a: v_dr 0.5 m/s, t_end 12 s", period 1.119 s instead of 0.5597 s)."""
     ex, doc = _page()
-    _query(ex, doc, units="SI", pins="5a")
+    _query(ex, doc, units="SI", mass=1.0, stiffness=100.0, pins="5a")
     with set_curdoc(doc):
         pinned = summary(ex.compare.pins[0].solution, ex.state.scales())["period"]
         assert pinned == "0.5597 s"
@@ -258,7 +258,7 @@ def test_a_pin_keeps_its_mass_and_stiffness_when_the_page_changes_them():
         assert max(ex.compare.ghost_source(0, "traj").data["t"]) == pytest.approx(t_end)
         # The permalink names the pin's mass, the page's is 4 kg.
         assert ex.menu.query({})["pins"] == "5a,m=1.0"
-        back = decode_pins("5a,m=1.0", mass=4.0)[0]
+        back = decode_pins("5a,m=1.0", mass=4.0, stiffness=100.0)[0]
         assert (back.mass, back.stiffness) == (1.0, 100.0)
         # A link written before pins kept their own m and k: the page's.
         old = decode_pins("5a", mass=4.0, stiffness=50.0)[0]
@@ -270,7 +270,7 @@ def test_a_pin_keeps_its_stiffness_in_newtons():
     ex, doc = _page()
     with set_curdoc(doc):
         ex.state.load_scene("10")
-    _query(ex, doc, units="SI", pins="10")
+    _query(ex, doc, units="SI", mass=1.0, stiffness=100.0, pins="10")
     with set_curdoc(doc):
         before = float(np.nanmax(_force_ghost(ex)["f"]))
         ex.controls.commit_si({"k": 400.0})
@@ -294,10 +294,11 @@ def test_the_table_says_which_contact_its_restitution_is_from():
 
 @pytest.mark.parametrize("units, scene, current, words", [
     # The clearance by its display name and, in SI, its unit (it read "xbar 0.1").
-    ("SI", "6b", "5a", ("v_dr 3 m/s", "x_bar 0.1 m", "r 0.7")),
+    # SI with the default m = 0.5 kg, k = 200 N/m: omega = 20 rad/s.
+    ("SI", "6b", "5a", ("v_dr 6 m/s", "x_bar 0.1 m", "r 0.7")),
     ("dimensionless", "6b", "5a", ("v 0.3", "x_bar 0.1", "r 0.7")),
     ("dimensionless", "7c", "10", ("stop rigid", "r 0.3", "t_end 60")),
-    ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 6 s")),
+    ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 3 s")),
 ])
 def test_label_items_are_named_as_the_page_names_them(units, scene, current, words):
     from app.state import ExplorerState
@@ -342,3 +343,35 @@ LABEL_ITEMS_EXPECTED = (
     ("v0", ("x'0 0.2", "x'0 2 m/s")),
     ("t_end", ("t_end 40", "t_end 4 s")),
 )
+
+
+def test_pins_differ_in_colour_and_dash_in_the_portrait_and_its_legend():
+    """Every pin was drawn dashed, in a muted colour near the others: three pins on the
+    phase portrait were hard to tell apart and from the run. Each pin now has its own
+    colour and dash, on its ghost and on its legend entry (which names its label); the
+    colours stay apart from each other and from the modes' to colour-blind viewers."""
+    from app.compare import PIN_DASHES, SVG_DASHES
+    from app.plots.colour_vision import min_difference
+    from app.plots.style import MODE_COLORS
+
+    ex, doc = _page()
+    with set_curdoc(doc):
+        for key in ("7c", "5b", "10"):
+            values = scene_values(key)
+            ex.compare.pin(key, values, ex.state.mass, ex.state.stiffness)
+        assert all(p.solution is not None for p in ex.compare.pins)
+        styles = []
+        for slot in range(3):
+            glyph = ex.compare.ghost_renderer(slot, "phase").glyph
+            styles.append((glyph.line_color, tuple(glyph.line_dash)))
+        assert len({dash for _, dash in styles}) == 3 and len({c for c, _ in styles}) == 3
+        legend = ex.plots.legends["phase"].object
+        for label, pin in zip(ex.compare.labels(ex.state.values()), ex.compare.pins,
+                              strict=True):
+            assert label in legend
+            assert (f'stroke="{pin.color}" stroke-width="2.5" '
+                    f'stroke-dasharray="{SVG_DASHES[PIN_DASHES[pin.color]]}"') in legend
+    # The pins' colours keep apart from each other and from the modes' for every viewer
+    # by more than the palette before (lilac, teal, tan: 10.3 to a protanope).
+    for vision in ("normal", "deuteranopia", "protanopia"):
+        assert min_difference([*MODE_COLORS.values(), *PIN_COLORS], vision) > 12, vision

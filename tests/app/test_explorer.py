@@ -23,6 +23,7 @@ from app.solve.presets import ACCURACY
 from app.solve.regime_map import MAP_CELLS
 from app.solve.solution import compute
 from app.state import ExplorerState, scene_values, si_bound_error, si_units
+from app.widgets import format_number
 
 
 @pytest.fixture
@@ -113,8 +114,8 @@ def test_typed_entry_commits_and_widens_the_slider(ex):
     w.input.value = "0.9"  # beyond the slider's soft end
     assert ex.state.belt_speed == 0.9 and ex.state.scene == CUSTOM
     assert w.slider.end >= 0.9 and w.slider.value == 0.9
-    w.input.value = "50"  # beyond the hard bound: refused, said, kept in the box
-    assert ex.state.belt_speed == 0.9 and w.invalid and w.input.value == "50"
+    w.input.value = "50"  # beyond the hard bound: refused, said, the value in use shown
+    assert ex.state.belt_speed == 0.9 and w.invalid and w.input.value == "0.9"
     assert "belt_speed must lie in [0, 10]; got 50" in w.message.object
 
 
@@ -286,6 +287,7 @@ def test_si_units_convert_the_view(ex):
 
 
 def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.units.value = "SI"
     omega = ex.state.omega
     visible = {name: s.visible for name, s in ex.sliders.items()}
@@ -367,6 +369,7 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     """Scene 7c (r = 0.3): each impact's impulse is m (v_before - v_after) and Newton's law
     v_after = -r v_before holds to rounding (the closed-form solver applies it exactly)."""
     ex.scene_select.value = "7c"
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.units.value = "SI"
     lines = ex.downloads.transitions_file().getvalue().splitlines()
     assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
@@ -385,10 +388,10 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     # core's dimensionless numbers under "units: SI", without m and k).
     head = lines[0]
     omega = scales.velocity
-    assert head.startswith("# Friction-Impact Explorer transitions; units: SI; m=1.0 kg, "
-                           "k=100.0 N/m, omega=10.0 rad/s, ")
-    assert f"v_dr={ex.state.belt_speed * omega!r} m/s" in head
-    assert f"t_end={ex.state.t_end / omega!r} s" in head
+    assert head.startswith("# Friction-Impact Explorer transitions; units: SI; m=1 kg, "
+                           "k=100 N/m, omega=10 rad/s, ")
+    assert f"v_dr={ex.state.belt_speed * omega:.12g} m/s" in head
+    assert f"t_end={ex.state.t_end / omega:.12g} s" in head
     assert f"the core's dimensionless values: belt_speed={ex.state.belt_speed}" in head
     name = ex.downloads.transitions.filename
     assert name.startswith("fie_7c_transitions_SI_m-1_k-100_stop-rigid_v_dr-")
@@ -641,14 +644,20 @@ def test_a_new_regime_map_follows_the_rest_of_the_picture(ex, monkeypatch):
     ("clearance", "-0.5", "the stop must lie ahead of the start position"),
 ])
 def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
+    """A refused entry stayed in its box ("abc", red) while the page ran with the value
+    before it; the box now shows that value again, and the message says what was
+    refused and which value stays."""
     before = ex.state.values()
     w = ex.sliders[name]
+    in_use = w.input.value
+    assert in_use == format_number(getattr(ex.state, name))
     w.input.value = text
     assert ex.state.values() == before and not ex.alert.visible
-    assert w.invalid and w.input.value == text and html.escape(said) in w.message.object
-    assert "fie-invalid" in w.input.css_classes
-    ex.controls.commit({"x0": -0.01})  # another change leaves the refused entry in its box
-    assert w.invalid and w.input.value == text
+    assert w.invalid and w.input.value == in_use and html.escape(said) in w.message.object
+    assert f"the value in use stays {in_use}" in w.message.object
+    assert "fie-msg-error" in w.message.object
+    ex.controls.commit({"x0": -0.01})  # another change leaves the message below the box
+    assert w.invalid and w.message.visible and w.input.value == in_use
     ex.controls.reset()
     assert not w.invalid and not w.message.visible and ex.state.scene == "5a"
 
@@ -665,6 +674,7 @@ def test_a_refused_si_entry_names_its_range_in_si(ex, name, text, said):
     """In SI a value below the range was told '[0, 1e+09]' (the box's placeholder) or the
     core's '(0, inf]'; the range is the state's, in SI with the current m and k, and the
     box's tooltip says it."""
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.state.units = "SI"  # m = 1 kg, k = 100 N/m: omega = 10 rad/s
     before = ex.state.values()
     w = ex.sliders[name]
@@ -855,6 +865,7 @@ def test_a_run_cut_short_says_so_in_the_units_it_is_shown_in(ex):
     ex.state.solution = short
     assert ex.alert.visible and "Solved only in part" in ex.alert.object
     assert "t_end = 5000:" in ex.alert.object and ex.retry.visible
+    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.state.units = "SI"  # omega = 10 rad/s: the horizon in seconds
     assert ex.alert.visible and "Solved only in part" in ex.alert.object
     assert "t_end = 500 s:" in ex.alert.object and ex.retry.visible

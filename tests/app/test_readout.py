@@ -239,7 +239,8 @@ def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
 def test_a_deformable_stop_s_regime_row_says_it_is_the_equivalent_rigid_stop_s_theory():
     """Scene 10: the Regime row gave the rigid stop's "impact speeds fall as r^h" as if it
     were this stop's, beside a steady state that says otherwise (docs/contact-law.md)."""
-    rows = dict(readout_rows(solve(scene_values("10")), ExplorerState(units="SI").scales()))
+    si = ExplorerState(units="SI", mass=1.0, stiffness=100.0).scales()  # omega = 10 rad/s
+    rows = dict(readout_rows(solve(scene_values("10")), si))
     assert rows["Regime"].endswith("(the theory of the equivalent rigid stop, "
                                    "r_eq = sqrt(k_e0/k_c0), Eq. 16)")
     found = rows["Steady state found"]
@@ -395,3 +396,53 @@ def test_a_reference_still_swinging_within_the_run_s_rule_for_rest_is_the_same_v
         measured = dataclasses.replace(sol, method="event", reference_steady=reference(scale))
         rows = dict(readout_rows(measured, DIMENSIONLESS))
         assert ("The exact method finds" in rows) is shown, (scale, rows)
+
+
+def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
+    """While a slider was dragged, the phase portrait drew the new value's draft but the
+    readout showed the old run's rows, unmarked. They are now greyed under a line naming
+    the previewed value, until the release's run replaces them."""
+    import param
+
+    from app.explorer import Explorer
+
+    ex = Explorer()  # scene 5a: r = 1, no x* row (Eq. 35 needs r < 1)
+    slider = ex.sliders["restitution"].slider
+    assert "fie-pending" not in ex.readout.css_classes
+    slider.value = 0.42  # a drag step
+    assert ex.state.preview is not None and ex.state.restitution == 1.0
+    shown = ex.readout.object
+    assert "Preview of r = 0.42 — release to solve" in shown
+    assert "fie-pending" in ex.readout.css_classes
+    assert "<th>x*</th>" not in shown  # the rows are still those of r = 1
+    slider.value = 1.0  # dragged back to the value in use: nothing to preview
+    assert "Preview" not in ex.readout.object
+    assert "fie-pending" not in ex.readout.css_classes
+    slider.value = 0.42
+    with param.edit_constant(slider):
+        slider.value_throttled = 0.42  # the release: its run arrives
+    assert ex.state.preview is None and ex.solution.values["restitution"] == 0.42
+    assert "Preview" not in ex.readout.object and "Not shown yet" not in ex.readout.object
+    assert "fie-pending" not in ex.readout.css_classes
+    assert "<th>x*</th>" in ex.readout.object  # the new run's rows
+    slider = ex.sliders["clearance"].slider  # a release the core refuses: behind the start
+    slider.value = -0.5
+    with param.edit_constant(slider):
+        slider.value_throttled = -0.5
+    assert ex.alert.visible and ex.solution.values["clearance"] != -0.5
+    assert "Not shown yet: x_bar = -0.5 — the rows below are the run before" in (
+        ex.readout.object)
+
+
+def test_a_release_whose_run_is_not_shown_yet_says_so_in_the_units_shown():
+    from app.readout import pending_text
+    from app.state import si_scales
+
+    five_a = scene_values("5a")
+    moved = {**five_a, "belt_speed": 0.05}
+    scales = si_scales(1.0, 100.0)  # omega = 10 rad/s: v_dr = 10 v
+    assert pending_text(None, moved, five_a, scales) == (
+        "Not shown yet: v_dr = 0.5 m/s — the rows below are the run before")
+    assert pending_text(moved, five_a, five_a, scales) == (
+        "Preview of v_dr = 0.5 m/s — release to solve")
+    assert pending_text(None, five_a, dict(five_a)) is None

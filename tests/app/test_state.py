@@ -125,3 +125,24 @@ def test_the_contact_law_reaches_the_deformable_stop():
     assert URL_KEYS["contact_law"] == "law"
     with pytest.raises(ValueError, match="passive"):
         ExplorerState(contact_law="plastic")
+
+
+def test_the_si_default_is_a_bench_spring_and_the_page_says_so():
+    """The SI default was m = 1 kg, k = 100 N/m; it is a bench rig's 0.5 kg on 200 N/m,
+    and the units' tooltip states it with the numbers it gives a scene."""
+    from app.controls import si_default_tip
+    from app.scenes import SCENES
+
+    state = ExplorerState(units="SI")
+    assert (state.mass, state.stiffness) == (0.5, 200.0)
+    omega = math.sqrt(200.0 / 0.5)
+    assert state.omega == pytest.approx(omega, rel=1e-15)
+    tip = si_default_tip()
+    assert "m = 0.5 kg and k = 200 N/m" in tip
+    assert f"omega = {omega:.3g} rad/s" in tip and f"{2 * math.pi / omega:.2g} s" in tip
+    # Every scene maps to SI numbers of one bench: seconds to minutes of run, belts below
+    # 10 m/s, the normal force k u_s.
+    for key in SCENES:
+        phys = ExplorerState(**scene_values(key), units="SI").physical()
+        assert 0.1 < phys["t_end"] < 300.0 and 0.0 < phys["belt_speed"] < 10.0, key
+        assert phys["normal_force"] == pytest.approx(200.0 * scene_values(key)["u_s"])

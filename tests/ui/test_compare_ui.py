@@ -19,7 +19,7 @@ GHOST = "#" + "".join(
     for i in (1, 3, 5))
 #: Tolerance per channel [0-255]: anti-aliased line edges.
 GHOST_TOL = 24
-#: Ghost pixels a drawn pin adds at least to the time histories (a dashed 1.5 px line across
+#: Ghost pixels a drawn pin adds at least to the time histories (a dashed 2 px line across
 #: some 1000 px). A page without a pin has a few pixels near the colour too (anti-aliased
 #: edges of the black curve over the slip band): counts are compared with that baseline.
 MIN_GHOST_PIXELS = 150
@@ -74,7 +74,7 @@ def test_pin_change_unpin_and_permalink(browser, server, shots):
         _pin(p)
         text = _wait_readout(p, "compared")
         assert "5a: same parameters" in text
-        assert _ghost_pixels(p) > baseline + MIN_GHOST_PIXELS
+        # (Its ghost lies under the current run, drawn on top: it shows once they differ.)
         # A new restitution: the ghost stays, the current run differs (the table says how).
         _set(p, "restitution", "0.5")
         text = _wait_readout(p, "5a: r 1")

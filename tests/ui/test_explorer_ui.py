@@ -354,7 +354,7 @@ def test_animation_plays_in_the_browser(page, shots):
 
 def test_si_units_take_seconds_and_metres_per_second(browser, server, shots):
     """In SI mode the horizon is typed in seconds and the start velocity in m/s; the state
-    holds their dimensionless values (default m = 1 kg, k = 100 N/m: omega = 10 rad/s) and
+    holds their dimensionless values (default m = 0.5 kg, k = 200 N/m: omega = 20 rad/s) and
     the permalink what the boxes say (README, "Links")."""
     p = Page(browser, f"{server}?scene=5b&units=SI")
     try:

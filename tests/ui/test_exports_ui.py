@@ -23,12 +23,12 @@ def test_downloads_name_the_run_and_its_units(browser, server, shots):
     try:
         name, lines = _download(p, ".fie-download")
         # In SI units the name says so, with m and k (app/export.py).
-        assert re.fullmatch(r"fie_7c_trajectory_SI_m-1_k-100_stop-rigid_[A-Za-z0-9._-]+\.csv",
+        assert re.fullmatch(r"fie_7c_trajectory_SI_m-0.5_k-200_stop-rigid_[A-Za-z0-9._-]+\.csv",
                             name)
         assert "r-0.3" in name
         assert lines[2].startswith("t [s],x [m],xdot [m/s],mode,contact_force [N]")
         name, lines = _download(p, ".fie-download-transitions")
-        assert re.fullmatch(r"fie_7c_transitions_SI_m-1_k-100_stop-rigid_[A-Za-z0-9._-]+\.csv",
+        assert re.fullmatch(r"fie_7c_transitions_SI_m-0.5_k-200_stop-rigid_[A-Za-z0-9._-]+\.csv",
                             name)
         assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
         impacts = [row.split(",") for row in lines[3:] if ",impact," in row]

@@ -58,3 +58,44 @@ def test_release_with_the_same_rows_keeps_the_plots_in_place(browser, server):
             assert phase.bounding_box()["y"] == top
     finally:
         p.close()
+
+
+#: JavaScript: the opacity of the readout's table (greyed while a drag previews).
+JS_OPACITY = """el => {
+  const root = el.shadowRoot || el;
+  return Number(getComputedStyle(root.querySelector("table.fie-readout")).opacity);
+}"""
+
+
+def test_a_drag_s_preview_is_marked_in_the_readout(browser, server, shots):
+    """While r was dragged the phase portrait drew the new value's draft but the readout
+    showed the old run's rows, unmarked. They are greyed under "Preview of r = ... —
+    release to solve" (in the line the readout keeps spare: the plots do not move), and
+    the release's run replaces them."""
+    p = Page(browser, f"{server}?scene=5a", viewport={"width": 1280, "height": 800})
+    try:
+        pane = p.page.locator(".fie-readout-pane").first
+        phase = p.page.locator(".fie-plot-phase").first
+        top = phase.bounding_box()["y"]
+        assert pane.evaluate(JS_OPACITY) == 1.0
+        handle = p.page.locator(".fie-w-restitution .noUi-handle").first
+        box = handle.bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        p.page.mouse.move(x, y)
+        p.page.mouse.down()
+        p.page.mouse.move(x - 80, y, steps=8)  # r = 1 is the right end: left is lower
+        shown = p.wait_text(".fie-readout-pane", lambda t: "release to solve" in t,
+                            "the readout never marked the drag's preview")
+        assert "Preview of r = 0." in shown and "x*" not in shown  # still r = 1's rows
+        assert pane.evaluate(JS_OPACITY) < 0.6
+        assert phase.bounding_box()["y"] == top
+        p.page.screenshot(path=shots / "readout-drag-preview.png")
+        p.page.mouse.up()
+        shown = p.wait_text(".fie-readout-pane",
+                            lambda t: "Preview" not in t and "Not shown yet" not in t,
+                            "the release's run never replaced the preview")
+        assert "x*" in shown  # r < 1: Eq. 35's x*
+        assert pane.evaluate(JS_OPACITY) == 1.0
+        assert p.errors == []
+    finally:
+        p.close()
