@@ -378,9 +378,27 @@ def _named(pairs: list[tuple[str, str]]) -> str:
     return ", ".join(f"{name} = {value}" if value else name for name, value in pairs)
 
 
+#: The core's plain-text mathematics as a reader sees it in print (the page shows the
+#: symbols of its sliders and of the model card; the core's texts stay ASCII).
+PRINTED_SYMBOLS = (("<=", "≤"), (">=", "≥"), ("x_bar", "x̄"), ("r^h", "rʰ"),
+                   ("sqrt(", "√("), ("mu_s", "μₛ"), ("mu_k", "μₖ"), ("omega", "ω"))
+
+
+def printed(text: str) -> str:
+    """``text`` with the core's ASCII mathematics in printed symbols.
+
+    >>> printed("a <= x_bar < x*: impact speeds fall as r^h; r_eq = sqrt(k_e0/k_c0)")
+    'a ≤ x̄ < x*: impact speeds fall as rʰ; r_eq = √(k_e0/k_c0)'
+    """
+    for ascii_text, symbol in PRINTED_SYMBOLS:
+        text = text.replace(ascii_text, symbol)
+    return text
+
+
 def readout_html(sol: Solution, scales: Scales = DIMENSIONLESS) -> str:
-    """The rows as an HTML table (escaped); a long row wraps."""
-    rows = ((html.escape(k), html.escape(v)) for k, v in readout_rows(sol, scales))
+    """The rows as an HTML table (escaped, their mathematics in printed symbols); a long
+    row wraps."""
+    rows = ((html.escape(k), html.escape(printed(v))) for k, v in readout_rows(sol, scales))
     body = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in rows)
     return f'<table class="fie-readout">{body}</table>'
 

@@ -446,3 +446,16 @@ def test_a_release_whose_run_is_not_shown_yet_says_so_in_the_units_shown():
     assert pending_text(moved, five_a, five_a, scales) == (
         "Preview of v_dr = 0.5 m/s — release to solve")
     assert pending_text(None, five_a, dict(five_a)) is None
+
+
+def test_the_readout_prints_the_core_s_mathematics_as_symbols():
+    """The core's regime texts are ASCII ("a <= x_bar < x*", "r^h"); the page shows them as
+    a student reads them in print, the rows' numbers untouched."""
+    from app.readout import readout_html
+
+    sol = solve(scene_values("7c"))
+    shown = readout_html(sol)
+    regime = dict(readout_rows(sol))["Regime"]
+    assert "<=" in regime and "x_bar" in regime and "r^h" in regime  # what the core says
+    assert "a ≤ x̄ &lt; x*" in shown and "rʰ" in shown
+    assert "&lt;=" not in shown and "x_bar" not in shown and "r^h" not in shown
