@@ -288,6 +288,9 @@ class Presentation:
         if plots.shared.ticker.desired_num_ticks != ticks:
             plots.shared.ticker.desired_num_ticks = ticks
         self._style_labels(plots.point_labels)
+        # The time histories take the whole of their pane: their window stays, the
+        # overview to brush it (a tool for a desk, not a projector) goes.
+        plots.run_window.hide_overview(self.on)
         for div in plots.legends.values():
             size = self._font("legend") if self.on else "12px"
             if div.styles.get("font-size") != size:

@@ -112,6 +112,8 @@ class RunWindow:
         self.window: tuple[float, float] | None = None
         self.overview: Any = None
         self.brush: Any = None
+        #: Whether the overview is kept hidden (a projector's layouts have no room for it).
+        self.hidden = False
         self._time_range: Range1d | None = None
         self._t_end: float | None = None
         self._unit = 1.0
@@ -132,11 +134,20 @@ class RunWindow:
         self._unit = unit
         return None if self.window is None else (self.window[0] * unit, self.window[1] * unit)
 
+    def hide_overview(self, hidden: bool) -> None:
+        """Keep the overview hidden (``hidden``) or show it again where the run has a
+        window."""
+        self.hidden = hidden
+        shown = not hidden and self.window is not None
+        if self.overview is not None and self.overview.visible != shown:
+            self.overview.visible = shown
+
     def show_overview(self, layout: Any, time_range: Range1d, traj: Any,
                       t_span: tuple[float, float], x_span: tuple[float, float]) -> None:
         """Show the overview below the time histories' ``layout`` (built the first time a
-        long run is shown) over ``t_span`` and ``x_span``; hide it for a short run."""
-        if self.window is None:
+        long run is shown) over ``t_span`` and ``x_span``; hide it for a short run, and
+        while :attr:`hidden`."""
+        if self.window is None or self.hidden:
             if self.overview is not None and self.overview.visible:
                 self.overview.visible = False
             return

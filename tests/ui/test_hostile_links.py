@@ -113,7 +113,7 @@ WRONG_TYPES = [
     ("stop=false&law=1&acc=-1&method=&all=1&prog=2", "all (show_all) must be true or false"),
     ("r=0.5&r=0.7", "r (restitution) must be given once; got 2 values: '0.5', '0.7'"),
     ("tend=" + HUGE, "tend (t_end) must be a number in [0.1, 5000]; got '999"),
-    ("present=" + "1" * 4400, "present must be one of 1, 4"),
+    ("present=" + "1" * 4400, "present must be one of 1, 2, 3, 4"),
     ("zz=" + HUGE + "&slides=" + HUGE, "slides must be one of"),
     ("pins=5a,prog=yes", "pins: the pinned runs could not be restored: pin 1 ('5a,prog=yes'): "
                          "prog (program) must be true or false; got 'yes'"),
