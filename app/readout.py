@@ -51,7 +51,7 @@ READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
 READOUT_SPARE_LINES = 1
 #: The readout while its rows are not the sliders' run: greyed, under a line that says why.
 PENDING_CSS = """
-:host(.fie-pending) table { opacity: 0.45; }
+.fie-pending table { opacity: 0.45; }
 .fie-pending-note { font-size: 13px; line-height: 18px; font-style: italic; color: #1f3f7a; }
 """
 
@@ -460,11 +460,12 @@ class Readout(pn.viewable.Viewer):
         note = pending_text(st.preview, st.values(), sol.values, st.scales())
         text = self._rows
         if note is not None:
-            text = (f"<div class='fie-pending-note' role='status'>{html.escape(note)}</div>"
-                    + text)
-        self.readout.object = text
-        classes = ["fie-readout-pane", *(["fie-pending"] if note is not None else [])]
-        set_changed(self.readout, css_classes=classes)
+            # Greyed inside the pane's text: a change of the pane's own classes restyled
+            # it and laid the page out again, its figures repainted, at every release.
+            text = (f"<div class='fie-pending'><div class='fie-pending-note' role='status'>"
+                    f"{html.escape(note)}</div>{text}</div>")
+        if self.readout.object != text:
+            self.readout.object = text
 
     def _reserve(self, rows: int) -> None:
         """Keep room for ``rows`` rows (and a wrapped line) below the caption: more rows

@@ -408,22 +408,22 @@ def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
 
     ex = Explorer()  # scene 5a: r = 1, no x* row (Eq. 35 needs r < 1)
     slider = ex.sliders["restitution"].slider
-    assert "fie-pending" not in ex.readout.css_classes
+    assert "fie-pending" not in ex.readout.object
     slider.value = 0.42  # a drag step
     assert ex.state.preview is not None and ex.state.restitution == 1.0
     shown = ex.readout.object
     assert "Preview of r = 0.42 — release to solve" in shown
-    assert "fie-pending" in ex.readout.css_classes
+    assert "fie-pending" in ex.readout.object
     assert "<th>x*</th>" not in shown  # the rows are still those of r = 1
     slider.value = 1.0  # dragged back to the value in use: nothing to preview
     assert "Preview" not in ex.readout.object
-    assert "fie-pending" not in ex.readout.css_classes
+    assert "fie-pending" not in ex.readout.object
     slider.value = 0.42
     with param.edit_constant(slider):
         slider.value_throttled = 0.42  # the release: its run arrives
     assert ex.state.preview is None and ex.solution.values["restitution"] == 0.42
     assert "Preview" not in ex.readout.object and "Not shown yet" not in ex.readout.object
-    assert "fie-pending" not in ex.readout.css_classes
+    assert "fie-pending" not in ex.readout.object
     assert "<th>x*</th>" in ex.readout.object  # the new run's rows
     slider = ex.sliders["clearance"].slider  # a release the core refuses: behind the start
     slider.value = -0.5
