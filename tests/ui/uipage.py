@@ -8,6 +8,8 @@ import time
 import numpy as np
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
+#: The readout's notes while its rows are not the sliders' run (app.readout.pending_text).
+PENDING_NOTES = ("Preview of ", "Not shown yet: ")
 #: Milliseconds to wait for a page to be ready.
 PAGE_TIMEOUT_MS = 60_000
 #: Browser window size: wide enough for two columns of plots.
@@ -151,8 +153,11 @@ class Page:
         return self.page.locator(css).first.evaluate(JS_DEEP_TEXT)
 
     def wait_text_change(self, css: str, old: str, timeout: float = 30_000) -> str:
-        """Wait until the element's text differs from ``old`` (the server answered)."""
-        self.wait_text(css, lambda text: text != old, f"{css} did not change", timeout)
+        """Wait until the element's text differs from ``old`` and holds no note of a run
+        still to come (the readout's note of a drag or of a release being solved,
+        :func:`app.readout.pending_text`): the server answered with its run."""
+        self.wait_text(css, lambda text: text != old and not any(
+            note in text for note in PENDING_NOTES), f"{css} did not change", timeout)
         self.settle()
         return self.text(css)
 
