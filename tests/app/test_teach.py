@@ -195,7 +195,12 @@ def test_no_text_of_the_page_names_a_repository_file_in_any_scene(page):
         assert "Custom parameters" in ex.teach.story.pane.object
 
 
-def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered():
+def test_a_text_is_built_when_opened_and_filled_once_mathjax_answered(monkeypatch):
+    from app import perf
+
+    # The late MathJax load is a patch (mathjax-after-load); without it the text is sent at
+    # once, to the MathJax the page loaded with itself.
+    monkeypatch.setenv(perf.SWITCH, "on")
     ex = Explorer()
     main, teach = ex.main_panel(), ex.teach
     assert teach.story.pane is None
