@@ -152,11 +152,19 @@ def _context():
 IDLE_WORKERS = 2
 #: Calls a worker takes before it is replaced: what a solve leaves allocated stays bounded.
 CALLS_PER_WORKER = 100
+#: How much lower a worker's scheduling priority is than the server's (``nice``): on a busy
+#: machine the server's event loop, which answers every session's slider, gets a core before
+#: a long solve does (Linux gives nice 5 about a third of nice 0's share of a shared core).
+WORKER_NICE = 5
 
 
 def _serve(tasks, answers) -> None:
-    """A worker's loop: receive ``(fn, args, kwargs)``, send back ``(True, value)`` or
-    ``(False, error)``; end when the server closes its end of ``tasks``."""
+    """A worker's loop, at :data:`WORKER_NICE`: receive ``(fn, args, kwargs)``, send back
+    ``(True, value)`` or ``(False, error)``; end when the server closes its end of ``tasks``."""
+    try:
+        os.nice(WORKER_NICE)
+    except OSError:  # not allowed here: the worker keeps the server's priority
+        pass
     while True:
         try:
             fn, args, kwargs = tasks.recv()

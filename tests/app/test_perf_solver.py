@@ -400,3 +400,16 @@ def test_a_call_that_does_not_pickle_is_refused_and_its_worker_kept():
     with pytest.raises(Exception, match="pickle"):
         solve_process.call(_pid, lambda: None)  # a lambda does not pickle
     assert solve_process.call(_pid) == first
+
+
+def _niceness(*args, **kwargs) -> int:
+    """Says at which scheduling priority it ran (pickled by reference)."""
+    return os.nice(0)
+
+
+def test_a_worker_solves_at_a_lower_priority_than_the_server():
+    """A long solve must not take a core from the event loop that answers every session:
+    workers run WORKER_NICE steps nicer than the server (capped at the OS's 19)."""
+    solve_process.warm_up(wait=True)
+    expected = min(os.nice(0) + solve_process.WORKER_NICE, 19)
+    assert solve_process.call(_niceness) == expected

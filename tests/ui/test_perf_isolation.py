@@ -1,9 +1,10 @@
 """One session's long solve does not hold up another session of the same server process.
 
 The server runs the explorer with one change (``slow_solve.py``): a solve with the horizon
-:data:`SLOW_T_END` first spends :data:`SLOW_S` of CPU time in Python, holding the
-interpreter's lock as long integrations do, like the stiff deformable-stop solves that take
-seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at "precise" took 3.1 s). The slow
+:data:`SLOW_T_END` first computes in Python, holding the interpreter's lock as long
+integrations do, until the test has measured the other session's replies: like the stiff
+deformable-stop solves that take seconds (``k_c0=1e5, k_e0=1e3, beta=1000, D=0.001`` at
+"precise" took 3.1 s). The slow
 session integrates (``event``), so its solve runs in a child process of the server
 (``app/solve/process.py``); the other session's scene is solved in closed form.
 """
@@ -23,18 +24,19 @@ pytestmark = pytest.mark.ui
 
 #: Largest delay [ms] the slow solve may add to the other session's reply (median of the
 #: replies during the solve minus the median of those before and after it). Solved on the
-#: event loop, the slow solve delays the reply by the whole solve (3 s and more: the test
-#: fails there, replies arrive only after it). Solved in a worker thread, it shared the
-#: interpreter's lock with the event loop: measured 114-556 ms on the shared test machine
-#: (load average 8-11). In a child process it holds only a core; the two cores are shared
-#: with the browser's two pages, so the reply can still wait for a core (195 ms measured at
-#: load average 7): the goal, GOAL_MS, is printed against the measurement, the assertion
-#: leaves room for a busy machine and still fails by far for a solve on the event loop.
-MAX_DELAY_MS = 500.0
+#: event loop, the slow solve answers nothing until the test lets it end: the test fails
+#: there by a timeout. Solved in a worker thread, it shared the interpreter's lock with the
+#: event loop: measured 114-556 ms on the shared test machine (load average 8-11). In a
+#: child process it holds only a core, at a lower priority than the server; the two cores
+#: are shared with the browser's two pages, so the reply can still wait for a core: 195 ms
+#: at load average 7, 336 ms on a fresh 2-core machine with the page's patches off, 463 ms
+#: with four other test runs on the machine. The goal, GOAL_MS, is printed against the
+#: measurement; the assertion leaves room for a busy machine.
+MAX_DELAY_MS = 1000.0
 GOAL_MS = 100.0
 #: Releases measured before, during and after the slow solve; releases not measured first
-#: (the first ones compute what later ones find cached); replies needed during the solve.
-RELEASES, WARM_UP, MIN_DURING = 5, 2, 3
+#: (the first ones compute what later ones find cached).
+RELEASES, WARM_UP = 5, 2
 #: How often [ms] a page is asked about its busy marks (a page in the background gets no
 #: animation frames, Playwright's default).
 POLL_MS = 50
@@ -84,15 +86,15 @@ JS_BUSY_PLOTS = """() => {
 @pytest.fixture(scope="module")
 def slow_server(tmp_path_factory):
     script = tmp_path_factory.mktemp("slow") / "slow.py"
-    done_file = script.with_name("slow-solve-done")
+    done_file, go_file = script.with_name("slow-solve-done"), script.with_name("slow-go")
     script.write_text(SLOW_APP)
     port = free_port()
     # The server's solver processes import the stand-in from tests/ui (Bokeh restores
     # sys.path after each run of the script, so the path goes in the environment).
-    env = {"FIE_SLOW_DONE_FILE": str(done_file),
+    env = {"FIE_SLOW_DONE_FILE": str(done_file), "FIE_SLOW_GO_FILE": str(go_file),
            "PYTHONPATH": os.pathsep.join([str(ROOT), str(ROOT / "tests" / "ui")])}
     with panel_server(script, port, script.with_suffix(".log"), env=env):
-        yield f"http://127.0.0.1:{port}/slow", done_file
+        yield f"http://127.0.0.1:{port}/slow", done_file, go_file
 
 
 def _release(p: Page) -> float:
@@ -108,19 +110,13 @@ def _release(p: Page) -> float:
 _TURNS = itertools.count()
 
 
-def _releases(p: Page, n: int, until=None) -> list[float]:
-    """Reply times [ms] of ``n`` releases (fewer if ``until()`` turns true)."""
-    replies = []
-    for _ in range(n):
-        reply = _release(p)
-        if until is not None and until():
-            break
-        replies.append(reply)
-    return replies
+def _releases(p: Page, n: int) -> list[float]:
+    """Reply times [ms] of ``n`` releases."""
+    return [_release(p) for _ in range(n)]
 
 
 def test_a_long_solve_does_not_delay_another_session(browser, slow_server, shots):
-    url, done_file = slow_server
+    url, done_file, go_file = slow_server
     slow, other = Page(browser, url + "?method=event"), Page(browser, url)
     try:
         other.page.evaluate(JS_REPLY_PROBE)
@@ -136,7 +132,9 @@ def test_a_long_solve_does_not_delay_another_session(browser, slow_server, shots
         busy = slow.page.evaluate(JS_BUSY_PLOTS)
         slow.page.screenshot(path=shots / "busy-plots.png")
         assert slow.text(".fie-readout-pane") == readout and not done_file.exists()
-        during = _releases(other, RELEASES, until=done_file.exists)
+        during = _releases(other, RELEASES)
+        still_solving = not done_file.exists()  # every reply measured while it ran
+        go_file.touch()
         # The answer replaces the picture and the busy marks.
         slow.wait_text_change(".fie-readout-pane", readout, timeout=60_000)
         slow.page.wait_for_function(f"() => ({JS_BUSY_PLOTS})().length === 0",
@@ -149,5 +147,5 @@ def test_a_long_solve_does_not_delay_another_session(browser, slow_server, shots
     print(f"replies before the slow solve {before} ms, during it {during} ms, after it "
           f"{after} ms; delay {delay:.0f} ms (goal {GOAL_MS:.0f} ms)")
     assert "fie-plot fie-plot-phase pn-loading" in " ".join(busy), busy
-    assert len(during) >= MIN_DURING, during  # measured while the slow solve ran
+    assert still_solving, during
     assert delay <= MAX_DELAY_MS, (before, during, after)
