@@ -130,12 +130,12 @@ def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
     >>> from app.state import scene_values, si_scales
     >>> pin_label("5b", scene_values("5b"), scene_values("5b"))
     '5b: same parameters'
-    >>> si = si_scales(2.0, 50.0)
+    >>> si = si_scales(2.0, 50.0, 1.0)
     >>> pin_label("5a", scene_values("5a"), {**scene_values("5a"), "belt_speed": 0.3}, si)
     '5a: v_dr 0.5 m/s'
     >>> pin_label("6b", scene_values("6b"), scene_values("5a"), si)
-    '6b: v_dr 1.5 m/s, x_bar 0.1 m, r 0.7'
-    >>> pin_label("5a", scene_values("5a"), scene_values("5a"), si, si_scales(1.0, 50.0))
+    '6b: v_dr 1.5 m/s, x_bar 100 mm, r 0.7'
+    >>> pin_label("5a", scene_values("5a"), scene_values("5a"), si, si_scales(1.0, 50.0, 1.0))
     '5a: m 1 kg, v_dr 0.7071 m/s, t_end 8.485 s'
     """
     pin_scales = scales if pin_scales is None else pin_scales
@@ -287,7 +287,8 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
         first, last = (f"{r:.3g}" for r in ends)
         restitution = first if first == last else f"{first} / {last}"
     return {"steady": steady.kind.value.replace("_", " "), "period": period,
-            "x_max": f"{res.x_max:.4g}{' m' if scales.si else ''}", "impacts": impacts,
+            "x_max": f"{res.x_max * scales.length:.4g}{scales.length_unit_text}",
+            "impacts": impacts,
             "restitution": restitution}
 
 
@@ -345,8 +346,10 @@ class Pin:
 
     def scales(self, page: Scales) -> Scales:
         """The pin's own units on a page in ``page``'s: SI with its own m and k (its
-        seconds, m/s and newtons are those of the run pinned), or dimensionless."""
-        return si_scales(self.mass, self.stiffness) if page.si else DIMENSIONLESS
+        seconds, m/s and newtons are those of the run pinned) and the page's length unit,
+        or dimensionless."""
+        return (si_scales(self.mass, self.stiffness, page.length_unit) if page.si
+                else DIMENSIONLESS)
 
 
 class Compare:

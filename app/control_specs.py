@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 from app.scenes import DEFAULT_SCENE, SCENES
 from app.solve.presets import ACCURACY
-from app.state import ACCURACIES, SI_NAMES
+from app.state import ACCURACIES, SI_STATE_KEYS
 from app.teach.glossary import tooltip as glossary_tooltip
 
 #: Slider label and step of each numeric state parameter.
@@ -61,6 +61,13 @@ TOOLTIPS: Mapping[str, str] = {
     "t_end_si": "Length of the simulated run in seconds.",
     "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
     "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
+    "length_unit_si": "Length unit L: the length a dimensionless 1 of the scene stands for. "
+                      "A new L resizes the rig (F_N, v_dr and every length scale with it); "
+                      "the dimensionless scene stays.",
+    "clearance_si": "Stop position x_bar, measured from the unstretched spring.",
+    "x0_si": "Initial displacement of the mass.",
+    "limit_overlap_si": "Limit overlap D: both envelopes grow without bound as the overlap "
+                        "nears D, so the stop cannot be pushed past it (Eq. 11).",
 }
 # Each symbol's tooltip links to its line of the model card's glossary.
 TOOLTIPS = {name: glossary_tooltip(name, text) for name, text in TOOLTIPS.items()}
@@ -86,30 +93,32 @@ METHOD_TIPS: Mapping[str, str] = {
 #: SI widgets derived from the state through ExplorerState.physical / from_physical:
 #: name -> (label, step, key of ExplorerState.physical()).
 SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
-    "normal_force": ("normal force F_N (N)", 0.1, "normal_force"),
+    "length_unit_si": ("length unit L (mm)", 0.1, "L"),
+    "normal_force": ("normal force F_N (N)", 0.01, "normal_force"),
     "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
     "v0_si": ("initial velocity x'0 (m/s)", 0.001, "v0"),
     "t_end_si": ("horizon t_end (s)", 0.01, "t_end"),
     "k_c0_si": ("compression stiffness k_c0 (N/m)", 1.0, "k_c0"),
     "k_e0_si": ("expansion stiffness k_e0 (N/m)", 1.0, "k_e0"),
+    "clearance_si": ("clearance x_bar (mm)", 0.01, "clearance"),
+    "limit_overlap_si": ("limit overlap D (mm)", 0.001, "limit_overlap"),
+    "x0_si": ("initial displacement x0 (mm)", 0.01, "x0"),
 }
 #: The state value each SI value converts to (its bounds, in SI, are the SI box's).
-SI_STATE_NAME: Mapping[str, str] = {si: name for name, (si, _) in SI_NAMES.items()}
-#: SI sliders that stand for a dimensionless one in SI mode, and the factor that converts
-#: its slider range, a power of an SI value: x'0 [m/s] = omega x'0, t_end [s] =
-#: t_end / omega, k_c0 [N/m] = k (k_c0 / k).
-SI_TWINS: Mapping[str, tuple[str, str, int]] = {
-    "v0_si": ("v0", "omega", 1), "t_end_si": ("t_end", "omega", -1),
-    "k_c0_si": ("k_c0", "k", 1), "k_e0_si": ("k_e0", "k", 1),
+SI_STATE_NAME: Mapping[str, str] = SI_STATE_KEYS
+#: SI sliders that stand for a dimensionless one in SI mode (the SI box in its place, its
+#: slider range the dimensionless one's times the factor of app.state.si_units).
+SI_TWINS: Mapping[str, str] = {
+    "v0_si": "v0", "t_end_si": "t_end", "k_c0_si": "k_c0", "k_e0_si": "k_e0",
+    "clearance_si": "clearance", "limit_overlap_si": "limit_overlap", "x0_si": "x0",
 }
-#: Sliders of a length: their label gains "(m)" in SI mode.
-LENGTH_SLIDERS = ("clearance", "limit_overlap", "x0")
 #: Sliders in groups that join the page when first shown (:class:`~app.widgets.ShownLater`):
 #: the deformable stop's, the SI set's and the SI twins of the start and horizon. A new
 #: page makes their widgets only then.
-HYSTERETIC_SLIDERS = ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap", "beta_c", "beta_e")
-SI_BOX_SLIDERS = ("mass", "stiffness", "normal_force", "belt_speed_si")
-SI_START_SLIDERS = ("v0_si", "t_end_si")
+HYSTERETIC_SLIDERS = ("k_c0", "k_c0_si", "k_e0", "k_e0_si", "limit_overlap",
+                      "limit_overlap_si", "beta_c", "beta_e")
+SI_BOX_SLIDERS = ("mass", "stiffness", "length_unit_si", "normal_force", "belt_speed_si")
+SI_START_SLIDERS = ("clearance_si", "x0_si", "v0_si", "t_end_si")
 SHOWN_LATER = frozenset(HYSTERETIC_SLIDERS + SI_BOX_SLIDERS + SI_START_SLIDERS)
 #: Constraints kept by the widgets: the first may not exceed the second.
 CONSTRAINTS = (("mu_k", "mu_s"), ("k_e0", "k_c0"), ("beta_c", "beta_e"))
