@@ -12,27 +12,29 @@ from collections.abc import Mapping
 
 from app.scenes import DEFAULT_SCENE, SCENES
 from app.solve.presets import ACCURACY
-from app.state import ACCURACIES, SI_STATE_KEYS
+from app.state import ACCURACIES, SI_NAMES, SI_STATE_KEYS
+from app.teach.glossary import BETAS
+from app.teach.glossary import PLAIN as _S
 from app.teach.glossary import tooltip as glossary_tooltip
 
-#: Slider label and step of each numeric state parameter.
+#: Slider label and step of each numeric state parameter, its symbols the glossary's.
 SLIDERS: Mapping[str, tuple[str, float]] = {
-    "belt_speed": ("belt speed v", 0.001),
-    "clearance": ("clearance x_bar", 0.001),
-    "restitution": ("restitution r", 0.01),
-    "mu_s": ("static friction mu_s", 0.005),
-    "mu_k": ("kinetic friction mu_k", 0.005),
-    "u_s": ("static deflection u_s = F_N/k", 0.01),
-    "k_c0": ("compression stiffness k_c0/k", 1.0),
-    "k_e0": ("expansion stiffness k_e0/k", 1.0),
-    "limit_overlap": ("limit overlap D", 0.0005),
-    "beta_c": ("beta_c (towards compression)", 0.5),
-    "beta_e": ("beta_e (towards expansion)", 0.5),
-    "x0": ("initial displacement x0", 0.005),
-    "v0": ("initial velocity x'0", 0.005),
-    "t_end": ("horizon t_end", 1.0),
-    "mass": ("mass m (kg)", 0.01),
-    "stiffness": ("stiffness k (N/m)", 1.0),
+    "belt_speed": (f"belt speed {_S['v']}", 0.001),
+    "clearance": (f"clearance {_S['x_bar']}", 0.001),
+    "restitution": (f"restitution {_S['r']}", 0.01),
+    "mu_s": (f"static friction {_S['mu_s']}", 0.005),
+    "mu_k": (f"kinetic friction {_S['mu_k']}", 0.005),
+    "u_s": (f"static deflection {_S['u_s']} = {_S['F_N']}/{_S['k']}", 0.01),
+    "k_c0": (f"compression stiffness {_S['k_c0']}/{_S['k']}", 1.0),
+    "k_e0": (f"expansion stiffness {_S['k_e0']}/{_S['k']}", 1.0),
+    "limit_overlap": (f"limit overlap {_S['D']}", 0.0005),
+    "beta_c": (f"{BETAS[0]} (towards compression)", 0.5),
+    "beta_e": (f"{BETAS[1]} (towards expansion)", 0.5),
+    "x0": (f"initial displacement {_S['x0']}", 0.005),
+    "v0": (f"initial velocity {_S['v0']}", 0.005),
+    "t_end": (f"horizon {_S['t_end']}", 1.0),
+    "mass": (f"mass {_S['m']} (kg)", 0.01),
+    "stiffness": (f"stiffness {_S['k']} (N/m)", 1.0),
 }
 #: What each symbol means (the box's tooltip; the allowed range is added to it).
 TOOLTIPS: Mapping[str, str] = {
@@ -93,16 +95,19 @@ METHOD_TIPS: Mapping[str, str] = {
 #: SI widgets derived from the state through ExplorerState.physical / from_physical:
 #: name -> (label, step, key of ExplorerState.physical()).
 SI_SLIDERS: Mapping[str, tuple[str, float, str]] = {
-    "length_unit_si": ("length unit L (mm)", 0.1, "L"),
-    "normal_force": ("normal force F_N (N)", 0.01, "normal_force"),
-    "belt_speed_si": ("belt speed v_dr (m/s)", 0.001, "belt_speed"),
-    "v0_si": ("initial velocity x'0 (m/s)", 0.001, "v0"),
-    "t_end_si": ("horizon t_end (s)", 0.01, "t_end"),
-    "k_c0_si": ("compression stiffness k_c0 (N/m)", 1.0, "k_c0"),
-    "k_e0_si": ("expansion stiffness k_e0 (N/m)", 1.0, "k_e0"),
-    "clearance_si": ("clearance x_bar (mm)", 0.01, "clearance"),
-    "limit_overlap_si": ("limit overlap D (mm)", 0.001, "limit_overlap"),
-    "x0_si": ("initial displacement x0 (mm)", 0.01, "x0"),
+    name: (f"{SI_NAMES[state][1]} ({unit})", step, SI_NAMES[state][0])
+    for name, (state, unit, step) in {
+        "length_unit_si": ("length_unit", "mm", 0.1),
+        "normal_force": ("u_s", "N", 0.01),
+        "belt_speed_si": ("belt_speed", "m/s", 0.001),
+        "v0_si": ("v0", "m/s", 0.001),
+        "t_end_si": ("t_end", "s", 0.01),
+        "k_c0_si": ("k_c0", "N/m", 1.0),
+        "k_e0_si": ("k_e0", "N/m", 1.0),
+        "clearance_si": ("clearance", "mm", 0.01),
+        "limit_overlap_si": ("limit_overlap", "mm", 0.001),
+        "x0_si": ("x0", "mm", 0.01),
+    }.items()
 }
 #: The state value each SI value converts to (its bounds, in SI, are the SI box's).
 SI_STATE_NAME: Mapping[str, str] = SI_STATE_KEYS

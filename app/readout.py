@@ -20,6 +20,7 @@ from app.solve.measure import integrates, reference_name
 from app.solve.presets import ACCURACY
 from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, ExplorerState, Scales
+from app.teach.glossary import GLOSSARY
 from app.widgets import set_changed
 from core import (
     HystereticStop,
@@ -380,8 +381,9 @@ def _named(pairs: list[tuple[str, str]]) -> str:
 
 #: The core's plain-text mathematics as a reader sees it in print (the page shows the
 #: symbols of its sliders and of the model card; the core's texts stay ASCII).
-PRINTED_SYMBOLS = (("<=", "≤"), (">=", "≥"), ("x_bar", "x̄"), ("r^h", "rʰ"),
-                   ("sqrt(", "√("), ("mu_s", "μₛ"), ("mu_k", "μₖ"), ("omega", "ω"))
+PRINTED_SYMBOLS = (("<=", "≤"), (">=", "≥"), ("x_bar", GLOSSARY["x_bar"].plain),
+                   ("r^h", "rʰ"), ("sqrt(", "√("), ("mu_s", GLOSSARY["mu_s"].plain),
+                   ("mu_k", GLOSSARY["mu_k"].plain), ("omega", "ω"))
 
 
 def printed(text: str) -> str:

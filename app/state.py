@@ -26,6 +26,8 @@ from typing import Any
 import param
 
 from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
+from app.teach.glossary import PLAIN as _S
+from app.teach.glossary import subscripted
 from core import HystereticStop, Oscillator, RigidStop, check_range, check_start
 
 #: Stop types offered in the page.
@@ -341,14 +343,17 @@ URL_SI_PARAMS = ("belt_speed", "v0", "t_end", "k_c0", "k_e0")
 
 
 #: The SI value (a key of :meth:`ExplorerState.physical`) each state value is shown as,
-#: and its name in the page's boxes and messages.
+#: and its name in the page's boxes and messages (symbols as the glossary prints them).
 SI_NAMES: Mapping[str, tuple[str, str]] = {
     "mass": ("m", "mass m"), "stiffness": ("k", "stiffness k"),
-    "u_s": ("normal_force", "normal force F_N"), "belt_speed": ("belt_speed", "belt speed v_dr"),
-    "v0": ("v0", "initial velocity x'0"), "t_end": ("t_end", "horizon t_end"),
-    "k_c0": ("k_c0", "compression stiffness k_c0"), "k_e0": ("k_e0", "expansion stiffness k_e0"),
-    "length_unit": ("L", "length unit L"), "clearance": ("clearance", "clearance x_bar"),
-    "x0": ("x0", "initial displacement x0"), "limit_overlap": ("limit_overlap", "limit overlap D"),
+    "u_s": ("normal_force", f"normal force {_S['F_N']}"),
+    "belt_speed": ("belt_speed", f"belt speed {subscripted('v', 'dr')}"),
+    "v0": ("v0", f"initial velocity {_S['v0']}"), "t_end": ("t_end", f"horizon {_S['t_end']}"),
+    "k_c0": ("k_c0", f"compression stiffness {_S['k_c0']}"),
+    "k_e0": ("k_e0", f"expansion stiffness {_S['k_e0']}"),
+    "length_unit": ("L", "length unit L"), "clearance": ("clearance", f"clearance {_S['x_bar']}"),
+    "x0": ("x0", f"initial displacement {_S['x0']}"),
+    "limit_overlap": ("limit_overlap", f"limit overlap {_S['D']}"),
 }
 #: The state value each SI value (a key of :meth:`ExplorerState.physical`) converts to.
 SI_STATE_KEYS: Mapping[str, str] = {
@@ -378,7 +383,7 @@ def si_units(mass: float, stiffness: float, length_unit: float = DEFAULT_LENGTH_
     >>> si_units(1.0, 100.0, 1.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
     (('belt speed v_dr', 'm/s', 10.0), ('horizon t_end', 's', 0.1))
     >>> si_units(1.0, 100.0, 0.01)["clearance"]
-    ('clearance x_bar', 'mm', 10.0)
+    ('clearance x̄', 'mm', 10.0)
     """
     scales = si_scales(mass, stiffness, length_unit)
     units = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0), "length_unit": ("mm", MM_PER_M),

@@ -434,7 +434,7 @@ def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
     with param.edit_constant(slider):
         slider.value_throttled = -0.5
     assert ex.alert.visible and ex.solution.values["clearance"] != -0.5
-    assert "Not shown yet: x_bar = -0.5 — the rows below are the run before" in (
+    assert "Not shown yet: x̄ = -0.5 — the rows below are the run before" in (
         ex.readout.object)
 
 

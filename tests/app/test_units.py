@@ -178,7 +178,7 @@ def test_a_bad_length_unit_typed_in_its_box_is_named_with_its_range(value):
 
 def test_a_length_out_of_range_in_mm_names_its_range_in_mm_with_L():
     state = ExplorerState(units="SI")
-    with pytest.raises(ValueError, match=r"clearance x_bar must lie in \[-100, 100\] mm with "
+    with pytest.raises(ValueError, match=r"clearance x̄ must lie in \[-100, 100\] mm with "
                                          r"L = 10 mm; got 500 mm"):
         state.from_physical(clearance=500.0)
 
