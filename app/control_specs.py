@@ -38,38 +38,42 @@ SLIDERS: Mapping[str, tuple[str, float]] = {
 }
 #: What each symbol means (the box's tooltip; the allowed range is added to it).
 TOOLTIPS: Mapping[str, str] = {
-    "belt_speed": "Belt speed v = v_dr / omega (a length in these units).",
-    "clearance": "Stop position x_bar, measured from the unstretched spring.",
+    "belt_speed": "Belt speed v = v_dr / ω (a length in these units).",
+    "clearance": f"Stop position {_S['x_bar']}, measured from the unstretched spring.",
     "restitution": "Newton's coefficient r: rebound speed over impact speed.",
-    "mu_s": "Static friction coefficient; b = mu_s u_s is the stick limit.",
-    "mu_k": "Kinetic friction coefficient (at most mu_s); a = mu_k u_s is the slip centre.",
-    "u_s": "Static deflection u_s = F_N / k: the spring stretch the normal force makes.",
+    "mu_s": f"Static friction coefficient; b = {_S['mu_s']} {_S['u_s']} is the stick limit.",
+    "mu_k": f"Kinetic friction coefficient (at most {_S['mu_s']}); a = {_S['mu_k']} "
+            f"{_S['u_s']} is the slip centre.",
+    "u_s": f"Static deflection {_S['u_s']} = {_S['F_N']} / k: the spring stretch the normal "
+           "force makes.",
     "k_c0": "Slope of the compression envelope at zero overlap, over k (Eq. 11).",
-    "k_e0": "Slope of the expansion envelope at zero overlap, over k (at most k_c0; "
+    "k_e0": f"Slope of the expansion envelope at zero overlap, over k (at most {_S['k_c0']}; "
             "Eq. 11).",
     "limit_overlap": "Limit overlap D: both envelopes grow without bound as the overlap "
                      "nears D, so the stop cannot be pushed past it (Eq. 11).",
     "beta_c": "How fast a reloading curve approaches the compression envelope, per D "
-              "(at most beta_e; Eq. 13).",
+              f"(at most {BETAS[1]}; Eq. 13).",
     "beta_e": "How fast an unloading curve approaches the expansion envelope, per D (Eq. 13).",
     "x0": "Initial displacement of the mass.",
     "v0": "Initial velocity of the mass.",
-    "t_end": "Length of the simulated run (dimensionless time t = omega tau).",
+    "t_end": "Length of the simulated run (dimensionless time t = ω τ).",
     "mass": "Mass m of the oscillator.",
     "stiffness": "Stiffness k of the spring.",
-    "normal_force": "Normal force F_N pressing the mass on the belt.",
-    "belt_speed_si": "Belt speed v_dr.",
+    "normal_force": f"Normal force {_S['F_N']} = k L {_S['u_s']} pressing the mass on the belt.",
+    "belt_speed_si": "Belt speed v_dr = ω L v.",
     "v0_si": "Initial velocity of the mass.",
     "t_end_si": "Length of the simulated run in seconds.",
     "k_c0_si": "Slope of the compression envelope at zero overlap (Eq. 11).",
-    "k_e0_si": "Slope of the expansion envelope at zero overlap (at most k_c0; Eq. 11).",
-    "length_unit_si": "Length unit L: the length a dimensionless 1 of the scene stands for. "
-                      "A new L resizes the rig (F_N, v_dr and every length scale with it); "
-                      "the dimensionless scene stays.",
-    "clearance_si": "Stop position x_bar, measured from the unstretched spring.",
-    "x0_si": "Initial displacement of the mass.",
-    "limit_overlap_si": "Limit overlap D: both envelopes grow without bound as the overlap "
-                        "nears D, so the stop cannot be pushed past it (Eq. 11).",
+    "k_e0_si": f"Slope of the expansion envelope at zero overlap (at most {_S['k_c0']}; "
+               "Eq. 11).",
+    "length_unit_si": "Length unit L: the length a dimensionless 1 of the scene stands for "
+                      "(lengths are shown in mm, 1000 L times their number). A new L resizes "
+                      f"the rig ({_S['F_N']}, v_dr and every length scale with it); the "
+                      "dimensionless scene stays.",
+    "clearance_si": f"Stop position {_S['x_bar']} in mm, measured from the unstretched spring.",
+    "x0_si": "Initial displacement of the mass, in mm.",
+    "limit_overlap_si": "Limit overlap D in mm: both envelopes grow without bound as the "
+                        "overlap nears D, so the stop cannot be pushed past it (Eq. 11).",
 }
 # Each symbol's tooltip links to its line of the model card's glossary.
 TOOLTIPS = {name: glossary_tooltip(name, text) for name, text in TOOLTIPS.items()}

@@ -53,6 +53,7 @@ from app.state import (
     scene_values,
     si_units,
 )
+from app.teach.glossary import PLAIN
 from app.widgets import (
     Checkbox,
     RadioButtonGroup,
@@ -321,10 +322,12 @@ class Controls(pn.viewable.Viewer):
                 w.set(value, soft_end=top)
                 continue
             w.set_bounds((low, high))
-            if name in SI_TWINS:  # the twin's range in the new units (m, k, L)
-                twin = SI_TWINS[name]
-                w.set(value, soft_end=max(value, step,
-                                          factors[twin][2] * st.param[twin].softbounds[1]))
+            if name in SI_TWINS:  # the twin's range in the units of the new m, k, L
+                low, high = (factors[SI_TWINS[name]][2] * b
+                             for b in st.param[SI_TWINS[name]].softbounds)
+                if math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                    value = w.value  # the box keeps what was typed, not its round trip
+                w.set(value, soft_start=low, soft_end=max(high, step))
             elif not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                 w.set(value, soft_end=max(w.end, SI_SOFT_SPAN * value, step))
 
@@ -351,18 +354,19 @@ def si_default_tip() -> str:
     """The units' tooltip: what SI shows and its default mass, stiffness and length unit
     (those of :class:`~app.state.ExplorerState`), with the numbers they give a scene.
 
-    >>> si_default_tip()[:63]
+    >>> si_default_tip()[:66]
     'SI: the scene in seconds, newtons and millimetres, with m = 0.5 kg'
     """
     m, k, length_unit = (ExplorerState.param[name].default
                          for name in ("mass", "stiffness", "length_unit"))
     omega = math.sqrt(k / m)
     mm = length_unit * MM_PER_M
+    u_s, f_n = PLAIN["u_s"], PLAIN["F_N"]
     return (f"SI: the scene in seconds, newtons and millimetres, with m = {m:g} kg, "
             f"k = {k:g} N/m and a length unit L = {mm:g} mm by default (a bench rig: "
-            f"omega = {omega:.3g} rad/s, a period of {2 * math.pi / omega:.2g} s). A "
-            f"dimensionless length of 1 is L: the scenes' u_s = 1 is a static deflection of "
-            f"{mm:g} mm, a normal force F_N = k L u_s = {k * length_unit:g} N, and a belt "
-            f"speed v = 0.1 is v_dr = omega L v = {omega * length_unit * 0.1:.3g} m/s. "
+            f"ω = {omega:.3g} rad/s, a period of {2 * math.pi / omega:.2g} s). A "
+            f"dimensionless length of 1 is L: the scenes' {u_s} = 1 is a static deflection of "
+            f"{mm:g} mm, a normal force {f_n} = k L {u_s} = {k * length_unit:g} N, and a belt "
+            f"speed v = 0.1 is v_dr = ω L v = {omega * length_unit * 0.1:.3g} m/s. "
             "Change m, k and L in the boxes below: a new L resizes the rig, the scene's "
             "dimensionless numbers stay.")

@@ -142,8 +142,8 @@ def test_the_si_default_is_a_bench_spring_and_the_page_says_so():
     assert state.omega == pytest.approx(omega, rel=1e-15)
     tip = si_default_tip()
     assert "m = 0.5 kg, k = 200 N/m and a length unit L = 10 mm" in tip
-    assert "F_N = k L u_s = 2 N" in tip and "static deflection of 10 mm" in tip
-    assert f"omega = {omega:.3g} rad/s" in tip and f"{2 * math.pi / omega:.2g} s" in tip
+    assert "F_N = k L uₛ = 2 N" in tip and "static deflection of 10 mm" in tip
+    assert f"ω = {omega:.3g} rad/s" in tip and f"{2 * math.pi / omega:.2g} s" in tip
     # Every scene maps to SI numbers of one bench: seconds to minutes of run, belts below
     # 1 m/s, a normal force of a few newtons (k L u_s), clearances of millimetres.
     for key in SCENES:

@@ -201,6 +201,15 @@ def test_in_si_the_length_boxes_show_millimetres_and_commit_in_units_of_L():
     sliders["length_unit_si"].input.value = "5"
     assert ex.state.length_unit == 0.005 and ex.state.clearance == pytest.approx(0.4)
     assert sliders["clearance_si"].value == pytest.approx(2.0)
+    # The slider's range is the dimensionless one's, 1e3 L times: both its ends follow L
+    # (the lower end stayed where a larger L had put it).
+    soft = ExplorerState.param.clearance.softbounds
+    slider = sliders["clearance_si"].slider
+    assert (slider.start, slider.end) == pytest.approx((soft[0] * 5.0, soft[1] * 5.0))
+    sliders["length_unit_si"].input.value = "1000"
+    assert (slider.start, slider.end) == pytest.approx((soft[0] * 1e3, soft[1] * 1e3))
+    sliders["length_unit_si"].input.value = "10"
+    assert (slider.start, slider.end) == pytest.approx((soft[0] * 10.0, soft[1] * 10.0))
     ex.controls.commit({"units": "dimensionless"})
     assert sliders["clearance"].visible and not sliders["clearance_si"].visible
 
