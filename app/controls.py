@@ -323,11 +323,11 @@ class Controls(pn.viewable.Viewer):
                 continue
             w.set_bounds((low, high))
             if name in SI_TWINS:  # the twin's range in the units of the new m, k, L
-                low, high = (factors[SI_TWINS[name]][2] * b
-                             for b in st.param[SI_TWINS[name]].softbounds)
+                soft_low, soft_high = (factors[SI_TWINS[name]][2] * b
+                                       for b in st.param[SI_TWINS[name]].softbounds)
                 if math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                     value = w.value  # the box keeps what was typed, not its round trip
-                w.set(value, soft_start=low, soft_end=max(high, step))
+                w.set(value, soft_start=soft_low, soft_end=max(soft_high, step))
             elif not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
                 w.set(value, soft_end=max(w.end, SI_SOFT_SPAN * value, step))
 

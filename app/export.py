@@ -144,8 +144,9 @@ def trajectory_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringIO
     """The trajectory as CSV: two comment lines (parameters, units, what ``overlap`` is),
     then the columns with their units.
 
-    In SI mode time is in seconds, ``xdot`` in m/s and the contact force in newtons; in
-    dimensionless mode the core's units (``contact_force`` is ``phi/k``, a length).
+    In SI mode time is in seconds, ``x`` and ``overlap`` in mm, ``xdot`` in m/s and the
+    contact force in newtons; in dimensionless mode the core's units (``contact_force`` is
+    ``phi/k``, a length).
     """
     u = _units(scales)
     buf = io.StringIO()

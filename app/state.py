@@ -2,9 +2,9 @@
 
 The state holds the dimensionless parameters of the core (docs/physics.md, "Dimensionless form")
 whatever the units shown: in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed
-``v_dr`` [m/s] convert through :meth:`core.Oscillator.from_physical` /
-:meth:`~core.Oscillator.to_physical` with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here
-too, and those for the initial velocity [m/s] and the horizon [s] through ``omega = sqrt(k/m)``.
+``v_dr`` [m/s] convert through :meth:`core.Oscillator.from_physical` with the mass ``m`` [kg] and
+stiffness ``k`` [N/m] kept here too, and those for the initial velocity [m/s] and the horizon [s]
+through ``omega = sqrt(k/m)``.
 In SI mode a dimensionless length stands for the length unit ``L`` [m] (``length_unit``), and
 the page shows lengths in millimetres (docs/physics.md, "The page's SI units").
 
@@ -56,7 +56,8 @@ SOLVER_CHOICES = ("accuracy", "method")
 HORIZON_CHOICES = ("t_end",)
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
 #: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
-#: the deformable stop's initial compression and expansion stiffnesses [N/m].
+#: the deformable stop's initial compression and expansion stiffnesses [N/m], the length
+#: unit L and the clearance, initial displacement and limit overlap [mm].
 SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end", "k_c0", "k_e0", "L",
            "clearance", "x0", "limit_overlap")
 #: Lengths among the state's values: shown in millimetres in SI, ``1e3 L`` times the number.

@@ -109,9 +109,9 @@ def new_figure(title: str, size: tuple[int, int], **kw) -> Any:
 def build_phase(s: Sources) -> Built:
     """The phase portrait: the motion by mode over the theory's references and points."""
     # Equal aspect: the browser fits the ranges to the frame it lays out
-    # (``match_aspect``; ``aspect_scale`` is omega L / (1e3 L) in SI units, so that x and x'/omega
-    # share one scale). The server does not know the frame's size, so this figure's
-    # ranges are the one thing computed in the browser.
+    # (``match_aspect``; ``aspect_scale`` is omega L [m/s] per 1e3 L [mm] in SI units, so
+    # that x and x'/omega share one scale). The server does not know the frame's size, so
+    # this figure's ranges are the one thing computed in the browser.
     # One padding for both: BokehJS pads after fitting the aspect, each axis by a
     # fraction of its own span, which keeps the ratio only if the fractions are equal.
     x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
