@@ -215,13 +215,15 @@ class Animation:
         """Redraw the mechanism at the start of the new motion (call under ``pn.io.hold``)."""
         self._build()
         res = sol.result
-        x = np.asarray(res.x) if res is not None and len(res.x) else np.array([sol.x0])
-        clearance = sol.stop.clearance if sol.stop is not None else None
-        lo = float(min(x.min(), sol.x0))
+        # Drawn in the page's units, those of the trajectory source the frames read.
+        length = scales.length
+        x = (np.asarray(res.x) if res is not None and len(res.x) else np.array([sol.x0])) * length
+        clearance = sol.stop.clearance * length if sol.stop is not None else None
+        lo = float(min(x.min(), sol.x0 * length))
         hi = float(max(x.max(), clearance if clearance is not None else x.max()))
         extent = max(hi - lo, 1e-6)
         g = _geometry(lo, extent, clearance if clearance is not None else hi,
-                      clearance is not None, sol.osc.v, scales)
+                      clearance is not None, sol.osc.v * length, scales)
         self.geom.data = g
         w, wall = g["w"][0], g["wall"][0]
         self.figure.x_range.update(start=wall - 0.05 * extent,

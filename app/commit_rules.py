@@ -120,10 +120,11 @@ def refusal_si(state: ExplorerState, key: str, value: float, label: str,
                low: float) -> str | None:
     """Why a typed SI ``value`` of ``key`` (a key of :meth:`ExplorerState.physical`; its box
     named ``label``, its lower bound ``low``) is refused, or None: first the state's bounds
-    in SI with the current m and k, then the conversion's own checks."""
+    in SI with the current m, k and L, then the conversion's own checks."""
     name = SI_STATE_NAME[key]
-    factor = si_units(state.mass, state.stiffness)[name][2]
-    message = si_bound_error(name, value / factor, state.mass, state.stiffness)
+    units = (state.mass, state.stiffness, state.length_unit)
+    factor = si_units(*units)[name][2]
+    message = si_bound_error(name, value / factor, *units)
     if message:
         return message
     higher = dict(CONSTRAINTS).get(name)

@@ -54,10 +54,12 @@ from app.solve.runner import SolveRunner
 from app.solve.solution import Solution
 from app.state import (
     DIMENSIONLESS,
+    SI_NAMES,
     URL_KEYS,
     Scales,
     si_scales,
 )
+from app.teach.glossary import BETAS, PLAIN
 from core import TransitionKind
 
 #: The pins' colours, in pin order: a violet (the mode bands are chosen so that none,
@@ -80,12 +82,13 @@ LABEL_ITEMS = 3
 #: (dimensionless name, SI name); the SI units and factors come from
 #: :data:`app.export.SI_PARAMETERS`.
 LABEL_NAMES: Mapping[str, tuple[str, str]] = {
-    "belt_speed": ("v", "v_dr"), "clearance": ("x_bar", "x_bar"), "restitution": ("r", "r"),
-    "mu_s": ("mu_s", "mu_s"), "mu_k": ("mu_k", "mu_k"), "u_s": ("u_s", "F_N"),
-    "k_c0": ("k_c0/k", "k_c0"), "k_e0": ("k_e0/k", "k_e0"), "limit_overlap": ("D", "D"),
-    "beta_c": ("beta_c", "beta_c"), "beta_e": ("beta_e", "beta_e"),
-    "contact_law": ("law", "law"), "x0": ("x0", "x0"), "v0": ("x'0", "x'0"),
-    "t_end": ("t_end", "t_end"),
+    "belt_speed": (PLAIN["v"], SI_NAMES["belt_speed"][1].split()[-1]),
+    "u_s": (PLAIN["u_s"], PLAIN["F_N"]), "contact_law": ("law", "law"),
+    "k_c0": (f"{PLAIN['k_c0']}/k", PLAIN["k_c0"]), "k_e0": (f"{PLAIN['k_e0']}/k", PLAIN["k_e0"]),
+    "beta_c": (BETAS[0],) * 2, "beta_e": (BETAS[1],) * 2,
+    **{name: (PLAIN[key],) * 2 for name, key in (
+        ("clearance", "x_bar"), ("restitution", "r"), ("mu_s", "mu_s"), ("mu_k", "mu_k"),
+        ("limit_overlap", "D"), ("x0", "x0"), ("v0", "v0"), ("t_end", "t_end"))},
 }
 #: Relative difference below which a label calls two SI values the same (each is the
 #: product of a state value and its own unit's factor: equal runs may differ in the last
@@ -130,12 +133,12 @@ def pin_label(scene: str, values: Mapping[str, Any], current: Mapping[str, Any],
     >>> from app.state import scene_values, si_scales
     >>> pin_label("5b", scene_values("5b"), scene_values("5b"))
     '5b: same parameters'
-    >>> si = si_scales(2.0, 50.0)
+    >>> si = si_scales(2.0, 50.0, 1.0)
     >>> pin_label("5a", scene_values("5a"), {**scene_values("5a"), "belt_speed": 0.3}, si)
     '5a: v_dr 0.5 m/s'
     >>> pin_label("6b", scene_values("6b"), scene_values("5a"), si)
-    '6b: v_dr 1.5 m/s, x_bar 0.1 m, r 0.7'
-    >>> pin_label("5a", scene_values("5a"), scene_values("5a"), si, si_scales(1.0, 50.0))
+    '6b: v_dr 1.5 m/s, x̄ 100 mm, r 0.7'
+    >>> pin_label("5a", scene_values("5a"), scene_values("5a"), si, si_scales(1.0, 50.0, 1.0))
     '5a: m 1 kg, v_dr 0.7071 m/s, t_end 8.485 s'
     """
     pin_scales = scales if pin_scales is None else pin_scales
@@ -287,7 +290,8 @@ def summary(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, str]:
         first, last = (f"{r:.3g}" for r in ends)
         restitution = first if first == last else f"{first} / {last}"
     return {"steady": steady.kind.value.replace("_", " "), "period": period,
-            "x_max": f"{res.x_max:.4g}{' m' if scales.si else ''}", "impacts": impacts,
+            "x_max": f"{res.x_max * scales.length:.4g}{scales.length_unit_text}",
+            "impacts": impacts,
             "restitution": restitution}
 
 
@@ -345,8 +349,10 @@ class Pin:
 
     def scales(self, page: Scales) -> Scales:
         """The pin's own units on a page in ``page``'s: SI with its own m and k (its
-        seconds, m/s and newtons are those of the run pinned), or dimensionless."""
-        return si_scales(self.mass, self.stiffness) if page.si else DIMENSIONLESS
+        seconds, m/s and newtons are those of the run pinned) and the page's length unit,
+        or dimensionless."""
+        return (si_scales(self.mass, self.stiffness, page.length_unit) if page.si
+                else DIMENSIONLESS)
 
 
 class Compare:

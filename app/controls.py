@@ -23,7 +23,6 @@ from app.control_specs import (
     CONSTRAINTS,
     CONTACT_LAW_TIPS,
     HYSTERETIC_SLIDERS,
-    LENGTH_SLIDERS,
     METHOD_TIPS,
     MU_S_MIN,
     SHOWN_LATER,
@@ -45,6 +44,7 @@ from app.state import (
     ACCURACIES,
     CONTACT_LAWS,
     METHODS,
+    MM_PER_M,
     SOLVE_PARAMS,
     STOP_TYPES,
     UNITS,
@@ -53,6 +53,7 @@ from app.state import (
     scene_values,
     si_units,
 )
+from app.teach.glossary import PLAIN
 from app.widgets import (
     Checkbox,
     RadioButtonGroup,
@@ -111,16 +112,16 @@ class Controls(pn.viewable.Viewer):
     def _build_si_sliders(self) -> None:
         st = self.state
         phys = st.physical()
-        factors = si_units(st.mass, st.stiffness)
+        factors = si_units(st.mass, st.stiffness, st.length_unit)
         for name, (label, step, key) in SI_SLIDERS.items():
             value = phys[key]
             state_name = SI_STATE_NAME[key]
-            # The state's bounds in SI (moved with m and k by _show_si).
+            # The state's bounds in SI (moved with m, k and L by _show_si).
             bounds = tuple(b * factors[state_name][2] for b in st.param[state_name].bounds)
             soft = (0.0, max(SI_SOFT_SPAN * value, step))
             if name in SI_TWINS:
-                twin, factor, power = SI_TWINS[name]
-                soft = tuple(phys[factor] ** power * b for b in st.param[twin].softbounds)
+                twin = SI_TWINS[name]
+                soft = tuple(factors[twin][2] * b for b in st.param[twin].softbounds)
             self._slider(name, label, value, step, soft, bounds, name=label.split(" (")[0],
                          on_drag=lambda v, k=key: self._dragged_si(k, v),
                          on_commit=lambda v, k=key: self.commit_si({k: v}),
@@ -183,11 +184,13 @@ class Controls(pn.viewable.Viewer):
         return [
             self.scene_select, self.reset_button,
             head("<b>Stop</b>"), self.stop_type, self.program,
-            w["clearance"], w["restitution"], self.hysteretic_box,
+            w["clearance"], self.si_start["clearance_si"], w["restitution"],
+            self.hysteretic_box,
             head("<b>Belt and friction</b>"), w["belt_speed"], w["mu_s"], w["mu_k"], w["u_s"],
             head("<b>Units</b>"), self.units, self.si_box,
             head("<b>Start and horizon</b> (or click the phase portrait)"),
-            w["x0"], w["v0"], self.si_start["v0_si"], w["t_end"], self.si_start["t_end_si"],
+            w["x0"], self.si_start["x0_si"], w["v0"], self.si_start["v0_si"], w["t_end"],
+            self.si_start["t_end_si"],
             head("<b>Solver</b>"), self.accuracy, self.method,
         ]
 
@@ -242,7 +245,7 @@ class Controls(pn.viewable.Viewer):
 
     def _coupled_note(self, note: Note) -> None:
         """Say that ``note.low`` followed ``note.high`` down, next to the box shown."""
-        twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
+        twin_of = {twin: name for name, twin in SI_TWINS.items()}
         shown = twin_of.get(note.low, note.low) if self.state.units == "SI" else note.low
         slider = self.sliders[shown]
         scale = slider.value / note.now if shown != note.low and note.now else 1.0
@@ -305,10 +308,10 @@ class Controls(pn.viewable.Viewer):
             phys = st.physical()
         except ValueError:
             return
-        twin_of = {twin: name for name, (twin, _, _) in SI_TWINS.items()}
+        twin_of = {twin: name for name, twin in SI_TWINS.items()}
         si_bounded = {twin_of[low]: phys[high] for low, high in CONSTRAINTS
                       if low in twin_of and high in twin_of}
-        factors = si_units(st.mass, st.stiffness)
+        factors = si_units(st.mass, st.stiffness, st.length_unit)
         for name, (_, step, key) in SI_SLIDERS.items():
             w, value = self.sliders[name], phys[key]
             state_name = SI_STATE_NAME[key]
@@ -319,41 +322,51 @@ class Controls(pn.viewable.Viewer):
                 w.set(value, soft_end=top)
                 continue
             w.set_bounds((low, high))
-            if not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
-                grow = 1.0 if name in SI_TWINS else SI_SOFT_SPAN
-                w.set(value, soft_end=max(w.end, grow * value, step))
+            if name in SI_TWINS:  # the twin's range in the units of the new m, k, L
+                soft_low, soft_high = (factors[SI_TWINS[name]][2] * b
+                                       for b in st.param[SI_TWINS[name]].softbounds)
+                if math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                    value = w.value  # the box keeps what was typed, not its round trip
+                w.set(value, soft_start=soft_low, soft_end=max(soft_high, step))
+            elif not math.isclose(w.value, value, rel_tol=1e-12, abs_tol=1e-15):
+                w.set(value, soft_end=max(w.end, SI_SOFT_SPAN * value, step))
 
     def _show_groups(self) -> None:
         """Which widgets the state needs: SI or dimensionless boxes, the stop's."""
         st = self.state
         si = st.units == "SI"
         self.si_box.show(si)
-        for name, (twin, _, _) in SI_TWINS.items():
+        stop = st.stop_type != "none"
+        for name, twin in SI_TWINS.items():
             self.sliders[name].visible = si
             self.sliders[twin].visible = not si
-        for box in self.si_start.values():
-            box.show(si)
+        for name, box in self.si_start.items():
+            box.show(si and (stop or name != "clearance_si"))
         self.sliders["u_s"].visible = not si
         self.sliders["belt_speed"].visible = not si
-        self.sliders["clearance"].visible = st.stop_type != "none"
+        self.sliders["clearance"].visible = stop and not si
         self.sliders["restitution"].visible = st.stop_type == "rigid"
         self.hysteretic_box.show(st.stop_type == "hysteretic")
         set_changed(self.program, visible=st.stop_type == "hysteretic")
-        for name in LENGTH_SLIDERS:
-            self.sliders[name].set_label(SLIDERS[name][0] + (" (m)" if si else ""))
 
 
 def si_default_tip() -> str:
-    """The units' tooltip: what SI shows and its default mass and stiffness (those of
-    :class:`~app.state.ExplorerState`), with the numbers they give a scene.
+    """The units' tooltip: what SI shows and its default mass, stiffness and length unit
+    (those of :class:`~app.state.ExplorerState`), with the numbers they give a scene.
 
-    >>> si_default_tip()[:61]
-    'SI: the scene in seconds, newtons and metres, with m = 0.5 kg'
+    >>> si_default_tip()[:66]
+    'SI: the scene in seconds, newtons and millimetres, with m = 0.5 kg'
     """
-    m, k = (ExplorerState.param[name].default for name in ("mass", "stiffness"))
+    m, k, length_unit = (ExplorerState.param[name].default
+                         for name in ("mass", "stiffness", "length_unit"))
     omega = math.sqrt(k / m)
-    return (f"SI: the scene in seconds, newtons and metres, with m = {m:g} kg and "
-            f"k = {k:g} N/m by default (a bench spring: omega = {omega:.3g} rad/s, a period "
-            f"of {2 * math.pi / omega:.2g} s). Lengths keep the scene's numbers, read as "
-            f"metres, so the normal force is F_N = k u_s ({k:g} N at the scenes' u_s = 1) "
-            "and a belt speed v_dr = omega v. Change m and k in the boxes below.")
+    mm = length_unit * MM_PER_M
+    u_s, f_n = PLAIN["u_s"], PLAIN["F_N"]
+    return (f"SI: the scene in seconds, newtons and millimetres, with m = {m:g} kg, "
+            f"k = {k:g} N/m and a length unit L = {mm:g} mm by default (a bench rig: "
+            f"ω = {omega:.3g} rad/s, a period of {2 * math.pi / omega:.2g} s). A "
+            f"dimensionless length of 1 is L: the scenes' {u_s} = 1 is a static deflection of "
+            f"{mm:g} mm, a normal force {f_n} = k L {u_s} = {k * length_unit:g} N, and a belt "
+            f"speed v = 0.1 is v_dr = ω L v = {omega * length_unit * 0.1:.3g} m/s. "
+            "Change m, k and L in the boxes below: a new L resizes the rig, the scene's "
+            "dimensionless numbers stay.")

@@ -27,7 +27,7 @@ import numpy as np
 from app.plots import MODE_NAMES
 from app.scenes import SCENES
 from app.solve.solution import Solution
-from app.state import DIMENSIONLESS, SI_CONVERSIONS, URL_KEYS, Scales
+from app.state import DIMENSIONLESS, MM_PER_M, SI_CONVERSIONS, URL_KEYS, Scales
 from core import TransitionKind
 
 #: Significant digits of the SI values in a header: a value on a slider's step grid (the
@@ -48,14 +48,12 @@ NAMED = {
 
 #: Parameters shown in other units in SI mode: the state's name -> (SI name, the factor of
 #: :class:`app.state.Scales` from the core's number, unit), the factors and units those of
-#: :data:`app.state.SI_CONVERSIONS`. Lengths are metres in both.
+#: :data:`app.state.SI_CONVERSIONS` (lengths in mm, 1e3 L times the core's number).
 SI_PARAMETERS: Mapping[str, tuple[str, str | None, str]] = {
-    **{name: (si_name, SI_CONVERSIONS[name][1], SI_CONVERSIONS[name][0])
-       for name, si_name in (("belt_speed", "v_dr"), ("v0", "v0"), ("t_end", "t_end"),
-                             ("u_s", "F_N"), ("k_c0", "k_c0"), ("k_e0", "k_e0"))},
-    "clearance": ("clearance", None, "m"),
-    "x0": ("x0", None, "m"),
-    "limit_overlap": ("D", None, "m"),
+    name: (si_name, SI_CONVERSIONS[name][1], SI_CONVERSIONS[name][0])
+    for name, si_name in (("belt_speed", "v_dr"), ("v0", "v0"), ("t_end", "t_end"),
+                          ("u_s", "F_N"), ("k_c0", "k_c0"), ("k_e0", "k_e0"),
+                          ("clearance", "clearance"), ("x0", "x0"), ("limit_overlap", "D"))
 }
 
 
@@ -80,17 +78,18 @@ def si_header_number(value: float) -> str:
 
 def si_values(values: Mapping[str, Any], scales: Scales) -> list[tuple[str, Any, str]]:
     """The run's parameters as the SI page shows them: ``(name, value, unit)``, first the
-    mass and stiffness that fix the units (``m = k / omega^2``).
+    mass, stiffness and length unit ``L`` (a dimensionless 1, in mm) that fix the units.
 
     >>> from app.state import ExplorerState, scene_values
-    >>> rows = si_values(scene_values("5a"), ExplorerState(units="SI", mass=2.0,
-    ...                                                     stiffness=50.0).scales())
-    >>> [r for r in rows if r[0] in ("m", "v_dr", "t_end")]
-    [('m', 2.0, 'kg'), ('v_dr', 0.5, 'm/s'), ('t_end', 12.0, 's')]
+    >>> rows = si_values(scene_values("5a"), ExplorerState(
+    ...     units="SI", mass=2.0, stiffness=50.0, length_unit=0.5).scales())
+    >>> [r for r in rows if r[0] in ("m", "L", "v_dr", "clearance")]
+    [('m', 2.0, 'kg'), ('L', 500.0, 'mm'), ('v_dr', 0.25, 'm/s'), ('clearance', 160.0, 'mm')]
     """
-    k, omega = scales.force, scales.velocity
-    out: list[tuple[str, Any, str]] = [("m", k / omega**2, "kg"), ("k", k, "N/m"),
-                                       ("omega", omega, "rad/s")]
+    m, k = scales.mass, scales.stiffness
+    out: list[tuple[str, Any, str]] = [("m", m, "kg"), ("k", k, "N/m"),
+                                       ("omega", (k / m) ** 0.5, "rad/s"),
+                                       ("L", scales.length_unit * MM_PER_M, "mm")]
     for name, value in values.items():
         if name in SI_PARAMETERS and isinstance(value, int | float):
             si_name, factor, unit = SI_PARAMETERS[name]
@@ -102,9 +101,10 @@ def si_values(values: Mapping[str, Any], scales: Scales) -> list[tuple[str, Any,
 
 
 def _units(scales: Scales) -> dict[str, str]:
-    """Column units: SI, or the core's (time in 1/omega, lengths in the unit of u_s)."""
+    """Column units: SI (lengths in mm), or the core's (time in 1/omega, lengths in the unit
+    of u_s)."""
     if scales.si:
-        return {"t": "s", "x": "m", "v": "m/s", "force": "N", "impulse": "N s"}
+        return {"t": "s", "x": "mm", "v": "m/s", "force": "N", "impulse": "N s"}
     return {"t": "1/omega", "x": "length", "v": "length", "force": "phi/k: length",
             "impulse": "m omega length"}
 
@@ -144,8 +144,9 @@ def trajectory_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringIO
     """The trajectory as CSV: two comment lines (parameters, units, what ``overlap`` is),
     then the columns with their units.
 
-    In SI mode time is in seconds, ``xdot`` in m/s and the contact force in newtons; in
-    dimensionless mode the core's units (``contact_force`` is ``phi/k``, a length).
+    In SI mode time is in seconds, ``x`` and ``overlap`` in mm, ``xdot`` in m/s and the
+    contact force in newtons; in dimensionless mode the core's units (``contact_force`` is
+    ``phi/k``, a length).
     """
     u = _units(scales)
     buf = io.StringIO()
@@ -154,18 +155,20 @@ def trajectory_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringIO
     if res is None:  # the overlap program of Fig. 2b
         buf.write(f"s,overlap [{u['x']}],contact_force [{u['force']}]\n")
         prog = sol.program
-        for row in zip(prog.s, prog.overlap, prog.force * scales.force, strict=True):
+        for row in zip(prog.s, prog.overlap * scales.length, prog.force * scales.force,
+                       strict=True):
             buf.write(",".join(csv_number(v) for v in row) + "\n")
         return _rewound(buf)
     buf.write(f"t [{u['t']}],x [{u['x']}],xdot [{u['v']}],mode,"
               f"contact_force [{u['force']}],overlap [{u['x']}]\n")
     t = np.asarray(res.t) * scales.time
+    x = np.asarray(res.x) * scales.length
     v = np.asarray(res.v) * scales.velocity
     phi = np.asarray(res.contact_force) * scales.force
-    overlap = _overlap(sol, np.asarray(res.x))
+    overlap = _overlap(sol, np.asarray(res.x)) * scales.length
     for i in range(len(t)):
         buf.write(
-            f"{csv_number(t[i])},{csv_number(res.x[i])},{csv_number(v[i])},"
+            f"{csv_number(t[i])},{csv_number(x[i])},{csv_number(v[i])},"
             f"{MODE_NAMES[int(res.mode[i])]},{csv_number(phi[i])},"
             f"{csv_number(overlap[i])}\n"
         )
@@ -189,9 +192,10 @@ def transitions_csv(sol: Solution, scales: Scales = DIMENSIONLESS) -> io.StringI
                   "the first ones, then only a reduced model's start, rest or a failed stop\n")
     for tr in res.transitions:
         impulse = ((tr.v - tr.v_after) * scales.impulse if tr.kind in IMPACT_KINDS else None)
-        cells = [csv_number(tr.t * scales.time), tr.kind.value, csv_number(tr.x),
+        cells = [csv_number(tr.t * scales.time), tr.kind.value,
+                 csv_number(tr.x * scales.length),
                  csv_number(tr.v * scales.velocity), csv_number(tr.v_after * scales.velocity),
-                 csv_number(_overlap(sol, np.array([tr.x]))[0]),
+                 csv_number(_overlap(sol, np.array([tr.x]))[0] * scales.length),
                  "" if impulse is None else csv_number(impulse)]
         buf.write(",".join(cells) + "\n")
     return _rewound(buf)
@@ -206,15 +210,16 @@ def file_name(values: Mapping[str, Any], scene: str, what: str,
 
     >>> from app.state import ExplorerState, scene_values
     >>> name = file_name(scene_values("5a"), "5a", "trajectory",
-    ...                  ExplorerState(units="SI", mass=2.0, stiffness=50.0).scales())
-    >>> name[:50], name[-29:]
-    ('fie_5a_trajectory_SI_m-2_k-50_stop-rigid_v_dr-0.5_', 'F_N-50_x0-0_v0-0_t_end-12.csv')
+    ...                  ExplorerState(units="SI", mass=2.0, stiffness=50.0,
+    ...                                length_unit=0.5).scales())
+    >>> name[:58], name[-29:]
+    ('fie_5a_trajectory_SI_m-2_k-50_L-500mm_stop-rigid_v_dr-0.25', 'F_N-25_x0-0_v0-0_t_end-12.csv')
     """
     stop = str(values.get("stop_type", "none"))
     parts = ["fie", scene, what, f"stop-{stop}"]
     if scales.si:
-        parts[3:3] = ["SI", f"m-{scales.force / scales.velocity**2:.6g}",
-                      f"k-{scales.force:.6g}"]
+        parts[3:3] = ["SI", f"m-{scales.mass:.6g}", f"k-{scales.stiffness:.6g}",
+                      f"L-{scales.length_unit * MM_PER_M:.6g}mm"]
     for name in NAMED.get(stop, NAMED["none"]):
         value = values.get(name)
         if isinstance(value, str):

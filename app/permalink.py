@@ -29,6 +29,7 @@ from app.deferred import Deferred, later
 from app.lessons.driver import LESSON_KEYS
 from app.scenes import CUSTOM, SCENES
 from app.state import (
+    LEGACY_LENGTH_UNIT,
     URL_KEYS,
     URL_SI_PARAMS,
     ExplorerState,
@@ -119,6 +120,10 @@ class Permalink(pn.viewable.Viewer):
         given, values, unparsed, errors, unknown = self._read(texts, repeated)
         good, bad = _checked(values)
         si = good.get("units", self.state.units) == "SI"
+        if texts.get("units") == "SI" and "length_unit" not in given:
+            # An SI link written before the page had a length unit read its lengths, speeds
+            # and forces in metres: it opens the same run, lengths shown in mm.
+            good["length_unit"] = LEGACY_LENGTH_UNIT
         errors.extend(self._unparsed_messages(unparsed, good, si))
         if si:
             errors.extend(self._si_values(good, bad))
@@ -164,10 +169,9 @@ class Permalink(pn.viewable.Viewer):
                            si: bool) -> list[str]:
         """The messages of values that are no value at all (``tend=true``): in an SI
         address those of :data:`URL_SI_PARAMS` with their SI range."""
-        mass = good.get("mass", self.state.mass)
-        stiffness = good.get("stiffness", self.state.stiffness)
-        return [f"{URL_KEYS[name]}: {si_units(mass, stiffness)[name][0]} must be a number "
-                f"in {si_range(name, mass, stiffness)}; got {links.shown(text)}"
+        units = _units(good, self.state)
+        return [f"{URL_KEYS[name]}: {si_units(*units)[name][0]} must be a number "
+                f"in {si_range(name, *units)}; got {links.shown(text)}"
                 if si and name in URL_SI_PARAMS
                 else links.refused_message(name, self.state.param[name], text)
                 for name, text in unparsed.items()]
@@ -176,16 +180,15 @@ class Permalink(pn.viewable.Viewer):
         """Turn the SI values of an SI address (:data:`URL_SI_PARAMS` in ``good`` and
         ``bad``) into the state's, in place; return the messages of those out of range
         (checked after conversion: their bounds depend on ``m`` and ``k``)."""
-        mass = good.get("mass", self.state.mass)
-        stiffness = good.get("stiffness", self.state.stiffness)
-        factors, errors = si_units(mass, stiffness), []
+        units = _units(good, self.state)
+        factors, errors = si_units(*units), []
         for name in URL_SI_PARAMS:
             raw = good.pop(name, bad.get(name))
             if raw is None:
                 continue
             bad.pop(name, None)
             value = raw / factors[name][2]
-            message = si_bound_error(name, value, mass, stiffness)
+            message = si_bound_error(name, value, *units)
             if message:
                 errors.append(f"{URL_KEYS[name]}: {message}")
             elif not math.isclose(value, getattr(self.state, name), rel_tol=1e-11):
@@ -204,7 +207,7 @@ class Permalink(pn.viewable.Viewer):
     def _values(self, current: Mapping[str, str]) -> dict[str, str]:
         """The address's values of the state, beside an address holding ``current``."""
         st, out = self.state, {}
-        si = si_units(st.mass, st.stiffness) if st.units == "SI" else {}
+        si = si_units(st.mass, st.stiffness, st.length_unit) if st.units == "SI" else {}
         for name, key in URL_KEYS.items():
             value = getattr(st, name)
             if name in URL_SI_PARAMS and si:
@@ -239,6 +242,13 @@ class Permalink(pn.viewable.Viewer):
             self.write_url()
             return
         self.url_changed()
+
+
+def _units(good: Mapping[str, Any], state: ExplorerState) -> tuple[float, float, float]:
+    """The mass, stiffness and length unit an address's SI values are read with: its own
+    where it gives them (and the state takes them), else the page's."""
+    return tuple(good.get(name, getattr(state, name))
+                 for name in ("mass", "stiffness", "length_unit"))
 
 
 def _checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:

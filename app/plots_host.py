@@ -351,14 +351,16 @@ class PlotsHost(pn.viewable.Viewer):
 
     def phase_tapped(self, event: Tap) -> None:
         """A tap on the phase portrait: the start there."""
+        scales = self.state.scales()
         self._commit_tap(event, lambda x, y: {
-            "x0": round(x, 4), "v0": round(y / self.state.scales().velocity, 4)})
+            "x0": round(x / scales.length, 4), "v0": round(y / scales.velocity, 4)})
 
     def map_tapped(self, event: Tap) -> None:
         """A tap on the regime map: the belt speed and clearance there."""
+        scales = self.state.scales()
         self._commit_tap(event, lambda x, y: {
-            "belt_speed": max(0.0, round(x / self.state.scales().velocity, 4)),
-            "clearance": round(y, 4)})
+            "belt_speed": max(0.0, round(x / scales.velocity, 4)),
+            "clearance": round(y / scales.length, 4)})
 
     def _commit_tap(self, event: Tap, values: Callable[[float, float], dict[str, float]]) -> None:
         """Commit the ``values`` of a tap at ``(x, y)``; a tap no user can make (a script's:

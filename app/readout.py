@@ -20,6 +20,7 @@ from app.solve.measure import integrates, reference_name
 from app.solve.presets import ACCURACY
 from app.solve.solution import Solution
 from app.state import DIMENSIONLESS, ExplorerState, Scales
+from app.teach.glossary import GLOSSARY
 from app.widgets import set_changed
 from core import (
     HystereticStop,
@@ -110,14 +111,14 @@ def readout_rows(sol: Solution, scales: Scales = DIMENSIONLESS) -> list[tuple[st
 def _program_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     """The stop alone, driven by the overlap program of Fig. 2b."""
     stop = sol.stop
-    len_unit = " m" if scales.si else ""
-    stiffness = (f"k_c0 = {_num(stop.k_c0 * scales.force)} N/m, "
-                 f"k_e0 = {_num(stop.k_e0 * scales.force)} N/m" if scales.si else
+    len_unit, length = scales.length_unit_text, scales.length
+    stiffness = (f"k_c0 = {_num(stop.k_c0 * scales.stiffness)} N/m, "
+                 f"k_e0 = {_num(stop.k_e0 * scales.stiffness)} N/m" if scales.si else
                  f"k_c0/k = {_num(stop.k_c0)}, k_e0/k = {_num(stop.k_e0)}")
     area = float(np.trapezoid(sol.program.force, sol.program.overlap))
     return [
         ("Scene", "the stop alone, driven by a prescribed overlap (Fig. 2b)"),
-        ("Stop", f"{stiffness}, D = {_num(stop.limit_overlap)}{len_unit}, beta_c = "
+        ("Stop", f"{stiffness}, D = {_num(stop.limit_overlap * length)}{len_unit}, beta_c = "
                  f"{_num(stop.beta_c)}, beta_e = {_num(stop.beta_e)}"),
         ("Contact law", CONTACT_LAW_TEXT[stop.law]),
         ("Energy lost", f"{_num(area * scales.energy)}{' J' if scales.si else ' (per unit k)'} "
@@ -130,7 +131,7 @@ def _theory_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     without impact, x* (Eqs. 25, 35)."""
     th = sol.theory
     vel_unit = " m/s" if scales.si else ""
-    len_unit = " m" if scales.si else ""
+    len_unit, length = scales.length_unit_text, scales.length
     equivalent = (" (the theory of the equivalent rigid stop, r_eq = sqrt(k_e0/k_c0), "
                   "Eq. 16)" if isinstance(sol.stop, HystereticStop) else "")
     rows = [("Regime", th.regime.description + equivalent)]
@@ -144,15 +145,15 @@ def _theory_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
                              f"{rel} v*_dr = "
                              f"{_num(th.critical_speed * scales.velocity, vel_unit)} "
                              "(critical speed, Eq. 25); in the Regime row's relations "
-                             f"v = v_dr/omega = {_num(v)} m and v* = "
-                             f"{_num(th.critical_speed)} m (the paper's time "
-                             "t = omega tau)"))
+                             f"v = v_dr/omega = {_num(v * length, len_unit)} and v* = "
+                             f"{_num(th.critical_speed * length, len_unit)} (the paper's "
+                             "time t = omega tau)"))
     else:
         rows.append(("Belt", f"{belt}: v = {_num(v)} {rel} "
                              f"v* = {_num(th.critical_speed)} (critical speed, Eq. 25)"))
-    rows.append(("x_max impactless", _num(th.x_max_impactless, len_unit)))
+    rows.append(("x_max impactless", _num(th.x_max_impactless * length, len_unit)))
     if sol.stop is not None and th.restitution < 1.0 and not th.fast:
-        rows.append(("x*", f"{_num(th.x_star, len_unit)} (Eq. 35 rederived, "
+        rows.append(("x*", f"{_num(th.x_star * length, len_unit)} (Eq. 35 rederived, "
                            f"r = {_ratio(th.restitution)})"))
     return rows
 
@@ -160,7 +161,7 @@ def _theory_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
 def _run_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     """What the run found: x_max, the steady state, the restitutions, its status."""
     res = sol.result
-    rows = [("x_max simulated", _num(res.x_max, " m" if scales.si else ""))]
+    rows = [("x_max simulated", _num(res.x_max * scales.length, scales.length_unit_text))]
     rows += _steady_rows(sol, scales)
     if len(sol.restitution_measured):
         rows.append(("Restitution", _restitution_text(sol)))
@@ -218,11 +219,11 @@ def _steady_rows(sol: Solution, scales: Scales) -> list[tuple[str, str]]:
     return rows + _theory_expects(sol)
 
 
-def _units(scales: Scales) -> tuple[float, str, float, str, str]:
+def _units(scales: Scales) -> tuple[float, str, float, str, str, float]:
     """The arguments of :meth:`core.Steady.describe` for ``scales``."""
     si = scales.si
     return (scales.time, " s" if si else "", scales.velocity, " m/s" if si else "",
-            " m" if si else "")
+            scales.length_unit_text, scales.length)
 
 
 def _steady_text(sol: Solution, scales: Scales) -> str:
@@ -380,8 +381,9 @@ def _named(pairs: list[tuple[str, str]]) -> str:
 
 #: The core's plain-text mathematics as a reader sees it in print (the page shows the
 #: symbols of its sliders and of the model card; the core's texts stay ASCII).
-PRINTED_SYMBOLS = (("<=", "≤"), (">=", "≥"), ("x_bar", "x̄"), ("r^h", "rʰ"),
-                   ("sqrt(", "√("), ("mu_s", "μₛ"), ("mu_k", "μₖ"), ("omega", "ω"))
+PRINTED_SYMBOLS = (("<=", "≤"), (">=", "≥"), ("x_bar", GLOSSARY["x_bar"].plain),
+                   ("r^h", "rʰ"), ("sqrt(", "√("), ("mu_s", GLOSSARY["mu_s"].plain),
+                   ("mu_k", GLOSSARY["mu_k"].plain), ("omega", "ω"))
 
 
 def printed(text: str) -> str:

@@ -2,10 +2,11 @@
 
 The state holds the dimensionless parameters of the core (docs/physics.md, "Dimensionless form")
 whatever the units shown: in SI mode the widgets for the normal force ``F_N`` [N] and the belt speed
-``v_dr`` [m/s] convert through :meth:`core.Oscillator.from_physical` /
-:meth:`~core.Oscillator.to_physical` with the mass ``m`` [kg] and stiffness ``k`` [N/m] kept here
-too, and those for the initial velocity [m/s] and the horizon [s] through ``omega = sqrt(k/m)``.
-Lengths (clearance, positions) are metres in SI mode and keep their unit otherwise.
+``v_dr`` [m/s] convert through :meth:`core.Oscillator.from_physical` with the mass ``m`` [kg] and
+stiffness ``k`` [N/m] kept here too, and those for the initial velocity [m/s] and the horizon [s]
+through ``omega = sqrt(k/m)``.
+In SI mode a dimensionless length stands for the length unit ``L`` [m] (``length_unit``), and
+the page shows lengths in millimetres (docs/physics.md, "The page's SI units").
 
 Examples
 --------
@@ -25,6 +26,8 @@ from typing import Any
 import param
 
 from app.scenes import CUSTOM, DEFAULT_SCENE, SCENES
+from app.teach.glossary import PLAIN as _S
+from app.teach.glossary import subscripted
 from core import HystereticStop, Oscillator, RigidStop, check_range, check_start
 
 #: Stop types offered in the page.
@@ -53,20 +56,33 @@ SOLVER_CHOICES = ("accuracy", "method")
 HORIZON_CHOICES = ("t_end",)
 #: SI values the state converts from (:meth:`ExplorerState.from_physical`): mass [kg],
 #: stiffness [N/m], normal force [N], belt speed [m/s], initial velocity [m/s], horizon [s],
-#: the deformable stop's initial compression and expansion stiffnesses [N/m].
-SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end", "k_c0", "k_e0")
+#: the deformable stop's initial compression and expansion stiffnesses [N/m], the length
+#: unit L and the clearance, initial displacement and limit overlap [mm].
+SI_KEYS = ("m", "k", "normal_force", "belt_speed", "v0", "t_end", "k_c0", "k_e0", "L",
+           "clearance", "x0", "limit_overlap")
+#: Lengths among the state's values: shown in millimetres in SI, ``1e3 L`` times the number.
+LENGTHS = ("clearance", "x0", "limit_overlap")
+#: Default length unit L [m] of SI mode: the scenes' u_s = 1 is a static deflection of 10 mm,
+#: a normal force F_N = k L u_s = 2 N on the default 200 N/m spring (a bench rig).
+DEFAULT_LENGTH_UNIT = 0.01
+#: Length unit [m] of an SI link that names none: before the page had one, an SI link read
+#: its lengths in metres (its speeds and the normal force too).
+LEGACY_LENGTH_UNIT = 1.0
+#: Millimetres per metre: SI mode shows lengths in millimetres.
+MM_PER_M = 1e3
 #: Stop stiffnesses: the state holds them over k (docs/physics.md, "Dimensionless form"),
 #: SI shows them in N/m.
 STOP_STIFFNESSES = ("k_c0", "k_e0")
 #: Parameters that only change how results are shown.
-VIEW_PARAMS = ("units", "mass", "stiffness", "show_all")
+VIEW_PARAMS = ("units", "mass", "stiffness", "length_unit", "show_all")
 #: Parameter name -> query-string key of the permalink (short keys keep URLs readable).
 URL_KEYS: Mapping[str, str] = {
     "scene": "scene", "belt_speed": "v", "clearance": "xbar", "restitution": "r",
     "mu_s": "mus", "mu_k": "muk", "u_s": "us", "stop_type": "stop", "k_c0": "kc0",
     "k_e0": "ke0", "limit_overlap": "D", "beta_c": "bc", "beta_e": "be", "x0": "x0",
     "v0": "v0", "t_end": "tend", "accuracy": "acc", "method": "method", "program": "prog",
-    "units": "units", "mass": "m", "stiffness": "k", "show_all": "all", "contact_law": "law",
+    "units": "units", "mass": "m", "stiffness": "k", "length_unit": "L", "show_all": "all",
+    "contact_law": "law",
 }
 
 
@@ -74,12 +90,14 @@ URL_KEYS: Mapping[str, str] = {
 class Scales:
     """Factors from the core's dimensionless output to the units shown, and axis labels.
 
-    In SI mode time is ``tau = t / omega`` [s], velocities ``omega x'`` [m/s], forces ``k``
-    times the core's force-over-``k`` lengths [N], impulses ``m omega`` times the core's
-    impulse [N s], energies ``k`` times the core's energy-over-``k`` [J].
+    In SI mode, with the length unit ``L`` [m], lengths are ``1e3 L x`` [mm], time is
+    ``tau = t / omega`` [s], velocities ``omega L x'`` [m/s], forces ``k L`` times the core's
+    force-over-``k`` lengths [N], impulses ``m omega L`` times the core's impulse [N s],
+    energies ``k L^2`` times the core's energy-over-``k`` [J].
     """
 
     time: float = 1.0
+    length: float = 1.0
     velocity: float = 1.0
     force: float = 1.0
     impulse: float = 1.0
@@ -91,31 +109,39 @@ class Scales:
     impulse_label: str = "impulse / (m omega)"
     energy_label: str = "energy / k"
     friction_label: str = "friction force / k"
+    #: What follows a length's number: " mm" in SI, nothing in dimensionless units.
+    length_unit_text: str = ""
     si: bool = False
-    #: Mass m [kg] and stiffness k [N/m] of SI units (``None`` in dimensionless ones).
+    #: Mass m [kg], stiffness k [N/m] and length unit L [m] of SI units (``None`` in
+    #: dimensionless ones).
     mass: float | None = None
     stiffness: float | None = None
+    length_unit: float | None = None
 
 
 DIMENSIONLESS = Scales()
 
 
-def si_scales(mass: float, stiffness: float) -> Scales:
-    """The factors and labels of SI units with mass ``m`` [kg] and stiffness ``k`` [N/m]
-    (docs/physics.md, "Dimensionless form": ``omega = sqrt(k/m)``).
+def si_scales(mass: float, stiffness: float,
+              length_unit: float = DEFAULT_LENGTH_UNIT) -> Scales:
+    """The factors and labels of SI units with mass ``m`` [kg], stiffness ``k`` [N/m] and
+    length unit ``L`` [m] (docs/physics.md, "The page's SI units": ``omega = sqrt(k/m)``,
+    a dimensionless length is ``L``, shown in mm).
 
-    >>> s = si_scales(4.0, 100.0)
-    >>> s.time, s.velocity, s.force, s.impulse
-    (0.2, 5.0, 100.0, 20.0)
+    >>> s = si_scales(4.0, 100.0, 0.5)
+    >>> s.length, s.time, s.velocity, s.force, s.impulse, s.energy
+    (500.0, 0.2, 2.5, 50.0, 10.0, 25.0)
     """
     omega = math.sqrt(stiffness / mass)
     return Scales(
-        time=1.0 / omega, velocity=omega, force=stiffness,
-        impulse=mass * omega, energy=stiffness,
-        time_label="time (s)", length_label="x (m)", velocity_label="dx/dt (m/s)",
+        time=1.0 / omega, length=MM_PER_M * length_unit, velocity=omega * length_unit,
+        force=stiffness * length_unit, impulse=mass * omega * length_unit,
+        energy=stiffness * length_unit**2,
+        time_label="time (s)", length_label="x (mm)", velocity_label="dx/dt (m/s)",
         force_label="contact force (N)", impulse_label="impulse (N s)",
-        energy_label="energy (J)", friction_label="friction force (N)", si=True,
-        mass=mass, stiffness=stiffness,
+        energy_label="energy (J)", friction_label="friction force (N)",
+        length_unit_text=" mm", si=True, mass=mass, stiffness=stiffness,
+        length_unit=length_unit,
     )
 
 
@@ -164,6 +190,10 @@ class ExplorerState(param.Parameterized):
     mass = param.Number(0.5, bounds=(1e-6, 1e6), softbounds=(0.1, 10.0), doc="Mass m [kg].")
     stiffness = param.Number(200.0, bounds=(1e-6, 1e9), softbounds=(1.0, 1000.0), doc="""
         Spring stiffness k [N/m].""")
+    length_unit = param.Number(DEFAULT_LENGTH_UNIT, bounds=(1e-6, 1e3), doc="""
+        Length unit L [m] of SI mode: the length a dimensionless 1 stands for (the scenes'
+        u_s = 1 is then a static deflection of L); changing it resizes the rig, the
+        dimensionless scene stays.""")
     show_all = param.Boolean(False, doc="Show every plot, not only the scene's.")
 
     # --- what the page shows (set by the page, watched by its components) ------------------
@@ -219,60 +249,69 @@ class ExplorerState(param.Parameterized):
 
     def scales(self) -> Scales:
         """Conversion factors and labels for the units selected."""
-        return si_scales(self.mass, self.stiffness) if self.units == "SI" else DIMENSIONLESS
+        return (si_scales(self.mass, self.stiffness, self.length_unit) if self.units == "SI"
+                else DIMENSIONLESS)
 
-    def physical(self) -> dict[str, float]:
-        """SI values of the current state: ``normal_force`` [N], ``belt_speed`` [m/s],
-        ``v0`` [m/s], ``t_end`` [s], ``k_c0`` and ``k_e0`` [N/m], ...
+    def physical(self, length_unit: float | None = None) -> dict[str, float]:
+        """SI values of the current state, as the SI boxes show them: ``normal_force`` [N],
+        ``belt_speed`` [m/s], ``v0`` [m/s], ``t_end`` [s], ``k_c0`` and ``k_e0`` [N/m], the
+        length unit ``L`` and the lengths ``clearance``, ``x0``, ``limit_overlap`` [mm], ...
 
-        Uses :meth:`core.Oscillator.to_physical`; the initial velocity is ``omega x'0``, the
-        horizon ``t_end / omega`` (docs/physics.md, "Dimensionless form": ``t = omega tau``),
-        a stop stiffness ``k`` times its ratio.
+        Each is the state's number times its factor of :func:`si_units` (docs/physics.md,
+        "The page's SI units"), with the state's length unit or ``length_unit`` [m].
         """
-        osc = Oscillator(mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s),
-                         belt_speed=self.belt_speed, u_s=self.u_s)
-        phys = osc.to_physical(m=self.mass, k=self.stiffness)
-        phys["v0"] = self.v0 * phys["omega"]
-        phys["t_end"] = self.t_end / phys["omega"]
-        for name in STOP_STIFFNESSES:
-            phys[name] = getattr(self, name) * self.stiffness
+        length_unit = self.length_unit if length_unit is None else length_unit
+        omega = math.sqrt(self.stiffness / self.mass)
+        factors = si_units(self.mass, self.stiffness, length_unit)
+        phys = {"m": self.mass, "k": self.stiffness, "omega": omega, "mu_s": self.mu_s,
+                "mu_k": self.mu_k, "L": length_unit * MM_PER_M}
+        for name, (si_key, _) in SI_NAMES.items():
+            if name not in ("mass", "stiffness", "length_unit"):
+                phys[si_key] = getattr(self, name) * factors[name][2]
         return phys
 
     def from_physical(self, **si: float) -> dict[str, float]:
-        """The state values that SI values give (any of :data:`SI_KEYS`); the others keep
-        their SI values (a new ``k`` keeps the stop's stiffnesses in N/m, so their ratios
-        change). Uses :meth:`core.Oscillator.from_physical`; raises ``ValueError`` on bad
-        input, naming the parameter and its bounds. Nothing is set (see
-        :meth:`set_physical`).
+        """The state values that SI values give (any of :data:`SI_KEYS`, as
+        :meth:`physical` gives them); the others keep their SI values (a new ``k`` keeps
+        the stop's stiffnesses in N/m, so their ratios change), except under a new length
+        unit ``L`` [mm] alone, which resizes the rig: the dimensionless values stay. The
+        normal force and belt speed go through :meth:`core.Oscillator.from_physical`;
+        raises ``ValueError`` on bad input, naming the parameter and its bounds. Nothing is
+        set (see :meth:`set_physical`).
 
-        >>> s = ExplorerState(belt_speed=0.1, t_end=60.0, mass=1.0, stiffness=100.0)
+        >>> s = ExplorerState(belt_speed=0.1, t_end=60.0, mass=1.0, stiffness=100.0,
+        ...                   length_unit=1.0)
         >>> s.physical()["t_end"], s.physical()["belt_speed"]  # omega = 10 rad/s
         (6.0, 1.0)
         >>> v = s.from_physical(k=400.0)  # omega = 20 rad/s: the same seconds and m/s
         >>> v["t_end"], v["belt_speed"]
         (120.0, 0.05)
+        >>> s.from_physical(L=10.0)  # the same scene, a rig a hundred times smaller
+        {'length_unit': 0.01}
         """
         unknown = set(si) - set(SI_KEYS)
         if unknown:
             raise ValueError(f"unknown SI value(s) {sorted(unknown)}; expected {SI_KEYS}")
-        merged = {key: value for key, value in self.physical().items() if key in SI_KEYS}
+        length_unit = self.length_unit
+        if "L" in si:
+            message = si_bound_error("length_unit", si["L"] / MM_PER_M, self.mass,
+                                     self.stiffness)
+            if message:
+                raise ValueError(message)
+            length_unit = si["L"] / MM_PER_M
+        merged = {key: value for key, value in self.physical(length_unit).items()
+                  if key in SI_KEYS}
         merged.update(si)
-        osc = Oscillator.from_physical(
-            m=merged["m"], k=merged["k"], normal_force=merged["normal_force"],
-            mu_s=self.mu_s, mu_k=min(self.mu_k, self.mu_s), belt_speed=merged["belt_speed"],
-        )
-        omega = math.sqrt(merged["k"] / merged["m"])
-        values = {"mass": merged["m"], "stiffness": merged["k"], "u_s": osc.u_s,
-                  "belt_speed": osc.belt_speed, "v0": merged["v0"] / omega,
-                  "t_end": merged["t_end"] * omega}
-        # A ratio is recomputed only when k or the stiffness itself is new: (k_c0 k) / k
-        # need not give back k_c0's last bit.
-        values.update({name: merged[name] / merged["k"] for name in STOP_STIFFNESSES
-                       if name in si or "k" in si})
+        values = _state_values(merged, set(si), self.mu_s, min(self.mu_k, self.mu_s),
+                               length_unit)
+        if "L" in si and not {"m", "k"} & set(si):
+            # A new length unit resizes the rig: only the values given in SI are new.
+            given = {SI_STATE_KEYS[key] for key in si}
+            values = {name: value for name, value in values.items() if name in given}
         values = {name: snap_to_bounds(name, value) for name, value in values.items()}
         # A bound is told in the units of the box the user typed in (with the new m and k).
         for name, value in values.items():
-            message = si_bound_error(name, value, merged["m"], merged["k"])
+            message = si_bound_error(name, value, merged["m"], merged["k"], length_unit)
             if message:
                 raise ValueError(message)
         return values
@@ -281,7 +320,7 @@ class ExplorerState(param.Parameterized):
         """Set the state from SI values (see :meth:`from_physical`) in one batch; raises
         ``ValueError`` on bad input, naming the parameter and its bounds.
 
-        >>> s = ExplorerState()
+        >>> s = ExplorerState(length_unit=1.0)
         >>> s.set_physical(m=1.0, k=100.0, normal_force=50.0, belt_speed=0.5)
         >>> round(s.u_s, 12), round(s.belt_speed, 12)
         (0.5, 0.05)
@@ -299,42 +338,80 @@ class ExplorerState(param.Parameterized):
 
 
 #: State values a permalink in SI units holds in SI (:func:`si_units`); the others
-#: (lengths, ratios, coefficients) read the same in both unit systems.
+#: (ratios, coefficients, and lengths, in units of the link's ``L``) read the same in both
+#: unit systems.
 URL_SI_PARAMS = ("belt_speed", "v0", "t_end", "k_c0", "k_e0")
 
 
 #: The SI value (a key of :meth:`ExplorerState.physical`) each state value is shown as,
-#: and its name in the page's boxes and messages.
+#: and its name in the page's boxes and messages (symbols as the glossary prints them).
 SI_NAMES: Mapping[str, tuple[str, str]] = {
     "mass": ("m", "mass m"), "stiffness": ("k", "stiffness k"),
-    "u_s": ("normal_force", "normal force F_N"), "belt_speed": ("belt_speed", "belt speed v_dr"),
-    "v0": ("v0", "initial velocity x'0"), "t_end": ("t_end", "horizon t_end"),
-    "k_c0": ("k_c0", "compression stiffness k_c0"), "k_e0": ("k_e0", "expansion stiffness k_e0"),
+    "u_s": ("normal_force", f"normal force {_S['F_N']}"),
+    "belt_speed": ("belt_speed", f"belt speed {subscripted('v', 'dr')}"),
+    "v0": ("v0", f"initial velocity {_S['v0']}"), "t_end": ("t_end", f"horizon {_S['t_end']}"),
+    "k_c0": ("k_c0", f"compression stiffness {_S['k_c0']}"),
+    "k_e0": ("k_e0", f"expansion stiffness {_S['k_e0']}"),
+    "length_unit": ("L", "length unit L"), "clearance": ("clearance", f"clearance {_S['x_bar']}"),
+    "x0": ("x0", f"initial displacement {_S['x0']}"),
+    "limit_overlap": ("limit_overlap", f"limit overlap {_S['D']}"),
 }
+#: The state value each SI value (a key of :meth:`ExplorerState.physical`) converts to.
+SI_STATE_KEYS: Mapping[str, str] = {
+    "m": "mass", "k": "stiffness", **{si: name for name, (si, _) in SI_NAMES.items()}}
 
 
 #: The state values that read in other units in SI: the unit, and the factor of :class:`Scales` from
-#: the core's number to it (docs/physics.md, "Dimensionless form": velocities ``omega x'``, times
-#: ``t / omega``, the stop's stiffnesses ``k`` times their ratio, the normal force ``k u_s``).
-#: Lengths, ratios and coefficients read the same in both unit systems.
+#: the core's number to it (docs/physics.md, "The page's SI units": lengths ``1e3 L x`` mm,
+#: velocities ``omega L x'``, times ``t / omega``, the stop's stiffnesses ``k`` times their
+#: ratio, the normal force ``k L u_s``). Ratios and coefficients read the same in both.
 SI_CONVERSIONS: Mapping[str, tuple[str, str]] = {
     "u_s": ("N", "force"), "belt_speed": ("m/s", "velocity"), "v0": ("m/s", "velocity"),
-    "t_end": ("s", "time"), **{name: ("N/m", "force") for name in STOP_STIFFNESSES},
+    "t_end": ("s", "time"), **{name: ("N/m", "stiffness") for name in STOP_STIFFNESSES},
+    **{name: ("mm", "length") for name in LENGTHS},
 }
+#: State values whose SI reading depends on the length unit L (their range says it).
+L_DEPENDENT = frozenset(name for name, (_, factor) in SI_CONVERSIONS.items()
+                        if factor in ("force", "velocity", "length"))
 
 
-def si_units(mass: float, stiffness: float) -> dict[str, tuple[str, str, float]]:
+def si_units(mass: float, stiffness: float, length_unit: float = DEFAULT_LENGTH_UNIT
+             ) -> dict[str, tuple[str, str, float]]:
     """Each state value's SI name in the page, unit and the factor from the state's number
-    to it (:data:`SI_CONVERSIONS`), with mass ``m`` [kg] and stiffness ``k`` [N/m].
+    to it (:data:`SI_CONVERSIONS`), with mass ``m`` [kg], stiffness ``k`` [N/m] and length
+    unit ``L`` [m].
 
-    >>> si_units(1.0, 100.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
+    >>> si_units(1.0, 100.0, 1.0)["belt_speed"], si_units(1.0, 100.0)["t_end"]
     (('belt speed v_dr', 'm/s', 10.0), ('horizon t_end', 's', 0.1))
+    >>> si_units(1.0, 100.0, 0.01)["clearance"]
+    ('clearance x̄', 'mm', 10.0)
     """
-    scales = si_scales(mass, stiffness)
-    units = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0),
+    scales = si_scales(mass, stiffness, length_unit)
+    units = {"mass": ("kg", 1.0), "stiffness": ("N/m", 1.0), "length_unit": ("mm", MM_PER_M),
              **{name: (unit, getattr(scales, factor))
                 for name, (unit, factor) in SI_CONVERSIONS.items()}}
     return {name: (SI_NAMES[name][1], unit, factor) for name, (unit, factor) in units.items()}
+
+
+def _state_values(si: Mapping[str, float], given: set[str], mu_s: float, mu_k: float,
+                  length_unit: float) -> dict[str, float]:
+    """The state values of the SI values ``si`` (every key of :data:`SI_KEYS`; ``given``:
+    those the user gave), with the length unit ``length_unit`` [m]; the normal force and
+    belt speed through :meth:`core.Oscillator.from_physical`, which checks them."""
+    m, k = si["m"], si["k"]
+    osc = Oscillator.from_physical(m=m, k=k, normal_force=si["normal_force"], mu_s=mu_s,
+                                   mu_k=mu_k, belt_speed=si["belt_speed"])
+    omega = math.sqrt(k / m)
+    values = {"mass": m, "stiffness": k, "length_unit": length_unit,
+              "u_s": osc.u_s / length_unit, "belt_speed": osc.belt_speed / length_unit,
+              "v0": si["v0"] / (omega * length_unit), "t_end": si["t_end"] * omega}
+    # A ratio is recomputed only when k or the stiffness itself is new: (k_c0 k) / k need
+    # not give back k_c0's last bit; so is a length only when it is given.
+    values.update({name: si[name] / k for name in STOP_STIFFNESSES
+                   if name in given or "k" in given})
+    values.update({name: si[name] / (length_unit * MM_PER_M) for name in LENGTHS
+                   if name in given})
+    return values
 
 
 def snap_to_bounds(name: str, value: float) -> float:
@@ -350,31 +427,43 @@ def snap_to_bounds(name: str, value: float) -> float:
     return value
 
 
-def si_bound_error(name: str, value: float, mass: float, stiffness: float) -> str | None:
+def si_bound_error(name: str, value: float, mass: float, stiffness: float,
+                   length_unit: float = DEFAULT_LENGTH_UNIT) -> str | None:
     """The message, in SI (:func:`si_units`), for a state value outside its bounds, or
     ``None`` if it is inside.
 
     >>> si_bound_error("t_end", 1500.0 * 5.0, 2.0, 50.0)
     'horizon t_end must lie in [0.02, 1000] s with m = 2 kg, k = 50 N/m; got 1500 s'
+    >>> si_bound_error("length_unit", -0.001, 2.0, 50.0)
+    'length unit L must lie in [0.001, 1e+06] mm; got -1 mm'
     """
     low, high = ExplorerState.param[name].bounds
     if low <= snap_to_bounds(name, value) <= high:
         return None
-    si_name, unit, factor = si_units(mass, stiffness)[name]
-    return (f"{si_name} must lie in {si_range(name, mass, stiffness)}; "
+    si_name, unit, factor = si_units(mass, stiffness, length_unit)[name]
+    return (f"{si_name} must lie in {si_range(name, mass, stiffness, length_unit)}; "
             f"got {value * factor:.6g} {unit}")
 
 
-def si_range(name: str, mass: float, stiffness: float) -> str:
-    """The SI range of state value ``name`` with mass ``m`` [kg] and stiffness ``k`` [N/m].
+def si_range(name: str, mass: float, stiffness: float,
+             length_unit: float = DEFAULT_LENGTH_UNIT) -> str:
+    """The SI range of state value ``name`` with mass ``m`` [kg], stiffness ``k`` [N/m] and
+    length unit ``L`` [m], naming those it depends on.
 
     >>> si_range("t_end", 2.0, 50.0)
     '[0.02, 1000] s with m = 2 kg, k = 50 N/m'
+    >>> si_range("clearance", 2.0, 50.0, 0.01)
+    '[-100, 100] mm with L = 10 mm'
     """
     low, high = ExplorerState.param[name].bounds
-    _, unit, factor = si_units(mass, stiffness)[name]
-    return (f"[{low * factor:.4g}, {high * factor:.4g}] {unit} with m = {mass:g} kg, "
-            f"k = {stiffness:g} N/m")
+    _, unit, factor = si_units(mass, stiffness, length_unit)[name]
+    given = []
+    if name not in LENGTHS and name != "length_unit":
+        given += [f"m = {mass:g} kg", f"k = {stiffness:g} N/m"]
+    if name in L_DEPENDENT:
+        given.append(f"L = {length_unit * MM_PER_M:g} mm")
+    return (f"[{low * factor:.4g}, {high * factor:.4g}] {unit}"
+            + (f" with {', '.join(given)}" if given else ""))
 
 
 def scene_values(key: str, **overrides: Any) -> dict[str, Any]:

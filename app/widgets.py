@@ -299,8 +299,9 @@ class TypedSlider:
             f"Allowed: {format_number(low)} to {format_number(high)}.")
 
     def set(self, value: float, *, soft_end: float | None = None,
-            hard_end: float | None = None) -> None:
-        """Show ``value`` without calling back; optionally move the upper ends.
+            hard_end: float | None = None, soft_start: float | None = None) -> None:
+        """Show ``value`` without calling back; optionally move the upper ends (and the
+        slider's lower end).
 
         A refused entry's message stays while the value it would have replaced is
         unchanged; a new value replaces it.
@@ -309,6 +310,8 @@ class TypedSlider:
         start, end = slider.start, slider.end
         if soft_end is not None:
             end = soft_end
+        if soft_start is not None:
+            start = soft_start
         start, end = min(start, value), max(end, value)
         if end <= start:
             start = min(start, value - self.step)

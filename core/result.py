@@ -143,11 +143,11 @@ class Steady:
 
     def describe(self, time_scale: float = 1.0, time_unit: str = "",
                  velocity_scale: float = 1.0, velocity_unit: str = "",
-                 length_unit: str = "") -> str:
+                 length_unit: str = "", length_scale: float = 1.0) -> str:
         """One line in words, for the readout; times are shown multiplied by
         ``time_scale`` and followed by ``time_unit`` (e.g. ``1/omega`` and ``" s"``),
-        speeds by ``velocity_scale`` and ``velocity_unit``, lengths (the same in both
-        units) followed by ``length_unit``."""
+        speeds by ``velocity_scale`` and ``velocity_unit``, lengths by ``length_scale``
+        and ``length_unit``."""
         if self.kind is SteadyKind.PERIODIC:
             seq = " -> ".join(self.sequence)
             return (
@@ -181,22 +181,22 @@ class Steady:
             )
         if self.kind is SteadyKind.OSCILLATION:
             return self._describe_oscillation(time_scale, time_unit, velocity_scale,
-                                              velocity_unit, length_unit)
+                                              velocity_unit, length_unit, length_scale)
         if self.kind is SteadyKind.PURE_SLIP:
             return f"pure slip on a circle, period {self.period * time_scale:.6g}{time_unit}"
         return "no steady state found within the horizon"
 
     def _describe_oscillation(self, time_scale: float, time_unit: str,
                               velocity_scale: float, velocity_unit: str,
-                              length_unit: str) -> str:
+                              length_unit: str, length_scale: float) -> str:
         half = self.halving_time
         decay = (f"shrinking by {100.0 * (1.0 - self.decay_rate):.2g} % per cycle (halving "
                  f"in ~{half * time_scale:.3g}{time_unit} at that rate)"
                  if math.isfinite(half) else "not shrinking at the end of the run")
         return (f"oscillation on the stop, not at rest at t_end: amplitude "
-                f"{self.amplitude:.3g}{length_unit} in x and "
+                f"{self.amplitude * length_scale:.3g}{length_unit} in x and "
                 f"{self.velocity_amplitude * velocity_scale:.3g}{velocity_unit} in x' "
-                f"(rest: below {self.rest_amplitude:.3g}{length_unit} and "
+                f"(rest: below {self.rest_amplitude * length_scale:.3g}{length_unit} and "
                 f"{self.rest_velocity * velocity_scale:.3g}{velocity_unit}), period "
                 f"{self.period * time_scale:.4g}{time_unit}, {decay}")
 

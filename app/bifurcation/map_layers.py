@@ -183,8 +183,9 @@ class MapLayers:
         v_hi, x_lo, x_hi = sim.frame
         sim_img, dis_img = rgba(sim)
         # On the map's axes: its belt speeds in the page's units (app.plots).
-        geometry = {"x": [0.0], "y": [x_lo], "dw": [v_hi * self.scales.velocity],
-                    "dh": [x_hi - x_lo]}
+        length = self.scales.length
+        geometry = {"x": [0.0], "y": [x_lo * length], "dw": [v_hi * self.scales.velocity],
+                    "dh": [(x_hi - x_lo) * length]}
         with pn.io.hold():
             if self.renderers is None:
                 self._add_renderers(fig, sim_img, dis_img, geometry)

@@ -59,7 +59,7 @@ UNITS_NOTE = "dimensionless units"
 #: shown as the normal force ``N = k u_s``, as in the sidebar.
 PARAMETER_SI: Mapping[str, tuple[str, str | None, str]] = {
     "belt_speed": ("belt speed v_dr", "velocity", "m/s"),
-    "clearance": ("clearance x_bar", None, "m"),
+    "clearance": ("clearance x_bar", "length", "mm"),
     "restitution": ("restitution r", None, ""),
     "mu_s": ("static friction mu_s", None, ""),
     "mu_k": ("kinetic friction mu_k", None, ""),
@@ -69,10 +69,10 @@ PARAMETER_SI: Mapping[str, tuple[str, str | None, str]] = {
 QUANTITY_SI: Mapping[str, tuple[str, str | None, str]] = {
     "impact_speed": ("impact speed before (at each impact)", "velocity", "m/s"),
     "rebound_speed": ("rebound speed after (at each impact)", "velocity", "m/s"),
-    "stick_x": ("x at each slip→stick", None, "m"),
-    "transition_x": ("x at every transition", None, "m"),
+    "stick_x": ("x at each slip→stick", "length", "mm"),
+    "transition_x": ("x at every transition", "length", "mm"),
     "force_peak": ("contact force peak (each contact)", "force", "N"),
-    "x_max": ("steady x_max", None, "m"),
+    "x_max": ("steady x_max", "length", "mm"),
     "period": ("period", "time", "s"),
 }
 #: Quantities read per point rather than per transition.
@@ -126,10 +126,10 @@ class AxisUnits:
     dimensionless numbers to the parameter and the quantity shown, and their axis labels.
 
     >>> from app.state import ExplorerState
-    >>> si = ExplorerState(units="SI", mass=1.0, stiffness=100.0).scales()
+    >>> si = ExplorerState(units="SI", mass=1.0, stiffness=100.0, length_unit=0.5).scales()
     >>> units = axis_units("belt_speed", "period", si)
-    >>> units.parameter, units.quantity, units.parameter_label  # omega = 10 rad/s
-    (10.0, 0.1, 'belt speed v_dr (m/s)')
+    >>> units.parameter, units.quantity, units.parameter_label  # omega L = 5 m/s
+    (5.0, 0.1, 'belt speed v_dr (m/s)')
     """
 
     parameter: float

@@ -99,7 +99,7 @@ def trajectory_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
     evaluate, exact = _drawing(sol)
     step = phase_step(*sample_bounds(sol))
     h = sampling.history(res, evaluate, sol.t_end, exact, columns, step, window)
-    return {"t": f32(h.t * scales.time), "x": f32(h.x),
+    return {"t": f32(h.t * scales.time), "x": f32(h.x * scales.length),
             "v": f32(h.v * scales.velocity), "mode": np.asarray(h.mode, dtype=np.int8),
             "bands": h.bands}
 
@@ -133,7 +133,7 @@ def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
     # Without the closed form, evaluating costs (a deformable stop's contacts: ~3 ms per
     # thousand points): the result's own samples are taken as they are.
     path = sampling.phase_path(res, evaluate, t_draw, step, known=not exact)
-    x, v, mode = path.x, path.v * scales.velocity, path.mode
+    x, v, mode = path.x * scales.length, path.v * scales.velocity, path.mode
     # Consecutive pieces meet at their transition's state, so each mode's runs are drawn
     # as they are, one NaN after each run to break the line.
     for m, name in MODE_NAMES.items():
@@ -147,7 +147,7 @@ def phase_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
             steady.kind.value == "periodic"):
         repeats = int((sol.t_end - t_draw) // steady.period)
         xr, vr = evaluate(np.array([t_draw]))
-        out["repeat"] = {"x": f32(xr), "v": f32(vr * scales.velocity),
+        out["repeat"] = {"x": f32(xr * scales.length), "v": f32(vr * scales.velocity),
                          "text": [f"repeats {repeats}x"]}
     return out
 
@@ -161,7 +161,7 @@ def transition_columns(sol: Solution, scales: Scales = DIMENSIONLESS,
     trs = trs[-MAX_MARKERS:]
     styles = [TRANSITION_STYLE.get(tr.kind.value, ("circle", "#000000")) for tr in trs]
     return {
-        "x": f32([tr.x for tr in trs]),
+        "x": f32([tr.x * scales.length for tr in trs]),
         "v": f32([tr.v * scales.velocity for tr in trs]),
         "t": f32([tr.t * scales.time for tr in trs]),
         "kind": [tr.kind.value for tr in trs],
@@ -192,11 +192,11 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
                 "points": theory_points({}, scales)}
     a, v = sol.osc.a, sol.osc.v
     phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
-    gamma0 = {"x": f32(a + th.gamma0_radius * np.cos(phi)),
+    gamma0 = {"x": f32((a + th.gamma0_radius * np.cos(phi)) * scales.length),
               "v": f32(th.gamma0_radius * np.sin(phi) * scales.velocity)}
     if th.fast or th.limit_cycle is None:
         radius = th.critical_speed
-        cycle = {"x": f32(a + radius * np.cos(phi)),
+        cycle = {"x": f32((a + radius * np.cos(phi)) * scales.length),
                  "v": f32(radius * np.sin(phi) * scales.velocity)}
     else:
         lc = th.limit_cycle
@@ -210,7 +210,7 @@ def reference_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str
         cx, cv = cx[order], cv[order]
         cx = np.r_[cx, np.nan, lc.stick_start[0], lc.stick_end[0]]
         cv = np.r_[cv, np.nan, v, v]
-        cycle = {"x": f32(cx), "v": f32(cv * scales.velocity)}
+        cycle = {"x": f32(cx * scales.length), "v": f32(cv * scales.velocity)}
     return {"gamma0": gamma0, "cycle": cycle, "removed": removed_circle(sol, scales),
             "points": theory_points(th.points, scales, a)}
 
@@ -227,7 +227,7 @@ def removed_circle(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, n
         return {"x": f32([]), "v": f32([])}
     radius = a - stop.clearance
     phi = np.linspace(0.0, 2.0 * math.pi, CIRCLE_VERTICES)
-    return {"x": f32(a + radius * np.cos(phi)),
+    return {"x": f32((a + radius * np.cos(phi)) * scales.length),
             "v": f32(radius * np.sin(phi) * scales.velocity)}
 
 
@@ -322,9 +322,11 @@ def loop_columns(sol: Solution, scales: Scales = DIMENSIONLESS) -> dict[str, dic
     d_max = float(np.nanmax(d)) if np.isfinite(d).any() else stop.limit_overlap / 2
     grid = np.linspace(0.0, min(1.15 * d_max, 0.95 * stop.limit_overlap), ENVELOPE_SAMPLES)
     return {
-        "loop": {"d": f32(d), "phi": f32(phi * scales.force)},
-        "comp": {"d": f32(grid), "phi": f32(phi_compression(grid, stop) * scales.force)},
-        "exp": {"d": f32(grid), "phi": f32(phi_expansion(grid, stop) * scales.force)},
+        "loop": {"d": f32(d * scales.length), "phi": f32(phi * scales.force)},
+        "comp": {"d": f32(grid * scales.length),
+                 "phi": f32(phi_compression(grid, stop) * scales.force)},
+        "exp": {"d": f32(grid * scales.length),
+                "phi": f32(phi_expansion(grid, stop) * scales.force)},
     }
 
 

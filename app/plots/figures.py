@@ -109,9 +109,9 @@ def new_figure(title: str, size: tuple[int, int], **kw) -> Any:
 def build_phase(s: Sources) -> Built:
     """The phase portrait: the motion by mode over the theory's references and points."""
     # Equal aspect: the browser fits the ranges to the frame it lays out
-    # (``match_aspect``; ``aspect_scale`` is omega in SI units, so that x and x'/omega
-    # share one scale). The server does not know the frame's size, so this figure's
-    # ranges are the one thing computed in the browser.
+    # (``match_aspect``; ``aspect_scale`` is omega L [m/s] per 1e3 L [mm] in SI units, so
+    # that x and x'/omega share one scale). The server does not know the frame's size, so
+    # this figure's ranges are the one thing computed in the browser.
     # One padding for both: BokehJS pads after fitting the aspect, each axis by a
     # fraction of its own span, which keeps the ratio only if the fractions are equal.
     x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
@@ -281,7 +281,7 @@ def set_axis_labels(figs: Mapping[str, Any], rest_axis: LinearAxis | None, sol: 
                     scales: Scales) -> None:
     """Label the axes of the built figures ``figs`` in the page's units."""
     length, velocity, time = scales.length_label, scales.velocity_label, scales.time_label
-    si = " (m)" if scales.si else ""
+    si = " (mm)" if scales.si else ""
     labels: dict[str, tuple[Any, Any]] = {
         "phase": (length, velocity), "time_x": (None, length), "time_v": (time, velocity),
         "energy": (time, scales.energy_label), "friction": (None, scales.friction_label),
@@ -301,5 +301,6 @@ def set_axis_labels(figs: Mapping[str, Any], rest_axis: LinearAxis | None, sol: 
             fig.xaxis.axis_label = x_label
         if y_label is not None:
             fig.left[0].axis_label = y_label
-    if "phase" in figs and figs["phase"].aspect_scale != scales.velocity:
-        figs["phase"].aspect_scale = scales.velocity  # x'/omega and x on one scale
+    aspect = scales.velocity / scales.length  # x'/omega and x on one scale
+    if "phase" in figs and figs["phase"].aspect_scale != aspect:
+        figs["phase"].aspect_scale = aspect

@@ -98,10 +98,12 @@ def theory_points(named: Mapping[str, tuple[float, float]], scales: Scales,
     """
     merged = merge_points(named)
     n = len(merged)
-    return {"x": [x for x, _, _ in merged], "v": [v * scales.velocity for _, v, _ in merged],
+    return {"x": [x * scales.length for x, _, _ in merged],
+            "v": [v * scales.velocity for _, v, _ in merged],
             "name": [label_text(keys) for _, _, keys in merged],
             "paper": [paper_name(keys) for _, _, keys in merged],
-            "centre": [float(centre)] * n, **{k: [u] * n for k, u in UNPLACED.items()}}
+            "centre": [float(centre) * scales.length] * n,
+            **{k: [u] * n for k, u in UNPLACED.items()}}
 
 
 def applicable_points(points: Mapping[str, list], path_stick: Mapping[str, Any],

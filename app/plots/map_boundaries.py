@@ -86,10 +86,11 @@ def boundary_lines(values: Mapping[str, Any], frame: tuple[float, float, float]
 
 
 def boundary_columns(values: Mapping[str, Any], frame: tuple[float, float, float],
-                     velocity: float = 1.0) -> dict[str, list]:
+                     velocity: float = 1.0, length: float = 1.0) -> dict[str, list]:
     """The source columns (:data:`BOUNDARY_COLUMNS`) of :func:`boundary_lines`, belt speeds
-    times ``velocity`` (the page's units); each label at its line's last point in view.
-    No lines where the theory does not cover the scene (a stop behind the start)."""
+    times ``velocity`` and clearances times ``length`` (the page's units); each label at
+    its line's last point in view. No lines where the theory does not cover the scene (a
+    stop behind the start)."""
     try:
         lines = boundary_lines(values, frame)
     except ValueError:
@@ -103,10 +104,10 @@ def boundary_columns(values: Mapping[str, Any], frame: tuple[float, float, float
         last = int(np.flatnonzero(inside)[-1])
         align, baseline = LABEL_CORNERS[text]
         cols["xs"].append(vs.tolist())
-        cols["ys"].append(xs.tolist())
+        cols["ys"].append((xs * length).tolist())
         cols["text"].append(text)
         cols["lx"].append(float(vs[last]))
-        cols["ly"].append(float(xs[last]))
+        cols["ly"].append(float(xs[last] * length))
         cols["align"].append(align)
         cols["baseline"].append(baseline)
         cols["dx"].append(LABEL_GAP_PX if align == "left" else -LABEL_GAP_PX)

@@ -186,7 +186,8 @@ class PlotSet:
         does not compute, are hidden until the full solution arrives, so that nothing on
         the plots belongs to another state."""
         self._set_theory_visible(False)
-        assign(self.sources["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+        assign(self.sources["start"], {"x": [sol.x0 * scales.length],
+                                       "v": [sol.v0 * scales.velocity]})
         self._draw_motion(sol, scales)
         self._fill_force(sol, scales, preview=True)
         self._set_spans(sol, scales)
@@ -225,7 +226,8 @@ class PlotSet:
         for name in ("gamma0", "cycle"):
             ref = self.sources[name].data
             if len(ref["x"]):
-                x0, x1 = min(x0, float(np.min(ref["x"]))), max(x1, float(np.max(ref["x"])))
+                xr = np.asarray(ref["x"], float) / scales.length
+                x0, x1 = min(x0, float(np.min(xr))), max(x1, float(np.max(xr)))
                 vr = np.asarray(ref["v"], float) / scales.velocity
                 vr = vr[np.isfinite(vr)]
                 if len(vr):
@@ -275,7 +277,7 @@ class PlotSet:
         refs = reference_columns(sol, scales)
         for name in ("gamma0", "cycle", "removed"):
             assign(s[name], refs[name])
-        assign(s["start"], {"x": [sol.x0], "v": [sol.v0 * scales.velocity]})
+        assign(s["start"], {"x": [sol.x0 * scales.length], "v": [sol.v0 * scales.velocity]})
         self._draw_motion(sol, scales)
         assign(s["points"], applicable_points(refs["points"], s["path_stick"].data,
                                               s["trans"].data["kind"]))
@@ -370,7 +372,8 @@ class PlotSet:
         f = self.figures
         plots = set(plots) & self.built
         more = self.more_extents() if plots & {"time", "force", "loop"} else {}
-        stop = stop_in_view(d["traj"]["x"], sol) if plots & {"phase", "time"} else []
+        stop = (stop_in_view(d["traj"]["x"], sol, self._scales.length)
+                if plots & {"phase", "time"} else [])
         if "phase" in plots:  # ranges fitted in the browser (match_aspect); the stop:
             assign(self.sources["stop_pt"], {"x": stop, "v": [0.0] * len(stop)})
         if "time" in plots:
@@ -418,21 +421,22 @@ class PlotSet:
             if name in self.spans:
                 span = self.spans[name]
                 span.visible = has_stop
-                span.location = sol.stop.clearance if has_stop else 0.0
+                span.location = sol.stop.clearance * scales.length if has_stop else 0.0
         for name in ("belt", "belt_t"):
             if name in self.spans:
                 self.spans[name].location = sol.osc.v * scales.velocity
 
     def _set_map(self, sol: Solution, scales: Scales, data: Mapping[str, Any]) -> None:
         v_hi = data["v_hi"] * scales.velocity
-        x_lo, x_hi = data["x_lo"], data["x_hi"]
+        x_lo, x_hi = data["x_lo"] * scales.length, data["x_hi"] * scales.length
         if data is not self._map_shown or scales is not self._map_scales:  # cached maps
             self._map_shown, self._map_scales = data, scales
             codes = np.asarray(data["codes"]) % len(MAP_PALETTE)
             self.sources["map"].data = {"image": [codes.astype(np.float32)], "x": [0.0],
                                         "y": [x_lo], "dw": [v_hi], "dh": [x_hi - x_lo]}
-            self._set_boundaries(boundary_columns(sol.values, (data["v_hi"], x_lo, x_hi),
-                                                  scales.velocity))
+            self._set_boundaries(boundary_columns(
+                sol.values, (data["v_hi"], data["x_lo"], data["x_hi"]), scales.velocity,
+                scales.length))
         fig = self.figures["map"]
         fig.x_range.update(start=0.0, end=v_hi)
         fig.y_range.update(start=x_lo, end=x_hi)
@@ -440,7 +444,7 @@ class PlotSet:
         has_stop = sol.values["stop_type"] != "none"
         if fig.yaxis[0].visible != has_stop:
             fig.yaxis[0].visible = has_stop
-        clearance = sol.values["clearance"]
+        clearance = sol.values["clearance"] * scales.length
         assign(self.sources["here"], {"v": [sol.osc.v * scales.velocity], "x": [clearance]})
 
     def _set_boundaries(self, cols: Mapping[str, list]) -> None:

@@ -40,10 +40,11 @@ def data_bounds(arrays: tuple[Any, ...], padding: float) -> tuple[float, float]:
     return lo - half, hi + half
 
 
-def stop_in_view(x: Any, sol: Solution) -> list[float]:
+def stop_in_view(x: Any, sol: Solution, length: float = 1.0) -> list[float]:
     """``[x_bar]`` if the stop should widen the displacement axes, else ``[]``: always when
     the motion reaches it, and when it lies within :data:`STOP_VIEW_REACH` of the motion's
-    span beyond it.
+    span beyond it; ``x`` and the answer in the page's units, ``length`` times the
+    core's.
 
     >>> from types import SimpleNamespace as NS
     >>> stop_in_view([0.0, 0.2], NS(stop=NS(clearance=0.25)))
@@ -59,7 +60,7 @@ def stop_in_view(x: Any, sol: Solution) -> list[float]:
     x = x[np.isfinite(x)]
     if len(x) == 0:
         return []
-    clearance = float(sol.stop.clearance)
+    clearance = float(sol.stop.clearance) * length
     lo, hi = float(x.min()), float(x.max())
     return [clearance] if clearance <= hi + STOP_VIEW_REACH * (hi - lo) else []
 

@@ -139,7 +139,8 @@ def draw_return(fig: Any, sources: Mapping[str, ColumnDataSource], grazing: Slop
     line ``s_n+1 = r s_n`` of a stop of ``restitution`` 0 < r < 1, the axes, the
     ``legend`` (an HTML pane)."""
     speed = rmap.quantity in ("impact speed", "contact speed")
-    cols = return_columns(rmap, scales.velocity if speed else 1.0)
+    # The other quantity is a position (the stick onsets): a length.
+    cols = return_columns(rmap, scales.velocity if speed else scales.length)
     assign(sources["ret_points"], cols["points"])
     assign(sources["ret_fixed"], cols["fixed"])
     if fig.title.text != title(rmap):
@@ -148,7 +149,8 @@ def draw_return(fig: Any, sources: Mapping[str, ColumnDataSource], grazing: Slop
     show_r = rmap.quantity == "impact speed" and r is not None and 0.0 < r < 1.0
     grazing.update(visible=show_r, gradient=float(r) if show_r else 1.0)
     label = (f"{rmap.quantity} ({scales.velocity_label})" if speed
-             else rmap.quantity or "state")
+             else f"{rmap.quantity}{' (mm)' if scales.si else ''}" if rmap.quantity
+             else "state")
     fig.xaxis.axis_label, fig.yaxis.axis_label = f"{label}: n", f"{label}: n+1"
     set_axes(fig, speed, cols["points"]["x"], cols["points"]["y"])
     text = legend_entries(rmap, float(r) if show_r else None)

@@ -17,6 +17,27 @@ from __future__ import annotations
 from dataclasses import dataclass
 from types import MappingProxyType
 
+#: Unicode's subscript characters: it has them for the digits and some lower-case letters
+#: only (no c, d, q, N, ...).
+SUBSCRIPTS = MappingProxyType(dict(zip("0123456789aehijklmnoprstuvx",
+                                       "₀₁₂₃₄₅₆₇₈₉ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ", strict=True)))
+
+
+def subscripted(base: str, sub: str, family: tuple[str, ...] = ()) -> str:
+    """``base`` with subscript ``sub`` as printed in plain text: in Unicode's subscript
+    characters where it has one for each character of ``sub`` and of every subscript of
+    the ``family`` shown beside it, else as ``base_sub`` (so a pair such as k_c0, k_e0 reads
+    alike, not as k_c0 beside kₑ₀).
+
+    >>> subscripted("μ", "s", ("s", "k")), subscripted("x", "0")
+    ('μₛ', 'x₀')
+    >>> subscripted("k", "e0", _KE), subscripted("v", "dr"), subscripted("F", "N")
+    ('k_e0', 'v_dr', 'F_N')
+    """
+    if all(c in SUBSCRIPTS for part in (sub, *family) for c in part):
+        return base + "".join(SUBSCRIPTS[c] for c in sub)
+    return f"{base}_{sub}"
+
 
 @dataclass(frozen=True)
 class Symbol:
@@ -43,6 +64,11 @@ class Symbol:
     definition: str
 
 
+#: The subscripts printed side by side: the friction coefficients', the stop's stiffnesses'.
+_MU, _KE = ("s", "k"), ("c0", "e0")
+#: The deformable stop's rates beta_c, beta_e as printed (Unicode has no subscript c).
+BETAS = tuple(subscripted("β", sub, ("c", "e")) for sub in ("c", "e"))
+
 _ENTRIES = (
     Symbol("t", "t", "t", "time: the page's clock, one unit is 1/ω of a second "
            "(a free swing of the spring lasts 2π)", r"t = \omega\tau,\ \ \omega = \sqrt{k/m}"),
@@ -54,16 +80,18 @@ _ENTRIES = (
            r"\omega = \sqrt{k/m}"),
     Symbol("k", "k", "k", "stiffness of the spring [N/m]; every force on the page is "
            "divided by it, which makes it a length", r"\text{force}/k = \text{a length}"),
-    Symbol("F_N", "F_N", "F_N", "normal force pressing the block on the belt [N]",
-           r"u_s = F_N/k"),
+    Symbol("F_N", "F_N", subscripted("F", "N"), "normal force pressing the block on the "
+           "belt [N]", r"u_s = F_N/k"),
     Symbol("v", "v", "v", "belt speed: how fast the belt runs forward",
            r"v = v_{dr}/\omega"),
-    Symbol("mu_s", r"\mu_s", "μ_s", "static friction coefficient: how hard the belt can "
-           "hold the block before it slips (a pure number)", r"b = \mu_s u_s"),
-    Symbol("mu_k", r"\mu_k", "μ_k", "kinetic friction coefficient: the friction while "
-           "the block slides on the belt (a pure number, μ_k ≤ μ_s)", r"a = \mu_k u_s"),
-    Symbol("u_s", "u_s", "u_s", "static deflection: how far the normal force would "
-           "stretch the spring", r"u_s = F_N / k"),
+    Symbol("mu_s", r"\mu_s", subscripted("μ", "s", _MU), "static friction coefficient: how "
+           "hard the belt can hold the block before it slips (a pure number)",
+           r"b = \mu_s u_s"),
+    Symbol("mu_k", r"\mu_k", subscripted("μ", "k", _MU), "kinetic friction coefficient: the "
+           "friction while the block slides on the belt (a pure number, μₖ ≤ μₛ)",
+           r"a = \mu_k u_s"),
+    Symbol("u_s", "u_s", subscripted("u", "s"), "static deflection: how far the normal force "
+           "would stretch the spring", r"u_s = F_N / k"),
     Symbol("a", "a", "a", "kinetic friction force over k: while slipping, the block swings "
            "about x = a", r"a = \mu_k u_s"),
     Symbol("b", "b", "b", "largest static friction force over k: the block rides with the "
@@ -88,22 +116,26 @@ _ENTRIES = (
     Symbol("t_acc", r"t_{acc}", "t_acc", "accumulation time: when infinitely many ever "
            "shorter bounces end and the mass rests on the stop",
            r"t_{acc} = t_0 + \sum_{h \ge 1} 2\arctan\frac{r^h w_0}{a - \bar x}"),
-    Symbol("x0", "x_0", "x0", "initial displacement of the mass", r"x(0) = x_0"),
-    Symbol("v0", "x_0'", "x'0", "initial velocity of the mass", r"x'(0) = x_0'"),
-    Symbol("t_end", r"t_{end}", "t_end", "length of the simulated run, in the page's time",
-           r"0 \le t \le t_{end}"),
+    Symbol("x0", "x_0", subscripted("x", "0"), "initial displacement of the mass",
+           r"x(0) = x_0"),
+    Symbol("v0", "x_0'", subscripted("x", "0") + "'", "initial velocity of the mass",
+           r"x'(0) = x_0'"),
+    Symbol("t_end", r"t_{end}", subscripted("t", "end"), "length of the simulated run, in the "
+           "page's time", r"0 \le t \le t_{end}"),
     Symbol("delta", r"\delta", "δ", "overlap: how far the mass has pushed into the "
            "deformable stop", r"\delta = x - \bar x"),
     Symbol("phi", r"\varphi", "φ", "force of the deformable stop over k (a length); on the "
            "force plot also the impulse of a rigid stop's impact", r"\varphi = F_{stop}/k"),
     Symbol("D", "D", "D", "limit overlap: the stop's force grows without bound as δ nears "
            "D, so it cannot be pushed farther (a length)", r"0 \lt \delta \lt D"),
-    Symbol("k_c0", "k_{c0}", "k_c0", "stiffness of the compression envelope at zero "
-           "overlap, over k: the stop's slope while it is loaded", r"\varphi_C'(0) = k_{c0}"),
-    Symbol("k_e0", "k_{e0}", "k_e0", "stiffness of the expansion envelope at zero overlap, "
-           "over k: the stop's slope while it springs back (k_e0 ≤ k_c0)",
+    Symbol("k_c0", "k_{c0}", subscripted("k", "c0", _KE), "stiffness of the compression "
+           "envelope at zero overlap, over k: the stop's slope while it is loaded",
+           r"\varphi_C'(0) = k_{c0}"),
+    Symbol("k_e0", "k_{e0}", subscripted("k", "e0", _KE), "stiffness of the expansion "
+           "envelope at zero overlap, over k: the stop's slope while it springs back "
+           "(k_e0 ≤ k_c0)",
            r"\varphi_E'(0) = k_{e0}"),
-    Symbol("beta", r"\beta_c,\ \beta_e", "β_c, β_e", "how fast the stop's force moves "
+    Symbol("beta", r"\beta_c,\ \beta_e", ", ".join(BETAS), "how fast the stop's force moves "
            "towards the compression (β_c) or expansion (β_e) envelope after the overlap "
            "turns, per limit overlap D (Eq. 13)", r"e^{-\beta\,|\delta - \delta_r|/D}"),
     Symbol("r_eq", r"r_{eq}", "r_eq", "restitution of a rigid stop that a stiff, sharp "
@@ -114,6 +146,8 @@ _ENTRIES = (
 
 #: Every entry by key, in reading order.
 GLOSSARY = MappingProxyType({s.key: s for s in _ENTRIES})
+#: Every symbol as printed in plain text (slider labels, tooltips, messages), by key.
+PLAIN = MappingProxyType({s.key: s.plain for s in _ENTRIES})
 
 #: The glossary entry of each slider's symbol (state parameter name -> entry key).
 SLIDER_SYMBOLS = MappingProxyType({

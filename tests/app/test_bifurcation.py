@@ -156,8 +156,10 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
     ex = _opened()
     view = ex.sweeps
     values, osc, stop = _scene_5a_directly()
-    # t = omega tau (docs/physics.md, "Dimensionless form")
-    omega = math.sqrt(ex.state.stiffness / ex.state.mass)
+    # t = omega tau (docs/physics.md, "Dimensionless form"),
+    # and a velocity omega L [m/s] per dimensionless unit (docs/physics.md, "The page's
+    # SI units")
+    omega = math.sqrt(ex.state.stiffness / ex.state.mass) * ex.state.length_unit
     dimensionless_lo, dimensionless_hi = view.lo.value, view.hi.value
     view.disagree_layer.value = True
     ex.state.units = "SI"
@@ -170,7 +172,7 @@ def test_in_si_units_the_card_shows_metres_seconds_and_newtons():
         "belt speed v_dr"
     assert view.parameter.value == "belt_speed"
     # The boxes, the diagram, the theory's v* and the current value, all in m/s: the same
-    # closed form scaled by omega (rtol: one multiplication's rounding).
+    # closed form scaled by omega L (rtol: one multiplication's rounding).
     assert view.lo.value == pytest.approx(dimensionless_lo * omega, rel=1e-3)
     assert view.hi.value == pytest.approx(dimensionless_hi * omega, rel=1e-3)
     res = sweep(osc, stop, "belt_speed", view.data.swept, t_end=200.0, x0=values["x0"],
@@ -211,15 +213,15 @@ def test_in_si_units_a_period_is_in_seconds_and_a_static_deflection_a_normal_for
     view.quantity.value = "period"
     view.parameter.value = "u_s"
     lo, hi = default_range(ex.state.values(), "u_s")
-    # The sidebar shows N = k u_s in newtons (app.state.ExplorerState.physical).
-    assert view.lo.value == pytest.approx(lo * ex.state.stiffness, rel=1e-3)
+    # The sidebar shows N = k L u_s in newtons (app.state.ExplorerState.physical).
+    force = ex.state.stiffness * ex.state.length_unit
+    assert view.lo.value == pytest.approx(lo * force, rel=1e-3)
     view.points.value = 50
     view.start()
     assert view.fig.xaxis[0].axis_label == "normal force N (N)"
     assert view.fig.yaxis[0].axis_label == "period (s)"
     np.testing.assert_allclose(view.source.data["y"], view.data.y / omega, rtol=1e-15)
-    np.testing.assert_allclose(view.source.data["x"], view.data.x * ex.state.stiffness,
-                               rtol=1e-15)
+    np.testing.assert_allclose(view.source.data["x"], view.data.x * force, rtol=1e-15)
 
 
 def test_a_tap_loads_the_nearest_swept_value_into_the_explorer():

@@ -89,7 +89,8 @@ def test_in_si_units_a_pin_is_labelled_in_si_units():
     at 0.5 m/s on a page in SI units."""
     ex, doc = _page()
     with set_curdoc(doc):
-        ex.state.param.update(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
+        # omega = 5 rad/s, L = 1 m
+        ex.state.param.update(units="SI", mass=2.0, stiffness=50.0, length_unit=1.0)
         ex.compare.pin(ex.state.scene, ex.state.values(), ex.state.mass,
                        ex.state.stiffness)
         ex.controls.commit({"belt_speed": 0.3})
@@ -294,9 +295,9 @@ def test_the_table_says_which_contact_its_restitution_is_from():
 
 @pytest.mark.parametrize("units, scene, current, words", [
     # The clearance by its display name and, in SI, its unit (it read "xbar 0.1").
-    # SI with the default m = 0.5 kg, k = 200 N/m: omega = 20 rad/s.
-    ("SI", "6b", "5a", ("v_dr 6 m/s", "x_bar 0.1 m", "r 0.7")),
-    ("dimensionless", "6b", "5a", ("v 0.3", "x_bar 0.1", "r 0.7")),
+    # SI with the default m = 0.5 kg, k = 200 N/m, L = 10 mm: omega L = 0.2 m/s.
+    ("SI", "6b", "5a", ("v_dr 0.06 m/s", "x̄ 1 mm", "r 0.7")),
+    ("dimensionless", "6b", "5a", ("v 0.3", "x̄ 0.1", "r 0.7")),
     ("dimensionless", "7c", "10", ("stop rigid", "r 0.3", "t_end 60")),
     ("SI", "7c", "10", ("stop rigid", "r 0.3", "t_end 3 s")),
 ])
@@ -322,25 +323,25 @@ def test_every_label_item_has_its_name_and_unit():
     for name, (dimensionless, si) in items.items():
         one = {**cur, name: pin[name]}
         assert pin_label("10", one, cur) == f"10: {dimensionless}", name
-        assert pin_label("10", one, cur, si_scales(1.0, 100.0)) == f"10: {si}", name
+        assert pin_label("10", one, cur, si_scales(1.0, 100.0, 1.0)) == f"10: {si}", name
 
 
 #: Each parameter of scene 10 changed alone, as a label says it: dimensionless, SI (m = 1 kg,
-#: k = 100 N/m: omega = 10 rad/s).
+#: k = 100 N/m: omega = 10 rad/s; L = 1 m, lengths in mm).
 LABEL_ITEMS_EXPECTED = (
     ("belt_speed", ("v 0.05", "v_dr 0.5 m/s")),
-    ("clearance", ("x_bar 0.3", "x_bar 0.3 m")),
-    ("mu_s", ("mu_s 0.4", "mu_s 0.4")),
-    ("mu_k", ("mu_k 0.25", "mu_k 0.25")),
-    ("u_s", ("u_s 2", "F_N 200 N")),
+    ("clearance", ("x̄ 0.3", "x̄ 300 mm")),
+    ("mu_s", ("μₛ 0.4", "μₛ 0.4")),
+    ("mu_k", ("μₖ 0.25", "μₖ 0.25")),
+    ("u_s", ("uₛ 2", "F_N 200 N")),
     ("k_c0", ("k_c0/k 300", "k_c0 3e+04 N/m")),
     ("k_e0", ("k_e0/k 30", "k_e0 3000 N/m")),
-    ("limit_overlap", ("D 0.02", "D 0.02 m")),
-    ("beta_c", ("beta_c 200", "beta_c 200")),
-    ("beta_e", ("beta_e 250", "beta_e 250")),
+    ("limit_overlap", ("D 0.02", "D 20 mm")),
+    ("beta_c", ("β_c 200", "β_c 200")),
+    ("beta_e", ("β_e 250", "β_e 250")),
     ("contact_law", ("law passive", "law passive")),
-    ("x0", ("x0 -0.1", "x0 -0.1 m")),
-    ("v0", ("x'0 0.2", "x'0 2 m/s")),
+    ("x0", ("x₀ -0.1", "x₀ -100 mm")),
+    ("v0", ("x₀' 0.2", "x₀' 2 m/s")),
     ("t_end", ("t_end 40", "t_end 4 s")),
 )
 

@@ -294,12 +294,12 @@ def test_si_start_velocity_and_horizon_are_in_metres_per_second_and_seconds(ex):
     assert visible["v0_si"] and visible["t_end_si"]
     assert not visible["v0"] and not visible["t_end"]
     assert ex.sliders["t_end_si"].value == pytest.approx(ex.state.t_end / omega)
-    assert "(m)" in ex.sliders["x0"].label
+    assert "(mm)" in ex.sliders["x0_si"].label and visible["x0_si"] and not visible["x0"]
     _release(ex, "t_end_si", 3.0)  # seconds
     assert ex.state.t_end == pytest.approx(3.0 * omega)
-    _release(ex, "v0_si", -0.2)  # m/s: the dimensionless x'0 is v / omega
-    assert ex.state.v0 == pytest.approx(-0.2 / omega)
-    assert ex.plots.sources["start"].data["v"] == [pytest.approx(-0.2)]
+    _release(ex, "v0_si", -0.002)  # m/s: the dimensionless x'0 is v / (omega L)
+    assert ex.state.v0 == pytest.approx(-0.002 / (omega * ex.state.length_unit))
+    assert ex.plots.sources["start"].data["v"] == [pytest.approx(-0.002)]
     t = np.array(ex.plots.sources["traj"].data["t"])
     assert t[-1] == pytest.approx(3.0, rel=1e-6)  # the time axis ends at 3 s
     # A horizon the core cannot take is refused with its range, and the picture stays.
@@ -372,7 +372,7 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
     ex.units.value = "SI"
     lines = ex.downloads.transitions_file().getvalue().splitlines()
-    assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
+    assert lines[2].startswith("t [s],kind,x [mm],v_before [m/s],v_after [m/s]")
     rows = [line.split(",") for line in lines[3:] if not line.startswith("#")]
     impacts = [r for r in rows if r[1] == "impact"]
     assert len(rows) == len(ex.solution.result.transitions) and len(impacts) > 3
@@ -387,14 +387,14 @@ def test_transitions_export_has_impacts_with_speeds_and_impulses(ex):
     # The header and the file name give the run as the SI page showed it (they gave the
     # core's dimensionless numbers under "units: SI", without m and k).
     head = lines[0]
-    omega = scales.velocity
+    omega = 10.0
     assert head.startswith("# Friction-Impact Explorer transitions; units: SI; m=1 kg, "
-                           "k=100 N/m, omega=10 rad/s, ")
-    assert f"v_dr={ex.state.belt_speed * omega:.12g} m/s" in head
+                           "k=100 N/m, omega=10 rad/s, L=10 mm, ")
+    assert f"v_dr={ex.state.belt_speed * omega * 0.01:.12g} m/s" in head
     assert f"t_end={ex.state.t_end / omega:.12g} s" in head
     assert f"the core's dimensionless values: belt_speed={ex.state.belt_speed}" in head
     name = ex.downloads.transitions.filename
-    assert name.startswith("fie_7c_transitions_SI_m-1_k-100_stop-rigid_v_dr-")
+    assert name.startswith("fie_7c_transitions_SI_m-1_k-100_L-10mm_stop-rigid_v_dr-")
     assert f"_t_end-{ex.state.t_end / omega:.6g}.csv" in name
     assert re.fullmatch(r"[A-Za-z0-9._-]+", name)
     ex.controls.commit({"belt_speed": 0.123})  # custom values: named after the figure they left
@@ -593,7 +593,7 @@ def test_an_si_permalink_s_non_number_is_told_its_si_range(monkeypatch):
     numeric = si_bound_error("t_end", 1e9, 2.0, 50.0)  # the link's range for a number
     t_range = numeric[numeric.index("["):numeric.index("; got")]
     assert f"tend: horizon t_end must be a number in {t_range}; got 'true'" in shown
-    v_si = si_units(2.0, 50.0)["belt_speed"]
+    v_si = si_units(2.0, 50.0, 1.0)["belt_speed"]  # an SI link without L: L = 1 m
     assert (f"[{0.0:.4g}, {ExplorerState.param.belt_speed.bounds[1] * v_si[2]:.4g}] m/s"
             in shown)
     assert "r (restitution) must be a number in [0, 1]; got 'abc'" in shown
@@ -664,17 +664,19 @@ def test_refused_entry_names_parameter_range_and_value(ex, name, text, said):
 
 @pytest.mark.parametrize(("name", "text", "said"), [
     ("belt_speed_si", "-1", "belt speed v_dr must lie in [0, 100] m/s with m = 1 kg, "
-                            "k = 100 N/m; got -1 m/s"),
+                            "k = 100 N/m, L = 1000 mm; got -1 m/s"),
     ("belt_speed_si", "1000", "belt speed v_dr must lie in [0, 100] m/s"),
     ("normal_force", "-5", "normal force F_N must lie in [0.0001, 1e+04] N"),
     ("normal_force", "0", "normal force F_N must lie in [0.0001, 1e+04] N"),
+    ("length_unit_si", "0", "length unit L must lie in [0.001, 1e+06] mm; got 0 mm"),
     ("t_end_si", "0.001", "horizon t_end must lie in [0.01, 500] s"),
 ])
 def test_a_refused_si_entry_names_its_range_in_si(ex, name, text, said):
     """In SI a value below the range was told '[0, 1e+09]' (the box's placeholder) or the
     core's '(0, inf]'; the range is the state's, in SI with the current m and k, and the
     box's tooltip says it."""
-    ex.state.param.update(mass=1.0, stiffness=100.0)  # omega = 10 rad/s, as said below
+    # omega = 10 rad/s, L = 1 m, as said below
+    ex.state.param.update(mass=1.0, stiffness=100.0, length_unit=1.0)
     ex.state.units = "SI"  # m = 1 kg, k = 100 N/m: omega = 10 rad/s
     before = ex.state.values()
     w = ex.sliders[name]

@@ -42,7 +42,7 @@ def test_csv_cells_are_the_shortest_digits_that_give_back_the_float(write):
 def test_the_si_header_has_no_float_noise():
     """v = 0.07 at omega = 10 rad/s is v_dr = 0.7 m/s, but 0.07 * 10 is
     0.7000000000000001 in binary floating point, and the header printed that."""
-    state = ExplorerState(units="SI", mass=1.0, stiffness=100.0)
+    state = ExplorerState(units="SI", mass=1.0, stiffness=100.0, length_unit=1.0)
     sol = solve({**scene_values("5a"), "belt_speed": 0.07})
     head = trajectory_csv(sol, state.scales()).getvalue().splitlines()[0]
     assert 0.07 * 10.0 != 0.7  # the noise this guards against

@@ -80,8 +80,8 @@ def test_axis_ranges_come_with_the_data():
 @pytest.mark.parametrize("units, omega", [("dimensionless", 1.0), ("SI", None)])
 def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
     """A slip arc is a circle about (+-a, 0) (paper Eq. 7): the portrait fits its ranges
-    to the frame with one scale for x and x' (dimensionless) or x and x'/omega (SI, x' in
-    m/s), so circles are drawn as circles (the browser test measures them)."""
+    to the frame with one scale for x and x' (dimensionless) or x and x'/omega (SI, x in mm,
+    x' in m/s), so circles are drawn as circles (the browser test measures them)."""
     from bokeh.models import DataRange1d
 
     from app.explorer import Explorer
@@ -91,10 +91,12 @@ def test_phase_portrait_has_equal_aspect_in_both_unit_systems(units, omega):
     fig = ex.plots.figures["phase"]
     assert fig.match_aspect
     assert isinstance(fig.x_range, DataRange1d) and isinstance(fig.y_range, DataRange1d)
-    scale = ex.state.scales().velocity
+    scales = ex.state.scales()
+    # x' in m/s over x in mm: omega L / (1e3 L) = omega / 1e3, whatever the length unit.
+    scale = scales.velocity / scales.length
     assert fig.aspect_scale == pytest.approx(omega or scale)
     if units == "SI":
-        assert scale != 1.0
+        assert scale == pytest.approx(ex.state.omega / 1e3, rel=1e-15)
     # The references the caption names are in the ranges' renderers.
     ranged = set(fig.x_range.renderers) & set(fig.y_range.renderers)
     sources = {r.data_source for r in ranged}

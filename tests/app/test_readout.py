@@ -19,7 +19,8 @@ def test_the_period_is_in_the_units_shown():
     si = ExplorerState(units="SI", mass=1.0, stiffness=400.0).scales()  # omega = 20 rad/s
     rows = dict(readout_rows(sol, si))
     assert rows["Steady state found"].startswith(f"periodic, period {period / 20.0:.6g} s, ")
-    assert rows["x_max simulated"].endswith(" m")
+    # Lengths in mm: 1e3 L with the default L = 10 mm.
+    assert rows["x_max simulated"] == f"{sol.result.x_max * 10.0:.4g} mm"
 
 
 def test_in_si_the_belt_row_gives_the_speeds_the_regime_s_relations_use():
@@ -27,13 +28,14 @@ def test_in_si_the_belt_row_gives_the_speeds_the_regime_s_relations_use():
     to a speed in m/s: its v is the paper's v_dr / omega, a length. The Belt row says both,
     and the relation holds with the numbers it gives."""
     sol = solve(scene_values("4a"))
-    state = ExplorerState(units="SI", mass=2.0, stiffness=50.0)  # omega = 5 rad/s
+    # omega = 5 rad/s, L = 1 m (lengths shown in mm)
+    state = ExplorerState(units="SI", mass=2.0, stiffness=50.0, length_unit=1.0)
     rows = dict(readout_rows(sol, state.scales()))
     assert "a + v*" in rows["Regime"]
     belt = rows["Belt"]
     v, vc = sol.osc.v, sol.theory.critical_speed
     assert f"v_dr = {v * 5.0:.4g} m/s" in belt and f"v*_dr = {vc * 5.0:.4g} m/s" in belt
-    assert f"v = v_dr/omega = {v:.4g} m" in belt and f"v* = {vc:.4g} m" in belt
+    assert f"v = v_dr/omega = {v * 1e3:.4g} mm" in belt and f"v* = {vc * 1e3:.4g} mm" in belt
     plain = dict(readout_rows(sol))["Belt"]
     assert "v_dr" not in plain and plain.startswith(f"fast: v = {v:.4g} > v* = {vc:.4g}")
 
@@ -239,7 +241,8 @@ def test_a_reduced_model_past_the_stored_transitions_is_still_stated():
 def test_a_deformable_stop_s_regime_row_says_it_is_the_equivalent_rigid_stop_s_theory():
     """Scene 10: the Regime row gave the rigid stop's "impact speeds fall as r^h" as if it
     were this stop's, beside a steady state that says otherwise (docs/contact-law.md)."""
-    si = ExplorerState(units="SI", mass=1.0, stiffness=100.0).scales()  # omega = 10 rad/s
+    si = ExplorerState(units="SI", mass=1.0, stiffness=100.0,
+                       length_unit=1.0).scales()  # omega = 10 rad/s, L = 1 m
     rows = dict(readout_rows(solve(scene_values("10")), si))
     assert rows["Regime"].endswith("(the theory of the equivalent rigid stop, "
                                    "r_eq = sqrt(k_e0/k_c0), Eq. 16)")
@@ -353,7 +356,7 @@ def test_a_modelled_rest_says_how_well_its_time_is_known():
 def test_loops_still_swinging_on_the_stop_are_said_with_their_amplitude_in_the_units_shown():
     """Scene 11 at t_end = 80: the loops on the stop still swing by ~6e-8 in x, twice what
     the rule for rest lets rest at the standard preset. The readout said "rest at the
-    stop, approached asymptotically"; it now says how far they swing there, lengths in m
+    stop, approached asymptotically"; it now says how far they swing there, lengths in mm
     and speeds in m/s in SI, and that the rigid stop's theory expects rest."""
     sol = solve(scene_values("11"))
     steady = sol.result.steady
@@ -362,9 +365,10 @@ def test_loops_still_swinging_on_the_stop_are_said_with_their_amplitude_in_the_u
     assert found.startswith("oscillation on the stop, not at rest at t_end: amplitude")
     assert f"amplitude {steady.amplitude:.3g} in x" in found
     assert rows["Theory expects"].startswith("rest")
-    si = ExplorerState(units="SI", mass=1.0, stiffness=400.0).scales()  # omega = 20 rad/s
+    si = ExplorerState(units="SI", mass=1.0, stiffness=400.0,
+                       length_unit=1.0).scales()  # omega = 20 rad/s, L = 1 m
     found = dict(readout_rows(sol, si))["Steady state found"]
-    assert f"amplitude {steady.amplitude:.3g} m in x" in found
+    assert f"amplitude {steady.amplitude * 1e3:.3g} mm in x" in found
     assert f"{steady.velocity_amplitude * 20.0:.3g} m/s in x'" in found
     assert f"period {steady.period / 20.0:.4g} s" in found
 
@@ -430,7 +434,7 @@ def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
     with param.edit_constant(slider):
         slider.value_throttled = -0.5
     assert ex.alert.visible and ex.solution.values["clearance"] != -0.5
-    assert "Not shown yet: x_bar = -0.5 — the rows below are the run before" in (
+    assert "Not shown yet: x̄ = -0.5 — the rows below are the run before" in (
         ex.readout.object)
 
 
@@ -440,7 +444,7 @@ def test_a_release_whose_run_is_not_shown_yet_says_so_in_the_units_shown():
 
     five_a = scene_values("5a")
     moved = {**five_a, "belt_speed": 0.05}
-    scales = si_scales(1.0, 100.0)  # omega = 10 rad/s: v_dr = 10 v
+    scales = si_scales(1.0, 100.0, 1.0)  # omega = 10 rad/s, L = 1 m: v_dr = 10 v
     assert pending_text(None, moved, five_a, scales) == (
         "Not shown yet: v_dr = 0.5 m/s — the rows below are the run before")
     assert pending_text(moved, five_a, five_a, scales) == (

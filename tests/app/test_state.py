@@ -45,7 +45,8 @@ def test_invalid_values_raise_with_the_parameter_named(override, word):
 
 
 def test_si_conversion_both_ways():
-    state = ExplorerState(units="SI", mass=2.0, stiffness=200.0)
+    # A length unit of 1 m: the state's lengths read as metres.
+    state = ExplorerState(units="SI", mass=2.0, stiffness=200.0, length_unit=1.0)
     state.set_physical(normal_force=60.0, belt_speed=1.0)
     omega = math.sqrt(100.0)
     assert state.u_s == pytest.approx(60.0 / 200.0)
@@ -63,7 +64,8 @@ def test_si_conversion_both_ways():
 
 
 def test_si_start_velocity_and_horizon_both_ways():
-    state = ExplorerState(mass=1.0, stiffness=100.0, v0=0.05, t_end=60.0)  # omega = 10
+    state = ExplorerState(mass=1.0, stiffness=100.0, v0=0.05, t_end=60.0,
+                          length_unit=1.0)  # omega = 10
     phys = state.physical()
     assert phys["v0"] == pytest.approx(0.5) and phys["t_end"] == pytest.approx(6.0)
     state.set_physical(v0=-1.0, t_end=2.5)
@@ -78,7 +80,7 @@ def test_si_start_velocity_and_horizon_both_ways():
                        r"k = 100 N/m; got 1e\+06 s"):
         state.set_physical(t_end=1e6)
     with pytest.raises(ValueError, match="unknown SI value"):
-        state.from_physical(x0=1.0)
+        state.from_physical(mu_s=1.0)
 
 
 def test_si_stop_stiffnesses_both_ways():
@@ -128,21 +130,26 @@ def test_the_contact_law_reaches_the_deformable_stop():
 
 
 def test_the_si_default_is_a_bench_spring_and_the_page_says_so():
-    """The SI default was m = 1 kg, k = 100 N/m; it is a bench rig's 0.5 kg on 200 N/m,
-    and the units' tooltip states it with the numbers it gives a scene."""
+    """The SI default was m = 1 kg, k = 100 N/m; it is a bench rig's 0.5 kg on 200 N/m
+    with a length unit of 10 mm (it was 1 m: the scenes' u_s = 1 pressed the block with
+    200 N), and the units' tooltip states it with the numbers it gives a scene."""
     from app.controls import si_default_tip
     from app.scenes import SCENES
 
     state = ExplorerState(units="SI")
-    assert (state.mass, state.stiffness) == (0.5, 200.0)
+    assert (state.mass, state.stiffness, state.length_unit) == (0.5, 200.0, 0.01)
     omega = math.sqrt(200.0 / 0.5)
     assert state.omega == pytest.approx(omega, rel=1e-15)
     tip = si_default_tip()
-    assert "m = 0.5 kg and k = 200 N/m" in tip
-    assert f"omega = {omega:.3g} rad/s" in tip and f"{2 * math.pi / omega:.2g} s" in tip
+    assert "m = 0.5 kg, k = 200 N/m and a length unit L = 10 mm" in tip
+    assert "F_N = k L uₛ = 2 N" in tip and "static deflection of 10 mm" in tip
+    assert f"ω = {omega:.3g} rad/s" in tip and f"{2 * math.pi / omega:.2g} s" in tip
     # Every scene maps to SI numbers of one bench: seconds to minutes of run, belts below
-    # 10 m/s, the normal force k u_s.
+    # 1 m/s, a normal force of a few newtons (k L u_s), clearances of millimetres.
     for key in SCENES:
-        phys = ExplorerState(**scene_values(key), units="SI").physical()
-        assert 0.1 < phys["t_end"] < 300.0 and 0.0 < phys["belt_speed"] < 10.0, key
-        assert phys["normal_force"] == pytest.approx(200.0 * scene_values(key)["u_s"])
+        values = scene_values(key)
+        phys = ExplorerState(**values, units="SI").physical()
+        assert 0.1 < phys["t_end"] < 300.0 and 0.0 < phys["belt_speed"] < 1.0, key
+        assert phys["normal_force"] == pytest.approx(200.0 * 0.01 * values["u_s"])
+        assert 0.1 <= phys["normal_force"] <= 20.0, key
+        assert abs(phys["clearance"]) < 50.0, key  # mm

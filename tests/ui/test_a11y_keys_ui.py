@@ -164,7 +164,7 @@ def test_help_opens_from_the_keyboard(page):
         return
     # The tooltip's own words, before the link to the glossary (app.teach.glossary).
     text = TOOLTIPS["clearance"].split("<a ")[0].strip()
-    assert help_icon.get_attribute("aria-label") == "Help on clearance x_bar"
+    assert help_icon.get_attribute("aria-label") == "Help on clearance x̄"
     assert help_icon.get_attribute("aria-description").startswith(text)
     assert not page.page.evaluate(JS_TOOLTIP_SHOWN, text)
     help_icon.focus()  # as Tab reaches it (test_tab_reaches_every_control_named_and_ringed)

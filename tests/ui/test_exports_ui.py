@@ -19,18 +19,18 @@ def _download(p: Page, css: str) -> tuple[str, list[str]]:
 
 
 def test_downloads_name_the_run_and_its_units(browser, server, shots):
-    p = Page(browser, server + "?scene=7c&units=SI")
+    p = Page(browser, server + "?scene=7c&units=SI&L=0.01")
     try:
         name, lines = _download(p, ".fie-download")
-        # In SI units the name says so, with m and k (app/export.py).
-        assert re.fullmatch(r"fie_7c_trajectory_SI_m-0.5_k-200_stop-rigid_[A-Za-z0-9._-]+\.csv",
-                            name)
+        # In SI units the name says so, with m, k and L (app/export.py).
+        assert re.fullmatch(
+            r"fie_7c_trajectory_SI_m-0.5_k-200_L-10mm_stop-rigid_[A-Za-z0-9._-]+\.csv", name)
         assert "r-0.3" in name
-        assert lines[2].startswith("t [s],x [m],xdot [m/s],mode,contact_force [N]")
+        assert lines[2].startswith("t [s],x [mm],xdot [m/s],mode,contact_force [N]")
         name, lines = _download(p, ".fie-download-transitions")
-        assert re.fullmatch(r"fie_7c_transitions_SI_m-0.5_k-200_stop-rigid_[A-Za-z0-9._-]+\.csv",
-                            name)
-        assert lines[2].startswith("t [s],kind,x [m],v_before [m/s],v_after [m/s]")
+        assert re.fullmatch(
+            r"fie_7c_transitions_SI_m-0.5_k-200_L-10mm_stop-rigid_[A-Za-z0-9._-]+\.csv", name)
+        assert lines[2].startswith("t [s],kind,x [mm],v_before [m/s],v_after [m/s]")
         impacts = [row.split(",") for row in lines[3:] if ",impact," in row]
         assert len(impacts) > 3
         # Newton's law with r = 0.3 (scene 7c), to rounding: v_after = -r v_before.
