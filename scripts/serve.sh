@@ -23,6 +23,10 @@
 #                           without it); on loopback the default is
 #                           localhost:$PORT,127.0.0.1:$PORT. "*" allows any origin (a warning
 #                           is logged: a page of any web site may then open sessions here)
+#   BOKEH_ALLOW_WS_ORIGIN   Bokeh's own setting, which would replace the list above inside
+#                           the server, past the checks here: alone it is taken as
+#                           ALLOW_WEBSOCKET_ORIGIN (same rules); beside a different
+#                           ALLOW_WEBSOCKET_ORIGIN the server refuses to start; never passed on
 #   BOKEH_SECRET_KEY        when set, session ids are signed with it (--session-ids signed):
 #                           the server creates no session for an id it did not sign. Make one
 #                           with `python -c "import secrets; print(secrets.token_urlsafe(32))"`
@@ -77,6 +81,26 @@ if [ ! -f "$APP_PATH" ]; then
     echo "serve.sh: no app at $APP_PATH (set APP_PATH)" >&2
     exit 1
 fi
+
+# Bokeh reads BOKEH_ALLOW_WS_ORIGIN at every websocket and lets it replace the list given on
+# the command line: passed on, it would skip the rules below (a "*" without the warning).
+# Here it is one more name for the same list, and it never reaches the server.
+BOKEH_ALLOW_WS_ORIGIN=${BOKEH_ALLOW_WS_ORIGIN:-}
+if [ -n "$BOKEH_ALLOW_WS_ORIGIN" ]; then
+    if [ -z "$ALLOW_WEBSOCKET_ORIGIN" ]; then
+        echo "serve.sh: taking BOKEH_ALLOW_WS_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN as" \
+            "ALLOW_WEBSOCKET_ORIGIN" >&2
+        ALLOW_WEBSOCKET_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN
+    elif [ "$BOKEH_ALLOW_WS_ORIGIN" != "$ALLOW_WEBSOCKET_ORIGIN" ]; then
+        cat >&2 <<EOF
+serve.sh: BOKEH_ALLOW_WS_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN and
+ALLOW_WEBSOCKET_ORIGIN=$ALLOW_WEBSOCKET_ORIGIN differ; inside the server Bokeh would let the
+first replace the second. Set ALLOW_WEBSOCKET_ORIGIN only (docs/deploy.md).
+EOF
+        exit 2
+    fi
+fi
+unset BOKEH_ALLOW_WS_ORIGIN
 
 # Students' browsers open the websocket from the address they typed; the server accepts only
 # the origins listed. A server for other machines without that list would serve blank pages,
