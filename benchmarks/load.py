@@ -820,11 +820,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     p.add_argument("--port", type=int, help="port for the started server (default: free)")
     p.add_argument("--num-procs", type=int, default=1)
     # The classroom's defaults (scripts/serve.sh): a closed tab's session is gone within 10 s.
-    p.add_argument("--session-lifetime-ms", type=int, default=7000,
-                   help="the started server's unused-session lifetime (default 7000, "
+    p.add_argument("--session-lifetime-ms", type=int, default=6000,
+                   help="the started server's unused-session lifetime (default 6000, "
                         "scripts/serve.sh's)")
-    p.add_argument("--check-unused-ms", type=int, default=3000,
-                   help="how often it looks for unused sessions (default 3000, serve.sh's)")
+    p.add_argument("--check-unused-ms", type=int, default=2000,
+                   help="how often it looks for unused sessions (default 2000, serve.sh's)")
     p.add_argument("--gone-limit-s", type=float, default=10.0,
                    help="a round whose closed sessions are not all discarded this long after "
                         "the close counts an error (default 10)")

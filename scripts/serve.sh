@@ -31,9 +31,10 @@
 #                           the server creates no session for an id it did not sign. Make one
 #                           with `python -c "import secrets; print(secrets.token_urlsafe(32))"`
 #                           (at least 32 characters); the same key for every process
-#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 7000)
-#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 3000); a closed
-#                           tab's session is gone after at most the sum of the two (10 s)
+#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 6000)
+#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 2000); a closed
+#                           tab's session is discarded at most the sum of the two (8 s) after
+#                           it closed: gone within 10 s, discarding a class's sessions included
 #   KEEP_ALIVE_MS           websocket keep-alive ping interval (default: 37000, Bokeh's)
 #   WARM                    1 = run the app once at start-up (--warm) (default: 1)
 #   PREFIX                  URL prefix when served under a sub-path behind a proxy (default: none)
@@ -56,8 +57,8 @@ NUM_PROCS=${NUM_PROCS:-1}
 PROXY=${PROXY:-auto}
 UPSTREAM_BASE_PORT=${UPSTREAM_BASE_PORT:-15000}
 ALLOW_WEBSOCKET_ORIGIN=${ALLOW_WEBSOCKET_ORIGIN:-}
-SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-7000}
-CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-3000}
+SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-6000}
+CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-2000}
 KEEP_ALIVE_MS=${KEEP_ALIVE_MS:-37000}
 WARM=${WARM:-1}
 PREFIX=${PREFIX:-}

@@ -11,8 +11,9 @@ sessions discarded within 10 s.
 - With BOKEH_SECRET_KEY set, session ids are signed: a page opens (its websocket is
   accepted and the document arrives), and a session id the server did not sign is refused,
   on the page and on the websocket.
-- A closed tab's session is discarded: SESSION_LIFETIME_MS + CHECK_UNUSED_MS <= 10 s by
-  default, and the session does go (Panel's record of it, /rest/session_info).
+- A closed tab's session is discarded: SESSION_LIFETIME_MS + CHECK_UNUSED_MS <= 8 s by
+  default (10 s, less the time a class's discards take), and the session does go (Panel's
+  record of it, /rest/session_info).
 """
 
 from __future__ import annotations
@@ -40,6 +41,10 @@ SERVE = ROOT / "scripts" / "serve.sh"
 STARTUP_TIMEOUT = 180.0
 #: A closed tab's session must be gone this long after its websocket closed [ms].
 DISCARD_WITHIN_MS = 10_000
+#: Of which the defaults leave this much for the discard itself: a class's sessions are
+#: discarded one after another by a server that is busy meanwhile (with 7 s + 3 s, 20
+#: sessions on one process were gone 9.7 s after their close: 0.3 s to spare).
+DISCARD_MARGIN_MS = 2_000
 #: Bound of the wait for the discard in the test (a loaded machine's event loop can be late).
 DISCARD_WAIT_S = 60.0
 
@@ -183,7 +188,8 @@ def test_with_a_secret_a_page_opens_and_its_session_is_discarded_once_closed(sig
                    if line.startswith("serve.sh:") and "--unused-session-lifetime" in line)
     lifetime = int(re.search(r"--unused-session-lifetime (\d+)", command).group(1))
     check = int(re.search(r"--check-unused-sessions (\d+)", command).group(1))
-    assert lifetime + check <= DISCARD_WITHIN_MS  # the defaults: gone within 10 s
+    # The defaults: discarded within 10 s, a class's discards included.
+    assert lifetime + check <= DISCARD_WITHIN_MS - DISCARD_MARGIN_MS
     session_id = run_async(lambda: _open_and_close(base))
     closed = time.monotonic()
     while _session(base, session_id)["ended"] is None:
