@@ -79,4 +79,6 @@ def test_the_resolved_themes_give_the_same_style_sheets():
         ours, panels = (ExplorerDesign(theme=theme), PanelThemes(theme=theme))
         assert type(ours.theme).__mro__[1] is type(panels.theme)
         assert (ours.theme.css, ours.theme.base_css) == (panels.theme.css, panels.theme.base_css)
+        # The page's own links to the themes' sheets (the template's head).
+        assert ours.resolve_resources() == panels.resolve_resources()
     assert _sheets(_page(ExplorerDesign, 3)) == _sheets(_page(PanelThemes, 3))
