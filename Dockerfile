@@ -48,13 +48,14 @@ USER 10001:10001
 
 # Settings for scripts/serve.sh; override with `docker run -e NAME=value`.
 # ALLOW_WEBSOCKET_ORIGIN has no default: the server refuses to start without it.
-# BOKEH_SECRET_KEY, when set, signs the session ids.
+# BOKEH_SECRET_KEY, when set, signs the session ids. The classroom setup: nginx in front of
+# one server process per core (NUM_PROCS=0; docs/deploy.md, "More than one process").
 ENV PORT=5006 \
     ADDRESS=0.0.0.0 \
-    NUM_PROCS=1 \
+    NUM_PROCS=0 \
     PROXY=nginx \
-    SESSION_LIFETIME_MS=7000 \
-    CHECK_UNUSED_MS=3000 \
+    SESSION_LIFETIME_MS=6000 \
+    CHECK_UNUSED_MS=2000 \
     WARM=1
 
 EXPOSE 5006

@@ -110,6 +110,21 @@ def serve(template: pn.template.BaseTemplate, doc: Document) -> None:
     with doc.models.freeze():
         template.server_doc(doc, title=TITLE,
                             location=location if location is not None else True)
+    hand_reconnection_to_the_page(doc)
+
+
+def hand_reconnection_to_the_page(doc: Document) -> None:
+    """Leave a lost connection to ``static/reconnect.js`` alone (public ``Document.config``).
+
+    BokehJS would otherwise try the websocket again itself (at once, then after 2, 4, 8
+    and 16 s) and show a notice of its own beside the page's banner. A try that reaches a
+    restarted server has it build a new session from the address the page was first opened
+    with (a page's worth of server CPU per student, in a class's restart) and replaces the
+    page's document with it, its values those of that first address, while reconnect.js's
+    reload of the current address comes up to seconds later: a race that the page's own
+    way back (its address holds its state) does not need."""
+    doc.config.reconnect_session = False
+    doc.config.notify_connection_status = False
 
 
 def skip_development_checks() -> None:

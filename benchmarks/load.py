@@ -11,10 +11,13 @@ Bounded in count and time, loopback only. For each N (default 10, 30, 60) the ha
    setting the slider's ``value`` and ``value_throttled``. The latency of a move is the time
    from sending it to receiving the server's patch that changes a ColumnDataSource (the plot's
    new data); if a move brings no data change, the last patch before a quiet period counts;
-3. reads the server's resident memory (VmRSS of the server process and its children, from
-   /proc) before, at the peak and after the sessions close and the server has discarded them
-   (the server runs with a short --unused-session-lifetime; Panel's /rest/session_info says
-   how many sessions are still live).
+3. closes the sessions as closed tabs do and measures how long until the server has
+   discarded them all (``gone``: Panel's /rest/session_info, asked every 0.25 s; by default
+   the server runs with the classroom's session lifetime and check interval, those of
+   scripts/serve.sh, so ``gone`` is what a class's server does); a round whose sessions are
+   not all gone within --gone-limit-s (10 s) counts an error;
+4. reads the server's resident memory (VmRSS of the server process and its children, from
+   /proc) before, at the peak and after the sessions closed and the server discarded them.
 
 The sessions are Bokeh protocol clients (one asyncio loop in this process), not browsers:
 they cost the server what a browser session costs it (documents, patches, callbacks) without
@@ -571,6 +574,21 @@ def _visible_objects(doc: dict):
 # --------------------------------------------------------------------------------------------
 
 
+async def wait_gone(live_sessions, live0: int, limit_s: float,
+                    poll_s: float = 0.25) -> tuple[float | None, int | None]:
+    """Seconds from now until ``live_sessions()`` (an awaitable count, None when unknown)
+    is back to ``live0``, and the last count; None for the seconds if it was not within
+    ``limit_s`` (or the count is not known)."""
+    t0 = time.perf_counter()
+    while True:
+        live = await live_sessions()
+        if live is not None and live <= live0:
+            return time.perf_counter() - t0, live
+        if live is None or time.perf_counter() - t0 >= limit_s:
+            return None, live
+        await asyncio.sleep(poll_s)
+
+
 def pct(values: list[float], q: float) -> float:
     if not values:
         return float("nan")
@@ -649,13 +667,12 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
 
     for s in sessions + ([measurer] if measurer is not None else []):
         await s.close()
-    # Wait until the server has discarded the sessions (lifetime + check interval + margin).
+    # How long until the server has discarded the closed sessions (bounded: lifetime + check
+    # interval + margin, at least the goal).
     wait_limit = (args.session_lifetime_ms + 2 * args.check_unused_ms) / 1000 + 15
     t_closed = time.perf_counter()
-    live_after = await server.live_sessions()
-    while live_after not in (None, live0 or 0) and time.perf_counter() - t_closed < wait_limit:
-        await asyncio.sleep(0.5)
-        live_after = await server.live_sessions()
+    gone_s, live_after = await wait_gone(server.live_sessions, live0 or 0,
+                                         max(wait_limit, args.gone_limit_s))
     if live_after is None:  # no session info: just wait out the lifetime
         await asyncio.sleep(wait_limit)
     await asyncio.sleep(args.after_s)
@@ -673,6 +690,11 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     errors += [f"server log: {e}" for e in server.log_errors()[log_errors0:]]
     if timed_out:
         errors.append(f"round timed out after {args.round_timeout} s")
+    if live_after is not None and (gone_s is None or gone_s > args.gone_limit_s):
+        waited = max(wait_limit, args.gone_limit_s)
+        late = (f"gone only after {gone_s:.1f} s" if gone_s is not None
+                else f"still live ({live_after}) after {waited:.0f} s")
+        errors.append(f"closed sessions {late} (limit {args.gone_limit_s:g} s)")
     open_s = [s.result.open_s * 1000 for s in opened]
     return {
         "n": n,
@@ -704,6 +726,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
         "rss_after_mib": rss_after,
         "live_open": live_open,
         "live_after": live_after,
+        "gone_s": gone_s,
         "cleanup_s": time.perf_counter() - t_closed,
     }
 
@@ -728,6 +751,7 @@ def print_table(rows: list[dict]) -> None:
         ("/sess", 6, lambda r: f"{r['rss_per_session_mib']:.1f}M"),
         ("after", 6, lambda r: f"{r['rss_after_mib']:.0f}M"),
         ("live", 7, lambda r: f"{r['live_open']}>{r['live_after']}"),
+        ("gone", 6, lambda r: "n/a" if r.get("gone_s") is None else f"{r['gone_s']:.1f}s"),
         ("srv cpu", 7, lambda r: f"{r['server_busy']:.2f}"),
         ("others", 6, lambda r: f"{r['other_cores']:.2f}"),
     ]
@@ -795,8 +819,15 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                         "http://127.0.0.1:5107, asked for its session count (repeatable)")
     p.add_argument("--port", type=int, help="port for the started server (default: free)")
     p.add_argument("--num-procs", type=int, default=1)
-    p.add_argument("--session-lifetime-ms", type=int, default=3000)
-    p.add_argument("--check-unused-ms", type=int, default=1000)
+    # The classroom's defaults (scripts/serve.sh): a closed tab's session is gone within 10 s.
+    p.add_argument("--session-lifetime-ms", type=int, default=6000,
+                   help="the started server's unused-session lifetime (default 6000, "
+                        "scripts/serve.sh's)")
+    p.add_argument("--check-unused-ms", type=int, default=2000,
+                   help="how often it looks for unused sessions (default 2000, serve.sh's)")
+    p.add_argument("--gone-limit-s", type=float, default=10.0,
+                   help="a round whose closed sessions are not all discarded this long after "
+                        "the close counts an error (default 10)")
     p.add_argument("--after-s", type=float, default=10.0,
                    help="s from the sessions' discard to reading memory 'after' (default 10: "
                         "the server collects their cycles ~7 s after the last one ends)")
@@ -849,6 +880,7 @@ def main(argv: list[str] | None = None) -> int:
           "RSS: server resident memory\n(base before, peak with N open, per session = "
           "(peak - base)/N, after = once the server discarded them);\n"
           "moves: with a data patch / all; live: Panel's live sessions while open > after;\n"
+          "gone: s from the sessions' close until the server had discarded them all;\n"
           "srv cpu: server CPU (cores) during the round; others: cores used by other processes "
           f"on this machine ({os.cpu_count()} cores) during it;\nclicks: 'Measure the trade' "
           f"clicks sent by one more session ({args.measure_query}), every "

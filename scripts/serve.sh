@@ -23,13 +23,18 @@
 #                           without it); on loopback the default is
 #                           localhost:$PORT,127.0.0.1:$PORT. "*" allows any origin (a warning
 #                           is logged: a page of any web site may then open sessions here)
+#   BOKEH_ALLOW_WS_ORIGIN   Bokeh's own setting, which would replace the list above inside
+#                           the server, past the checks here: alone it is taken as
+#                           ALLOW_WEBSOCKET_ORIGIN (same rules); beside a different
+#                           ALLOW_WEBSOCKET_ORIGIN the server refuses to start; never passed on
 #   BOKEH_SECRET_KEY        when set, session ids are signed with it (--session-ids signed):
 #                           the server creates no session for an id it did not sign. Make one
 #                           with `python -c "import secrets; print(secrets.token_urlsafe(32))"`
 #                           (at least 32 characters); the same key for every process
-#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 7000)
-#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 3000); a closed
-#                           tab's session is gone after at most the sum of the two (10 s)
+#   SESSION_LIFETIME_MS     how long a session with no connection is kept (default: 6000)
+#   CHECK_UNUSED_MS         how often unused sessions are looked for (default: 2000); a closed
+#                           tab's session is discarded at most the sum of the two (8 s) after
+#                           it closed: gone within 10 s, discarding a class's sessions included
 #   KEEP_ALIVE_MS           websocket keep-alive ping interval (default: 37000, Bokeh's)
 #   WARM                    1 = run the app once at start-up (--warm) (default: 1)
 #   PREFIX                  URL prefix when served under a sub-path behind a proxy (default: none)
@@ -52,8 +57,8 @@ NUM_PROCS=${NUM_PROCS:-1}
 PROXY=${PROXY:-auto}
 UPSTREAM_BASE_PORT=${UPSTREAM_BASE_PORT:-15000}
 ALLOW_WEBSOCKET_ORIGIN=${ALLOW_WEBSOCKET_ORIGIN:-}
-SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-7000}
-CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-3000}
+SESSION_LIFETIME_MS=${SESSION_LIFETIME_MS:-6000}
+CHECK_UNUSED_MS=${CHECK_UNUSED_MS:-2000}
 KEEP_ALIVE_MS=${KEEP_ALIVE_MS:-37000}
 WARM=${WARM:-1}
 PREFIX=${PREFIX:-}
@@ -77,6 +82,26 @@ if [ ! -f "$APP_PATH" ]; then
     echo "serve.sh: no app at $APP_PATH (set APP_PATH)" >&2
     exit 1
 fi
+
+# Bokeh reads BOKEH_ALLOW_WS_ORIGIN at every websocket and lets it replace the list given on
+# the command line: passed on, it would skip the rules below (a "*" without the warning).
+# Here it is one more name for the same list, and it never reaches the server.
+BOKEH_ALLOW_WS_ORIGIN=${BOKEH_ALLOW_WS_ORIGIN:-}
+if [ -n "$BOKEH_ALLOW_WS_ORIGIN" ]; then
+    if [ -z "$ALLOW_WEBSOCKET_ORIGIN" ]; then
+        echo "serve.sh: taking BOKEH_ALLOW_WS_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN as" \
+            "ALLOW_WEBSOCKET_ORIGIN" >&2
+        ALLOW_WEBSOCKET_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN
+    elif [ "$BOKEH_ALLOW_WS_ORIGIN" != "$ALLOW_WEBSOCKET_ORIGIN" ]; then
+        cat >&2 <<EOF
+serve.sh: BOKEH_ALLOW_WS_ORIGIN=$BOKEH_ALLOW_WS_ORIGIN and
+ALLOW_WEBSOCKET_ORIGIN=$ALLOW_WEBSOCKET_ORIGIN differ; inside the server Bokeh would let the
+first replace the second. Set ALLOW_WEBSOCKET_ORIGIN only (docs/deploy.md).
+EOF
+        exit 2
+    fi
+fi
+unset BOKEH_ALLOW_WS_ORIGIN
 
 # Students' browsers open the websocket from the address they typed; the server accepts only
 # the origins listed. A server for other machines without that list would serve blank pages,

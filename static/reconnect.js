@@ -15,6 +15,8 @@
  * reload waits a random fraction of RELOAD_SPREAD_MS so that a whole class does not open
  * its pages in the same instant after a restart. An answer of the server counts, even 404
  * (a server without --liveness); a proxy's 502/503/504 (no upstream yet) does not.
+ * BokehJS's own reconnection and notice are off for the page (app.main): its reconnection
+ * would have a restarted server rebuild the page from its first address, racing this reload.
  */
 (function () {
   "use strict";
@@ -83,7 +85,7 @@
   }
 
   function onLost() {
-    if (lost) return;  // BokehJS announces each of its own reconnection attempts too
+    if (lost) return;  // once per page: the reload starts it afresh
     lost = true;
     say(MESSAGE);
     void waitAndReload();

@@ -67,3 +67,20 @@ def test_a_served_page_skips_bokeh_s_development_checks_unless_the_environment_s
     assert not settings.perform_document_validation()
     if hasattr(settings, "perform_error_diagnostics"):  # Bokeh 3.9.2 and later
         assert settings.perform_error_diagnostics()  # the operator's choice stays
+
+
+def test_a_lost_connection_is_left_to_the_page_s_own_reconnection():
+    """BokehJS neither reconnects by itself nor shows its own notice: a reconnection of its
+    own raced static/reconnect.js's reload with a document rebuilt from the page's first
+    address (tests/ui/test_reconnect_ui.py runs the page's way back)."""
+    main = importlib.import_module("app.main")
+    doc = Document()
+    with set_curdoc(doc):
+        main.serve(main.create_app(), doc)
+    assert doc.config.reconnect_session is False
+    assert doc.config.notify_connection_status is False
+    # The setting goes to the browser with the document.
+    sent = doc.to_json()
+    config = getattr(sent, "content", sent)["config"]  # Serialized where a patch applies
+    assert config["attributes"]["reconnect_session"] is False
+    assert config["attributes"]["notify_connection_status"] is False

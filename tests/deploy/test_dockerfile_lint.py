@@ -6,6 +6,7 @@ a missing tool fails the test rather than skipping it.
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import sys
@@ -48,3 +49,12 @@ def test_dockerfile_runs_the_tested_scripts():
     ignored = (ROOT / ".dockerignore").read_text().split()
     for entry in (".git", ".venv", "tests"):
         assert entry in ignored
+
+
+def test_the_image_serves_a_class_as_docs_deploy_says_by_default():
+    """nginx in front of one server process per core (before, one process behind nginx:
+    a class's page opens queued on one core of the server)."""
+    text = (ROOT / "Dockerfile").read_text()
+    env = dict(re.findall(r"^\s*(?:ENV\s+)?([A-Z_]+)=(\S+?)\s*\\?$", text, flags=re.M))
+    assert env["PROXY"] == "nginx"
+    assert env["NUM_PROCS"] == "0"  # scripts/serve.sh: 0 = one per core
