@@ -69,6 +69,7 @@ class Explorer(pn.viewable.Viewer):
         self.teach = Teach(st)
         self.solving.param.watch(lambda event: self.host.show_busy(event.new), "busy")
         self.lessons = LessonsMount(self.permalink)
+        self.host.presentation.lesson = self.lessons  # the strip steps the open lesson
         self.solving.solve()
 
     # --- layout ----------------------------------------------------------------------------

@@ -224,13 +224,16 @@ class PlotsHost(pn.viewable.Viewer):
             return
         self._draft, self._draft_shown = None, False
         scales = self.state.scales()
-        drawn = self.drawn(self.visible_plots())  # the others wait, empty, until in view
-        map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
-                    if "map" in drawn else None)
         # Figures shown for the first time are built with Bokeh's checks on (they also
         # turn values such as a title's text into models).
         with validate(True):
             self.show_plots()
+        # The plots drawn are those built by now: showing them may have built more (a
+        # presentation's layout builds its plots at once, and filled them from the run
+        # before this one).
+        drawn = self.drawn(self.visible_plots())  # the others wait, empty, until in view
+        map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
+                    if "map" in drawn else None)
         self._draw_pins(sol)  # first: the axes fitted next show the ghosts too
         self.plots.update(sol, scales, drawn, map_data)
         if "anim" in drawn:

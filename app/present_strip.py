@@ -1,17 +1,18 @@
 """The control strip of the presentation mode: one slim row above the plots to drive the page
 from the lectern.
 
-Left to right: the scene picker, the two or three sliders that matter for the scene's stop
-(:data:`STRIP_SLIDERS`), the layout (one, two, three or four plots), a fullscreen toggle
-(the browser's Fullscreen API, run in the browser by the button's own script), the exit and
-the keyboard's help under "?". Every widget is a copy linked to the page's
+Left to right: the open lesson's step with its Back and Next buttons (a lesson open,
+:mod:`app.lessons.stepper`), the scene picker, the two or three sliders that matter for the
+scene's stop (:data:`STRIP_SLIDERS`), the layout (one, two, three or four plots), a
+fullscreen toggle (the browser's Fullscreen API, run in the browser by the button's own
+script), the exit and the keyboard's help under "?". Every widget is a copy linked to the page's
 :class:`~app.state.ExplorerState`: a release commits through the page's own commit (its
 constraints and notes), and the state's changes move the copies; the sidebar's widgets stay
 where they are, hidden while presenting.
 
 The strip is built the first time the page presents (a page that never presents carries none
-of it). A lesson open on the page keeps its own player above the plots, with its Back and
-Next buttons and its ←/→ keys (:mod:`app.lessons.keys`).
+of it). A lesson's step is its player's: the strip's buttons, like the player's own and its
+←/→ keys (:mod:`app.lessons.keys`), ask the player to step, and show the step it shows.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from typing import Any
 import panel as pn
 
 from app.control_specs import MU_S_MIN, SLIDERS
+from app.lessons.stepper import StripStepper
 from app.scenes import CUSTOM, SCENES
 from app.widgets import set_changed
 
@@ -91,18 +93,23 @@ class PresentStrip:
         Switches the presentation's layout (``""``: leave).
     modes : mapping
         The layouts: key -> what it shows.
+    lesson : LessonsMount, optional
+        The page's lessons (their ``position`` and ``step``): the strip steps the open one.
 
     The sliders move the core's dimensionless values, in SI units too (the sidebar's SI
     boxes convert).
     """
 
     def __init__(self, state: Any, commit: Callable[[Mapping[str, Any]], None],
-                 set_mode: Callable[[str], None], modes: Mapping[str, str]) -> None:
+                 set_mode: Callable[[str], None], modes: Mapping[str, str],
+                 lesson: Any = None) -> None:
         self.state, self._commit, self._set_mode = state, commit, set_mode
         st = state
+        self.stepper = (StripStepper(lesson.position, lesson.step) if lesson is not None
+                        else None)
         self.scene = pn.widgets.Select(
             options={**{SCENES[k].title: k for k in SCENES}, "custom": CUSTOM},
-            value=st.scene, sizing_mode="stretch_width", min_width=160, max_width=440,
+            value=st.scene, sizing_mode="stretch_width", min_width=90, max_width=440,
             margin=(6, 6), stylesheets=[STYLESHEET], css_classes=["fie-present-scene"])
         self.scene.param.watch(self._scene_picked, "value")
         self.sliders = {name: self._slider(name) for name in dict.fromkeys(
@@ -122,8 +129,10 @@ class PresentStrip:
             stylesheets=[STYLESHEET], css_classes=["fie-present-exit"])
         self.exit.on_click(lambda event: set_mode(""))
         self.help = pn.pane.HTML(help_html(), margin=(9, 6), css_classes=["fie-present-help"])
+        lesson_step = [self.stepper.layout] if self.stepper else []
         self.layout = pn.Row(
-            self.scene, *self.sliders.values(), self.layouts, self.fullscreen, self.exit, self.help,
+            *lesson_step, self.scene, *self.sliders.values(), self.layouts, self.fullscreen,
+            self.exit, self.help,
             sizing_mode="stretch_width", height=STRIP_HEIGHT_PX, margin=0,
             css_classes=["fie-present-strip"], styles={"flex": "1 1 100%"})
         st.param.watch(lambda *events: self.show(), ["scene", "present", "stop_type",
@@ -141,7 +150,7 @@ class PresentStrip:
         slider = pn.widgets.FloatSlider(
             label=SYMBOLS[name], start=min(low, value), end=max(high, value), step=step,
             value=value, sizing_mode="stretch_width", min_width=110, max_width=280,
-            margin=(2, 8), stylesheets=[STYLESHEET],
+            margin=(2, 6), stylesheets=[STYLESHEET],
             css_classes=["fie-present-slider", f"fie-present-w-{name}"])
         slider.param.watch(lambda e, n=name: self._released(n, e.new), "value_throttled")
         return slider

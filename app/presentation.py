@@ -4,7 +4,9 @@ One, two, three or four plots (``present=1`` .. ``present=4`` in the address; fo
 grid, three as one wide plot over two) under a slim control strip (:mod:`app.present_strip`,
 built the first time the page presents), the sidebar, the page's header, the scene's caption
 and the readout hidden (``static/present.js`` gives the page's body the classes it styles by,
-and the keyboard's shortcuts: P present / leave, 1-4 the layouts, F fullscreen, ? help). The
+and the keyboard's shortcuts: P present / leave, 1-4 the layouts, F fullscreen, ? help). A
+lesson open, the strip shows its step and steps it (its ◀ and ▶, the lesson's ←/→ keys), and
+the lesson's box gives way to the plots but for a step's question. The
 plots' panes take the window's height less the strip's (:data:`STRIP_PX`), in one row or
 two, at 16:9 and at 4:3 alike. The figures are restyled by changing properties of those
 already built: the mode adds no Bokeh model to the figures. Leaving it puts every property
@@ -130,6 +132,9 @@ class Presentation:
         #: The control strip (:class:`app.present_strip.PresentStrip`), made when the page
         #: first presents.
         self.strip: Any = None
+        #: The page's lessons (:class:`app.lessons.mount.LessonsMount`), stepped by the
+        #: strip (set by the page).
+        self.lesson: Any = None
         #: Panes of the page hidden while presenting (:meth:`hide_while_presenting`).
         self._hidden: list[Any] = []
         self._hiding = False
@@ -186,7 +191,8 @@ class Presentation:
     def _show_page(self) -> None:
         """The strip (made on the first entry) and the page's panes for the mode."""
         if self.on and self.strip is None:
-            self.strip = PresentStrip(self.state, self.host.commit, self.set_mode, MODES)
+            self.strip = PresentStrip(self.state, self.host.commit, self.set_mode, MODES,
+                                      self.lesson)
             self.host.above_plots(self.strip.layout)
         if self._hiding != self.on:  # only on entering and leaving: a lesson's question
             self._hiding = self.on    # hides the same panes meanwhile

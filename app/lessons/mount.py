@@ -16,6 +16,7 @@ from typing import Any
 import panel as pn
 
 from app.lessons.driver import LESSON_KEY, LESSON_KEYS, STEP_KEY, PageDriver
+from app.lessons.stepper import LessonPosition
 from app.state import URL_KEYS
 
 __all__ = ["LESSON_KEYS", "LESSONS_DIR", "ExplorerPage", "LessonsMount"]
@@ -65,6 +66,9 @@ class LessonsMount:
         The page's address, through which the lessons drive it (:class:`ExplorerPage`).
     folder : Path
         Where the lessons are read from.
+
+    The step shown is :attr:`position` (none while no lesson is open), stepped by
+    :meth:`step`: the presentation strip's stepper (:mod:`app.lessons.stepper`).
     """
 
     def __init__(self, permalink: Any, folder: Path = LESSONS_DIR) -> None:
@@ -82,6 +86,11 @@ class LessonsMount:
         self.location: Any = None
         #: The player (app.lessons.player.LessonPlayer), built when first needed.
         self.player: Any = None
+        #: The step the player shows (it alone writes it).
+        self.position = LessonPosition()
+        self._state = permalink.state
+        # While presenting the strip steps the lesson, and the player's box makes way.
+        self._state.param.watch(self._presenting, "present")
 
     @property
     def panels(self) -> list[Any]:
@@ -92,8 +101,20 @@ class LessonsMount:
     def _player(self) -> Any:
         if self.player is None:
             from app.lessons.player import LessonPlayer  # only a page that opens one
-            self.player = LessonPlayer(self.driver, self.folder, self.location, self.hidden)
+            self.player = LessonPlayer(self.driver, self.folder, self.location, self.hidden,
+                                       self.position)
+            self.player.present(bool(self._state.present))
         return self.player
+
+    def _presenting(self, event: Any) -> None:
+        if self.player is not None:
+            self.player.present(bool(event.new))
+
+    def step(self, delta: int) -> None:
+        """Step the open lesson by ``delta`` steps (its player's stepping); no lesson open,
+        nothing."""
+        if self.player is not None:
+            self.player.step(delta)
 
     def hide_while_asking(self, *panes: Any) -> None:
         """Hide ``panes`` while a step asks its question (the page's panes that would give

@@ -21,6 +21,7 @@ import panel as pn
 from app.lessons.driver import LESSON_KEY, STEP_KEY, PageDriver, step_link, step_query, with_lesson
 from app.lessons.format import Lesson, LessonError, Question, Step, lesson_files, read_lesson
 from app.lessons.keys import ArrowKeys
+from app.lessons.stepper import LessonPosition
 from app.lessons.text import lesson_html, plain_math
 from app.links import parse_number
 from app.scenes import PLOT_TITLES
@@ -124,13 +125,21 @@ class QuestionView:
 
 class LessonPlayer:
     """The lessons of ``folder`` on the page ``driver``, the address in ``location``; the
-    panes of ``hidden`` are hidden while a step asks its question."""
+    panes of ``hidden`` are hidden while a step asks its question. The step shown is
+    written to ``position`` (what the presentation strip shows, :mod:`app.lessons.stepper`).
+
+    While the page presents (:meth:`present`) the strip shows the step and steps it: the
+    player's box is hidden, so that the plots fill the screen, except for the list of
+    lessons and a step's question (asked, then answered with its reason).
+    """
 
     def __init__(self, driver: PageDriver, folder: Path, location: Any,
-                 hidden: Sequence[Any]) -> None:
+                 hidden: Sequence[Any], position: LessonPosition | None = None) -> None:
         self.driver, self.folder, self.location, self.hidden = driver, folder, location, hidden
+        self.position = position if position is not None else LessonPosition()
         self.lesson: Lesson | None = None
         self.index = 0
+        self.presenting = False
         self.head = _html(css="fie-lesson-head-pane")
         self.close = pn.widgets.Button(label="Close lessons", width=120,
                                        css_classes=["fie-lesson-close"])
@@ -151,11 +160,11 @@ class LessonPlayer:
         self.link = _html(css="fie-lesson-link", width=160, sizing_mode="fixed",
                           margin=(14, 5, 2, 5))
         self.keys = ArrowKeys(width=0, height=0, margin=0)
-        self.back.on_click(lambda event: self.go(self.index - 1))
-        self.next.on_click(lambda event: self.go(self.index + 1))
+        self.back.on_click(lambda event: self.step(-1))
+        self.next.on_click(lambda event: self.step(1))
         self.restore.on_click(lambda event: self.apply_step())
-        self.keys.param.watch(lambda event: self.go(self.index - 1), "back")
-        self.keys.param.watch(lambda event: self.go(self.index + 1), "forward")
+        self.keys.param.watch(lambda event: self.step(-1), "back")
+        self.keys.param.watch(lambda event: self.step(1), "forward")
         self.step_view = pn.Column(
             self.title, self.question.layout, self.text, self.look,
             pn.Row(self.back, self.next, self.restore, self.link, self.keys, margin=0),
@@ -198,7 +207,7 @@ class LessonPlayer:
         self.head.object = '<div class="fie-lesson-head"><b>Lessons</b>: guided steps on ' \
                            "this page; every step leaves the page live.</div>"
         self.catalogue.visible, self.step_view.visible = True, False
-        self.layout.visible = True
+        self.position.param.update(number=0, count=0, title="")
         self._say()
         self._ask(None)
         self._write_address("")
@@ -239,7 +248,7 @@ class LessonPlayer:
             self._say(str(exc))
             return
         self.catalogue.visible, self.step_view.visible = False, True
-        self.layout.visible = True
+        self._show_box()
         self.go(number - 1, apply_state=apply_state)
 
     def go(self, index: int, apply_state: bool = True) -> None:
@@ -264,6 +273,17 @@ class LessonPlayer:
         if apply_state:
             self.apply_step()
         self._write_address(lesson.name, index + 1)
+        self.position.param.update(number=index + 1, count=n, title=step.title)
+
+    def step(self, delta: int) -> None:
+        """Show the step ``delta`` steps from the one shown (the buttons', the keys' and the
+        presentation strip's stepping); out of the lesson, nothing."""
+        self.go(self.index + delta)
+
+    def present(self, on: bool) -> None:
+        """The page presents (``on``) or not: the player's box shown for it."""
+        self.presenting = on
+        self._show_box()
 
     def apply_step(self) -> None:
         """Load the step's state (again): the page's refusals are named with the file and
@@ -278,9 +298,10 @@ class LessonPlayer:
     def leave(self) -> None:
         """Close the lessons: the page stays as it is, the plots shown."""
         self.lesson = None
+        self.catalogue.visible = self.step_view.visible = False
+        self.position.param.update(number=0, count=0, title="")
         self._ask(None)
         self._write_address(None)
-        self.catalogue.visible = self.step_view.visible = self.layout.visible = False
 
     # --- pieces ------------------------------------------------------------------------
 
@@ -297,6 +318,14 @@ class LessonPlayer:
         """Ask ``question`` with the panes of :attr:`hidden` hidden (``None``: show them)."""
         self.question.show(question)
         self.hide_while_asking()
+        self._show_box()
+
+    def _show_box(self) -> None:
+        """The player's box: shown with the list or a step; while presenting, only with
+        the list or a step's question (the strip shows the step, the plots the rest)."""
+        listed, stepping = self.catalogue.visible, self.step_view.visible
+        asking = stepping and self.question.question is not None
+        self.layout.visible = (listed or asking) if self.presenting else (listed or stepping)
 
     def hide_while_asking(self) -> None:
         """Hide the panes of :attr:`hidden` while a question waits for its answer: by a

@@ -3,8 +3,9 @@ whose brush moves it.
 
 A run of hundreds of periods drawn whole is a solid block (true envelopes, but a block):
 the time histories then show the last :data:`WINDOW_PERIODS` periods, and a small overview
-of the whole run below them holds a brush (Bokeh's ``RangeTool``) on their time axis. A
-short run is shown whole, without an overview.
+of the whole run below them holds a brush (Bokeh's ``RangeTool``) on their time axis, and
+a box above it takes a number N: the window becomes the last N periods (1 to the run's
+number of periods, :func:`period_count`). A short run is shown whole, without an overview.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import math
 from typing import Any
 
 from bokeh.core.properties import validate
-from bokeh.models import Range1d, RangeTool
+from bokeh.models import NumericInput, Range1d, RangeTool
 from bokeh.plotting import figure
 
 from app.deferred import later
@@ -39,6 +40,8 @@ BRUSH_STYLE = {"fill_color": "#d62728", "fill_alpha": 0.35, "line_color": "#d627
                "line_width": 2}
 #: The whole run's line under it.
 OVERVIEW_LINE = {"line_color": "#9a9a9a", "line_width": 1}
+#: Width [px] of the "last N periods" box.
+PERIODS_BOX_WIDTH = 260
 
 
 def run_period(sol: Solution) -> float:
@@ -51,6 +54,37 @@ def run_period(sol: Solution) -> float:
     res = sol.result
     period = res.steady.period if res is not None else math.nan
     return float(period) if math.isfinite(period) and period > 0 else TURN
+
+
+def period_count(sol: Solution) -> int:
+    """The whole periods of the run (:func:`run_period`), at least one.
+
+    >>> from types import SimpleNamespace as NS
+    >>> period_count(NS(result=NS(steady=NS(period=2.0)), t_end=101.0))
+    50
+    """
+    return max(1, math.floor(sol.t_end / run_period(sol)))
+
+
+def last_periods(sol: Solution, n: Any) -> tuple[float, float]:
+    """The window of the last ``n`` periods of the run (dimensionless times); ``n`` must be
+    a whole number from 1 to :func:`period_count`.
+
+    >>> from types import SimpleNamespace as NS
+    >>> last_periods(NS(result=NS(steady=NS(period=2.0)), t_end=100.0), 3)
+    (94.0, 100.0)
+    """
+    count = period_count(sol)
+    whole = isinstance(n, (int, float)) and not isinstance(n, bool) and float(n).is_integer()
+    if not whole or not 1 <= n <= count:
+        raise ValueError(f"last periods must be a whole number in [1, {count}] (the run's "
+                         f"periods); got {n!r}")
+    return max(0.0, sol.t_end - int(n) * run_period(sol)), sol.t_end
+
+
+def periods_title(count: int) -> str:
+    """The title of the "last N periods" box of a run of ``count`` periods."""
+    return f"Show the last N periods (1–{count})"
 
 
 def default_window(sol: Solution) -> tuple[float, float] | None:
@@ -103,7 +137,7 @@ class RunWindow:
     Parameters
     ----------
     follow : callable()
-        Draws the histories for a new :attr:`window` (the brush moved it).
+        Draws the histories for a new :attr:`window` (the brush or the box moved it).
     """
 
     def __init__(self, follow: Any) -> None:
@@ -112,6 +146,12 @@ class RunWindow:
         self.window: tuple[float, float] | None = None
         self.overview: Any = None
         self.brush: Any = None
+        #: The box that takes N, the window's last N periods (built with the overview).
+        self.periods_box: Any = None
+        #: The N of the window's last N periods, or ``None`` (brushed, or shown whole).
+        self.periods: int | None = None
+        self._sol: Solution | None = None
+        self._syncing = False
         #: Whether the overview is kept hidden (a projector's layouts have no room for it).
         self.hidden = False
         self._time_range: Range1d | None = None
@@ -122,12 +162,55 @@ class RunWindow:
         self._placing = False
 
     def choose(self, sol: Solution) -> None:
-        """The window for a new solution: the one brushed if the horizon is the same,
-        else :func:`default_window`."""
-        if not (self._brushed and self.window is not None and sol.t_end == self._t_end
-                and default_window(sol) is not None):
-            self.window, self._brushed = default_window(sol), False
-        self._t_end = sol.t_end
+        """The window for a new solution: if the horizon is the same, the one brushed or
+        the last N periods typed (of the new run); else :func:`default_window`."""
+        same = sol.t_end == self._t_end
+        if default_window(sol) is None:
+            self.window, self._brushed, self.periods = None, False, None
+        elif not (self._brushed and self.window is not None and same):
+            n = self.periods if same and self.periods is not None else WINDOW_PERIODS
+            n = min(n, period_count(sol))
+            self.window, self._brushed, self.periods = last_periods(sol, n), False, n
+        self._t_end, self._sol = sol.t_end, sol
+        self._show_periods()
+
+    def show_last(self, n: Any) -> None:
+        """Show the last ``n`` periods of the run on screen (a whole number from 1 to its
+        :func:`period_count`: else a ``ValueError`` says so, the window unchanged)."""
+        if self._sol is None or self.window is None:
+            raise ValueError("last periods: the run on screen is shown whole (no window)")
+        self.window = last_periods(self._sol, n)
+        self.periods, self._brushed = int(n), False
+        self._show_periods()
+        if self._time_range is not None:
+            self.place(self._time_range, self.shown(self._unit))
+        self.follow()
+
+    def _typed(self, attr: str, old: Any, new: Any) -> None:
+        """A number typed in the box: its last periods, or the box says why not."""
+        if self._syncing or new is None:
+            return
+        try:
+            self.show_last(new)
+        except ValueError as exc:
+            self._show_periods(str(exc))
+
+    def _show_periods(self, refusal: str = "") -> None:
+        """The box: the run's number of periods, the window's N (empty once brushed), and
+        its title, or what was refused in its place."""
+        box, sol = self.periods_box, self._sol
+        if box is None or sol is None:
+            return
+        count = period_count(sol)
+        values = {"high": count, "value": self.periods,
+                  "title": refusal or periods_title(count)}
+        changed = {k: v for k, v in values.items() if getattr(box, k) != v}
+        if changed:
+            self._syncing = True
+            try:
+                box.update(**changed)
+            finally:
+                self._syncing = False
 
     def shown(self, unit: float) -> tuple[float, float] | None:
         """The window in shown time units (``unit`` per dimensionless unit)."""
@@ -138,9 +221,12 @@ class RunWindow:
         """Keep the overview hidden (``hidden``) or show it again where the run has a
         window."""
         self.hidden = hidden
-        shown = not hidden and self.window is not None
-        if self.overview is not None and self.overview.visible != shown:
-            self.overview.visible = shown
+        self._set_visible(not hidden and self.window is not None)
+
+    def _set_visible(self, shown: bool) -> None:
+        for model in (self.overview, self.periods_box):
+            if model is not None and model.visible != shown:
+                model.visible = shown
 
     def show_overview(self, layout: Any, time_range: Range1d, traj: Any,
                       t_span: tuple[float, float], x_span: tuple[float, float]) -> None:
@@ -148,21 +234,24 @@ class RunWindow:
         long run is shown) over ``t_span`` and ``x_span``; hide it for a short run, and
         while :attr:`hidden`."""
         if self.window is None or self.hidden:
-            if self.overview is not None and self.overview.visible:
-                self.overview.visible = False
+            self._set_visible(False)
             return
         if self.overview is None:
             # Built with Bokeh's checks on, also under a caller's ``validate(False)``: they
             # turn values such as a title's text into models.
             with validate(True):
                 self.overview, self.brush = build_overview(traj, time_range)
-            layout.children.append(self.overview)
+                self.periods_box = NumericInput(
+                    mode="int", low=1, placeholder="N", width=PERIODS_BOX_WIDTH,
+                    margin=(4, 10, 0, 10), css_classes=["fie-last-periods"])
+            self._show_periods()
+            self.periods_box.on_change("value", self._typed)
+            layout.children.extend([self.periods_box, self.overview])
             self._time_range = time_range
             time_range.on_change("start", self._moved)
             time_range.on_change("end", self._moved)
+        self._set_visible(True)
         fig = self.overview
-        if not fig.visible:
-            fig.visible = True
         for rng, (lo, hi) in ((fig.x_range, t_span), (fig.y_range, x_span)):
             if (rng.start, rng.end) != (lo, hi):
                 rng.update(start=lo, end=hi)
@@ -196,5 +285,6 @@ class RunWindow:
         tol = SAME_WINDOW * self._t_end
         if hi <= lo or (abs(lo - self.window[0]) <= tol and abs(hi - self.window[1]) <= tol):
             return
-        self.window, self._brushed = (lo, hi), True
+        self.window, self._brushed, self.periods = (lo, hi), True, None
+        self._show_periods()
         self.follow()

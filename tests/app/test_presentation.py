@@ -4,6 +4,7 @@ permalink, the figures freed of their width cap."""
 
 from __future__ import annotations
 
+import numpy as np
 import param
 from bokeh.document import Document
 from panel.io.state import set_curdoc
@@ -142,3 +143,24 @@ def test_a_page_opened_presenting_hides_the_caption():
     assert not ex.caption.visible
     ex.presentation.set_mode("")
     assert ex.caption.visible
+
+
+def test_a_plot_the_layout_shows_with_a_new_scene_is_drawn_from_that_scene_s_run():
+    """Presenting 2x2 on a lazy page, a scene of another stop brings a plot into the layout
+    with its run (the hysteresis loop): the layout built the plot as the run was drawn and
+    filled it from the run before; the run's own draw then left the plot out, empty."""
+    from app.plots.columns import loop_columns
+
+    ex, doc = _page("scene=7c&present=4", in_view=False)
+    with set_curdoc(doc):
+        assert "loop" not in ex.presentation.shown(ex.visible_plots())
+        ex.presentation.strip.scene.value = "11"  # a hysteretic stop
+        assert "loop" in ex.presentation.shown(ex.visible_plots())
+        sol = ex.solution
+        assert sol.values["stop_type"] == "hysteretic"
+        expected = loop_columns(sol, ex.state.scales())["loop"]
+        drawn = ex.plots.sources["loop"].data
+        assert len(expected["d"]) > 0
+        # The same columns (their NaNs, the breaks between contacts, equal too).
+        np.testing.assert_array_equal(drawn["d"], expected["d"])
+        np.testing.assert_array_equal(drawn["phi"], expected["phi"])

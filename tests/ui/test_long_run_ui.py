@@ -161,3 +161,57 @@ def test_scene_7c_keeps_its_caption_when_only_the_horizon_changes(browser, serve
         assert not p.errors
     finally:
         p.close()
+
+
+#: JavaScript: the time figures' window [start, end] once it spans ``width`` (within T_TOL).
+JS_WINDOW_WIDTH = f"""w => {{
+  const t = ({JS_FIGURES})().time;
+  return t !== null && Math.abs((t[1] - t[0]) - w) < {T_TOL};
+}}"""
+
+#: JavaScript: the value of the "last N periods" box's model.
+JS_BOX_VALUE = """() => [...Bokeh.documents[0].all_models].find(
+  m => m.type === "NumericInput" && m.css_classes.includes("fie-last-periods")).value"""
+
+
+def test_typing_n_shows_the_last_n_periods_and_the_brush_still_moves_the_window(
+        browser, server, shots):
+    t_end = 2000.0
+    res = _run("5a", t_end)
+    period = res.steady.period
+    count = int(t_end // period)
+    p = Page(browser, f"{server}?scene=5a&tend={t_end:g}", viewport=LAPTOP)
+    try:
+        p.page.wait_for_function(f"() => ({JS_FIGURES})().overview !== null",
+                                 timeout=PAGE_TIMEOUT_MS)
+        box = p.page.locator(".fie-last-periods input").first
+        box.scroll_into_view_if_needed()
+        assert box.input_value() == str(WINDOW_PERIODS)
+        assert f"(1–{count})" in p.text(".fie-last-periods")
+        for n in (12, 1, count):
+            box.fill(str(n))
+            box.press("Enter")
+            p.page.wait_for_function(JS_WINDOW_WIDTH, arg=n * period, timeout=PAGE_TIMEOUT_MS)
+            p.still()
+            lo, hi = p.page.evaluate(JS_FIGURES)["time"]
+            assert hi == pytest.approx(t_end, abs=T_TOL)
+            if n == 12:
+                # The server sampled the new window (as densely per period as the first).
+                assert p.page.evaluate(JS_SAMPLES_IN, [lo, hi]) >= 40 * n
+                _shoot(p, ".fie-plot-time", shots / "long-run-5a-last-12-periods.png")
+        # The brush still moves the window; the box is emptied (no "last N" any more).
+        new = (0.3 * t_end, 0.3 * t_end + 3 * period)
+        assert p.page.evaluate(JS_BRUSH, list(new))
+        p.page.wait_for_function(JS_WINDOW_WIDTH, arg=3 * period, timeout=PAGE_TIMEOUT_MS)
+        p.page.wait_for_function(f"() => ({JS_BOX_VALUE})() === null", timeout=PAGE_TIMEOUT_MS)
+        p.still()
+        fig = p.page.evaluate(JS_FIGURES)
+        assert fig["time"] == [pytest.approx(new[0], abs=T_TOL), pytest.approx(new[1], abs=T_TOL)]
+        # A number after the brush sets the last periods again.
+        box.fill("4")
+        box.press("Enter")
+        p.page.wait_for_function(JS_WINDOW_WIDTH, arg=4 * period, timeout=PAGE_TIMEOUT_MS)
+        assert p.page.evaluate(JS_FIGURES)["time"][1] == pytest.approx(t_end, abs=T_TOL)
+        assert not p.errors
+    finally:
+        p.close()
