@@ -101,11 +101,13 @@ class PlotsHost(pn.viewable.Viewer):
         #: The drag's draft asked last (None: none is due), and whether one is on screen.
         self._draft: object | None = None
         self._draft_shown = False
+        #: Whether the mechanism missed the run on screen (hidden by a presentation).
+        self._anim_stale = False
         self.show_plots()
         st = self.state
         st.param.watch(self._state_changed, ["scene", "preview", "stale", *SOLVE_PARAMS,
                                              *VIEW_PARAMS])
-        st.param.watch(lambda e: self.show_plots(), ["present", "slides"])
+        st.param.watch(self._presented, ["present", "slides"])
         # First of the solution's watchers (the readout and the others follow, in the same
         # message): the figures are what the page waits for.
         st.param.watch(self._draw, "solution")
@@ -123,6 +125,11 @@ class PlotsHost(pn.viewable.Viewer):
     def visible_plots(self) -> tuple[str, ...]:
         """The plots the current scene needs (:func:`app.plot_choice.visible_plots`)."""
         return visible_plots(self.state)
+
+    def drawn_now(self) -> tuple[str, ...]:
+        """The plots a new run is drawn in: those of :meth:`drawn` that a presentation's
+        layout shows (the others are filled when it shows them, :meth:`_presented`)."""
+        return self.drawn(self.presentation.shown(self.visible_plots()))
 
     def drawn(self, visible: tuple[str, ...]) -> tuple[str, ...]:
         """The plots of ``visible`` that are built and drawn: all of them, or on a lazy
@@ -165,6 +172,7 @@ class PlotsHost(pn.viewable.Viewer):
                 self.plots.refresh(self.drawn(visible), map_data)
                 if "anim" in new:
                     self.anim.update(sol, self.state.scales())
+                    self._anim_stale = False
                 if map_data is not None:
                     self.show_map_legend(map_data["labels"])
         if "map" in new and map_data is None:
@@ -230,13 +238,15 @@ class PlotsHost(pn.viewable.Viewer):
             self.show_plots()
         # The plots drawn are those built by now: showing them may have built more (a
         # presentation's layout builds its plots at once, and filled them from the run
-        # before this one).
-        drawn = self.drawn(self.visible_plots())  # the others wait, empty, until in view
+        # before this one). The others wait, empty, until in view, or stale until a
+        # presentation shows them.
+        drawn = self.drawn_now()
         map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
                     if "map" in drawn else None)
         self._draw_pins(sol)  # first: the axes fitted next show the ghosts too
         self.plots.update(sol, scales, drawn, map_data)
-        if "anim" in drawn:
+        self._anim_stale = "anim" not in drawn
+        if not self._anim_stale:
             self.anim.update(sol, scales)
         if map_data is not None:
             self.show_map_legend(map_data["labels"])
@@ -244,6 +254,30 @@ class PlotsHost(pn.viewable.Viewer):
         if "map" in drawn and map_data is None:
             # A new map (friction, stop or start changed): the rest of the picture is sent
             # first, the map (its computation and its 64 kB image) follows.
+            later(lambda: self.draw_map(sol), 0)
+
+    def _presented(self, *events: param.parameterized.Event) -> None:
+        """A presentation's layout entered, changed or left: its panes, and the plots it
+        shows filled from the run on screen where they missed it while hidden."""
+        self.show_plots()
+        sol = self.state.solution
+        if sol is None:
+            return
+        drawn = self.drawn_now()
+        stale = self.plots.stale.intersection(drawn)
+        anim = "anim" in drawn and self._anim_stale
+        if not stale and not anim:
+            return
+        map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
+                    if "map" in stale else None)
+        with pn.io.hold(), validate(False):
+            self.plots.refresh(drawn, map_data)
+            if anim:
+                self.anim.update(sol, self.state.scales())
+                self._anim_stale = False
+            if map_data is not None:
+                self.show_map_legend(map_data["labels"])
+        if "map" in stale and map_data is None:
             later(lambda: self.draw_map(sol), 0)
 
     def _draw_pins(self, sol: Solution) -> None:

@@ -15,6 +15,7 @@ import numpy as np
 import panel as pn
 import param
 
+from app.deferred import later
 from app.scenes import CUSTOM, SCENES
 from app.solve.measure import integrates, reference_name
 from app.solve.presets import ACCURACY
@@ -50,6 +51,11 @@ READOUT_ROW_PX, READOUT_PAD_PX = 20, 8
 #: Lines the readout reserves beyond its rows (one long row that wraps at the page's width,
 #: or the note of a drag's preview).
 READOUT_SPARE_LINES = 1
+#: Delay [ms] after a release before the readout says that its run is not shown yet: a
+#: run drawn sooner clears the drag's note in its own message, and the readout changes
+#: once per drag (its text sent at every step and again at the release held the release's
+#: picture up by some 20 ms, paired in one browser).
+SOLVING_NOTE_DELAY_MS = 300
 #: The readout while its rows are not the sliders' run: greyed, under a line that says why.
 PENDING_CSS = """
 .fie-pending table { opacity: 0.45; }
@@ -345,12 +351,13 @@ def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
     """What the readout says above rows that are not those of the values on the sliders:
     a drag's ``preview`` (the phase portrait draws its draft), or committed ``values``
     whose run is being solved, against the values of the run ``shown``; None when the
-    rows are the sliders' run.
+    rows are the sliders' run. A preview names the parameters dragged, not their values
+    (the slider's handle shows its value as it moves): one note for the whole drag.
 
     >>> from app.state import scene_values
     >>> five_a = scene_values("5a")
     >>> pending_text({**five_a, "restitution": 0.42}, five_a, five_a)
-    'Preview of r = 0.42 — release to solve'
+    'Preview of r — release to solve'
     >>> pending_text(None, {**five_a, "restitution": 0.42}, five_a)
     'Not shown yet: r = 0.42 — the rows below are the run before'
     >>> pending_text(None, five_a, five_a) is None
@@ -362,7 +369,7 @@ def pending_text(preview: Mapping[str, Any] | None, values: Mapping[str, Any],
 
     if preview is not None and _differ(preview, shown):
         changed = differences(preview, shown, scales) or [("new values", "")]
-        return f"Preview of {_named(changed)} — release to solve"
+        return f"Preview of {_named([(name, '') for name, _ in changed])} — release to solve"
     if _differ(values, shown):
         # Said alike while the run is solved and after it failed (the alert says why):
         # either way the rows are the run before.
@@ -435,7 +442,7 @@ class Readout(pn.viewable.Viewer):
         self._rows = ""
         # After the plots' draw (one message all the same: the page waits for its figures).
         self.state.param.watch(self._show, ["solution", "pinned"], precedence=1)
-        self.state.param.watch(self._pending, "preview", precedence=1)
+        self.state.param.watch(self._preview_changed, "preview", precedence=1)
         self.state.param.watch(self._presented, "present")
 
     def __panel__(self) -> pn.viewable.Viewable:
@@ -450,6 +457,17 @@ class Readout(pn.viewable.Viewer):
         self._pending()
         self._reserve(self._rows.count("<tr>"))
         self.caption.object = caption_html(self.state.scene)
+
+    def _preview_changed(self, event: param.parameterized.Event) -> None:
+        """A drag moved or ended. At a release (the values left the run on screen) the
+        drag's note stays until the run arrives, which clears it with the new rows, or
+        until :data:`SOLVING_NOTE_DELAY_MS` have passed, when it says the run is not shown
+        yet."""
+        st, sol = self.state, self.state.solution
+        if event.new is None and sol is not None and _differ(st.values(), sol.values):
+            later(self._pending, SOLVING_NOTE_DELAY_MS)
+        else:
+            self._pending()
 
     def _pending(self, *events: param.parameterized.Event) -> None:
         """Mark the rows (greyed, a line above them) while they are not the run of the

@@ -154,6 +154,11 @@ class PlotSet:
         return frozenset(self.panes)
 
     @property
+    def stale(self) -> frozenset[str]:
+        """The plots not filled from the last solution yet (hidden when it came)."""
+        return frozenset(self._dirty)
+
+    @property
     def last(self) -> Solution | None:
         """The solution drawn last (by :meth:`update`)."""
         return self._last

@@ -164,3 +164,29 @@ def test_a_plot_the_layout_shows_with_a_new_scene_is_drawn_from_that_scene_s_run
         # The same columns (their NaNs, the breaks between contacts, equal too).
         np.testing.assert_array_equal(drawn["d"], expected["d"])
         np.testing.assert_array_equal(drawn["phi"], expected["phi"])
+
+
+def test_a_layout_draws_only_the_plots_it_shows_and_the_others_when_shown(monkeypatch):
+    """In a one-plot layout every release still filled the plots it hides (the return map,
+    the contact force, the regime map, the mechanism): server time and bytes for nothing on
+    the screen. They wait, and are filled from the run on screen when a layout shows them."""
+    ex, doc = _page("scene=7c")
+    with set_curdoc(doc):
+        plots = ex.host.plots
+        filled = []
+        for name in ("_fill_return", "_fill_force"):
+            fill = getattr(plots, name)
+            monkeypatch.setattr(plots, name, lambda *a, fill=fill, name=name: (
+                filled.append(name), fill(*a))[1])
+        ex.state.present = "1"
+        slider = ex.sliders["clearance"].slider
+        for value in (0.25, 0.22, 0.2):  # 0.2: a grazing run, other points than 7c's
+            _release(slider, value)
+        assert ex.solution.values["clearance"] == 0.2
+        assert filled == []
+        ex.state.present = ""
+        assert sorted(filled) == ["_fill_force", "_fill_return"]
+        counts = ex.solution.result.transition_counts
+        impacts = counts.get("impact", 0) + counts.get("stick->impact", 0)
+        assert len(plots.sources["ret_points"].data["x"]) == impacts - 1
+        assert f"({impacts - 1} points)" in plots.figures["return"].title.text

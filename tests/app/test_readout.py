@@ -405,7 +405,7 @@ def test_a_reference_still_swinging_within_the_run_s_rule_for_rest_is_the_same_v
 def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
     """While a slider was dragged, the phase portrait drew the new value's draft but the
     readout showed the old run's rows, unmarked. They are now greyed under a line naming
-    the previewed value, until the release's run replaces them."""
+    the parameter previewed, until the release's run replaces them."""
     import param
 
     from app.explorer import Explorer
@@ -416,7 +416,7 @@ def test_a_drag_s_preview_is_marked_in_the_readout_until_its_run_arrives():
     slider.value = 0.42  # a drag step
     assert ex.state.preview is not None and ex.state.restitution == 1.0
     shown = ex.readout.object
-    assert "Preview of r = 0.42 — release to solve" in shown
+    assert "Preview of r — release to solve" in shown
     assert "fie-pending" in ex.readout.object
     assert "<th>x*</th>" not in shown  # the rows are still those of r = 1
     slider.value = 1.0  # dragged back to the value in use: nothing to preview
@@ -447,8 +447,7 @@ def test_a_release_whose_run_is_not_shown_yet_says_so_in_the_units_shown():
     scales = si_scales(1.0, 100.0, 1.0)  # omega = 10 rad/s, L = 1 m: v_dr = 10 v
     assert pending_text(None, moved, five_a, scales) == (
         "Not shown yet: v_dr = 0.5 m/s — the rows below are the run before")
-    assert pending_text(moved, five_a, five_a, scales) == (
-        "Preview of v_dr = 0.5 m/s — release to solve")
+    assert pending_text(moved, five_a, five_a, scales) == "Preview of v_dr — release to solve"
     assert pending_text(None, five_a, dict(five_a)) is None
 
 
@@ -463,3 +462,42 @@ def test_the_readout_prints_the_core_s_mathematics_as_symbols():
     assert "<=" in regime and "x_bar" in regime and "r^h" in regime  # what the core says
     assert "a ≤ x̄ &lt; x*" in shown and "rʰ" in shown
     assert "&lt;=" not in shown and "x_bar" not in shown and "r^h" not in shown
+
+
+def test_a_drag_changes_the_readout_once_and_its_run_clears_it(monkeypatch):
+    """The drag's note named each previewed value: the readout's whole text went to the
+    browser at every step of a drag, and once more at the release ("Not shown yet"), before
+    the run's own rows: some 20 ms more from the release to the new picture.
+    Now the note is written when the drag starts and cleared by the run's rows; a run not
+    there after :data:`app.readout.SOLVING_NOTE_DELAY_MS` is said to be not shown yet."""
+    import param
+
+    import app.readout as readout_module
+    from app.explorer import Explorer
+
+    pending = []  # the session's event loop: calls run after the release, as served
+    monkeypatch.setattr(readout_module, "later", lambda fn, ms: pending.append(fn),
+                        raising=False)
+    ex = Explorer()  # scene 5a
+    texts = []
+    ex.readout.param.watch(lambda e: texts.append(e.new), "object")
+    slider = ex.sliders["restitution"].slider
+    for value in (0.9, 0.8, 0.7, 0.6):  # the steps of one drag
+        slider.value = value
+    assert len(texts) == 1 and "Preview of r — release to solve" in texts[0]
+    with param.edit_constant(slider):
+        slider.value_throttled = 0.6  # the release: its run is drawn at once here
+    for call in pending:
+        call()
+    assert len(texts) == 2, texts
+    assert "fie-pending" not in texts[-1] and "<th>x*</th>" in texts[-1]
+    # A run that has not come by the delay is said to be not shown yet.
+    pending.clear()
+    monkeypatch.setattr(ex.solving, "solve", lambda budget=None: None)  # a slow solve
+    slider.value = 0.5
+    with param.edit_constant(slider):
+        slider.value_throttled = 0.5
+    assert "Preview of r" in ex.readout.object  # the drag's note, until the delay
+    for call in pending:
+        call()
+    assert "Not shown yet: r = 0.5 — the rows below are the run before" in ex.readout.object

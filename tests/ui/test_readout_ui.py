@@ -69,7 +69,7 @@ JS_OPACITY = """el => {
 
 def test_a_drag_s_preview_is_marked_in_the_readout(browser, server, shots):
     """While r was dragged the phase portrait drew the new value's draft but the readout
-    showed the old run's rows, unmarked. They are greyed under "Preview of r = ... —
+    showed the old run's rows, unmarked. They are greyed under "Preview of r —
     release to solve" (in the line the readout keeps spare: the plots do not move), and
     the release's run replaces them."""
     p = Page(browser, f"{server}?scene=5a", viewport={"width": 1280, "height": 800})
@@ -86,7 +86,7 @@ def test_a_drag_s_preview_is_marked_in_the_readout(browser, server, shots):
         p.page.mouse.move(x - 80, y, steps=8)  # r = 1 is the right end: left is lower
         shown = p.wait_text(".fie-readout-pane", lambda t: "release to solve" in t,
                             "the readout never marked the drag's preview")
-        assert "Preview of r = 0." in shown and "x*" not in shown  # still r = 1's rows
+        assert "Preview of r — release to solve" in shown and "x*" not in shown  # r = 1
         assert pane.evaluate(JS_OPACITY) < 0.6
         assert phase.bounding_box()["y"] == top
         p.page.screenshot(path=shots / "readout-drag-preview.png")
