@@ -25,6 +25,7 @@ import panel as pn
 from app.control_specs import MU_S_MIN, SLIDERS
 from app.lessons.stepper import StripStepper
 from app.scenes import CUSTOM, SCENES
+from app.teach.glossary import PLAIN, SLIDER_SYMBOLS
 from app.widgets import set_changed
 
 #: The sliders of the strip by stop type: the belt speed (a slow or a fast belt, Eq. 25),
@@ -41,10 +42,11 @@ STRIP_FONT_PX = 18
 #: Height [px] the strip takes above the plots, its margins included (kept in step with the
 #: plots' heights, :data:`app.presentation.STRIP_PX`).
 STRIP_HEIGHT_PX = 50
-#: The sliders' labels: the paper's symbols (the strip holds three on a 1024 px screen; the
-#: sidebar's tooltips say what each means).
-SYMBOLS: Mapping[str, str] = {"belt_speed": "v", "clearance": "x_bar", "restitution": "r",
-                              "mu_s": "mu_s", "u_s": "u_s", "limit_overlap": "D"}
+#: The sliders' labels: the paper's symbols, printed as on the sidebar's sliders (the strip
+#: holds three on a 1024 px screen; the sidebar's tooltips say what each means).
+SYMBOLS: Mapping[str, str] = {
+    name: PLAIN[SLIDER_SYMBOLS[name]]
+    for name in ("belt_speed", "clearance", "restitution", "mu_s", "u_s", "limit_overlap")}
 #: The browser toggles fullscreen (a button's click is the user's gesture the API needs).
 FULLSCREEN_JS = """
 if (document.fullscreenElement) { document.exitFullscreen() }

@@ -49,6 +49,7 @@ from app.plots import (
 )
 from app.present_strip import STRIP_HEIGHT_PX, PresentStrip
 from app.scenes import SCENES
+from app.teach.glossary import BETAS, PLAIN
 
 #: The presentation layouts: the address's value -> menu label (``""``: off).
 MODES: Mapping[str, str] = {"1": "one large plot", "2": "two plots", "3": "three plots",
@@ -95,12 +96,14 @@ SLIDES_KEY = "slides"
 PNG_SCALE = 3
 #: Parameters the caption line names, by stop type: (state name, symbol).
 CAPTION_PARAMS: Mapping[str, tuple[tuple[str, str], ...]] = {
-    "none": (("belt_speed", "v"), ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
-    "rigid": (("belt_speed", "v"), ("clearance", "x_bar"), ("restitution", "r"),
-              ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
-    "hysteretic": (("belt_speed", "v"), ("clearance", "x_bar"), ("k_c0", "k_c0/k"),
-                   ("k_e0", "k_e0/k"), ("limit_overlap", "D"), ("beta_c", "beta_c"),
-                   ("beta_e", "beta_e"), ("mu_s", "mu_s"), ("mu_k", "mu_k"), ("u_s", "u_s")),
+    "none": (("belt_speed", "v"), ("mu_s", PLAIN["mu_s"]), ("mu_k", PLAIN["mu_k"]),
+             ("u_s", PLAIN["u_s"])),
+    "rigid": (("belt_speed", "v"), ("clearance", PLAIN["x_bar"]), ("restitution", "r"),
+              ("mu_s", PLAIN["mu_s"]), ("mu_k", PLAIN["mu_k"]), ("u_s", PLAIN["u_s"])),
+    "hysteretic": (("belt_speed", "v"), ("clearance", PLAIN["x_bar"]),
+                   ("k_c0", PLAIN["k_c0"] + "/k"), ("k_e0", PLAIN["k_e0"] + "/k"),
+                   ("limit_overlap", "D"), ("beta_c", BETAS[0]), ("beta_e", BETAS[1]),
+                   ("mu_s", PLAIN["mu_s"]), ("mu_k", PLAIN["mu_k"]), ("u_s", PLAIN["u_s"])),
 }
 #: Parameters on the caption's first line at most (the rest go on a second line).
 CAPTION_LINE_ITEMS = 6

@@ -55,3 +55,13 @@ def test_a_subscript_unicode_lacks_falls_back_alike_for_its_whole_family():
     assert (PLAIN["x0"], PLAIN["v0"], PLAIN["u_s"]) == ("x₀", "x₀'", "uₛ")
     assert subscripted("v", "dr") == "v_dr" and subscripted("F", "N") == "F_N"
     assert subscripted("k", "e0") == "kₑ₀"  # alone, e and 0 have subscripts
+
+
+def test_the_presentation_strip_labels_its_sliders_as_the_sidebar_does():
+    """The strip's short labels are the sidebar sliders' symbols (they read "x_bar" and
+    "mu_s" beside a sidebar showing x̄ and μₛ)."""
+    from app.present_strip import SYMBOLS
+
+    for name, symbol in SYMBOLS.items():
+        assert not any(text in symbol for text in ASCII_MATH), symbol
+        assert symbol in LABELS[name], (symbol, LABELS[name])

@@ -205,7 +205,7 @@ def test_svg_and_png_for_slides_name_the_scene(browser, server, shots):
         assert name == "fie_7c_phase.svg"
         svg = data.decode()
         assert svg.startswith("<svg")
-        assert "Fig. 7c, rigid stop: v = 0.07, x_bar = 0.24, r = 0.3" in svg
+        assert "Fig. 7c, rigid stop: v = 0.07, x̄ = 0.24, r = 0.3" in svg
         (shots / name).write_bytes(data)
         # PNG at 3x: the file has three pixels per CSS pixel of the figure.
         q = _open(browser, p.page.url.replace("slides=svg", "slides=png"), SCREENS["1080p"])
