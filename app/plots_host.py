@@ -165,17 +165,25 @@ class PlotsHost(pn.viewable.Viewer):
             self.show_plots()
             if sol is None:
                 return
-            map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
-                        if "map" in new else None)
             with validate(False):
                 self._draw_pins(sol)
-                self.plots.refresh(self.drawn(visible), map_data)
-                if "anim" in new:
-                    self.anim.update(sol, self.state.scales())
-                    self._anim_stale = False
-                if map_data is not None:
-                    self.show_map_legend(map_data["labels"])
-        if "map" in new and map_data is None:
+            self._fill(sol, self.drawn(visible), "map" in new, "anim" in new)
+
+    def _fill(self, sol: Solution, drawn: tuple[str, ...], map_due: bool,
+              anim: bool) -> None:
+        """Fill the plots ``drawn`` that missed the run on screen ``sol``: the regime map
+        too with ``map_due`` (at once from its cache, or computed later), the animation
+        with ``anim``."""
+        map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
+                    if map_due else None)
+        with validate(False):
+            self.plots.refresh(drawn, map_data)
+            if anim:
+                self.anim.update(sol, self.state.scales())
+                self._anim_stale = False
+            if map_data is not None:
+                self.show_map_legend(map_data["labels"])
+        if map_due and map_data is None:
             later(lambda: self.draw_map(sol), 0)
 
     def _build_plot(self, name: str) -> pn.viewable.Viewable:
@@ -268,17 +276,8 @@ class PlotsHost(pn.viewable.Viewer):
         anim = "anim" in drawn and self._anim_stale
         if not stale and not anim:
             return
-        map_data = (regime_map(sol.values, compute=False, frame=self.map_frame(sol))
-                    if "map" in stale else None)
-        with pn.io.hold(), validate(False):
-            self.plots.refresh(drawn, map_data)
-            if anim:
-                self.anim.update(sol, self.state.scales())
-                self._anim_stale = False
-            if map_data is not None:
-                self.show_map_legend(map_data["labels"])
-        if "map" in stale and map_data is None:
-            later(lambda: self.draw_map(sol), 0)
+        with pn.io.hold():
+            self._fill(sol, drawn, "map" in stale, anim)
 
     def _draw_pins(self, sol: Solution) -> None:
         if self.compare.pins:
