@@ -22,6 +22,7 @@ from app.glyphs import add_glyph
 from app.plots.ranges import set_range
 from app.plots.style import PLOT_WIDTHS, TICK_LABEL_FONT, TITLE_FONT
 from app.solve.solution import Solution
+from core import SteadyKind
 
 #: Periods the window shows of a long run: enough to see the cycle repeat, few enough
 #: that each slip arc keeps some hundred pixels at the page's widths.
@@ -32,6 +33,11 @@ LONG_RUN_PERIODS = 20
 #: A slip arc turns at one radian per unit of dimensionless time (paper Eq. 7): the
 #: period of a motion with no periodic steady state is taken as one turn.
 TURN = 2.0 * math.pi
+#: Steady states that settle: the motion stops, or shrinks on the stop. Their last periods
+#: are still (scene 11's last five, 0.8 time units of a mass pressed on the stop, drew flat
+#: lines), so such a run is shown whole: the transient, then the decay.
+SETTLING = frozenset({SteadyKind.REST, SteadyKind.EQUILIBRIUM, SteadyKind.OSCILLATION,
+                      SteadyKind.CONTACT_TRAIN})
 #: Height [px] of the overview.
 OVERVIEW_HEIGHT = 110
 #: The brush's shade: strong, over a light line, since five periods of a run of a
@@ -89,14 +95,18 @@ def periods_title(count: int) -> str:
 
 def default_window(sol: Solution) -> tuple[float, float] | None:
     """The last :data:`WINDOW_PERIODS` periods of a run longer than
-    :data:`LONG_RUN_PERIODS` periods (dimensionless times), else ``None`` (shown whole).
+    :data:`LONG_RUN_PERIODS` periods (dimensionless times), else ``None`` (shown whole, as
+    is a run that settles, :data:`SETTLING`).
 
     >>> from types import SimpleNamespace as NS
-    >>> default_window(NS(result=NS(steady=NS(period=2.0)), t_end=100.0))
+    >>> default_window(NS(result=NS(steady=NS(period=2.0, kind="periodic")), t_end=100.0))
     (90.0, 100.0)
-    >>> default_window(NS(result=NS(steady=NS(period=2.0)), t_end=30.0)) is None
-    True
+    >>> default_window(NS(result=NS(steady=NS(period=2.0, kind="periodic")), t_end=30.0))
+    >>> default_window(NS(result=NS(steady=NS(period=2.0, kind="rest")), t_end=100.0))
     """
+    res = sol.result
+    if res is not None and res.steady.kind in SETTLING:
+        return None
     period = run_period(sol)
     if sol.t_end <= LONG_RUN_PERIODS * period:
         return None

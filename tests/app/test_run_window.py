@@ -103,3 +103,20 @@ def test_a_new_run_at_the_same_horizon_keeps_n_and_a_new_horizon_the_default(dra
     assert plots.run_window.periods_box.value == WINDOW_PERIODS
     _check_window(plots, longer, WINDOW_PERIODS)
     plots.update(sol, DIMENSIONLESS, ("phase", "time", "force"))  # back, for the others
+
+
+@pytest.mark.parametrize(("scene", "t_end"), [("11", 80.0), ("6b", 500.0)])
+def test_a_run_that_settles_is_shown_whole(scene, t_end):
+    """Scene 11's mass ends pressed on the stop, its swing shrinking (core's steady state:
+    an oscillation, period 0.17): its last five periods drew flat lines over 0.8 time units.
+    Scene 6b's comes to rest, which to t_end = 500 is 80 turns. A run that settles is shown
+    whole, the transient and the decay, with no overview."""
+    from app.plots.window import SETTLING, default_window
+
+    sol = solve({**scene_values(scene), "t_end": t_end}, budget=BUDGET_S)
+    assert sol.result.steady.kind in SETTLING
+    assert default_window(sol) is None
+    plots = PlotSet()
+    plots.update(sol, DIMENSIONLESS, ("phase", "time", "force"))
+    lo, hi = _time_range(plots)
+    assert lo <= 0.0 and hi >= sol.t_end * (1 - REL)
