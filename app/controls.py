@@ -90,10 +90,11 @@ class Controls(pn.viewable.Viewer):
 
     def _slider(self, key: str, label: str, value: float, step: float, soft: tuple,
                 bounds: tuple, **calls: Any) -> None:
+        higher = dict(CONSTRAINTS).get(key)  # the value that bounds this one from above
         self.sliders[key] = TypedSlider(
             label, value, step, soft, bounds, on_release=self._release_arrived,
             width=WIDGET_WIDTH, css_class=f"fie-w-{key}", tooltip=TOOLTIPS[key],
-            lazy=key in SHOWN_LATER, **calls)
+            lazy=key in SHOWN_LATER, ceiling=SLIDERS[higher][0] if higher else "", **calls)
 
     def _build_sliders(self) -> None:
         st = self.state
@@ -280,8 +281,9 @@ class Controls(pn.viewable.Viewer):
     def _show_state(self, *events: param.parameterized.Event) -> None:
         """Show the state in the widgets (after a scene, a URL, a tap or a clamp)."""
         self._show_sliders()
-        self._show_si()
         st = self.state
+        if st.units == "SI":  # hidden SI boxes catch up when the units change (this runs)
+            self._show_si()
         for name in CHOICES:
             set_changed(getattr(self, name), value=getattr(st, name))
         set_changed(self.scene_select, value=st.scene)

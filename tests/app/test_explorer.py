@@ -224,7 +224,9 @@ def test_hidden_slider_groups_join_the_page_when_first_shown(ex):
     assert k_c0.value == ex.state.k_c0 == 250.0
     assert (k_c0.slider.value, k_c0.input.value) == (250.0, "250")
     assert k_e0.slider.value == 30.0 and k_e0.bounds[1] == 250.0  # k_e0 <= k_c0
-    assert "to 250." in k_e0.input.description
+    # The tooltip names the bound that moves (its number would make a new model per move).
+    assert "to compression stiffness" in k_e0.input.description
+    assert "250" not in k_e0.input.description
     assert not ex.sliders["mass"].built
     ex.units.value = "SI"
     assert all(box.built and box.visible for box in (ex.si_box, *ex.si_start.values()))
@@ -700,6 +702,8 @@ def test_a_release_sends_no_tooltip_that_did_not_change(units):
     for step in (1, 2):
         _release(ex, "clearance", ex.state.clearance + 1e-3 * step)
     assert changed == []
+    if units != "SI":
+        ex.units.value = "SI"  # hidden SI boxes are brought up to date when shown
     assert ex.sliders["k_e0_si"].bounds[1] == pytest.approx(ex.state.physical()["k_c0"])
 
 
@@ -871,3 +875,19 @@ def test_a_run_cut_short_says_so_in_the_units_it_is_shown_in(ex):
     ex.state.units = "SI"  # omega = 10 rad/s: the horizon in seconds
     assert ex.alert.visible and "Solved only in part" in ex.alert.object
     assert "t_end = 500 s:" in ex.alert.object and ex.retry.visible
+
+
+def test_moving_mu_s_keeps_mu_k_s_tooltip_and_still_bounds_it(ex):
+    """μₖ's upper bound is μₛ: its tooltip names μₛ instead of quoting its number, so that
+    moving μₛ sends no new tooltip model (after each, Bokeh walked the whole document
+    again); a typed μₖ above μₛ is still refused with the number."""
+    changed = []
+    ex.sliders["mu_k"].input.param.watch(lambda e: changed.append(e.new), "description")
+    for mu_s in (0.45, 0.5, 0.55):
+        _release(ex, "mu_s", mu_s)
+        assert ex.sliders["mu_k"].bounds[1] == mu_s
+    assert changed == []
+    assert "to static friction μₛ" in ex.sliders["mu_k"].input.description
+    ex.sliders["mu_k"].input.value = "0.6"
+    assert ex.sliders["mu_k"].invalid and ex.state.mu_k < 0.55
+    assert "0.55" in ex.sliders["mu_k"].message.object
