@@ -268,6 +268,8 @@ class Move:
     patches: int
     error: str | None = None
     had_data: bool = False
+    slider: str = ""  # the moved slider's title
+    sent: float = 0.0  # when it was sent, s since the round's moves started
 
 
 @dataclass
@@ -480,7 +482,8 @@ class Session:
         first = self.arrivals[0][0] - t0
         data = [t for t, is_data in self.arrivals if is_data]
         latency = (data[0] if data else self.arrivals[-1][0]) - t0
-        return Move(latency, first, len(self.arrivals), had_data=bool(data))
+        return Move(latency, first, len(self.arrivals), had_data=bool(data),
+                    slider=str(a.get("title") or a.get("name") or model_id), sent=t0)
 
     async def run_moves(self, start: asyncio.Event) -> None:
         await start.wait()
@@ -647,6 +650,7 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
     movers = asyncio.gather(*(s.run_moves(start) for s in opened))
     clicker = (asyncio.ensure_future(measurer.click_measure(moved))
                if measurer is not None and measurer.result.open_s is not None else None)
+    t_moves0 = time.perf_counter()
     start.set()
     try:
         await asyncio.wait_for(movers, args.round_timeout)
@@ -728,6 +732,14 @@ async def run_round(server: Server, n: int, args: argparse.Namespace, seed: int)
         "live_after": live_after,
         "gone_s": gone_s,
         "cleanup_s": time.perf_counter() - t_closed,
+        # Each move (in --json): its slider, when it was sent [s after the moves began],
+        # its latency to the data patch [ms] (None: no answer) and whether data came.
+        "moves_start_epoch": round(time.time() - (time.perf_counter() - t_moves0), 3),
+        "move_log": [
+            {"slider": m.slider, "sent_s": round(m.sent - t_moves0, 3),
+             "ms": None if m.latency is None else round(m.latency * 1000, 1),
+             "data": m.had_data}
+            for m in moves],
     }
 
 
