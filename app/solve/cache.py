@@ -1,6 +1,8 @@
 """The bounded stores of the server's solves, each least recently used first out and safe
 to share between threads: solutions by what was solved, the reference solves runs are
-measured against, regime maps.
+measured against, regime maps. Each is bounded in entries and, where an entry's size
+varies (a solution: ~0.2 MiB for a rigid scene's run, over 1 MiB for a deformable stop's
+long run), in bytes.
 
 One :class:`SolveCache` serves a :class:`app.solve.pool.Solver` (the server's is shared by
 all its sessions); a test gives its solver one of its own, so that no other test's answer
@@ -15,15 +17,22 @@ is found in it.
 
 from __future__ import annotations
 
+import dataclasses
+import sys
 import threading
 from collections import OrderedDict
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Mapping
 from typing import Any
+
+import numpy as np
 
 from core import Result, Status
 
-#: Cached solves kept (shared by all sessions of the server process).
+#: Cached solves kept (shared by all sessions of the server process) ...
 CACHE_ITEMS = 256
+#: ... and their bytes at most (:func:`estimated_bytes`): what a server process keeps
+#: after a class has left, beside its idle size (~140 MiB for the page process).
+CACHE_BYTES = 32 * 2**20
 #: Reference solves kept (:func:`app.solve.measure.measure_run`: 45 ms on scene 10's stop,
 #: as long as a switch solve at standard): two, so that a class's sessions on other
 #: scenes do not hold more.
@@ -31,15 +40,24 @@ REFERENCE_ITEMS = 2
 
 
 class Lru:
-    """At most ``items`` values by key, the least recently used dropped first."""
+    """At most ``items`` values by key (and at most ``max_bytes`` of them by
+    :func:`estimated_bytes`, if given), the least recently used dropped first."""
 
-    def __init__(self, items: int) -> None:
+    def __init__(self, items: int, max_bytes: int | None = None) -> None:
         self.items = items
+        self.max_bytes = max_bytes
         self._data: OrderedDict[Hashable, Any] = OrderedDict()
+        self._sizes: dict[Hashable, int] = {}
+        self._bytes = 0
         self._lock = threading.Lock()
 
     def __len__(self) -> int:
         return len(self._data)
+
+    @property
+    def bytes(self) -> int:
+        """Estimated bytes of the values kept (0 when the store has no byte bound)."""
+        return self._bytes
 
     def get(self, key: Hashable) -> Any:
         """The value of ``key`` (now the most recently used), or ``None``."""
@@ -50,12 +68,24 @@ class Lru:
             return value
 
     def put(self, key: Hashable, value: Any) -> None:
-        """Keep ``value`` for ``key``, dropping the least recently used past ``items``."""
+        """Keep ``value`` for ``key``, dropping the least recently used past ``items`` (or
+        ``max_bytes``); a value larger than ``max_bytes`` alone is not kept."""
+        size = estimated_bytes(value) if self.max_bytes is not None else 0
         with self._lock:
+            self._forget(key)
+            if self.max_bytes is not None and size > self.max_bytes:
+                return
             self._data[key] = value
-            self._data.move_to_end(key)
-            while len(self._data) > self.items:
-                self._data.popitem(last=False)
+            self._sizes[key] = size
+            self._bytes += size
+            while len(self._data) > self.items or (
+                    self.max_bytes is not None and self._bytes > self.max_bytes):
+                self._forget(next(iter(self._data)))
+
+    def _forget(self, key: Hashable) -> None:
+        if key in self._data:
+            del self._data[key]
+            self._bytes -= self._sizes.pop(key)
 
     def get_or_make(self, key: Hashable, make: Callable[[], Any]) -> Any:
         """The value of ``key``, or ``make()``'s, kept (made outside the lock: two threads
@@ -76,10 +106,13 @@ class SolveCache:
         Solutions kept.
     references : int
         Reference solves kept.
+    max_bytes : int
+        Bytes of solutions kept (:func:`estimated_bytes`).
     """
 
-    def __init__(self, items: int = CACHE_ITEMS, references: int = REFERENCE_ITEMS) -> None:
-        self.solutions = Lru(items)
+    def __init__(self, items: int = CACHE_ITEMS, references: int = REFERENCE_ITEMS,
+                 max_bytes: int = CACHE_BYTES) -> None:
+        self.solutions = Lru(items, max_bytes)
         self.references = Lru(references)
 
     def get(self, key: tuple, preview: bool) -> Any:
@@ -97,3 +130,36 @@ class SolveCache:
         """The reference solve of ``inputs`` ``(osc, stop, t_end, x0, v0)``, or
         ``make()``'s, kept for the other methods and presets of the same scene."""
         return self.references.get_or_make(inputs, make)
+
+
+#: Elements of a long sequence whose sizes are measured; the rest are taken to be alike.
+_SIZE_SAMPLE = 16
+
+
+def estimated_bytes(value: Any, _depth: int = 0) -> int:
+    """The memory ``value`` holds, estimated: arrays by their bytes, dataclasses, mappings,
+    sequences and other objects' attributes by their parts (a long sequence from its first :data:`_SIZE_SAMPLE`
+    elements), anything else by :func:`sys.getsizeof`; shared parts count once per use.
+
+    >>> estimated_bytes(np.zeros(1000)) >= 8000
+    True
+    """
+    if isinstance(value, np.ndarray):
+        return value.nbytes + sys.getsizeof(np.empty(0))
+    if _depth > 6:
+        return sys.getsizeof(value)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        parts: Any = [getattr(value, f.name) for f in dataclasses.fields(value)]
+    elif isinstance(value, Mapping):
+        parts = [*value.keys(), *value.values()]
+    elif isinstance(value, (list, tuple, set, frozenset)):
+        parts = list(value)
+    elif hasattr(value, "__dict__") and not callable(value):
+        parts = list(vars(value).values())
+    else:
+        return sys.getsizeof(value)
+    own = sys.getsizeof(value)
+    if len(parts) > _SIZE_SAMPLE:
+        sample = sum(estimated_bytes(p, _depth + 1) for p in parts[:_SIZE_SAMPLE])
+        return own + sample * len(parts) // _SIZE_SAMPLE
+    return own + sum(estimated_bytes(p, _depth + 1) for p in parts)

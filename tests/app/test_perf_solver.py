@@ -413,3 +413,30 @@ def test_a_worker_solves_at_a_lower_priority_than_the_server():
     solve_process.warm_up(wait=True)
     expected = min(os.nice(0) + solve_process.WORKER_NICE, 19)
     assert solve_process.call(_niceness) == expected
+
+
+def test_the_cache_keeps_solutions_within_its_bytes_dropping_the_least_recently_used():
+    """A class moving a deformable stop's horizon kept 256 runs of over a megabyte each
+    (the cache was bounded in entries only): the server never came back to its idle size."""
+    import numpy as np
+
+    from app.solve.cache import Lru, estimated_bytes
+
+    mib = 2**20
+    kept = Lru(100, max_bytes=3 * mib + mib // 2)
+    for key in "abcd":  # 1 MiB arrays: the fourth drops the first
+        kept.put(key, np.zeros(mib // 8))
+    assert kept.get("a") is None and all(kept.get(k) is not None for k in "bcd")
+    assert 3 * mib < kept.bytes <= 3 * mib + 4096  # three arrays and their headers
+    kept.get("b")  # now the most recently used: "c" goes next
+    kept.put("e", np.zeros(mib // 8))
+    assert kept.get("c") is None and kept.get("b") is not None
+    kept.put("b", np.zeros(16))  # replaced: its old bytes are no longer counted
+    assert kept.bytes < 2 * mib + 4096
+    kept.put("huge", np.zeros(mib))  # 8 MiB: larger than the bound, not kept
+    assert kept.get("huge") is None and len(kept) == 3
+    # A real run is counted by its arrays at least (the dense solution's included).
+    sol = compute(solve_key(_values("10")), budget=5.0)
+    arrays = sum(a.nbytes for a in (sol.result.t, sol.result.x, sol.result.v,
+                                    sol.result.contact_force, sol.result.overlap))
+    assert arrays < estimated_bytes(sol) < 50 * arrays

@@ -66,7 +66,7 @@ def _get(url: str) -> tuple[int, str]:
 def _env(**extra: str) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items()
            if k not in ("ALLOW_WEBSOCKET_ORIGIN", "BOKEH_ALLOW_WS_ORIGIN", "BOKEH_SECRET_KEY",
-                        "SESSION_LIFETIME_MS", "CHECK_UNUSED_MS", "PROXY")}
+                        "SESSION_LIFETIME_MS", "CHECK_UNUSED_MS", "PROXY", "PYTHONMALLOC")}
     return {**env, "VENV": sys.prefix, "WARM": "0", **extra}
 
 
@@ -95,10 +95,18 @@ def _started(tmp_path, **env: str) -> subprocess.CompletedProcess:
     stub.mkdir(parents=True, exist_ok=True)
     for name in ("python", "panel"):
         (stub / name).write_text('#!/bin/sh\necho "server env: ${BOKEH_ALLOW_WS_ORIGIN-unset}"\n'
+                                 'echo "allocator: ${PYTHONMALLOC-unset}"\n'
                                  'echo "server args: $*"\n')
         (stub / name).chmod(0o755)
     full = {**_env(**env), "VENV": str(tmp_path / "venv")}
     return subprocess.run([str(SERVE)], env=full, capture_output=True, text=True, timeout=60)
+
+
+def test_the_server_uses_the_c_allocator_unless_told_otherwise(tmp_path):
+    """With Python's own allocator a process stayed at its peak after a class left
+    (docs/deploy.md, "Memory"); the C library's gives the memory back."""
+    assert "allocator: malloc" in _started(tmp_path).stdout
+    assert "allocator: pymalloc" in _started(tmp_path, PYTHONMALLOC="pymalloc").stdout
 
 
 def test_bokeh_s_origin_variable_never_reaches_the_server(tmp_path):
