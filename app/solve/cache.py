@@ -137,9 +137,10 @@ _SIZE_SAMPLE = 16
 
 
 def estimated_bytes(value: Any, _depth: int = 0) -> int:
-    """The memory ``value`` holds, estimated: arrays by their bytes, dataclasses, mappings,
-    sequences and other objects' attributes by their parts (a long sequence from its first :data:`_SIZE_SAMPLE`
-    elements), anything else by :func:`sys.getsizeof`; shared parts count once per use.
+    """The memory ``value`` holds, estimated: arrays by their bytes; dataclasses, mappings,
+    sequences and other objects by their parts (a long sequence from its first
+    :data:`_SIZE_SAMPLE` elements); anything else by :func:`sys.getsizeof`. A part shared
+    by two values counts in each.
 
     >>> estimated_bytes(np.zeros(1000)) >= 8000
     True
