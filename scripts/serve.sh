@@ -41,10 +41,10 @@
 #   USE_XHEADERS            1 = trust X-Forwarded-* headers from a reverse proxy (default: 0)
 #   STATIC_DIRS             --static-dirs mapping (default: assets=static)
 #   LOG_LEVEL               panel/bokeh log level (default: info)
-#   PYTHONMALLOC            Python's allocator (default: malloc, the C library's: with it
-#                           a process gives back what a class that left used, see
-#                           docs/deploy.md "Memory"; pymalloc = Python's own, ~6 % less
-#                           CPU per page, but the process stays at its peak)
+#   PYTHONMALLOC            Python's allocator (default: pymalloc, Python's own); malloc =
+#                           the C library's: a process then gives back what a class that
+#                           left used, but each slider move and page costs more CPU
+#                           (docs/deploy.md "Memory")
 #   HTTP_GZIP               1 = gzip the server's HTTP answers (app/serve_compressed.py);
 #                           0 = plain `panel serve` (behind nginx, which compresses)
 #                           (default: 1)
@@ -170,7 +170,7 @@ esac
 # The app imports `core` from the project root, whichever directory it is served from.
 PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}"
 export PYTHONPATH
-PYTHONMALLOC=${PYTHONMALLOC:-malloc}
+PYTHONMALLOC=${PYTHONMALLOC:-pymalloc}
 export PYTHONMALLOC
 
 # Build the argument list in "$@" (POSIX sh has no arrays): options are put in front of the
