@@ -101,16 +101,17 @@ def once(pairs: Sequence[tuple[str, str]]) -> tuple[dict[str, str], dict[str, li
             {key: texts for key, texts in seen.items() if len(texts) > 1})
 
 
-def merged_search(search: str, values: Mapping[str, str]) -> str:
+def merged_search(search: str, values: Mapping[str, str | None]) -> str:
     """``search`` with ``values`` set (a key kept in its place, a new one appended, a
-    repeated one given once); the other keys stay as they came.
+    repeated one given once, one set to ``None`` removed); the other keys stay as they
+    came.
 
-    >>> merged_search("?a=1&zz=9&a=2", {"a": "3", "b": "x y"})
+    >>> merged_search("?a=1&zz=9&a=2&c=0", {"a": "3", "b": "x y", "c": None})
     '?a=3&zz=9&b=x+y'
     """
     merged = dict(query_pairs(search))
     merged.update(values)
-    return "?" + urllib.parse.urlencode(merged)
+    return "?" + urllib.parse.urlencode({k: v for k, v in merged.items() if v is not None})
 
 
 def parse_number(text: str) -> float:

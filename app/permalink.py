@@ -135,6 +135,10 @@ class Permalink(pn.viewable.Viewer):
         if scene in SCENES and differs({**self.state.values(), **good}, scene_values(
                 scene, accuracy=self.state.accuracy, method=self.state.method)):
             good["scene"] = CUSTOM
+        if texts.get("scene") in SCENES or good.get("scene", self.state.scene) != CUSTOM:
+            # The figure is that of a custom run: a paper scene named is its own (loaded
+            # first, it is the figure a changed value leaves).
+            good.pop("figure", None)
         try:
             self.state.param.update(**good)
         except Exception:  # noqa: BLE001 - a combination the state refuses
@@ -200,12 +204,14 @@ class Permalink(pn.viewable.Viewer):
 
     @property
     def query(self) -> str:
-        """The page's state as a permalink's query string (no ``?``): every state value,
-        and the pins and presentation where used."""
+        """The page's state as a permalink's query string (no ``?``): every state value
+        (the figure only of a custom run: the one its reset button returns to), and the
+        pins and presentation where used."""
         return urllib.parse.urlencode(self._values({}))
 
-    def _values(self, current: Mapping[str, str]) -> dict[str, str]:
-        """The address's values of the state, beside an address holding ``current``."""
+    def _values(self, current: Mapping[str, str]) -> dict[str, str | None]:
+        """The address's values of the state, beside an address holding ``current``
+        (``None``: a key of ``current`` to remove)."""
         st, out = self.state, {}
         si = si_units(st.mass, st.stiffness, st.length_unit) if st.units == "SI" else {}
         for name, key in URL_KEYS.items():
@@ -215,6 +221,13 @@ class Permalink(pn.viewable.Viewer):
                 value = float(f"{value * si[name][2]:.12g}")
             value = st.param[name].serialize(value)
             out[key] = value if isinstance(value, str) else json.dumps(value)
+        if st.scene != CUSTOM:
+            # A paper scene is its own figure: its link has no ``fig`` (one left from a
+            # custom run goes).
+            fig = URL_KEYS["figure"]
+            out.pop(fig)
+            if fig in current:
+                out[fig] = None
         out.update(self.menu.query(current))
         return out
 

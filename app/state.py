@@ -76,13 +76,14 @@ STOP_STIFFNESSES = ("k_c0", "k_e0")
 #: Parameters that only change how results are shown.
 VIEW_PARAMS = ("units", "mass", "stiffness", "length_unit", "show_all")
 #: Parameter name -> query-string key of the permalink (short keys keep URLs readable).
+#: ``figure`` is written only beside ``scene=custom``: a paper scene is its own figure.
 URL_KEYS: Mapping[str, str] = {
     "scene": "scene", "belt_speed": "v", "clearance": "xbar", "restitution": "r",
     "mu_s": "mus", "mu_k": "muk", "u_s": "us", "stop_type": "stop", "k_c0": "kc0",
     "k_e0": "ke0", "limit_overlap": "D", "beta_c": "bc", "beta_e": "be", "x0": "x0",
     "v0": "v0", "t_end": "tend", "accuracy": "acc", "method": "method", "program": "prog",
     "units": "units", "mass": "m", "stiffness": "k", "length_unit": "L", "show_all": "all",
-    "contact_law": "law",
+    "contact_law": "law", "figure": "fig",
 }
 
 

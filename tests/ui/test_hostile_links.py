@@ -49,6 +49,7 @@ CASES = [
     ("scene=5a&v=javascript:alert(5)", "v", "javascript:alert(5)"),
     ("scene=5a&tend=" + LONG, "tend", "characters"),
     ("scene=5a&mus=ünïcødé 😀 <i>x</i>", "mus", "ünïcødé 😀 <i>x</i>"),
+    ("scene=5a&fig=<img src=x onerror=alert(7)>", "fig", "<img src=x onerror=alert(7)>"),
 ]
 #: JavaScript: true once every image of the page (shadow roots included) has loaded or failed.
 JS_IMAGES_DONE = """() => {
@@ -111,6 +112,7 @@ WRONG_TYPES = [
     ("D=null&bc=[1,2]&be={\"a\":1}", "be (beta_e) must be a number in [0.001, 100000]"),
     ("m=NaN&k=inf&units=true", "units (units) must be one of 'dimensionless', 'SI'"),
     ("stop=false&law=1&acc=-1&method=&all=1&prog=2", "all (show_all) must be true or false"),
+    ("fig=custom", "fig (figure) must be one of '2b', '3a'"),
     ("r=0.5&r=0.7", "r (restitution) must be given once; got 2 values: '0.5', '0.7'"),
     ("tend=" + HUGE, "tend (t_end) must be a number in [0.1, 5000]; got '999"),
     ("present=" + "1" * 4400, "present must be one of 1, 2, 3, 4"),

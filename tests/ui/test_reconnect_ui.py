@@ -5,9 +5,10 @@ Before, the page of a restarted server looked normal but its sliders did nothing
 notice. Here the server of an open page is killed (SIGKILL, as a crash or a container's
 restart leaves it) and started again on the same port: the banner must appear while it is
 down, and the page must reload by itself into the same address, with the slider moved
-before the restart where it was. The same for a network drop of a few seconds (the
-page's connections cut by a forwarder while the server stays up; Chromium's offline mode
-leaves an open websocket alone, so it cannot stand in for one).
+before the restart where it was and the reset button returning to the figure loaded before.
+The same for a network drop of a few seconds (the page's connections cut by a forwarder
+while the server stays up; Chromium's offline mode leaves an open websocket alone, so it
+cannot stand in for one).
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ def test_restart_shows_banner_and_page_comes_back_in_its_state(browser, shots):
             moved_url = p.page.url
             moved_widget = p.text(".fie-w-clearance")
             assert _query(moved_url)["r"] == ["0.3"]  # the link's own value is kept
+            assert "Reset to Fig. 7c" in p.text(".fie-reset")  # a custom run from 7c
             p.page.evaluate(JS_MARK)
 
             first.kill()
@@ -75,6 +77,8 @@ def test_restart_shows_banner_and_page_comes_back_in_its_state(browser, shots):
             p.settle()
             assert _query(p.page.url) == _query(moved_url)
             assert p.text(".fie-w-clearance") == moved_widget
+            # The address says which figure the custom run came from (it said the default).
+            assert "Reset to Fig. 7c" in p.text(".fie-reset")
             assert not p.page.locator(BANNER).is_visible()
     finally:
         p.close()
