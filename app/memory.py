@@ -101,8 +101,10 @@ def give_back_freed_memory() -> bool:
     """Return the C heap's free pages to the system (glibc's ``malloc_trim(0)``); False
     where the C library has no such call.
 
-    A session's arrays and Bokeh's serialised messages are freed into glibc's heap, which
-    keeps the pages: without this the process stayed at its peak after a class left.
+    What is freed goes back to glibc's heap, which keeps the pages. With Python's own
+    allocator (the default) that is the larger blocks only (arrays, serialised messages);
+    with ``PYTHONMALLOC=malloc`` it is every object, and a process comes back to near its
+    idle size after a class has left (docs/deploy.md, "Memory").
     """
     if _MALLOC_TRIM is None:
         return False

@@ -152,7 +152,7 @@ class TypedSlider:
         What bounds the value from above when that moves with another value (``static
         friction μₛ`` for μₖ): the tooltip names it instead of its number, so that moving
         the other value does not replace the tooltip (a new Bokeh model each time, after
-        which Bokeh walks the whole document again: ~8 ms of server time per release).
+        which Bokeh walks the whole document again, on the release's critical path).
     lazy : bool
         Make the widgets when first needed (:attr:`layout`, :attr:`input`,
         :attr:`slider`, a message), for a slider that a new page does not show
