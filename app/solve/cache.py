@@ -134,6 +134,8 @@ class SolveCache:
 
 #: Elements of a long sequence whose sizes are measured; the rest are taken to be alike.
 _SIZE_SAMPLE = 16
+#: An array's own size without its data.
+_ARRAY_HEADER = sys.getsizeof(np.empty(0))
 
 
 def estimated_bytes(value: Any, _depth: int = 0) -> int:
@@ -146,7 +148,7 @@ def estimated_bytes(value: Any, _depth: int = 0) -> int:
     True
     """
     if isinstance(value, np.ndarray):
-        return value.nbytes + sys.getsizeof(np.empty(0))
+        return value.nbytes + _ARRAY_HEADER
     if _depth > 6:
         return sys.getsizeof(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
