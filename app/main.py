@@ -28,6 +28,7 @@ from app.perf.page import page_scripts  # noqa: E402
 from app.perf.resources import load_each_bundle_once  # noqa: E402
 from app.perf.websocket import send_arrays_inline, send_without_delay_once_loaded  # noqa: E402
 from app.protocol_refusals import quiet_refusals  # noqa: E402
+from app.solve.pool import hand_the_lock_back_soon  # noqa: E402
 from app.solve.process import warm_up  # noqa: E402
 
 #: Static files are served under this URL prefix (``--static-dirs assets=static``).
@@ -139,4 +140,5 @@ if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None: 
     report()  # logs each perf patch left out (app.perf)
     quiet_refusals()  # a value of a type Bokeh refuses from the browser: one quiet line
     warm_up()  # the solver's child processes (once per server process)
+    hand_the_lock_back_soon()  # the event loop waits less behind a solver thread
     serve(create_app(), pn.state.curdoc)

@@ -15,6 +15,7 @@ needs one, a probe in place of :func:`core.simulate` or of :func:`app.solve.solu
 
 from __future__ import annotations
 
+import sys
 import threading
 from collections.abc import Callable, Mapping
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -39,6 +40,25 @@ SOLVE_QUEUE = 4
 #: Workers of the closed-form solves (rigid stop, no stop: below ~2 ms each), in a pool of
 #: their own so that they never wait behind an integrating solve.
 CLOSED_FORM_WORKERS = 2
+#: How long [s] a thread keeps the interpreter lock once another thread asks for it
+#: (:func:`sys.setswitchinterval`; Python's default is 5 ms). See :func:`hand_the_lock_back_soon`.
+SWITCH_INTERVAL_S = 0.0005
+
+
+def hand_the_lock_back_soon() -> None:
+    """Let a thread keep the interpreter lock at most :data:`SWITCH_INTERVAL_S` once
+    another asks for it (for the whole server process).
+
+    The closed-form solves run in threads of the server, beside the sessions' event loop.
+    The loop gives the lock up at every socket read and write and every large array
+    operation; a solver thread then takes it, and with Python's default interval the loop
+    waits up to 5 ms to have it back, each time. In a class's first burst of moves, when
+    the solver threads are busy, that turned a release of ~9 ms into 15-50 ms of the loop
+    (sampled with py-spy: replies stalled in the middle of pure Python for 5-13 ms at a
+    time); a shorter interval costs the solver threads a little in switches
+    (benchmarks/results/2026-11-29-switch-interval.md).
+    """
+    sys.setswitchinterval(SWITCH_INTERVAL_S)
 
 
 class SolveTooSlow(RuntimeError):

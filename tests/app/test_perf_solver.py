@@ -415,6 +415,28 @@ def test_a_worker_solves_at_a_lower_priority_than_the_server():
     assert solve_process.call(_niceness) == expected
 
 
+def test_the_event_loop_waits_less_for_the_lock_behind_a_solver_thread():
+    """A served page sets the interpreter's switch interval below Python's 5 ms default
+    (app.main calls hand_the_lock_back_soon): the event loop waited up to that long for
+    the lock after each socket write while a closed-form solver thread ran."""
+    import importlib
+    import inspect
+    import sys
+
+    from app.solve import pool
+
+    before = sys.getswitchinterval()
+    try:
+        sys.setswitchinterval(0.005)
+        pool.hand_the_lock_back_soon()
+        assert sys.getswitchinterval() == pytest.approx(pool.SWITCH_INTERVAL_S)
+        assert pool.SWITCH_INTERVAL_S < 0.005
+    finally:
+        sys.setswitchinterval(before)
+    main = inspect.getsource(importlib.import_module("app.main"))
+    assert "hand_the_lock_back_soon()" in main.split("# served")[-1]
+
+
 def test_the_cache_keeps_solutions_within_its_bytes_dropping_the_least_recently_used():
     """A class moving a deformable stop's horizon kept 256 runs of over a megabyte each
     (the cache was bounded in entries only): the server never came back to its idle size."""
