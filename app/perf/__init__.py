@@ -116,6 +116,10 @@ PATCHES = {
               ("Syncable._priority_changes", "Syncable._server_change",
                "Syncable._change_coroutine", "state._change_callbacks",
                "Slider._property_values")),
+        Patch("slider-not-busy", "panel", "1.9", "1.10",
+              "a slider's values are not counted in Panel's busy counter (the page shows "
+              "no busy indicator)",
+              ("app/perf/slider.py",), ("Syncable._busy__ignore",)),
         Patch("browser-values", "panel", "1.9", "1.10",
               "a value from the browser that a widget cannot hold (outside a slider's "
               "range, a select's options, a radio group's buttons) is refused at the "

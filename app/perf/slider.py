@@ -13,6 +13,13 @@ them off, releasing a slider exactly where it was last released, after a value w
 scene loaded or map tapped in between, is not applied (the typed value stays).
 
 Both go through :func:`app.perf.applies` (name ``slider-release``).
+
+:class:`NotCountedBusy` keeps a slider's values out of Panel's busy counter
+(``Syncable._busy__ignore``, name ``slider-not-busy``). Panel counts every change from the
+browser as busy work, for a busy indicator; the page shows none (the template's
+``busy_indicator=None``), yet each release paid for the count: two list copies and a
+parameter's watchers on the way in and out, ~0.7 of ~9 ms
+(benchmarks/results/2026-11-29-switch-interval.md).
 """
 
 from __future__ import annotations
@@ -51,9 +58,17 @@ class ReleaseAtOnce:
         await super()._change_coroutine(doc, event_id=event_id)
 
 
+class NotCountedBusy:
+    """Mixin for a Panel slider: its values are not counted as busy work (see the
+    module)."""
+
+    _busy__ignore = ["value", "value_throttled"]
+
+
 def release_bases() -> tuple[type, ...]:
     """``(ReleaseAtOnce,)`` where the patch applies, else ``()`` (for a class's bases)."""
-    return (ReleaseAtOnce,) if applies("slider-release") else ()
+    return ((ReleaseAtOnce,) if applies("slider-release") else ()) + (
+        (NotCountedBusy,) if applies("slider-not-busy") else ())
 
 
 def keep_released_value(widget: Any, value: float) -> None:
