@@ -91,8 +91,9 @@ class Checkbox(*refusing(CheckboxValues), pn.widgets.Checkbox):
 
 class _Slider(*release_bases(), *refusing(SliderValues), pn.widgets.FloatSlider):
     """A float slider whose release, where :mod:`app.perf.slider` applies, is handled as
-    soon as it arrives instead of after the drag's debounce, and which refuses a value
-    outside its range from the browser quietly (:mod:`app.perf.browser_values`)."""
+    soon as it arrives instead of after the drag's debounce and is not counted as busy
+    work, and which refuses a value outside its range from the browser quietly
+    (:mod:`app.perf.browser_values`)."""
 
     #: Called as soon as a release arrives from the browser, before Panel processes it
     #: (where :mod:`app.perf.slider` applies; else the release's commit comes first).

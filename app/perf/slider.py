@@ -1,4 +1,5 @@
-"""Patch of Panel's widget synchronisation (1.9): a slider's release is handled at once.
+"""Patches of Panel's widget synchronisation (1.9): a slider's release is handled at once,
+and not counted as busy work.
 
 Panel waits its debounce (``Syncable._debounce``, 50 ms) before it processes a value from the
 browser, so that a drag's many values collapse into the latest. It honours a priority
@@ -18,8 +19,8 @@ Both go through :func:`app.perf.applies` (name ``slider-release``).
 (``Syncable._busy__ignore``, name ``slider-not-busy``). Panel counts every change from the
 browser as busy work, for a busy indicator; the page shows none (the template's
 ``busy_indicator=None``), yet each release paid for the count: two list copies and a
-parameter's watchers on the way in and out, ~0.7 of ~9 ms
-(benchmarks/results/2026-11-29-switch-interval.md).
+parameter's watchers on the way in and out (measured in
+benchmarks/results/2026-11-29-switch-interval.md).
 """
 
 from __future__ import annotations
@@ -66,7 +67,8 @@ class NotCountedBusy:
 
 
 def release_bases() -> tuple[type, ...]:
-    """``(ReleaseAtOnce,)`` where the patch applies, else ``()`` (for a class's bases)."""
+    """The mixins of the patches that apply, of :class:`ReleaseAtOnce` and
+    :class:`NotCountedBusy` (for a slider class's bases)."""
     return ((ReleaseAtOnce,) if applies("slider-release") else ()) + (
         (NotCountedBusy,) if applies("slider-not-busy") else ())
 

@@ -41,7 +41,8 @@ SOLVE_QUEUE = 4
 #: their own so that they never wait behind an integrating solve.
 CLOSED_FORM_WORKERS = 2
 #: How long [s] a thread keeps the interpreter lock once another thread asks for it
-#: (:func:`sys.setswitchinterval`; Python's default is 5 ms). See :func:`hand_the_lock_back_soon`.
+#: (:func:`sys.setswitchinterval`; Python's default is 5 ms): see
+#: :func:`hand_the_lock_back_soon`.
 SWITCH_INTERVAL_S = 0.0005
 
 
@@ -53,10 +54,9 @@ def hand_the_lock_back_soon() -> None:
     The loop gives the lock up at every socket read and write and every large array
     operation; a solver thread then takes it, and with Python's default interval the loop
     waits up to 5 ms to have it back, each time. In a class's first burst of moves, when
-    the solver threads are busy, that turned a release of ~9 ms into 15-50 ms of the loop
-    (sampled with py-spy: replies stalled in the middle of pure Python for 5-13 ms at a
-    time); a shorter interval costs the solver threads a little in switches
-    (benchmarks/results/2026-11-29-switch-interval.md).
+    the solver threads are busy, the replies stalled in the middle of pure Python, waiting
+    for the lock (benchmarks/results/2026-11-29-switch-interval.md: traces, and paired
+    classes of 60 with each interval).
     """
     sys.setswitchinterval(SWITCH_INTERVAL_S)
 
