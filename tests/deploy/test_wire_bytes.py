@@ -55,6 +55,8 @@ def served(request, tmp_path_factory):
         pytest.fail("nginx is not installed: `make nginx`")
     run_dir = tmp_path_factory.mktemp(request.param)
     port, base_port = _free_port(), _free_port()
+    while port in (base_port + 1, base_port + 2):  # nginx must not take a process's port
+        base_port = _free_port()
     env = {k: v for k, v in os.environ.items() if k not in ("PROXY", "HTTP_GZIP")}
     env.update(VENV=sys.prefix, PORT=str(port), ADDRESS="127.0.0.1", WARM="0",
                RUN_DIR=str(run_dir), UPSTREAM_BASE_PORT=str(base_port))
@@ -66,6 +68,10 @@ def served(request, tmp_path_factory):
                                 stderr=subprocess.STDOUT, start_new_session=True)
     try:
         wait_live(f"http://127.0.0.1:{port}/liveness", proc, log, STARTUP_TIMEOUT)
+        if request.param == "nginx":
+            # nginx answers once one process does: wait for each (they start side by side).
+            for upstream in (base_port + 1, base_port + 2):
+                wait_live(f"http://127.0.0.1:{upstream}/liveness", proc, log, STARTUP_TIMEOUT)
         yield request.param, f"http://127.0.0.1:{port}/main", run_dir, base_port
     finally:
         stop_group(proc)
