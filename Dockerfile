@@ -23,10 +23,12 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
 
 # nginx in front of the server processes (scripts/serve-behind-nginx.sh with
 # docs/nginx-example.conf): compression, caching of the versioned static files, sticky
-# sessions, per-client limits. Debian's own package, the release's current version.
+# sessions, per-client limits. jemalloc: the server's allocator, which gives a class's memory
+# back once it has left (scripts/serve.sh, ALLOCATOR; docs/deploy.md "Memory"). Debian's own
+# packages, the release's current versions.
 # hadolint ignore=DL3008
 RUN apt-get update \
-    && apt-get install -y --no-install-recommends nginx \
+    && apt-get install -y --no-install-recommends nginx libjemalloc2 \
     && rm -rf /var/lib/apt/lists/*
 
 # An unprivileged user runs the server.

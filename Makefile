@@ -10,7 +10,7 @@ $(BIN)/.installed: pyproject.toml constraints.txt
 	$(BIN)/pip install --quiet -c constraints.txt -e ".[test]"
 	touch $@
 
-.PHONY: install serve test test-random browser bench lint nginx test-min image-tools image-test
+.PHONY: install serve test test-random browser bench lint nginx jemalloc test-min image-tools image-test
 
 install: $(BIN)/.installed
 
@@ -23,7 +23,7 @@ browser:
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq chromium; \
 	  else echo "chromium missing: sudo apt-get install -y chromium"; exit 1; fi; }
 
-test: install browser nginx
+test: install browser nginx jemalloc
 	$(BIN)/ruff check core app tests benchmarks
 	$(BIN)/python -m pytest
 	# Once more without the patches of library internals (app/perf, static/perf).
@@ -44,9 +44,16 @@ nginx:
 	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq nginx; \
 	  else echo "nginx missing: sudo apt-get install -y nginx"; exit 1; fi; }
 
+# Debian's jemalloc is the served processes' allocator (scripts/serve.sh, ALLOCATOR), tested
+# in tests/app/test_memory.py and tests/deploy/; install it if missing (needs root).
+jemalloc:
+	@[ -n "$$(ls /usr/lib/*/libjemalloc.so.2 /usr/lib/libjemalloc.so.2 2>/dev/null)" ] || { \
+	  if [ "$$(id -u)" = 0 ]; then apt-get update -qq && apt-get install -y -qq libjemalloc2; \
+	  else echo "jemalloc missing: sudo apt-get install -y libjemalloc2"; exit 1; fi; }
+
 # The core and app tests and one page in Chromium on the lowest versions pyproject.toml
 # allows, in a fresh venv (scripts/test-min-versions.sh; needs python3 >= 3.11).
-test-min: browser
+test-min: browser jemalloc
 	PYTHON=$(PYTHON) scripts/test-min-versions.sh
 
 # Debian's buildah, podman and debootstrap build and mount the image; install them if missing.

@@ -82,34 +82,54 @@ def collect_ended_sessions() -> None:
     give_back_freed_memory()
 
 
+#: jemalloc's index for "every arena" in its ``arena.<i>.purge`` control (jemalloc 5).
+JEMALLOC_ALL_ARENAS = 4096
+
+
+def _jemalloc_purge() -> Any:
+    """A call that purges every jemalloc arena, or None where jemalloc is not the C heap
+    (``scripts/serve.sh`` preloads it, ``ALLOCATOR``)."""
+    try:
+        mallctl = ctypes.CDLL(None).mallctl
+    except (OSError, AttributeError):
+        return None
+    mallctl.argtypes = [ctypes.c_char_p, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+                        ctypes.c_size_t]
+    mallctl.restype = ctypes.c_int
+    name = f"arena.{JEMALLOC_ALL_ARENAS}.purge".encode()
+    return lambda: mallctl(name, None, None, None, 0) == 0
+
+
 def _libc_malloc_trim() -> Any:
-    """glibc's ``malloc_trim``, or None (another C library, or none found)."""
+    """glibc's ``malloc_trim(0)``, or None (another C library, or none found)."""
     try:
         name = ctypes.util.find_library("c")
         trim = ctypes.CDLL(name).malloc_trim if name else None
     except (OSError, AttributeError):
         return None
-    if trim is not None:
-        trim.argtypes, trim.restype = [ctypes.c_size_t], ctypes.c_int
-    return trim
+    if trim is None:
+        return None
+    trim.argtypes, trim.restype = [ctypes.c_size_t], ctypes.c_int
+    return lambda: trim(0) >= 0  # 1: pages given back, 0: none to give
 
 
-_MALLOC_TRIM = _libc_malloc_trim()
+#: The C heap's call that gives its free pages back, and the heap's name.
+HEAP, _GIVE_BACK = next(((heap, call) for heap, call in (("jemalloc", _jemalloc_purge()),
+                                                         ("glibc", _libc_malloc_trim()))
+                         if call is not None), ("unknown", None))
 
 
 def give_back_freed_memory() -> bool:
-    """Return the C heap's free pages to the system (glibc's ``malloc_trim(0)``); False
-    where the C library has no such call.
+    """Return the C heap's free pages to the system (jemalloc's purge of every arena, or
+    glibc's ``malloc_trim(0)``); False where the C heap has no such call or it failed.
 
-    What is freed goes back to glibc's heap, which keeps the pages. With Python's own
-    allocator (the default) that is the larger blocks only (arrays, serialised messages);
-    with ``PYTHONMALLOC=malloc`` it is every object, and a process comes back to near its
-    idle size after a class has left (docs/deploy.md, "Memory").
+    With Python's own allocator (``ALLOCATOR=pymalloc``) that is the larger blocks only
+    (arrays, serialised messages): Python keeps each 1 MiB arena that one surviving object
+    sits in. With ``PYTHONMALLOC=malloc`` (``ALLOCATOR=jemalloc``, the default where
+    jemalloc is installed, or ``malloc``) it is every object, and a process comes back to
+    near its idle size after a class has left (docs/deploy.md, "Memory").
     """
-    if _MALLOC_TRIM is None:
-        return False
-    _MALLOC_TRIM(0)
-    return True
+    return _GIVE_BACK is not None and bool(_GIVE_BACK())
 
 
 def ended_since_collection() -> int:

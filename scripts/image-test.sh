@@ -266,5 +266,8 @@ curl -fsS --max-time 60 -o /dev/null "$SCRIPT" || die "the page's script $SCRIPT
 uid=$(awk '/^Uid:/ { print $2 }' "/proc/$SERVER_PID/status")
 [ "$uid" = "${IMG_USER%%:*}" ] || die "the server runs as uid $uid, not ${IMG_USER%%:*}"
 if grep -E "Traceback| ERROR" "$WORKDIR/serve.log" >&2; then die "errors in the server log"; fi
+# Its processes' allocator is the image's jemalloc (ALLOCATOR=auto).
+grep -q "serve.sh: allocator jemalloc" "$WORKDIR/serve.log" ||
+    { cat "$WORKDIR/serve.log" >&2; die "the server does not run on jemalloc"; }
 say "/liveness?endpoint=/main, /main (${#PAGE} bytes) and ${SCRIPT#"$BASE"} answer; server uid $uid"
 say "total $(($(date +%s) - t0)) s"

@@ -41,9 +41,13 @@
 #   USE_XHEADERS            1 = trust X-Forwarded-* headers from a reverse proxy (default: 0)
 #   STATIC_DIRS             --static-dirs mapping (default: assets=static)
 #   LOG_LEVEL               panel/bokeh log level (default: info)
-#   PYTHONMALLOC            Python's allocator (default: pymalloc, Python's own); malloc =
-#                           the C library's: a process then gives back what a class that
-#                           left used, but each slider move and page costs more CPU
+#   ALLOCATOR               the server's memory allocator: jemalloc = jemalloc (Debian's
+#                           libjemalloc2, preloaded, with PYTHONMALLOC=malloc) for every
+#                           object: a process gives back what a class that left used;
+#                           pymalloc = Python's own: a process keeps its peak after a class;
+#                           malloc = the C library's: gives it back, but each slider move
+#                           and page costs more CPU; auto = jemalloc where installed, else
+#                           pymalloc (default: auto; the image installs jemalloc)
 #                           (docs/deploy.md "Memory")
 #   HTTP_GZIP               1 = gzip the server's HTTP answers (app/serve_compressed.py);
 #                           0 = plain `panel serve` (behind nginx, which compresses)
@@ -138,6 +142,11 @@ case "$NUM_PROCS" in
     ''|*[!0-9]*) echo "serve.sh: NUM_PROCS must be a whole number >= 0, got '$NUM_PROCS'" >&2
                  exit 2 ;;
 esac
+case "${ALLOCATOR:-auto}" in
+    auto|jemalloc|pymalloc|malloc) ;;
+    *) echo "serve.sh: ALLOCATOR must be auto, jemalloc, pymalloc or malloc, got '$ALLOCATOR'" >&2
+       exit 2 ;;
+esac
 if [ "$NUM_PROCS" = 0 ]; then
     NUM_PROCS=$(nproc 2>/dev/null || echo 1)
 fi
@@ -170,8 +179,31 @@ esac
 # The app imports `core` from the project root, whichever directory it is served from.
 PYTHONPATH="$ROOT${PYTHONPATH:+:$PYTHONPATH}"
 export PYTHONPATH
-PYTHONMALLOC=${PYTHONMALLOC:-pymalloc}
+# The allocator (docs/deploy.md "Memory"): the server's objects come from jemalloc where it
+# is installed, which app/memory.py asks to give freed pages back after a class has left.
+ALLOCATOR=${ALLOCATOR:-auto}
+JEMALLOC=""
+for lib in /usr/lib/*/libjemalloc.so.2 /usr/lib/libjemalloc.so.2; do
+    if [ -f "$lib" ]; then JEMALLOC=$lib; break; fi
+done
+if [ "$ALLOCATOR" = auto ]; then
+    ALLOCATOR=pymalloc
+    if [ -n "$JEMALLOC" ]; then ALLOCATOR=jemalloc; fi
+fi
+case "$ALLOCATOR" in
+    jemalloc)
+        if [ -z "$JEMALLOC" ]; then
+            echo "serve.sh: ALLOCATOR=jemalloc, but libjemalloc.so.2 is not installed" \
+                "(Debian: apt-get install libjemalloc2)" >&2
+            exit 2
+        fi
+        PYTHONMALLOC=malloc
+        LD_PRELOAD="$JEMALLOC${LD_PRELOAD:+ $LD_PRELOAD}"
+        export LD_PRELOAD ;;
+    *) PYTHONMALLOC=$ALLOCATOR ;;  # pymalloc or malloc (checked above)
+esac
 export PYTHONMALLOC
+echo "serve.sh: allocator $ALLOCATOR" >&2
 
 # Build the argument list in "$@" (POSIX sh has no arrays): options are put in front of the
 # caller's arguments, which therefore come last and can override them.

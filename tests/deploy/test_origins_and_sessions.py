@@ -66,7 +66,8 @@ def _get(url: str) -> tuple[int, str]:
 def _env(**extra: str) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items()
            if k not in ("ALLOW_WEBSOCKET_ORIGIN", "BOKEH_ALLOW_WS_ORIGIN", "BOKEH_SECRET_KEY",
-                        "SESSION_LIFETIME_MS", "CHECK_UNUSED_MS", "PROXY", "PYTHONMALLOC")}
+                        "SESSION_LIFETIME_MS", "CHECK_UNUSED_MS", "PROXY", "PYTHONMALLOC",
+                        "ALLOCATOR", "LD_PRELOAD")}
     return {**env, "VENV": sys.prefix, "WARM": "0", **extra}
 
 
@@ -96,17 +97,31 @@ def _started(tmp_path, **env: str) -> subprocess.CompletedProcess:
     for name in ("python", "panel"):
         (stub / name).write_text('#!/bin/sh\necho "server env: ${BOKEH_ALLOW_WS_ORIGIN-unset}"\n'
                                  'echo "allocator: ${PYTHONMALLOC-unset}"\n'
+                                 'echo "preloaded: ${LD_PRELOAD-none}"\n'
                                  'echo "server args: $*"\n')
         (stub / name).chmod(0o755)
     full = {**_env(**env), "VENV": str(tmp_path / "venv")}
     return subprocess.run([str(SERVE)], env=full, capture_output=True, text=True, timeout=60)
 
 
-def test_the_allocator_is_python_s_own_unless_the_c_library_s_is_asked_for(tmp_path):
-    """Python's allocator is the faster for slider moves; the C library's gives a class's
-    memory back when it has left (docs/deploy.md, "Memory")."""
-    assert "allocator: pymalloc" in _started(tmp_path).stdout
-    assert "allocator: malloc" in _started(tmp_path, PYTHONMALLOC="malloc").stdout
+def test_the_allocator_is_jemalloc_where_installed_else_as_asked(tmp_path):
+    """jemalloc gives a class's memory back once it has left; Python's allocator keeps it
+    (docs/deploy.md, "Memory"). `make test` installs jemalloc (`make jemalloc`)."""
+    import glob
+
+    libs = glob.glob("/usr/lib/*/libjemalloc.so.2") + glob.glob("/usr/lib/libjemalloc.so.2")
+    assert libs, "jemalloc is not installed: make jemalloc (apt-get install -y libjemalloc2)"
+    auto = _started(tmp_path)
+    assert "allocator: malloc" in auto.stdout and f"preloaded: {libs[0]}" in auto.stdout
+    assert "serve.sh: allocator jemalloc" in auto.stderr
+    assert _started(tmp_path, ALLOCATOR="jemalloc").stdout == auto.stdout
+    for asked in ("pymalloc", "malloc"):
+        out = _started(tmp_path, ALLOCATOR=asked).stdout
+        assert f"allocator: {asked}" in out and "preloaded: none" in out
+    bad = _started(tmp_path, ALLOCATOR="tcmalloc")
+    assert bad.returncode == 2
+    assert ("ALLOCATOR must be auto, jemalloc, pymalloc or malloc, got 'tcmalloc'"
+            in bad.stderr)
 
 
 def test_bokeh_s_origin_variable_never_reaches_the_server(tmp_path):
