@@ -202,8 +202,10 @@ class RunWindow:
             return
         try:
             self.show_last(new)
-        except ValueError as exc:
-            self._show_periods(str(exc))
+        except ValueError:
+            # Short, to fit the box's width (the API's message names the parameter).
+            count = period_count(self._sol) if self._sol is not None else 0
+            self._show_periods(f"N must be from 1 to {count}; got {new!r}")
 
     def _show_periods(self, refusal: str = "") -> None:
         """The box: the run's number of periods, the window's N (empty once brushed), and
@@ -212,8 +214,7 @@ class RunWindow:
         if box is None or sol is None:
             return
         count = period_count(sol)
-        values = {"high": count, "value": self.periods,
-                  "title": refusal or periods_title(count)}
+        values = {"value": self.periods, "title": refusal or periods_title(count)}
         changed = {k: v for k, v in values.items() if getattr(box, k) != v}
         if changed:
             self._syncing = True
@@ -251,8 +252,12 @@ class RunWindow:
             # turn values such as a title's text into models.
             with validate(True):
                 self.overview, self.brush = build_overview(traj, time_range)
+                # No ``low`` or ``high``: BokehJS would clamp a number out of range to the
+                # bound without a word, and where the bound was N already the box kept
+                # showing the number typed (-2) beside the last N periods drawn. The
+                # server refuses it instead, in the box's title, and puts N back.
                 self.periods_box = NumericInput(
-                    mode="int", low=1, placeholder="N", width=PERIODS_BOX_WIDTH,
+                    mode="int", placeholder="N", width=PERIODS_BOX_WIDTH,
                     margin=(4, 10, 0, 10), css_classes=["fie-last-periods"])
             self._show_periods()
             self.periods_box.on_change("value", self._typed)

@@ -169,6 +169,10 @@ JS_WINDOW_WIDTH = f"""w => {{
   return t !== null && Math.abs((t[1] - t[0]) - w) < {T_TOL};
 }}"""
 
+#: JavaScript: the title of the "last N periods" box's model.
+JS_BOX_TITLE = """() => [...Bokeh.documents[0].all_models].find(
+  m => m.type === "NumericInput" && m.css_classes.includes("fie-last-periods")).title"""
+
 #: JavaScript: the value of the "last N periods" box's model.
 JS_BOX_VALUE = """() => [...Bokeh.documents[0].all_models].find(
   m => m.type === "NumericInput" && m.css_classes.includes("fie-last-periods")).value"""
@@ -199,6 +203,18 @@ def test_typing_n_shows_the_last_n_periods_and_the_brush_still_moves_the_window(
                 # The server sampled the new window (as densely per period as the first).
                 assert p.page.evaluate(JS_SAMPLES_IN, [lo, hi]) >= 40 * n
                 _shoot(p, ".fie-plot-time", shots / "long-run-5a-last-12-periods.png")
+        # A number out of the run is refused in the box's title, and N is shown again
+        # (the window unchanged): -2 and 0 were clamped to 1 in the browser, without a word,
+        # and where N was 1 already the box kept showing what was typed.
+        for bad in ("-2", "0", str(count + 1)):
+            box.fill(bad)
+            box.press("Enter")
+            p.page.wait_for_function(f"t => ({JS_BOX_TITLE})().includes(t)", arg=f"got {bad}",
+                                     timeout=PAGE_TIMEOUT_MS)
+            p.still()
+            assert box.input_value() == str(count)
+            assert f"N must be from 1 to {count}; got {bad}" in p.text(".fie-last-periods")
+            assert p.page.evaluate(JS_FIGURES)["time"][1] == pytest.approx(t_end, abs=T_TOL)
         # The brush still moves the window; the box is emptied (no "last N" any more).
         new = (0.3 * t_end, 0.3 * t_end + 3 * period)
         assert p.page.evaluate(JS_BRUSH, list(new))
