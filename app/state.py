@@ -105,9 +105,9 @@ class Scales:
     energy: float = 1.0
     time_label: str = "t (dimensionless)"
     length_label: str = "x"
-    velocity_label: str = "x'"
-    force_label: str = "phi / k"
-    impulse_label: str = "impulse / (m omega)"
+    velocity_label: str = "x′"
+    force_label: str = "φ/k"
+    impulse_label: str = "impulse / (m ω)"
     energy_label: str = "energy / k"
     friction_label: str = "friction force / k"
     #: What follows a length's number: " mm" in SI, nothing in dimensionless units.

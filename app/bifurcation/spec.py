@@ -33,11 +33,11 @@ from core import sweep as sweeps
 
 PARAMETER_LABELS: Mapping[str, str] = {
     "belt_speed": "belt speed v",
-    "clearance": "clearance x_bar",
+    "clearance": "clearance x̄",
     "restitution": "restitution r",
-    "mu_s": "static friction mu_s",
-    "mu_k": "kinetic friction mu_k",
-    "u_s": "static deflection u_s",
+    "mu_s": "static friction μₛ",
+    "mu_k": "kinetic friction μₖ",
+    "u_s": "static deflection uₛ",
 }
 #: Quantities on the diagram's y axis: the Poincaré samples of :mod:`core.sweep` (one
 #: steady period's transitions, Eq. 20) and two per-point values.
@@ -59,10 +59,10 @@ UNITS_NOTE = "dimensionless units"
 #: shown as the normal force ``N = k u_s``, as in the sidebar.
 PARAMETER_SI: Mapping[str, tuple[str, str | None, str]] = {
     "belt_speed": ("belt speed v_dr", "velocity", "m/s"),
-    "clearance": ("clearance x_bar", "length", "mm"),
+    "clearance": ("clearance x̄", "length", "mm"),
     "restitution": ("restitution r", None, ""),
-    "mu_s": ("static friction mu_s", None, ""),
-    "mu_k": ("kinetic friction mu_k", None, ""),
+    "mu_s": ("static friction μₛ", None, ""),
+    "mu_k": ("kinetic friction μₖ", None, ""),
     "u_s": ("normal force N", "force", "N"),
 }
 #: The same for the quantity on the y axis.

@@ -116,8 +116,8 @@ def build_phase(s: Sources) -> Built:
     # fraction of its own span, which keeps the ratio only if the fractions are equal.
     x_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
     y_range = DataRange1d(range_padding=PHASE_X_PADDING, only_visible=True)
-    fig = new_figure("Phase portrait (x, x')", PHASE_SIZE, x_axis_label="x",
-                     y_axis_label="x'", x_range=x_range, y_range=y_range, match_aspect=True)
+    fig = new_figure("Phase portrait (x, x′)", PHASE_SIZE, x_axis_label="x",
+                     y_axis_label="x′", x_range=x_range, y_range=y_range, match_aspect=True)
     ranged = [add_glyph(fig, "line", "x", "v", source=s[key], **PHASE_STYLE[key])
               for key in ("gamma0", "cycle", "removed")]
     theory = list(ranged)
@@ -164,7 +164,7 @@ def build_time(s: Sources) -> Built:
     high together (the height the page keeps for the plot until it is built)."""
     size = (TIME_SIZE[0], TIME_SIZE[1] - BAND_LEGEND_PX // 2)
     fig_x = new_figure("Displacement x(t)", size, y_axis_label="x")
-    fig_v = new_figure("Velocity x'(t)", size, x_axis_label="t", y_axis_label="x'",
+    fig_v = new_figure("Velocity x′(t)", size, x_axis_label="t", y_axis_label="x′",
                        x_range=fig_x.x_range)
     for fig, col in ((fig_x, "x"), (fig_v, "v")):
         add_glyph(fig, "quad", left="left", right="right", bottom=-BAND_EXTENT, top=BAND_EXTENT,
@@ -204,8 +204,8 @@ def build_force(s: Sources) -> Built:
 
 def build_loop(s: Sources) -> Built:
     """The hysteresis loop of a deformable stop between its two envelopes."""
-    fig = new_figure("Hysteresis loop phi(overlap)", SMALL_SIZE,
-                     x_axis_label="overlap x - x_bar", y_axis_label="phi / k")
+    fig = new_figure("Hysteresis loop φ(overlap)", SMALL_SIZE,
+                     x_axis_label="overlap x − x̄", y_axis_label="φ/k")
     items = []
     for name, label, style in (
         ("comp", "compression envelope", {"line_color": "#444444", "line_dash": "dashed"}),
@@ -220,7 +220,7 @@ def build_loop(s: Sources) -> Built:
 def build_friction(s: Sources) -> Built:
     """Coulomb's law (Fig. 1b) with the motion's operating points."""
     fig = new_figure("Friction law (Fig. 1b)", SMALL_SIZE,
-                     x_axis_label="relative velocity u_r = v - x'",
+                     x_axis_label="relative velocity uᵣ = v − x′",
                      y_axis_label="friction force / k")
     add_glyph(fig, "line", "u", "f", source=s["law"], line_color="#000000", line_width=2)
     add_glyph(fig, "scatter", "u", "f", source=s["ops"], color="color", size=6, alpha=0.5)
@@ -241,7 +241,7 @@ def build_energy(s: Sources) -> Built:
 def build_map(s: Sources) -> Built:
     """The regime map of the theory (an image of category codes) and the current point."""
     fig = new_figure("Regime map (tap to move there)", MAP_SIZE,
-                     x_axis_label="belt speed v", y_axis_label="clearance x_bar",
+                     x_axis_label="belt speed v", y_axis_label="clearance x̄",
                      x_range=Range1d(0, 1), y_range=Range1d(0, 1))
     mapper = LinearColorMapper(palette=list(MAP_PALETTE), low=-0.5, high=len(MAP_PALETTE) - 0.5)
     add_glyph(fig, "image", image="image", x="x", y="y", dw="dw", dh="dh", source=s["map"],
@@ -285,8 +285,8 @@ def set_axis_labels(figs: Mapping[str, Any], rest_axis: LinearAxis | None, sol: 
     labels: dict[str, tuple[Any, Any]] = {
         "phase": (length, velocity), "time_x": (None, length), "time_v": (time, velocity),
         "energy": (time, scales.energy_label), "friction": (None, scales.friction_label),
-        "loop": ("overlap x - x_bar" + si, scales.force_label),
-        "map": ("belt speed v_dr (m/s)" if scales.si else "belt speed v", "clearance x_bar" + si),
+        "loop": ("overlap x − x̄" + si, scales.force_label),
+        "map": ("belt speed v_dr (m/s)" if scales.si else "belt speed v", "clearance x̄" + si),
     }
     if "force" in figs:
         labels["force"] = ("program phase s" if sol.program is not None else time,

@@ -161,8 +161,8 @@ def test_a_far_off_pin_is_not_clipped(browser, server, shots):
         _wait_readout(p, "compared")
         p.still()  # the portrait's ranges are fitted in a paint
         shown = p.page.evaluate(JS_GHOST_IN_VIEW, PIN_COLORS[0])
-        assert set(shown) >= {"Phase portrait (x, x')", "Displacement x(t)",
-                              "Velocity x'(t)"}, shown
+        assert set(shown) >= {"Phase portrait (x, x′)", "Displacement x(t)",
+                              "Velocity x′(t)"}, shown
         assert all(shown.values()), shown
         p.page.screenshot(path=shots / "compare-far-off-pin.png", full_page=True)
         assert p.errors == []
