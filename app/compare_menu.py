@@ -17,6 +17,7 @@ from app.control_specs import WIDGET_WIDTH
 from app.perf.browser_values import say_refused
 from app.pins import URL_KEY, PinSpec, decode_pins, encode_pins
 from app.state import ExplorerState, scene_values
+from app.widgets import on_click
 
 #: The label of the button that starts the presentation (P: its shortcut).
 PRESENT_LABEL = "▶ Present (P)"
@@ -48,12 +49,12 @@ class CompareMenu(pn.viewable.Viewer):
         self.button = pn.widgets.MenuButton(
             label=PIN_LABEL, split=True, items=self._items(), width=WIDGET_WIDTH,
             color="default", css_classes=["fie-compare-menu"])
-        self.button.on_click(self._clicked)
+        on_click(self.button, self._clicked)
         #: Starts the presentation (one large plot; its strip switches the layout).
         self.present = pn.widgets.Button(
             label=PRESENT_LABEL, width=WIDGET_WIDTH, color="primary",
             css_classes=["fie-present-button"])
-        self.present.on_click(lambda event: self.presentation.set_mode(PRESENT_FIRST))
+        on_click(self.present, lambda event: self.presentation.set_mode(PRESENT_FIRST))
         self.state.param.watch(lambda event: self.refresh(), ["pinned", "present", "slides"])
 
     def __panel__(self) -> pn.viewable.Viewable:

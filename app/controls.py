@@ -61,6 +61,7 @@ from app.widgets import (
     ShownLater,
     TypedSlider,
     format_number,
+    on_click,
     set_changed,
 )
 
@@ -156,7 +157,7 @@ class Controls(pn.viewable.Viewer):
         self.reset_button = pn.widgets.Button(
             label=reset_label(st.figure), width=WIDGET_WIDTH, css_classes=["fie-reset"],
             description="Put back every value of the figure last loaded.")
-        self.reset_button.on_click(lambda event: self.reset())
+        on_click(self.reset_button, lambda event: self.reset())
         self.show_all = Checkbox(label="show all plots", value=st.show_all)
         # First in the deformable stop's group, and like it in the page once first shown.
         self.contact_law = Select(

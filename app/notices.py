@@ -16,7 +16,7 @@ import panel as pn
 import param
 
 from app.state import ExplorerState
-from app.widgets import set_changed
+from app.widgets import on_click, set_changed
 
 #: The house stylesheet (served by ``--static-dirs assets=static``); panes render in shadow
 #: DOMs, so each pane that uses the house classes links it itself.
@@ -77,20 +77,20 @@ class Notices(pn.viewable.Viewer):
         if sol is not None and self._kept != (self.alert.object, dict(sol.values)):
             set_changed(self.alert, visible=False)
 
-    def offer_retry(self, budget: float | None, on_click: Callable[[], None] | None = None,
+    def offer_retry(self, budget: float | None, retry: Callable[[], None] | None = None,
                     description: str = "") -> None:
         """Show the retry button (``budget`` [s] the retry would take), calling
-        ``on_click``; hide it with ``budget`` None."""
+        ``retry``; hide it with ``budget`` None."""
         if budget is None:
             if self.retry is not None:
                 set_changed(self.retry, visible=False)
             return
-        self._on_retry = on_click or self._on_retry
+        self._on_retry = retry or self._on_retry
         if self.retry is None:
             self.retry = pn.widgets.Button(
                 label="Retry with more time", color="primary", css_classes=["fie-retry"],
                 visible=False, margin=(0, 10, 8, 10))
-            self.retry.on_click(self._retry_clicked)
+            on_click(self.retry, self._retry_clicked)
             self._column.append(self.retry)
         self._budget = budget
         self.retry.param.update(visible=True, disabled=False, label="Retry with more time",

@@ -26,7 +26,7 @@ from app.control_specs import MU_S_MIN, SLIDERS
 from app.lessons.stepper import StripStepper
 from app.scenes import CUSTOM, SCENES
 from app.teach.glossary import PLAIN, SLIDER_SYMBOLS
-from app.widgets import set_changed
+from app.widgets import on_click, set_changed
 
 #: The sliders of the strip by stop type: the belt speed (a slow or a fast belt, Eq. 25),
 #: and the stop's place and restitution (a rigid stop) or limit overlap (a deformable one);
@@ -129,7 +129,7 @@ class PresentStrip:
         self.exit = pn.widgets.Button(
             label="Exit", margin=(6, 6), color="primary",
             stylesheets=[STYLESHEET], css_classes=["fie-present-exit"])
-        self.exit.on_click(lambda event: set_mode(""))
+        on_click(self.exit, lambda event: set_mode(""))
         self.help = pn.pane.HTML(help_html(), margin=(9, 6), css_classes=["fie-present-help"])
         lesson_step = [self.stepper.layout] if self.stepper else []
         self.layout = pn.Row(

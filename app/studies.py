@@ -16,7 +16,7 @@ from app.control_specs import WIDGET_WIDTH
 from app.solve.process import Abandoned
 from app.solve.trade import MEASURE_BUDGET_S, MeasureRefused, TradeRunner, trade_html
 from app.state import ExplorerState
-from app.widgets import set_changed
+from app.widgets import on_click, set_changed
 
 #: The label of the button that measures the speed/accuracy trade (app.solve.trade).
 MEASURE_LABEL = "Measure the trade (a few seconds)"
@@ -47,11 +47,11 @@ class Studies(pn.viewable.Viewer):
             description="Solve this run again with every method and preset: wall time now, "
                         "error against a reference solution, steady state found (at most "
                         f"{MEASURE_BUDGET_S:g} s).")
-        self.measure.on_click(lambda event: self.measure_trade())
+        on_click(self.measure, lambda event: self.measure_trade())
         self.open_sweeps = pn.widgets.Button(
             label="Bifurcation diagram (sweep)", width=WIDGET_WIDTH,
             css_classes=["fie-open-sweeps"])
-        self.open_sweeps.on_click(lambda event: self.sweep())
+        on_click(self.open_sweeps, lambda event: self.sweep())
         #: The measurement of the trade, in the solver processes (one at a time).
         self.trade_runner = TradeRunner(self._measured, self._measure_failed)
         self._refusal: str | None = None

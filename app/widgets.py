@@ -39,6 +39,25 @@ def set_changed(obj: param.Parameterized, **values) -> None:
         obj.param.update(**changed)
 
 
+def on_click(button: Any, handler: Callable[[Any], None]) -> None:
+    """Call ``handler(event)`` on each click of ``button`` (a Panel ``Button`` or
+    ``MenuButton``) with the page's changes held (``pn.io.hold``): sent in one message.
+
+    Why held: a click that reaches the server while a change of another widget is still due
+    is run by Panel after that change from a coroutine of its own, outside the Bokeh
+    document's lock (Panel 1.9's ``Reactive._server_event``). A handler that then sets a
+    property of a Bokeh model itself (a figure's font, a data source) makes Bokeh raise
+    ("_pending_writes should be non-None") and the rest of the handler never runs: the page
+    stays as it was (a presentation that did not leave on Exit). Changes made under a hold
+    are collected and written by Panel, with or without the lock.
+    """
+    def held(event: Any) -> None:
+        with pn.io.hold():
+            handler(event)
+
+    button.on_click(held)
+
+
 class ShownLater(pn.Column):
     """A column whose contents join the page the first time it is shown.
 

@@ -62,6 +62,7 @@ from app.bifurcation.style import (
 )
 from app.bifurcation.theory_lines import theory_lines
 from app.state import DIMENSIONLESS, Scales
+from app.widgets import on_click
 from core import sweep as sweeps
 
 
@@ -132,8 +133,8 @@ class BifurcationView:
         self.sim_layer, self.disagree_layer = self.layers.sim_layer, self.layers.disagree_layer
         self.map_status, self.map_job = self.layers.status, self.layers.job
         self.parameter.param.watch(self._on_parameter, "value")
-        self.run.on_click(lambda e: self.start())
-        self.stop.on_click(lambda e: self.cancel())
+        on_click(self.run, lambda e: self.start())
+        on_click(self.stop, lambda e: self.cancel())
         self._build_figure()
         self.job = ChunkedSweep(self._work, self._on_chunk, self._failed, self._cut)
         self.spec: SweepSpec | None = None

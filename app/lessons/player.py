@@ -26,6 +26,7 @@ from app.lessons.text import lesson_html, plain_math
 from app.links import parse_number
 from app.scenes import PLOT_TITLES
 from app.state import URL_KEYS
+from app.widgets import on_click
 
 #: The player's look (its panes render in shadow DOMs: each carries it).
 CSS = """
@@ -71,7 +72,7 @@ class QuestionView:
                                                 css_classes=["fie-lesson-choices"])
         self.check = pn.widgets.Button(label="Check my answer", color="primary",
                                        css_classes=["fie-lesson-check"], width=160)
-        self.check.on_click(lambda event: self.on_answered())
+        on_click(self.check, lambda event: self.on_answered())
         self.answer = _html(css="fie-lesson-answer-pane", visible=False)
         self.layout = pn.Column(self.ask, self.choices, self.check, self.answer,
                                 visible=False, sizing_mode="stretch_width", margin=0,
@@ -143,7 +144,7 @@ class LessonPlayer:
         self.head = _html(css="fie-lesson-head-pane")
         self.close = pn.widgets.Button(label="Close lessons", width=120,
                                        css_classes=["fie-lesson-close"])
-        self.close.on_click(lambda event: self.leave())
+        on_click(self.close, lambda event: self.leave())
         self.message = _html(css="fie-lesson-message", visible=False)
         self.catalogue = pn.Column(sizing_mode="stretch_width", margin=0,
                                    css_classes=["fie-lesson-list"])
@@ -160,9 +161,9 @@ class LessonPlayer:
         self.link = _html(css="fie-lesson-link", width=160, sizing_mode="fixed",
                           margin=(14, 5, 2, 5))
         self.keys = ArrowKeys(width=0, height=0, margin=0)
-        self.back.on_click(lambda event: self.step(-1))
-        self.next.on_click(lambda event: self.step(1))
-        self.restore.on_click(lambda event: self.apply_step())
+        on_click(self.back, lambda event: self.step(-1))
+        on_click(self.next, lambda event: self.step(1))
+        on_click(self.restore, lambda event: self.apply_step())
         self.keys.param.watch(lambda event: self.step(-1), "back")
         self.keys.param.watch(lambda event: self.step(1), "forward")
         self.step_view = pn.Column(
@@ -198,7 +199,7 @@ class LessonPlayer:
                 continue
             start = pn.widgets.Button(label="Start", width=80,
                                       css_classes=[f"fie-lesson-start-{lesson.name}"])
-            start.on_click(lambda event, name=lesson.name: self.open(name, 1))
+            on_click(start, lambda event, name=lesson.name: self.open(name, 1))
             rows.append(pn.Row(start, _html(
                 f"<b>{html.escape(lesson.title)}</b> ({len(lesson.steps)} steps): "
                 f"{plain_math(lesson.summary)}", css="fie-lesson-item"), margin=0,

@@ -15,6 +15,7 @@ import panel as pn
 import param
 
 from app.lessons.text import plain_math
+from app.widgets import on_click
 
 #: Font of the step's line [px]: the strip's (app.present_strip.STRIP_FONT_PX).
 FONT_PX = 18
@@ -70,8 +71,8 @@ class StripStepper:
                                       stylesheets=[BUTTON_CSS],
                                       css_classes=["fie-present-step-next"],
                                       description="The next step (key →)")
-        self.back.on_click(lambda event: step(-1))
-        self.next.on_click(lambda event: step(1))
+        on_click(self.back, lambda event: step(-1))
+        on_click(self.next, lambda event: step(1))
         # The line takes its basis before the sliders grow, and gives it up first.
         self.label = pn.pane.HTML("", disable_math=False, margin=(6, 2),
                                   min_width=LABEL_MIN_PX, max_width=2 * LABEL_BASIS_PX,

@@ -5,6 +5,7 @@ one to four plots (keys 1-4) fill a 1920x1080 and a 1024x768 window."""
 from __future__ import annotations
 
 import pytest
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from uipage import JS_READY, PAGE_TIMEOUT_MS, Page
 
 from app.presentation import MODES, PLOT_COUNT
@@ -72,10 +73,16 @@ def test_union_area_counts_an_overlap_once():
 
 def _wait_mode(p: Page, mode: str) -> None:
     on = "true" if mode else "false"
-    p.page.wait_for_function(
-        f"() => document.body.classList.contains('fie-present') === {on} && "
-        f"new URLSearchParams(location.search).get('present') === '{mode or '0'}'",
-        timeout=PAGE_TIMEOUT_MS)
+    try:
+        p.page.wait_for_function(
+            f"() => document.body.classList.contains('fie-present') === {on} && "
+            f"new URLSearchParams(location.search).get('present') === '{mode or '0'}'",
+            timeout=PAGE_TIMEOUT_MS)
+    except PlaywrightTimeout:
+        # What the page said and shows, for a cause to be found from a failed run.
+        raise AssertionError(
+            f"present={mode or '0'} not reached: address {p.page.url}, body classes "
+            f"{p.page.evaluate('document.body.className')!r}, page errors {p.errors}") from None
     p.page.wait_for_function(JS_READY, timeout=PAGE_TIMEOUT_MS)
     p.wait_plots()
     p.still()
@@ -133,6 +140,39 @@ def test_strip_slider_changes_the_plots(browser, server):
         p.still()
         after = p.page.evaluate(JS_PHASE_DATA)
         assert after != before
+        assert p.errors == []
+    finally:
+        p.close()
+
+
+#: JavaScript: in one task, move the slider of the widget with CSS class ``slider`` by a
+#: step and click the button of the widget with class ``button``: the click reaches the
+#: server while the slider's change is still due (a lecturer drags, then presses P at once).
+JS_SLIDE_AND_CLICK = """([slider, button]) => {
+  const has = (m, cls) => m.css_classes != null && m.css_classes.includes(cls);
+  // The slider: the model with the class, or the first one with a step inside it.
+  const find = (m) => m.type === "Slider" ? m :
+    (m.children || []).map(find).find(c => c != null);
+  const model = [...Bokeh.documents[0].all_models].filter(m => has(m, slider)).map(find)
+    .find(m => m != null);
+  const view = [...Bokeh.index.query(v => v.model != null && has(v.model, button) &&
+                                          v.el.isConnected)][0];
+  model.value = model.value + model.step;
+  (view.shadow_el || view.el.shadowRoot).querySelector("button").click();
+}"""
+
+
+def test_enter_and_leave_while_a_slider_change_is_on_its_way(browser, server):
+    # Panel runs such a click outside the document's lock: the mode's restyling of the
+    # figures raised on the server and the page stayed as it was (app.widgets.on_click).
+    p = Page(browser, server + "?scene=7c", viewport=SCREENS["1080p"])
+    try:
+        p.page.evaluate(JS_SLIDE_AND_CLICK, ["fie-w-restitution", "fie-present-button"])
+        _wait_mode(p, "1")
+        p.page.keyboard.press("4")
+        _wait_mode(p, "4")
+        p.page.evaluate(JS_SLIDE_AND_CLICK, ["fie-present-w-restitution", "fie-present-exit"])
+        _wait_mode(p, "")
         assert p.errors == []
     finally:
         p.close()
