@@ -19,6 +19,7 @@ from collections.abc import Iterator, Mapping
 from pathlib import Path
 
 import pytest
+from uipage import server_faults
 
 ROOT = Path(__file__).resolve().parents[2]
 #: Debian's Chromium (never a browser downloaded by Playwright).
@@ -29,6 +30,8 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
 SCREENSHOT_DIR = Path(os.environ.get("SCREENSHOT_DIR", ROOT / "artifacts" / "screenshots"))
 #: Seconds to wait for the server to come up and for a page to be ready.
 SERVER_TIMEOUT = 60.0
+#: The shared server's log.
+SERVER_LOG = SCREENSHOT_DIR.parent / "panel-serve.log"
 
 
 def free_port() -> int:
@@ -76,8 +79,24 @@ def panel_server(app_path: str | Path, port: int, log: Path,
 def server() -> Iterator[str]:
     """URL of the app served by a `panel serve` subprocess on loopback."""
     port = free_port()
-    with panel_server("app/main.py", port, SCREENSHOT_DIR.parent / "panel-serve.log"):
+    with panel_server("app/main.py", port, SERVER_LOG):
         yield f"http://127.0.0.1:{port}/main"
+
+
+@pytest.fixture(autouse=True)
+def no_server_faults(request) -> Iterator[None]:
+    """A test of the shared server fails where the server logged an exception meanwhile (a
+    handler that raised leaves the page as it was, and the browser may say nothing)."""
+    if "server" not in request.fixturenames:
+        yield
+        return
+    request.getfixturevalue("server")  # started (its log begun) before the size is read
+    start = SERVER_LOG.stat().st_size
+    yield
+    with open(SERVER_LOG, errors="replace") as log:
+        log.seek(start)
+        faults = server_faults(log.read())
+    assert faults == [], f"the server raised (see {SERVER_LOG}): {faults}"
 
 
 @pytest.fixture(scope="session")

@@ -105,6 +105,26 @@ JS_STILL = """({frames, ms}) => new Promise(resolve => {
 STILL_FRAMES = 3
 
 
+#: Exceptions in a server's log that are no fault of the app: a page closed while the
+#: server wrote to it.
+CLOSED_PAGE = ("WebSocketClosedError", "StreamClosedError")
+
+
+def server_faults(log: str) -> list[str]:
+    """The exception line of each traceback in ``log`` (a server's output), but for a
+    closed page's."""
+    lines = log.splitlines()
+    faults = []
+    for i, line in enumerate(lines):
+        if not line.startswith("Traceback (most recent call last):"):
+            continue
+        # The exception line: the first after the frames (which are indented).
+        end = next((after for after in lines[i + 1:] if after and not after[0].isspace()), "")
+        if end.split(":")[0].rsplit(".", 1)[-1] not in CLOSED_PAGE:
+            faults.append(end)
+    return faults
+
+
 class Page:
     """A page of the explorer with its console messages collected."""
 
