@@ -197,7 +197,7 @@ _SCENE_LIST = (
         {"stop_type": "none", "belt_speed": V_SLOW_ELASTIC, "x0": 0.45, "v0": 0.25,
          "clearance": 0.5},
         IMPACTLESS_PLOTS,
-        [SLOW, ("start outside Gamma_0 (Eq. 21)", lambda s: not _quantities(s)["gamma0"])],
+        [SLOW, ("start outside Γ₀ (Eq. 21)", lambda s: not _quantities(s)["gamma0"])],
         {"belt": "slow"},
     ),
     _scene(

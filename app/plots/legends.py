@@ -83,7 +83,7 @@ def legend_pane(text: str = "", lines: int = LEGEND_LINES) -> pn.pane.HTML:
 #: in stick.
 BAND_NOTES: Mapping[int, tuple[str, str]] = {
     int(Mode.SLIP): ("slip", "the mass slides on the belt (Eq. 7)"),
-    int(Mode.STICK): ("stick / rest on the belt", "the mass moves with the belt (x' = v)"),
+    int(Mode.STICK): ("stick / rest on the belt", "the mass moves with the belt (x′ = v)"),
     int(Mode.CONTACT): ("contact / rest on the stop",
                         "the mass touches the stop: a deformable stop's contact, or rest "
                         "pressed on a rigid stop"),

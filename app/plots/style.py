@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from app.teach.glossary import PLAIN
 from core import Mode, TransitionKind
 
 #: Colours of the modes (slip / stick / contact); the UI tests look for these pixels.
@@ -98,14 +99,15 @@ PHASE_STYLE: Mapping[str, Mapping[str, Any]] = {
 }
 #: Legend labels of the phase portrait's references, and what they are (tooltips).
 PHASE_LABELS: Mapping[str, tuple[str, str]] = {
-    "gamma0": ("Gamma_0", "Gamma_0 (Eq. 21): the disc about (a, 0) of radius v, touching "
-               "the stick line x' = v; a start inside it slips for ever (fast belt)"),
-    "cycle": ("impactless cycle", "Gamma_LC (Eqs. 23-24): the stick-slip cycle (or, for a "
+    "gamma0": ("Γ₀", "Γ₀ (Eq. 21): the disc about (a, 0) of radius v, touching "
+               "the stick line x′ = v; a start inside it slips for ever (fast belt)"),
+    "cycle": ("impactless cycle", "Γ_LC (Eqs. 23-24): the stick-slip cycle (or, for a "
               "fast belt, the slip circle) the motion settles on without the stop"),
     "points": ("theory (A.1-A.12)", "the steady-state points of the paper's appendix"),
     "repeat": ("cycle closes", "the periodic steady state is drawn once: from here it "
                "repeats; the label counts the repeats within the horizon"),
-    "start": ("start", "the initial state (x0, x'0); click the portrait to move it"),
+    "start": ("start", f"the initial state ({PLAIN['x0']}, {PLAIN['v0']}); click the "
+              "portrait to move it"),
     "removed": ("stop removed", "Sec. 4.6: the pure slip circle about (a, 0) the mass "
                 "would follow if the stop were removed while it rests on it"),
 }
