@@ -280,6 +280,31 @@ class SessionResult:
     sliders: int = 0
 
 
+#: Seconds without a patch after which a move that brought patches but no data change is
+#: over (the app answered with text only: e.g. a restitution where the run has no impact).
+NO_DATA_QUIET_S = 2.0
+
+
+def settle_wait(arrivals: list[tuple[float, bool]], now: float, deadline: float,
+                quiet: float) -> float | None:
+    """Seconds to wait for a move's next patch, or None once the move is over: ``quiet`` s
+    without a patch after its data patch; ``max(quiet, NO_DATA_QUIET_S)`` s without one
+    after patches without data; or the ``deadline``. ``arrivals``: (time, changed data).
+
+    >>> settle_wait([(10.0, False)], 10.5, 40.0, 0.3)   # no data yet: wait out the quiet
+    1.5
+    >>> settle_wait([(10.0, False)], 12.1, 40.0, 0.3) is None
+    True
+    """
+    if now >= deadline:
+        return None
+    if not arrivals:
+        return deadline - now
+    have_data = any(is_data for _, is_data in arrivals)
+    left = (quiet if have_data else max(quiet, NO_DATA_QUIET_S)) - (now - arrivals[-1][0])
+    return min(left, deadline - now) if left > 0 else None
+
+
 class Session:
     """One client session speaking the Bokeh protocol on the raw JSON.
 
@@ -459,19 +484,9 @@ class Session:
         ])
         deadline = t0 + self.args.move_timeout
         quiet = self.args.quiet_ms / 1000
-        # Wait for the data patch, then for the updates to settle (no patch for `quiet` s).
-        while True:
-            now = time.perf_counter()
-            have_data = any(is_data for _, is_data in self.arrivals)
-            last = self.arrivals[-1][0] if self.arrivals else t0
-            if have_data and now - last >= quiet:
-                break
-            if not have_data and self.arrivals and now - last >= max(quiet, 2.0):
-                break  # the app answered without a data change
-            if now >= deadline:
-                break
+        while (wait := settle_wait(self.arrivals, time.perf_counter(), deadline,
+                                   quiet)) is not None:
             self.arrived.clear()
-            wait = min(deadline - now, quiet) if have_data else deadline - now
             try:
                 await asyncio.wait_for(self.arrived.wait(), max(wait, 0.001))
             except TimeoutError:

@@ -14,6 +14,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -64,3 +66,21 @@ def test_the_harness_serves_with_the_classroom_s_session_lifetime():
     check = int(re.search(r"CHECK_UNUSED_MS=\$\{CHECK_UNUSED_MS:-(\d+)\}", serve)[1])
     assert (args.session_lifetime_ms, args.check_unused_ms) == (lifetime, check)
     assert args.gone_limit_s == 10.0  # the goal: a closed tab's session gone within 10 s
+
+
+def test_a_move_without_new_data_ends_after_its_quiet_time_not_at_the_deadline():
+    # Before, such a move waited for another patch until --move-timeout (30 s): a session
+    # stalled there, and a round of 5 sessions x 40 moves timed out at 137 of 200 moves.
+    wait = _harness().settle_wait
+    quiet, deadline = 0.3, 40.0
+    # Text patches at 10 s, none with data: over 2 s after the last, whatever the deadline.
+    assert wait([(10.0, False)], 10.5, deadline, quiet) == pytest.approx(1.5)
+    assert wait([(10.0, False)], 12.0, deadline, quiet) is None
+    # The data patch at 10 s: over after the quiet time; a later patch restarts it.
+    assert wait([(9.0, False), (10.0, True)], 10.1, deadline, quiet) == pytest.approx(0.2)
+    assert wait([(10.0, True)], 10.3, deadline, quiet) is None
+    assert wait([(10.0, True), (10.2, False)], 10.3, deadline, quiet) == pytest.approx(0.2)
+    # Nothing yet: wait up to the deadline, and never past it.
+    assert wait([], 10.0, deadline, quiet) == pytest.approx(30.0)
+    assert wait([(39.9, False)], 39.95, deadline, quiet) == pytest.approx(0.05)
+    assert wait([(10.0, True)], 40.0, deadline, quiet) is None
