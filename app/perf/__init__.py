@@ -5,8 +5,8 @@ The explorer runs on public Panel and Bokeh APIs. A few measured delays, the bun
 page loads, and the quiet refusal of values from the browser that no user can give could
 only be had by reaching into library internals; each such patch lives here
 (:mod:`app.perf.websocket`, :mod:`app.perf.slider`, :mod:`app.perf.defaults`,
-:mod:`app.perf.resources`, :mod:`app.perf.browser_values`), names the library versions it
-was written and tested for (:data:`PATCHES`), and is applied only
+:mod:`app.perf.resources`, :mod:`app.perf.attach`, :mod:`app.perf.browser_values`), names
+the library versions it was written and tested for (:data:`PATCHES`), and is applied only
 
 * inside that version window (checked when the server starts; outside it a log line says
   the patch was left out), and
@@ -106,6 +106,14 @@ PATCHES = {
               "the design's page-level CSS links carry Panel's version suffix, as the "
               "shadow roots' copies do: one address, one download",
               ("app/perf/resources.py",), ("Design.resolve_resources",)),
+        Patch("fresh-roots", "panel", "1.9", "1.10",
+              "a template's root that was never in a document is added to the session's "
+              "without Panel's walk that takes its models out of their old document",
+              ("app/perf/attach.py",), ("panel.template.base.add_to_doc",)),
+        Patch("stylesheets-from-document", "panel", "1.9", "1.10",
+              "the page's HTML gives the stylesheets the server's address from the "
+              "document's list of its models, not by walking each root",
+              ("app/perf/attach.py",), ("panel.io.server.patch_model_css",)),
         Patch("mathjax-on-demand", "panel", "1.9", "1.10",
               "MathJax is loaded where Bokeh finds TeX, not for every HTML pane",
               ("app/perf/resources.py",), ("panel.io.resources._panel_use_mathjax",)),
