@@ -4,8 +4,8 @@
 # Usage: scripts/serve-behind-nginx.sh [PANEL_SERVE_ARGS...]
 #
 # Starts one scripts/serve.sh process per port in UPSTREAM_PORTS and nginx (Debian's package)
-# on PROXY_ADDRESS:PROXY_PORT with docs/nginx-example.conf, its `listen` and `server` lines
-# replaced by these ports (scripts/serve.sh does this by itself when NUM_PROCS > 1 or
+# on PROXY_ADDRESS:PROXY_PORT with docs/nginx-example.conf, its `listen` line, its upstream's
+# `server` lines and its sticky map's lines replaced by these ports (scripts/serve.sh does this by itself when NUM_PROCS > 1 or
 # PROXY=nginx, as in the image). Students open http://PROXY_ADDRESS:PROXY_PORT/main. Runs in the
 # foreground until stopped (Ctrl-C, SIGTERM) or until one of its processes exits; then it
 # stops the others. tests/deploy/test_nginx.py runs it.
@@ -51,8 +51,10 @@ trap 'exit 130' INT
 trap 'exit 143' TERM
 
 SERVERS=""
+ROUTES=""
 for port in $UPSTREAM_PORTS; do
     SERVERS="$SERVERS    server 127.0.0.1:$port max_fails=3 fail_timeout=30s;\n"
+    ROUTES="$ROUTES    127.0.0.1:$port  127.0.0.1:$port;\n"
     PORT=$port ADDRESS=127.0.0.1 NUM_PROCS=1 PROXY=none USE_XHEADERS=1 HTTP_GZIP=0 \
         ALLOW_WEBSOCKET_ORIGIN=$ORIGINS \
         "$ROOT/scripts/serve.sh" "$@" \
@@ -62,11 +64,14 @@ for port in $UPSTREAM_PORTS; do
         "and here with [$port] in front)"
 done
 
-# The example's http-level snippet with these ports, inside a complete configuration whose
-# paths are all under RUN_DIR (no root needed, nothing of the system's nginx touched).
-SNIPPET=$(awk -v servers="$SERVERS" -v listen="$PROXY_ADDRESS:$PROXY_PORT" '
+# The example's http-level snippet with these ports (the upstream's `server` lines and the
+# sticky map's lines), inside a complete configuration whose paths are all under RUN_DIR (no
+# root needed, nothing of the system's nginx touched).
+SNIPPET=$(awk -v servers="$SERVERS" -v routes="$ROUTES" -v listen="$PROXY_ADDRESS:$PROXY_PORT" '
     /^[ \t]*server[ \t]+[0-9.]+:[0-9]+[^;]*;/ { next }
-    /^[ \t]*hash / { print; printf "%s", servers; next }
+    /^[ \t]*[0-9.]+:[0-9]+[ \t]+[0-9.]+:[0-9]+;/ { next }
+    /^[ \t]*least_conn;/ { print; printf "%s", servers; next }
+    /^[ \t]*default[ \t]+explorer;/ { print; printf "%s", routes; next }
     { sub(/listen 80;/, "listen " listen ";"); print }' "$EXAMPLE")
 cat >"$RUN_DIR/nginx.conf" <<EOF
 pid $RUN_DIR/nginx.pid;
@@ -86,8 +91,9 @@ $SNIPPET
 }
 EOF
 grep -q "listen $PROXY_ADDRESS:$PROXY_PORT;" "$RUN_DIR/nginx.conf" &&
-    [ "$(grep -c '^ *server 127.0.0.1:' "$RUN_DIR/nginx.conf")" = "$(echo "$UPSTREAM_PORTS" | wc -w)" ] ||
-    { echo "serve-behind-nginx: $EXAMPLE has changed shape (listen/hash/server lines)" >&2; exit 1; }
+    [ "$(grep -c '^ *server 127.0.0.1:' "$RUN_DIR/nginx.conf")" = "$(echo "$UPSTREAM_PORTS" | wc -w)" ] &&
+    [ "$(grep -c '^ *127.0.0.1:[0-9]*  127.0.0.1:[0-9]*;' "$RUN_DIR/nginx.conf")" = "$(echo "$UPSTREAM_PORTS" | wc -w)" ] ||
+    { echo "serve-behind-nginx: $EXAMPLE has changed shape (listen/least_conn/map/server lines)" >&2; exit 1; }
 # -e: the error log from the start, before the configuration is read (the default path,
 # /var/log/nginx, is not writable by an unprivileged user such as the image's).
 "$NGINX" -t -q -e "$RUN_DIR/error.log" -p "$RUN_DIR" -c "$RUN_DIR/nginx.conf"

@@ -51,7 +51,8 @@ TOKEN_RE = re.compile(r'"token"\s*:\s*"([^"]+)"')
 async def open_session(base: str, headers: dict[str, str] | None = None) -> str:
     """Open ``base``/main as a browser does: the page, its websocket and the document
     (PULL-DOC), then close the websocket as a closed tab does; return the session's id.
-    ``headers`` go with both requests (e.g. a sticky cookie through a proxy)."""
+    ``headers`` go with both requests; the cookies the page sets go with the websocket, as
+    in a browser (a proxy's sticky cookie)."""
     import asyncio
 
     from bokeh.protocol import Protocol
@@ -63,6 +64,9 @@ async def open_session(base: str, headers: dict[str, str] | None = None) -> str:
     headers = dict(headers or {})
     resp = await AsyncHTTPClient().fetch(f"{base}/main", headers=headers, request_timeout=120)
     token = TOKEN_RE.search(resp.body.decode()).group(1)
+    cookies = [c.split(";", 1)[0] for c in resp.headers.get_list("Set-Cookie")]
+    if cookies:
+        headers["Cookie"] = "; ".join(cookies)
     request = HTTPRequest(f"ws{base[4:]}/main/ws", headers={**headers, "Origin": base},
                           request_timeout=120)
     ws = await websocket_connect(request, subprotocols=["bokeh", token],
