@@ -5,10 +5,11 @@
 #
 # Starts one scripts/serve.sh process per port in UPSTREAM_PORTS and nginx (Debian's package)
 # on PROXY_ADDRESS:PROXY_PORT with docs/nginx-example.conf, its `listen` line, its upstream's
-# `server` lines and its sticky map's lines replaced by these ports (scripts/serve.sh does this by itself when NUM_PROCS > 1 or
-# PROXY=nginx, as in the image). Students open http://PROXY_ADDRESS:PROXY_PORT/main. Runs in the
-# foreground until stopped (Ctrl-C, SIGTERM) or until one of its processes exits; then it
-# stops the others. tests/deploy/test_nginx.py runs it.
+# `server` lines and its sticky map's lines replaced by these ports (scripts/serve.sh does
+# this by itself when NUM_PROCS > 1 or PROXY=nginx, as in the image). Students open
+# http://PROXY_ADDRESS:PROXY_PORT/main. Runs in the foreground until stopped (Ctrl-C,
+# SIGTERM) or until one of its processes exits; then it stops the others.
+# tests/deploy/test_nginx.py runs it.
 #
 # Environment:
 #   PROXY_ADDRESS   nginx's address (default 127.0.0.1)
